@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "base/data_dirs.h"
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace talkhead {
+
+std::vector<std::string> dataDirs() {
+	std::vector<std::string> dirs;
+	if (const char* env = std::getenv("TALKHEAD_DATA_DIR"); env && *env) dirs.emplace_back(env);
+	std::error_code ec;
+	fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+	if (!ec) dirs.push_back((exe.parent_path().parent_path() / "share" / "talkhead").string());
+#ifdef TALKHEAD_SOURCE_DIR
+	dirs.emplace_back(TALKHEAD_SOURCE_DIR "/models");
+	dirs.emplace_back(TALKHEAD_SOURCE_DIR);
+#endif
+	return dirs;
+}
+
+std::optional<std::string> findDataFile(const std::string& relative) {
+	for (const auto& d : dataDirs()) {
+		fs::path p = fs::path(d) / relative;
+		std::error_code ec;
+		if (fs::is_regular_file(p, ec)) return p.string();
+	}
+	return std::nullopt;
+}
+
+}  // namespace talkhead

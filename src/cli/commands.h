@@ -1,0 +1,12 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <string>
+#include <vector>
+
+namespace talkhead::cli {
+
+// Each returns the process exit code; errors are thrown (Error → 1, UsageError → 2).
+int runBuild(const std::vector<std::string>& args);
+int runInspect(const std::vector<std::string>& args);
+
+}  // namespace talkhead::cli

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// talkhead: command-line entry point. One catch ladder: usage errors exit 2, all other failures 1.
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "base/error.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+
+#ifndef TALKHEAD_VERSION
+#define TALKHEAD_VERSION "0.0.0"
+#endif
+
+namespace {
+
+const char* kUsage =
+    "usage: talkhead <command> [options]\n"
+    "\n"
+    "Renders videos of a talking face (Costa 2015 expressive speech animation).\n"
+    "\n"
+    "commands:\n"
+    "  build     build a face model (.thm) from an annotated image corpus\n"
+    "  inspect   summarise a face model, draw it (-o DIR), measure reconstruction (--recon)\n"
+    "\n"
+    "  talkhead <command> --help   options of one command\n"
+    "  talkhead --version          version\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+	using namespace talkhead;
+	std::vector<std::string> args(argv + 1, argv + argc);
+	if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+		std::cout << kUsage;
+		return args.empty() ? 2 : 0;
+	}
+	if (args[0] == "--version" || args[0] == "-V") {
+		std::cout << "talkhead " << TALKHEAD_VERSION << "\n";
+		return 0;
+	}
+	const std::string command = args[0];
+	std::vector<std::string> rest(args.begin() + 1, args.end());
+	try {
+		if (command == "build") return cli::runBuild(rest);
+		if (command == "inspect") return cli::runInspect(rest);
+		throw cli::UsageError("unknown command '" + command + "'");
+	} catch (const cli::UsageError& e) {
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" ? (command + " ").c_str() : "");
+		return 2;
+	} catch (const std::bad_alloc&) {
+		std::fprintf(stderr, "talkhead: error: out of memory\n");
+		return 1;
+	} catch (const std::exception& e) {
+		std::fprintf(stderr, "talkhead: error: %s\n", describeException(e).c_str());
+		return 1;
+	}
+}

@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "corpus/corpus.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "base/error.h"
+#include "base/text.h"
+#include "media/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace talkhead {
+
+namespace {
+
+// Splits one CSV record on commas, honouring double quotes ("a,b" and "" escapes).
+std::vector<std::string> csvFields(const std::string& line) {
+	std::vector<std::string> out;
+	std::string cur;
+	bool quoted = false;
+	for (std::size_t i = 0; i < line.size(); ++i) {
+		char c = line[i];
+		if (quoted) {
+			if (c == '"') {
+				if (i + 1 < line.size() && line[i + 1] == '"') {
+					cur += '"';
+					++i;
+				} else {
+					quoted = false;
+				}
+			} else {
+				cur += c;
+			}
+		} else if (c == '"') {
+			quoted = true;
+		} else if (c == ',') {
+			out.push_back(cur);
+			cur.clear();
+		} else {
+			cur += c;
+		}
+	}
+	out.push_back(cur);
+	return out;
+}
+
+std::string schemeForCount(int n) {
+	switch (n) {
+		case 56: return "ch-unicamp-56";
+		case 68: return "ibug-68";
+		case 73: return "imm-73";
+		default: return "";
+	}
+}
+
+std::string resolveImage(const fs::path& shapeFile, const std::string& name) {
+	fs::path dir = shapeFile.parent_path();
+	for (const fs::path& cand : {dir / name, dir.parent_path() / name}) {
+		std::error_code ec;
+		if (fs::is_regular_file(cand, ec)) return cand.string();
+	}
+	throw Error(shapeFile.string(), 0, "image '" + name + "' not found beside the shape file or one folder up");
+}
+
+}  // namespace
+
+Corpus readChUnicampCsv(const std::string& path, int pointCount) {
+	const std::string text = readTextFile(path);
+	Corpus corpus;
+	corpus.path = path;
+	corpus.schemeName = schemeForCount(pointCount);
+	const fs::path dir = fs::path(path).parent_path();
+	long lineNo = 0;
+	for (std::string line : split(text, '\n')) {
+		++lineNo;
+		if (!line.empty() && line.back() == '\r') line.pop_back();
+		if (lineNo == 1 && startsWith(line, "\xEF\xBB\xBF")) line.erase(0, 3);
+		if (trim(line).empty()) continue;
+		auto f = csvFields(line);
+		const std::size_t expected = 9 + std::size_t(pointCount);
+		if (f.size() != expected)
+			throw Error(path, lineNo, "expected " + std::to_string(expected) + " columns (image, emotion, 5 phones, CDV, word, " +
+			                              std::to_string(pointCount) + " points), found " + std::to_string(f.size()));
+		CorpusEntry e;
+		e.source = path + ":" + std::to_string(lineNo);
+		std::string image(trim(f[0]));
+		if (image.empty()) throw Error(path, lineNo, "empty image name");
+		e.imagePath = (fs::path(image).is_absolute() ? fs::path(image) : dir / image).string();
+		e.emotion = std::string(trim(f[1]));
+		for (int k = 0; k < 5; ++k) e.context[k] = std::string(trim(f[2 + k]));
+		e.cdv = std::string(trim(f[7]));
+		e.word = std::string(trim(f[8]));
+		if (e.emotion.empty()) throw Error(path, lineNo, "empty emotion label");
+		if (e.cdv.empty()) throw Error(path, lineNo, "empty CDV label");
+		e.points.resize(pointCount, 2);
+		for (int k = 0; k < pointCount; ++k) {
+			std::string_view cell = trim(f[9 + k]);
+			double x, y;
+			bool ok = cell.size() >= 5 && cell.front() == '(' && cell.back() == ')';
+			if (ok) {
+				auto xy = split(cell.substr(1, cell.size() - 2), ';');
+				ok = xy.size() == 2 && parseDouble(xy[0], x) && parseDouble(xy[1], y);
+			}
+			if (!ok)
+				throw Error(path, lineNo, "column " + std::to_string(10 + k) + ": expected a point '(x;y)', found '" + std::string(cell) + "'");
+			e.points(k, 0) = x;
+			e.points(k, 1) = y;
+		}
+		corpus.entries.push_back(std::move(e));
+	}
+	if (corpus.entries.empty()) throw Error(path, 0, "the corpus file has no rows");
+	return corpus;
+}
+
+CorpusEntry readAsf(const std::string& path) {
+	const std::string text = readTextFile(path);
+	std::vector<std::pair<long, std::string>> lines;  // non-comment, non-empty lines
+	long lineNo = 0;
+	for (std::string l : split(text, '\n')) {
+		++lineNo;
+		std::string t(trim(l));
+		if (t.empty() || t[0] == '#') continue;
+		lines.emplace_back(lineNo, t);
+	}
+	if (lines.empty()) throw Error(path, 0, "empty shape file");
+	long long n;
+	if (!parseInt(lines[0].second, n) || n < 3 || n > 10000) throw Error(path, lines[0].first, "expected the number of points");
+	if (lines.size() < std::size_t(n) + 2) throw Error(path, 0, "expected " + std::to_string(n) + " point lines and a host image name");
+	CorpusEntry e;
+	e.source = path;
+	e.points.resize(n, 2);
+	for (long long k = 0; k < n; ++k) {
+		auto [ln, l] = lines[1 + k];
+		auto f = splitWhitespace(l);
+		double x, y;
+		if (f.size() < 4 || !parseDouble(f[2], x) || !parseDouble(f[3], y))
+			throw Error(path, ln, "expected '<path> <type> <x> <y> …' for point " + std::to_string(k));
+		e.points(k, 0) = x;
+		e.points(k, 1) = y;
+	}
+	e.imagePath = resolveImage(path, lines[1 + n].second);
+	int w, h;
+	imageSize(e.imagePath, w, h);
+	// Relative coordinates: 0..1 across the image; pixel centres at integer positions.
+	e.points.col(0) *= w;
+	e.points.col(1) *= h;
+	e.emotion = "-";
+	e.cdv = fs::path(e.imagePath).stem().string();
+	return e;
+}
+
+CorpusEntry readPts(const std::string& path) {
+	const std::string text = readTextFile(path);
+	CorpusEntry e;
+	e.source = path;
+	long lineNo = 0, n = -1;
+	bool inPoints = false;
+	std::vector<std::array<double, 2>> pts;
+	for (std::string l : split(text, '\n')) {
+		++lineNo;
+		std::string t(trim(l));
+		if (t.empty()) continue;
+		if (!inPoints) {
+			if (startsWith(t, "n_points:")) {
+				long long v;
+				if (!parseInt(t.substr(9), v) || v < 3 || v > 10000) throw Error(path, lineNo, "bad n_points");
+				n = long(v);
+			} else if (t == "{") {
+				inPoints = true;
+			}
+			continue;
+		}
+		if (t == "}") break;
+		auto f = splitWhitespace(t);
+		double x, y;
+		if (f.size() != 2 || !parseDouble(f[0], x) || !parseDouble(f[1], y)) throw Error(path, lineNo, "expected 'x y'");
+		pts.push_back({x - 1.0, y - 1.0});
+	}
+	if (n < 0) throw Error(path, 0, "missing 'n_points:' line");
+	if (long(pts.size()) != n) throw Error(path, 0, "n_points says " + std::to_string(n) + " but " + std::to_string(pts.size()) + " points follow");
+	e.points.resize(n, 2);
+	for (long k = 0; k < n; ++k) {
+		e.points(k, 0) = pts[k][0];
+		e.points(k, 1) = pts[k][1];
+	}
+	fs::path p(path);
+	std::string found;
+	for (const char* ext : {".png", ".jpg", ".jpeg", ".PNG", ".JPG", ".bmp", ".tif"}) {
+		fs::path cand = p;
+		cand.replace_extension(ext);
+		std::error_code ec;
+		if (fs::is_regular_file(cand, ec)) {
+			found = cand.string();
+			break;
+		}
+	}
+	if (found.empty()) throw Error(path, 0, "no image with the same name beside it (.png, .jpg, .bmp, .tif)");
+	e.imagePath = found;
+	e.emotion = "-";
+	e.cdv = p.stem().string();
+	return e;
+}
+
+Corpus loadCorpus(const std::string& path) {
+	std::error_code ec;
+	if (!fs::exists(path, ec)) throw Error(path, 0, "corpus not found");
+	if (fs::is_regular_file(path, ec)) {
+		if (endsWith(toLower(path), ".csv")) return readChUnicampCsv(path);
+		throw Error(path, 0, "not a corpus: expected a CH-Unicamp .csv file or a folder of images with .asf/.pts files");
+	}
+	std::vector<fs::path> files;
+	for (auto it = fs::recursive_directory_iterator(path, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+		if (!it->is_regular_file()) continue;
+		std::string ext = toLower(it->path().extension().string());
+		if (ext == ".asf" || ext == ".pts") files.push_back(it->path());
+	}
+	if (ec) throw Error(path, 0, "cannot list folder: " + ec.message());
+	if (files.empty()) throw Error(path, 0, "no .asf or .pts shape files in this folder");
+	std::sort(files.begin(), files.end());
+	Corpus c;
+	c.path = path;
+	for (const auto& f : files) {
+		std::string ext = toLower(f.extension().string());
+		c.entries.push_back(ext == ".asf" ? readAsf(f.string()) : readPts(f.string()));
+		if (c.entries.back().points.rows() != c.entries.front().points.rows())
+			throw Error(f.string(), 0, "has " + std::to_string(c.entries.back().points.rows()) + " points but " +
+			                               files.front().string() + " has " + std::to_string(c.entries.front().points.rows()));
+	}
+	std::sort(c.entries.begin(), c.entries.end(), [](const CorpusEntry& a, const CorpusEntry& b) { return a.imagePath < b.imagePath; });
+	c.schemeName = schemeForCount(int(c.entries.front().points.rows()));
+	return c;
+}
+
+}  // namespace talkhead

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "geometry/shape.h"
+
+namespace talkhead {
+
+// One annotated training image: (image, emotion, CDV, phone context, points).
+struct CorpusEntry {
+	std::string imagePath;              // resolved path
+	std::string emotion;                // CH-Unicamp label; "-" where the corpus has none
+	std::array<std::string, 5> context; // 2nd left, 1st left, centre, 1st right, 2nd right phone
+	std::string cdv;                    // context-dependent viseme; the image stem where there is none
+	std::string word;
+	Points points;                      // #points × 2, pixels, in the scheme's order
+	std::string source;                 // "file:line" the entry came from, for error messages
+};
+
+struct Corpus {
+	std::string path;
+	std::string schemeName;  // inferred from the format and point count (ch-unicamp-56, imm-73, ibug-68)
+	std::vector<CorpusEntry> entries;
+};
+
+// CH-Unicamp CSV (Costa 2015 §3.2, spec §1.3): no header; image, emotion, 5 context phones, CDV, word,
+// then `pointCount` points written "(x;y)". Images resolve relative to the CSV's folder.
+Corpus readChUnicampCsv(const std::string& path, int pointCount = 56);
+
+// AAM-API .asf shape file (IMM): relative 0–1 coordinates, host image name at the end. The image's
+// size is needed to turn them into pixels; it is read from the image header.
+CorpusEntry readAsf(const std::string& path);
+
+// iBUG .pts: "version: 1", "n_points: N", "{", N lines "x y", "}". Coordinates are 1-based pixels in
+// the iBUG convention; they are converted to 0-based pixel centres.
+CorpusEntry readPts(const std::string& path);
+
+// A CSV file, or a folder searched recursively for .asf / .pts files (the image beside the shape file or
+// one folder up). Entries are sorted by image path, so the order does not depend on the file system.
+Corpus loadCorpus(const std::string& path);
+
+}  // namespace talkhead

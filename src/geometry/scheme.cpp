@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "geometry/scheme.h"
+
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/text.h"
+
+namespace talkhead {
+
+int Scheme::indexOf(const std::string& n) const {
+	for (std::size_t i = 0; i < pointNames.size(); ++i)
+		if (pointNames[i] == n) return int(i);
+	return -1;
+}
+
+Scheme parseScheme(const std::string& text, const std::string& file) {
+	Scheme s;
+	std::map<std::string, double> classes;
+	std::vector<std::pair<long, std::vector<std::string>>> regionLines;
+	std::vector<double> weights;
+	long lineNo = 0;
+	for (const std::string& raw : split(text, '\n')) {
+		++lineNo;
+		std::string line = raw.substr(0, raw.find('#'));
+		auto f = splitWhitespace(line);
+		if (f.empty()) continue;
+		const std::string& kw = f[0];
+		if (kw == "scheme") {
+			if (f.size() != 2) throw Error(file, lineNo, "expected 'scheme NAME'");
+			s.name = f[1];
+		} else if (kw == "class") {
+			double w;
+			if (f.size() != 3 || !parseDouble(f[2], w) || w < 0) throw Error(file, lineNo, "expected 'class NAME WEIGHT' with WEIGHT ≥ 0");
+			classes[f[1]] = w;
+		} else if (kw == "point") {
+			if (f.size() != 3) throw Error(file, lineNo, "expected 'point NAME CLASS'");
+			auto c = classes.find(f[2]);
+			if (c == classes.end()) throw Error(file, lineNo, "unknown weight class '" + f[2] + "' (declare it with 'class' first)");
+			if (s.indexOf(f[1]) >= 0) throw Error(file, lineNo, "duplicate point name '" + f[1] + "'");
+			s.pointNames.push_back(f[1]);
+			s.pointClasses.push_back(f[2]);
+			weights.push_back(c->second);
+		} else if (kw == "region") {
+			regionLines.emplace_back(lineNo, f);
+		} else {
+			throw Error(file, lineNo, "unknown keyword '" + kw + "' (expected scheme, class, point or region)");
+		}
+	}
+	if (s.name.empty()) throw Error(file, 0, "missing 'scheme NAME' line");
+	if (s.pointNames.size() < 3) throw Error(file, 0, "a scheme needs at least 3 points");
+	for (auto& [ln, f] : regionLines) {
+		RegionSpec r;
+		if (f.size() < 2) throw Error(file, ln, "expected 'region NAME [grow=X] [feather=X] : POINT POINT …'");
+		r.name = f[1];
+		std::size_t i = 2;
+		for (; i < f.size() && f[i] != ":"; ++i) {
+			auto eq = f[i].find('=');
+			double v;
+			if (eq == std::string::npos || !parseDouble(f[i].substr(eq + 1), v))
+				throw Error(file, ln, "bad region option '" + f[i] + "' (expected grow=X or feather=X)");
+			std::string key = f[i].substr(0, eq);
+			if (key == "grow") r.grow = v;
+			else if (key == "feather") r.feather = v;
+			else throw Error(file, ln, "unknown region option '" + key + "'");
+		}
+		if (i == f.size()) throw Error(file, ln, "region '" + r.name + "': missing ':' before the boundary points");
+		std::set<int> seen;
+		for (++i; i < f.size(); ++i) {
+			int idx = s.indexOf(f[i]);
+			if (idx < 0) throw Error(file, ln, "region '" + r.name + "': unknown point '" + f[i] + "'");
+			if (!seen.insert(idx).second) throw Error(file, ln, "region '" + r.name + "': point '" + f[i] + "' repeated");
+			r.boundary.push_back(idx);
+		}
+		if (r.boundary.size() < 3) throw Error(file, ln, "region '" + r.name + "' needs at least 3 boundary points");
+		if (r.grow <= -1 || r.feather < 0) throw Error(file, ln, "region '" + r.name + "': grow must be > −1 and feather ≥ 0");
+		s.regions.push_back(std::move(r));
+	}
+	if (s.regions.empty()) throw Error(file, 0, "a scheme needs at least one region");
+	s.weights = Eigen::Map<Eigen::VectorXd>(weights.data(), Eigen::Index(weights.size()));
+	if (!(s.weights.sum() > 0)) throw Error(file, 0, "all alignment weights are zero");
+	return s;
+}
+
+Scheme loadSchemeFile(const std::string& path) { return parseScheme(readTextFile(path), path); }
+
+Scheme loadScheme(const std::string& nameOrPath) {
+	if (endsWith(nameOrPath, ".scheme") || nameOrPath.find('/') != std::string::npos) return loadSchemeFile(nameOrPath);
+	if (auto p = findDataFile("schemes/" + nameOrPath + ".scheme")) return loadSchemeFile(*p);
+	std::string known;
+	for (const auto& n : availableSchemes()) known += (known.empty() ? "" : ", ") + n;
+	throw Error("unknown landmark scheme '" + nameOrPath + "' (known: " + (known.empty() ? "none found" : known) + ")");
+}
+
+std::vector<std::string> availableSchemes() {
+	namespace fs = std::filesystem;
+	for (const auto& d : dataDirs()) {
+		std::error_code ec;
+		fs::path dir = fs::path(d) / "schemes";
+		if (!fs::is_directory(dir, ec)) continue;
+		std::set<std::string> names;
+		for (const auto& e : fs::directory_iterator(dir, ec))
+			if (e.path().extension() == ".scheme") names.insert(e.path().stem().string());
+		if (!names.empty()) return {names.begin(), names.end()};
+	}
+	return {};
+}
+
+}  // namespace talkhead

@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace talkhead {
+
+// A face region: a closed boundary through named points (by index), grown about its centroid and
+// feathered inward (see softRegionMask). Regions are listed coarse to fine (composite order).
+struct RegionSpec {
+	std::string name;
+	std::vector<int> boundary;  // point indices, in order around the region
+	double grow = 0;            // relative growth of the curve about its centroid
+	double feather = 0.05;      // feather width as a fraction of sqrt(region area)
+};
+
+// A landmark scheme: the names of a corpus's feature points in shape-vector order, their alignment
+// weights, and the face regions they bound. Loaded from data files (models/schemes/*.scheme).
+struct Scheme {
+	std::string name;
+	std::vector<std::string> pointNames;
+	std::vector<std::string> pointClasses;  // weight class name per point
+	Eigen::VectorXd weights;                // alignment weight per point
+	std::vector<RegionSpec> regions;
+
+	int pointCount() const { return int(pointNames.size()); }
+	int indexOf(const std::string& pointName) const;  // −1 if absent
+};
+
+// Parses a scheme file; errors name the file and line.
+Scheme parseScheme(const std::string& text, const std::string& fileName);
+Scheme loadSchemeFile(const std::string& path);
+// Looks up "schemes/<name>.scheme" in the data folders (or takes a path to a .scheme file).
+Scheme loadScheme(const std::string& nameOrPath);
+// Names of the schemes shipped in the first data folder that has any.
+std::vector<std::string> availableSchemes();
+
+}  // namespace talkhead

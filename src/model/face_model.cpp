@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "model/face_model.h"
+
+#include <atomic>
+#include <cmath>
+#include <mutex>
+
+#include "base/error.h"
+#include "base/parallel.h"
+#include "image/region_mask.h"
+#include "warp/piecewise_affine.h"
+
+namespace talkhead {
+
+long FaceModel::findSample(const std::string& emotion, const std::string& cdv) const {
+	for (std::size_t i = 0; i < samples.size(); ++i)
+		if (samples[i].emotion == emotion && samples[i].cdv == cdv) return long(i);
+	return -1;
+}
+
+int FaceModel::regionIndex(const std::string& name) const {
+	for (std::size_t i = 0; i < regions.size(); ++i)
+		if (regions[i].name == name) return int(i);
+	return -1;
+}
+
+namespace {
+
+Points boundaryOf(const Points& shape, const std::vector<int>& idx) {
+	Points b(idx.size(), 2);
+	for (std::size_t i = 0; i < idx.size(); ++i) b.row(i) = shape.row(idx[i]);
+	return b;
+}
+
+void checkShape(const Points& s, int k, int width, int height, const std::string& what) {
+	if (s.rows() != k) throw Error(what + ": has " + std::to_string(s.rows()) + " points, the scheme has " + std::to_string(k));
+	for (Eigen::Index i = 0; i < s.rows(); ++i) {
+		double x = s(i, 0), y = s(i, 1);
+		if (!std::isfinite(x) || !std::isfinite(y) || x < -width || x > 2.0 * width || y < -height || y > 2.0 * height)
+			throw Error(what + ": point " + std::to_string(i + 1) + " (" + std::to_string(x) + ", " + std::to_string(y) +
+			            ") is far outside the " + std::to_string(width) + "x" + std::to_string(height) + " image");
+	}
+}
+
+// The c = [a; s] row of one sample: planar appearance of the region, then the aligned shape.
+void fillRow(const RegionModel& r, const Image& frame, const Points& aligned, Eigen::MatrixXf& data, Eigen::Index row) {
+	const Eigen::Index q = r.pixelCount();
+	for (Eigen::Index p = 0; p < q; ++p) {
+		const float* px = &frame.data[std::size_t(r.pixels[p]) * 3];
+		data(row, p) = px[0];
+		data(row, q + p) = px[1];
+		data(row, 2 * q + p) = px[2];
+	}
+	for (Eigen::Index i = 0; i < aligned.rows(); ++i) {
+		data(row, 3 * q + 2 * i) = float(aligned(i, 0));
+		data(row, 3 * q + 2 * i + 1) = float(aligned(i, 1));
+	}
+}
+
+Eigen::VectorXf combinedVector(const RegionModel& r, const Image& frame, const Points& aligned) {
+	const Eigen::Index q = r.pixelCount();
+	Eigen::VectorXf c(3 * q + 2 * aligned.rows());
+	c.head(3 * q) = gatherAppearance(r, frame);
+	for (Eigen::Index i = 0; i < aligned.rows(); ++i) {
+		c(3 * q + 2 * i) = float(aligned(i, 0));
+		c(3 * q + 2 * i + 1) = float(aligned(i, 1));
+	}
+	return c;
+}
+
+}  // namespace
+
+FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes, const std::vector<SampleInfo>& samples,
+                         int width, int height, const ImageSource& images, const BuildOptions& options,
+                         ProgressSink& progress) {
+	const std::size_t m = shapes.size();
+	if (m < 2) throw Error("a face model needs at least 2 training images, got " + std::to_string(m));
+	if (samples.size() != m) throw std::logic_error("buildFaceModel: samples and shapes differ in count");
+	if (width < 8 || height < 8 || long(width) * height > 50'000'000L)
+		throw Error("absurd image size " + std::to_string(width) + "x" + std::to_string(height));
+	const int k = scheme.pointCount();
+	for (std::size_t i = 0; i < m; ++i) checkShape(shapes[i], k, width, height, samples[i].image);
+
+	FaceModel model;
+	model.scheme = scheme;
+	model.width = width;
+	model.height = height;
+	model.samples = samples;
+
+	progress.report(0.0, "aligning shapes");
+	ProcrustesResult gpa = generalizedProcrustes(shapes, scheme.weights, options.procrustes);
+	model.meanShape = gpa.mean;
+	model.alignedShapes = gpa.aligned;
+	model.referenceIndex = gpa.reference;
+	model.procrustesIterations = gpa.iterations;
+	model.procrustesChange = gpa.lastChange;
+	model.faceMesh = delaunayTriangulation(model.meanShape);
+	const Points meanWithBorder = withFrameBorder(model.meanShape, width, height);
+	model.frameMesh = delaunayTriangulation(meanWithBorder);
+	model.basefaceIndex = nearestShape(model.alignedShapes, model.meanShape);
+
+	// Region masks in the mean-shape frame.
+	for (const RegionSpec& spec : scheme.regions) {
+		RegionModel r;
+		r.name = spec.name;
+		Points boundary = boundaryOf(model.meanShape, spec.boundary);
+		double featherPx = spec.feather * std::sqrt(regionArea(boundary, spec.grow));
+		std::vector<float> alpha = softRegionMask(boundary, spec.grow, featherPx, width, height);
+		for (std::size_t p = 0; p < alpha.size(); ++p) {
+			if (alpha[p] > 0.f) {
+				r.pixels.push_back(std::int32_t(p));
+				r.alpha.push_back(alpha[p]);
+			}
+		}
+		if (r.pixels.empty()) throw Error("region '" + spec.name + "' of scheme " + scheme.name + " covers no pixel of the mean shape");
+		model.regions.push_back(std::move(r));
+	}
+
+	// Appearance: warp every image to s̄ and fill each region's data matrix row.
+	std::vector<Eigen::MatrixXf> data(model.regions.size());
+	for (std::size_t r = 0; r < model.regions.size(); ++r)
+		data[r].resize(Eigen::Index(m), model.regions[r].appearanceSize() + 2 * k);
+	const PiecewiseAffineWarp toMean(model.frameMesh, meanWithBorder, width, height);
+	std::atomic<std::size_t> done{0};
+	std::mutex progressMutex;
+	parallelFor(m, options.threads, [&](std::size_t i) {
+		Image8 img = images(i);
+		if (img.width != width || img.height != height)
+			throw Error(samples[i].image, 0, "is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+			                                     ", the other images are " + std::to_string(width) + "x" + std::to_string(height));
+		PiecewiseAffineWarp warp = toMean;
+		warp.setSource(withFrameBorder(shapes[i], width, height));
+		Image frame(width, height, 3);
+		warp.apply(img, frame);
+		for (std::size_t r = 0; r < model.regions.size(); ++r)
+			fillRow(model.regions[r], frame, model.alignedShapes[i], data[r], Eigen::Index(i));
+		if (i == model.basefaceIndex) model.baseface = toU8(frame);
+		std::size_t d = ++done;
+		std::lock_guard<std::mutex> lock(progressMutex);
+		progress.report(0.7 * double(d) / double(m), "warping images");
+	});
+
+	for (std::size_t r = 0; r < model.regions.size(); ++r) {
+		RegionModel& region = model.regions[r];
+		progress.report(0.7 + 0.3 * double(r) / double(model.regions.size()), "PCA " + region.name);
+		auto it = options.regionPca.find(region.name);
+		region.pca = correlationPca(data[r], it != options.regionPca.end() ? it->second : options.pca);
+		data[r] = Eigen::MatrixXf();  // free as we go
+	}
+	progress.report(1.0, "done");
+	return model;
+}
+
+Eigen::VectorXf gatherAppearance(const RegionModel& r, const Image& frame) {
+	const Eigen::Index q = r.pixelCount();
+	Eigen::VectorXf a(3 * q);
+	for (Eigen::Index p = 0; p < q; ++p) {
+		const float* px = &frame.data[std::size_t(r.pixels[p]) * 3];
+		a(p) = px[0];
+		a(q + p) = px[1];
+		a(2 * q + p) = px[2];
+	}
+	return a;
+}
+
+void scatterAppearance(const RegionModel& r, const Eigen::Ref<const Eigen::VectorXf>& a, Image& frame) {
+	const Eigen::Index q = r.pixelCount();
+	for (Eigen::Index p = 0; p < q; ++p) {
+		float* px = &frame.data[std::size_t(r.pixels[p]) * 3];
+		px[0] = a(p);
+		px[1] = a(q + p);
+		px[2] = a(2 * q + p);
+	}
+}
+
+Projection projectImage(const FaceModel& model, const Image8& image, const Points& shape) {
+	if (shape.rows() != model.pointCount())
+		throw Error("shape has " + std::to_string(shape.rows()) + " points, the model has " + std::to_string(model.pointCount()));
+	Projection p;
+	p.alignedShape = alignSimilarity(shape, model.meanShape, model.scheme.weights).apply(shape);
+	PiecewiseAffineWarp warp(model.frameMesh, withFrameBorder(model.meanShape, model.width, model.height), model.width, model.height);
+	warp.setSource(withFrameBorder(shape, image.width, image.height));
+	p.shapeFree = Image(model.width, model.height, 3);
+	warp.apply(image, p.shapeFree);
+	for (const RegionModel& r : model.regions) p.coefficients.push_back(pcaProject(r.pca, combinedVector(r, p.shapeFree, p.alignedShape)));
+	return p;
+}
+
+Eigen::VectorXf synthesizeAppearance(const RegionModel& region, const Eigen::Ref<const Eigen::VectorXf>& alpha) {
+	return pcaReconstruct(region.pca, alpha, 0, region.appearanceSize());
+}
+
+Points synthesizeShape(const FaceModel& model, const Eigen::Ref<const Eigen::VectorXf>& beta, int region) {
+	const RegionModel& r = model.regions.at(region);
+	Eigen::VectorXf s = pcaReconstruct(r.pca, beta, r.appearanceSize(), 2 * model.pointCount());
+	Points out(model.pointCount(), 2);
+	for (int i = 0; i < model.pointCount(); ++i) {
+		out(i, 0) = s(2 * i);
+		out(i, 1) = s(2 * i + 1);
+	}
+	return out;
+}
+
+Eigen::VectorXf sampleCoefficients(const RegionModel& region, std::size_t sample) {
+	return region.pca.trainingCoefficients.row(Eigen::Index(sample)).transpose();
+}
+
+Image compositeAppearance(const FaceModel& model, const std::vector<Eigen::VectorXf>& coefficients) {
+	if (coefficients.size() != model.regions.size()) throw std::logic_error("compositeAppearance: one coefficient vector per region");
+	Image frame = toFloat(model.baseface);
+	for (std::size_t ri = 0; ri < model.regions.size(); ++ri) {
+		const RegionModel& r = model.regions[ri];
+		const Eigen::VectorXf a = synthesizeAppearance(r, coefficients[ri]);
+		const Eigen::Index q = r.pixelCount();
+		for (Eigen::Index p = 0; p < q; ++p) {
+			float* px = &frame.data[std::size_t(r.pixels[p]) * 3];
+			const float w = r.alpha[p];
+			for (int c = 0; c < 3; ++c) px[c] = w * a(c * q + p) + (1 - w) * px[c];
+		}
+	}
+	for (float& v : frame.data) v = v < 0.f ? 0.f : (v > 255.f ? 255.f : v);
+	return frame;
+}
+
+Image8 warpFromMean(const FaceModel& model, const Image& meanFrame, const Points& shape) {
+	PiecewiseAffineWarp warp(model.frameMesh, withFrameBorder(shape, model.width, model.height), model.width, model.height);
+	warp.setSource(withFrameBorder(model.meanShape, model.width, model.height));
+	Image8 out(model.width, model.height, 3);
+	warp.apply(meanFrame, out);
+	return out;
+}
+
+}  // namespace talkhead

@@ -1,0 +1,400 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "model/model_file.h"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "base/error.h"
+
+namespace talkhead {
+
+static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE types expected");
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "the .thm writer assumes a little-endian host"
+#endif
+
+std::uint64_t checksum64(const void* data, std::size_t size, std::uint64_t h) {
+	const auto* p = static_cast<const unsigned char*>(data);
+	constexpr std::uint64_t prime = 0x100000001B3ull * 0x9E3779B1ull | 1ull;
+	std::size_t i = 0;
+	for (; i + 8 <= size; i += 8) {
+		std::uint64_t w;
+		std::memcpy(&w, p + i, 8);
+		h = (h ^ w) * prime;
+		h ^= h >> 31;
+	}
+	for (; i < size; ++i) {
+		h = (h ^ p[i]) * prime;
+		h ^= h >> 31;
+	}
+	return h ^ size;
+}
+
+namespace {
+
+constexpr char kMagic[8] = {'T', 'A', 'L', 'K', 'H', 'E', 'A', 'D'};
+constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8 + 8;
+enum class Type : std::uint32_t { F32 = 1, F64 = 2, I32 = 3, U8 = 4, Str = 5 };
+
+class Writer {
+public:
+	void raw(const void* p, std::size_t n) {
+		const auto* b = static_cast<const char*>(p);
+		buf_.insert(buf_.end(), b, b + n);
+	}
+	template <class T>
+	void pod(T v) {
+		raw(&v, sizeof v);
+	}
+	void header(const std::string& name, Type t, std::uint64_t count) {
+		pod<std::uint32_t>(std::uint32_t(name.size()));
+		raw(name.data(), name.size());
+		pod<std::uint32_t>(std::uint32_t(t));
+		pod<std::uint64_t>(count);
+	}
+	void f32(const std::string& name, const float* p, std::size_t n) {
+		header(name, Type::F32, n);
+		raw(p, n * 4);
+	}
+	void f64(const std::string& name, const double* p, std::size_t n) {
+		header(name, Type::F64, n);
+		raw(p, n * 8);
+	}
+	void i32(const std::string& name, const std::int32_t* p, std::size_t n) {
+		header(name, Type::I32, n);
+		raw(p, n * 4);
+	}
+	void u8(const std::string& name, const std::uint8_t* p, std::size_t n) {
+		header(name, Type::U8, n);
+		raw(p, n);
+	}
+	void i64(const std::string& name, std::int64_t v) {
+		double d = double(v);
+		f64(name, &d, 1);
+	}
+	void strings(const std::string& name, const std::vector<std::string>& v) {
+		header(name, Type::Str, v.size());
+		for (const auto& s : v) {
+			pod<std::uint32_t>(std::uint32_t(s.size()));
+			raw(s.data(), s.size());
+		}
+	}
+	std::vector<char>& buffer() { return buf_; }
+
+private:
+	std::vector<char> buf_;
+};
+
+class Reader {
+public:
+	Reader(const char* p, std::size_t n, std::string path) : p_(p), n_(n), path_(std::move(path)) {}
+	std::size_t expect(const std::string& name, Type t, std::size_t elemSize) {
+		std::uint32_t len = pod<std::uint32_t>();
+		need(len);
+		std::string got(p_ + pos_, len);
+		pos_ += len;
+		if (got != name) fail("expected record '" + name + "', found '" + got.substr(0, 40) + "'");
+		if (pod<std::uint32_t>() != std::uint32_t(t)) fail("record '" + name + "' has the wrong type");
+		std::uint64_t count = pod<std::uint64_t>();
+		if (elemSize && count > (n_ - pos_) / elemSize) fail("record '" + name + "' runs past the end of the file");
+		return std::size_t(count);
+	}
+	template <class T>
+	std::vector<T> array(const std::string& name, Type t) {
+		std::size_t n = expect(name, t, sizeof(T));
+		std::vector<T> v(n);
+		std::memcpy(v.data(), p_ + pos_, n * sizeof(T));
+		pos_ += n * sizeof(T);
+		return v;
+	}
+	std::vector<float> f32(const std::string& name) { return array<float>(name, Type::F32); }
+	std::vector<double> f64(const std::string& name) { return array<double>(name, Type::F64); }
+	std::vector<std::int32_t> i32(const std::string& name) { return array<std::int32_t>(name, Type::I32); }
+	std::vector<std::uint8_t> u8(const std::string& name) { return array<std::uint8_t>(name, Type::U8); }
+	double scalar(const std::string& name) {
+		auto v = f64(name);
+		if (v.size() != 1) fail("record '" + name + "' should hold one value");
+		return v[0];
+	}
+	std::vector<std::string> strings(const std::string& name) {
+		std::size_t n = expect(name, Type::Str, 4);
+		std::vector<std::string> v;
+		v.reserve(n);
+		for (std::size_t i = 0; i < n; ++i) {
+			std::uint32_t len = pod<std::uint32_t>();
+			need(len);
+			v.emplace_back(p_ + pos_, len);
+			pos_ += len;
+		}
+		return v;
+	}
+	template <class T>
+	T pod() {
+		need(sizeof(T));
+		T v;
+		std::memcpy(&v, p_ + pos_, sizeof(T));
+		pos_ += sizeof(T);
+		return v;
+	}
+	[[noreturn]] void fail(const std::string& what) const { throw Error(path_, 0, "corrupt model file: " + what); }
+	void need(std::size_t n) const {
+		if (n > n_ - pos_) fail("unexpected end of data");
+	}
+	bool atEnd() const { return pos_ == n_; }
+
+private:
+	const char* p_;
+	std::size_t n_, pos_ = 0;
+	std::string path_;
+};
+
+void writePoints(Writer& w, const std::string& name, const Points& p) { w.f64(name, p.data(), std::size_t(p.size())); }
+
+Points readPoints(Reader& r, const std::string& name, Eigen::Index k) {
+	auto v = r.f64(name);
+	if (Eigen::Index(v.size()) != 2 * k) r.fail("record '" + name + "' has the wrong size");
+	Points p(k, 2);
+	std::memcpy(p.data(), v.data(), v.size() * 8);
+	return p;
+}
+
+void writeMesh(Writer& w, const std::string& name, const TriangleMesh& m) {
+	std::vector<std::int32_t> v;
+	v.push_back(m.vertexCount);
+	for (const auto& t : m.triangles) v.insert(v.end(), t.begin(), t.end());
+	w.i32(name, v.data(), v.size());
+}
+
+TriangleMesh readMesh(Reader& r, const std::string& name) {
+	auto v = r.i32(name);
+	if (v.empty() || (v.size() - 1) % 3) r.fail("record '" + name + "' is not a triangle list");
+	TriangleMesh m;
+	m.vertexCount = v[0];
+	for (std::size_t i = 1; i < v.size(); i += 3) {
+		Triangle t{v[i], v[i + 1], v[i + 2]};
+		for (int x : t)
+			if (x < 0 || x >= m.vertexCount) r.fail("record '" + name + "' has a vertex index out of range");
+		m.triangles.push_back(t);
+	}
+	return m;
+}
+
+}  // namespace
+
+void saveModel(const FaceModel& model, const std::string& path) {
+	Writer w;
+	const Scheme& s = model.scheme;
+	w.strings("scheme.name", {s.name});
+	w.strings("scheme.points", s.pointNames);
+	w.strings("scheme.classes", s.pointClasses);
+	w.f64("scheme.weights", s.weights.data(), std::size_t(s.weights.size()));
+	w.i64("scheme.regions", std::int64_t(s.regions.size()));
+	for (const auto& r : s.regions) {
+		w.strings("region.name", {r.name});
+		w.i32("region.boundary", r.boundary.data(), r.boundary.size());
+		double gf[2] = {r.grow, r.feather};
+		w.f64("region.growFeather", gf, 2);
+	}
+	w.i64("width", model.width);
+	w.i64("height", model.height);
+	const Eigen::Index k = model.pointCount();
+	w.i64("points", k);
+	w.i64("samples", std::int64_t(model.samples.size()));
+	writePoints(w, "meanShape", model.meanShape);
+	std::vector<double> aligned;
+	aligned.reserve(model.alignedShapes.size() * 2 * k);
+	for (const auto& a : model.alignedShapes) aligned.insert(aligned.end(), a.data(), a.data() + 2 * k);
+	w.f64("alignedShapes", aligned.data(), aligned.size());
+	std::vector<std::string> labels;
+	for (const auto& smp : model.samples) {
+		labels.push_back(smp.image);
+		labels.push_back(smp.emotion);
+		labels.push_back(smp.cdv);
+		labels.push_back(smp.word);
+		for (const auto& c : smp.context) labels.push_back(c);
+	}
+	w.strings("sampleLabels", labels);
+	w.i64("referenceIndex", std::int64_t(model.referenceIndex));
+	w.i64("procrustesIterations", model.procrustesIterations);
+	w.f64("procrustesChange", &model.procrustesChange, 1);
+	writeMesh(w, "faceMesh", model.faceMesh);
+	writeMesh(w, "frameMesh", model.frameMesh);
+	w.i64("basefaceIndex", std::int64_t(model.basefaceIndex));
+	w.u8("baseface", model.baseface.data.data(), model.baseface.data.size());
+	w.i64("regions", std::int64_t(model.regions.size()));
+	for (const auto& r : model.regions) {
+		const auto& p = r.pca;
+		w.strings("name", {r.name});
+		w.i32("pixels", r.pixels.data(), r.pixels.size());
+		w.f32("alpha", r.alpha.data(), r.alpha.size());
+		w.f32("mean", p.mean.data(), std::size_t(p.mean.size()));
+		w.f32("sigma", p.sigma.data(), std::size_t(p.sigma.size()));
+		w.f64("eigenvalues", p.eigenvalues.data(), std::size_t(p.eigenvalues.size()));
+		w.i64("components", p.basis.cols());
+		w.f32("basis", p.basis.data(), std::size_t(p.basis.size()));
+		w.f32("coefficients", p.trainingCoefficients.data(), std::size_t(p.trainingCoefficients.size()));
+	}
+
+	std::vector<char>& payload = w.buffer();
+	namespace fs = std::filesystem;
+	fs::path target(path);
+	fs::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
+	{
+		std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+		if (!out) throw Error(path, 0, std::string("cannot write model: ") + std::strerror(errno));
+		std::uint32_t version = kModelFormatVersion, flags = 0;
+		std::uint64_t size = payload.size(), sum = checksum64(payload.data(), payload.size());
+		out.write(kMagic, 8);
+		out.write(reinterpret_cast<const char*>(&version), 4);
+		out.write(reinterpret_cast<const char*>(&flags), 4);
+		out.write(reinterpret_cast<const char*>(&size), 8);
+		out.write(reinterpret_cast<const char*>(&sum), 8);
+		out.write(payload.data(), std::streamsize(payload.size()));
+		out.flush();
+		if (!out) {
+			out.close();
+			std::remove(tmp.c_str());
+			throw Error(path, 0, "cannot write model (disk full?)");
+		}
+	}
+	std::error_code ec;
+	fs::rename(tmp, target, ec);
+	if (ec) {
+		std::remove(tmp.c_str());
+		throw Error(path, 0, "cannot write model: " + ec.message());
+	}
+}
+
+FaceModel loadModel(const std::string& path) {
+	std::FILE* f = std::fopen(path.c_str(), "rb");
+	if (!f) throw Error(path, 0, std::string("cannot open model: ") + std::strerror(errno));
+	char head[kHeaderSize];
+	std::size_t got = std::fread(head, 1, kHeaderSize, f);
+	if (got != kHeaderSize || std::memcmp(head, kMagic, 8) != 0) {
+		std::fclose(f);
+		throw Error(path, 0, "not a talkhead model file (bad magic)");
+	}
+	std::uint32_t version;
+	std::uint64_t size, sum;
+	std::memcpy(&version, head + 8, 4);
+	std::memcpy(&size, head + 16, 8);
+	std::memcpy(&sum, head + 24, 8);
+	if (version != kModelFormatVersion) {
+		std::fclose(f);
+		throw Error(path, 0, "model format version " + std::to_string(version) + " is not supported (this build reads version " +
+		                         std::to_string(kModelFormatVersion) + "; rebuild the model with 'talkhead build')");
+	}
+	std::error_code ec;
+	auto fileSize = std::filesystem::file_size(path, ec);
+	if (ec || fileSize != kHeaderSize + size) {
+		std::fclose(f);
+		throw Error(path, 0, "truncated or padded model file: header says " + std::to_string(kHeaderSize + size) + " bytes, file has " +
+		                         std::to_string(ec ? 0 : fileSize));
+	}
+	std::vector<char> payload(size);
+	got = std::fread(payload.data(), 1, size, f);
+	std::fclose(f);
+	if (got != size) throw Error(path, 0, "truncated model file");
+	if (checksum64(payload.data(), payload.size()) != sum) throw Error(path, 0, "corrupt model file: checksum mismatch");
+
+	Reader r(payload.data(), payload.size(), path);
+	FaceModel m;
+	Scheme& s = m.scheme;
+	auto one = [&](const std::string& name) {
+		auto v = r.strings(name);
+		if (v.size() != 1) r.fail("record '" + name + "' should hold one string");
+		return v[0];
+	};
+	auto count = [&](const std::string& name, double maxValue) {
+		double v = r.scalar(name);
+		if (!(v >= 0 && v <= maxValue)) r.fail("record '" + name + "' is out of range");
+		return std::int64_t(v);
+	};
+	s.name = one("scheme.name");
+	s.pointNames = r.strings("scheme.points");
+	s.pointClasses = r.strings("scheme.classes");
+	auto wts = r.f64("scheme.weights");
+	const Eigen::Index k = Eigen::Index(s.pointNames.size());
+	if (s.pointClasses.size() != s.pointNames.size() || Eigen::Index(wts.size()) != k || k < 3) r.fail("inconsistent scheme");
+	s.weights = Eigen::Map<Eigen::VectorXd>(wts.data(), k);
+	std::int64_t regionSpecs = count("scheme.regions", 64);
+	for (std::int64_t i = 0; i < regionSpecs; ++i) {
+		RegionSpec rs;
+		rs.name = one("region.name");
+		auto b = r.i32("region.boundary");
+		for (int x : b)
+			if (x < 0 || x >= k) r.fail("region boundary index out of range");
+		rs.boundary.assign(b.begin(), b.end());
+		auto gf = r.f64("region.growFeather");
+		if (gf.size() != 2) r.fail("bad region options");
+		rs.grow = gf[0];
+		rs.feather = gf[1];
+		s.regions.push_back(rs);
+	}
+	m.width = int(count("width", 1e5));
+	m.height = int(count("height", 1e5));
+	if (count("points", 1e5) != k) r.fail("point count differs from the scheme");
+	const std::size_t samples = std::size_t(count("samples", 1e8));
+	m.meanShape = readPoints(r, "meanShape", k);
+	auto aligned = r.f64("alignedShapes");
+	if (aligned.size() != samples * 2 * std::size_t(k)) r.fail("alignedShapes has the wrong size");
+	for (std::size_t i = 0; i < samples; ++i) {
+		Points p(k, 2);
+		std::memcpy(p.data(), aligned.data() + i * 2 * k, 2 * k * 8);
+		m.alignedShapes.push_back(p);
+	}
+	auto labels = r.strings("sampleLabels");
+	if (labels.size() != samples * 9) r.fail("sampleLabels has the wrong size");
+	for (std::size_t i = 0; i < samples; ++i) {
+		SampleInfo si;
+		si.image = labels[i * 9];
+		si.emotion = labels[i * 9 + 1];
+		si.cdv = labels[i * 9 + 2];
+		si.word = labels[i * 9 + 3];
+		for (int c = 0; c < 5; ++c) si.context[c] = labels[i * 9 + 4 + c];
+		m.samples.push_back(si);
+	}
+	m.referenceIndex = std::size_t(count("referenceIndex", double(samples)));
+	m.procrustesIterations = int(count("procrustesIterations", 1e9));
+	m.procrustesChange = r.scalar("procrustesChange");
+	m.faceMesh = readMesh(r, "faceMesh");
+	m.frameMesh = readMesh(r, "frameMesh");
+	if (m.faceMesh.vertexCount != k || m.frameMesh.vertexCount != k + kFrameBorderPoints) r.fail("mesh vertex counts differ from the scheme");
+	m.basefaceIndex = std::size_t(count("basefaceIndex", double(samples)));
+	auto base = r.u8("baseface");
+	if (base.size() != std::size_t(m.width) * m.height * 3) r.fail("baseface has the wrong size");
+	m.baseface = Image8(m.width, m.height, 3);
+	m.baseface.data = std::move(base);
+	std::int64_t regions = count("regions", 64);
+	for (std::int64_t i = 0; i < regions; ++i) {
+		RegionModel rm;
+		rm.name = one("name");
+		rm.pixels = r.i32("pixels");
+		for (auto p : rm.pixels)
+			if (p < 0 || std::int64_t(p) >= std::int64_t(m.width) * m.height) r.fail("region pixel index out of range");
+		rm.alpha = r.f32("alpha");
+		const Eigen::Index n = 3 * rm.pixelCount() + 2 * k;
+		auto mean = r.f32("mean");
+		auto sigma = r.f32("sigma");
+		auto eig = r.f64("eigenvalues");
+		const Eigen::Index l = Eigen::Index(count("components", 1e7));
+		auto basis = r.f32("basis");
+		auto coeffs = r.f32("coefficients");
+		if (rm.alpha.size() != rm.pixels.size() || Eigen::Index(mean.size()) != n || Eigen::Index(sigma.size()) != n ||
+		    Eigen::Index(basis.size()) != n * l || Eigen::Index(coeffs.size()) != Eigen::Index(samples) * l || Eigen::Index(eig.size()) < l)
+			r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
+		rm.pca.mean = Eigen::Map<Eigen::VectorXf>(mean.data(), n);
+		rm.pca.sigma = Eigen::Map<Eigen::VectorXf>(sigma.data(), n);
+		rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
+		rm.pca.basis = Eigen::Map<Eigen::MatrixXf>(basis.data(), n, l);
+		rm.pca.trainingCoefficients = Eigen::Map<Eigen::MatrixXf>(coeffs.data(), Eigen::Index(samples), l);
+		m.regions.push_back(std::move(rm));
+	}
+	if (!r.atEnd()) r.fail("trailing data after the last record");
+	return m;
+}
+
+}  // namespace talkhead

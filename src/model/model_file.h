@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "model/face_model.h"
+
+namespace talkhead {
+
+// The .thm model file: "TALKHEAD" magic, u32 format version, u32 flags, u64 payload size, u64 payload
+// checksum, then the payload: named, typed records (little-endian; float32 for image and basis data,
+// float64 for shapes and eigenvalues). Written to a temporary name and renamed into place.
+constexpr std::uint32_t kModelFormatVersion = 1;
+
+void saveModel(const FaceModel& model, const std::string& path);
+// Throws Error("PATH: …") for a missing, truncated, corrupted (checksum) or wrong-version file.
+FaceModel loadModel(const std::string& path);
+
+// 64-bit checksum of a byte range (word-wise multiply–xor; any single changed byte changes it).
+std::uint64_t checksum64(const void* data, std::size_t size, std::uint64_t seed = 0x9E3779B97F4A7C15ull);
+
+}  // namespace talkhead

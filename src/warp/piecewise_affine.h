@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <vector>
+
+#include "geometry/shape.h"
+#include "image/image.h"
+
+namespace talkhead {
+
+// Piecewise-affine warp over a triangle mesh (Costa 2015 §4.1.2, §5.5). The destination shape is fixed
+// at construction: its pixels are rasterised once into spans (triangle per run of pixels), so a warp is
+// one pass over the destination pixels with no per-pixel triangle search. setSource() computes one
+// affine map per triangle (destination pixel → source position); apply() samples the source
+// bilinearly (edge-clamped) in float. Pixels outside the destination mesh are left untouched.
+class PiecewiseAffineWarp {
+public:
+	PiecewiseAffineWarp() = default;
+	PiecewiseAffineWarp(const TriangleMesh& mesh, const Points& destination, int width, int height);
+
+	// Source shape (same vertex count as the mesh). Cheap: one 2×3 affine per triangle.
+	void setSource(const Points& source);
+
+	// dst must be width × height with src's channel count; src may have any size.
+	template <class In, class Out>
+	void apply(const ImageT<In>& src, ImageT<Out>& dst) const;
+
+	const std::vector<Span>& spans() const { return spans_; }
+	int width() const { return width_; }
+	int height() const { return height_; }
+	const TriangleMesh& mesh() const { return mesh_; }
+	const Points& destination() const { return destination_; }
+	// Row-major coverage mask of the destination frame (1 = inside the mesh).
+	std::vector<std::uint8_t> coverage() const;
+
+	// Calls f(pixelIndex, sx, sy) for each covered destination pixel, in row-major order.
+	template <class F>
+	void forEachPixel(F&& f) const {
+		for (const Span& s : spans_) {
+			const float* a = &affine_[std::size_t(s.tri) * 6];
+			const std::size_t base = std::size_t(s.y) * width_;
+			const float rx = a[1] * s.y + a[2], ry = a[4] * s.y + a[5];
+			for (int x = s.x0; x < s.x1; ++x) f(base + x, a[0] * x + rx, a[3] * x + ry);
+		}
+	}
+
+private:
+	TriangleMesh mesh_;
+	Points destination_;
+	int width_ = 0, height_ = 0;
+	std::vector<Span> spans_;
+	std::vector<double> inverseBasis_;  // per triangle: inverse of [d1−d0, d2−d0] (4) and d0 (2)
+	std::vector<float> affine_;         // per triangle: sx = a0·x + a1·y + a2, sy = a3·x + a4·y + a5
+};
+
+}  // namespace talkhead
