@@ -1,1 +1,101 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "base/error.h"
+#include "corpus/corpus.h"
+#include "test_support.h"
+
+using namespace talkhead;
+
+namespace {
+const std::string kData = TALKHEAD_TEST_DATA_DIR;
+
+std::string errorOf(const std::function<void()>& f) {
+	try {
+		f();
+	} catch (const Error& e) {
+		return e.what();
+	}
+	return "no error";
+}
+
+std::string writeFile(const std::string& name, const std::string& text) {
+	std::string p = test::tempDir("corpus") + "/" + name;
+	std::ofstream(p, std::ios::binary) << text;
+	return p;
+}
+
+std::string row(int points, const std::string& firstPoint = "(1;2)") {
+	std::string r = "a.png,joy,k,i,n,o,t,<t1>,word";
+	for (int k = 0; k < points; ++k) r += "," + (k == 0 ? firstPoint : std::string("(3.5;4)"));
+	return r;
+}
+}  // namespace
+
+TEST(ChUnicampCsv, readsRowsExactly) {
+	Corpus c = readChUnicampCsv(kData + "/corpus/mini.csv");
+	EXPECT_EQ(c.schemeName, "ch-unicamp-56");
+	ASSERT_EQ(c.entries.size(), 2u);
+	const CorpusEntry& a = c.entries[0];
+	EXPECT_EQ(a.imagePath, kData + "/corpus/img_0001.png");
+	EXPECT_EQ(a.emotion, "joy");
+	EXPECT_EQ(a.context[0], "\\ep");
+	EXPECT_EQ(a.context[2], "i");
+	EXPECT_EQ(a.cdv, "<i1>");
+	EXPECT_EQ(a.word, "que");
+	ASSERT_EQ(a.points.rows(), 56);
+	EXPECT_DOUBLE_EQ(a.points(0, 0), 100.0);
+	EXPECT_DOUBLE_EQ(a.points(55, 0), 100 + 55 * 3.5);
+	EXPECT_DOUBLE_EQ(a.points(55, 1), 200 + 55 * 1.25);
+	EXPECT_EQ(c.entries[1].word, "notícia, não");
+	EXPECT_DOUBLE_EQ(c.entries[1].points(0, 1), 202.0);
+	EXPECT_EQ(c.entries[1].source, kData + "/corpus/mini.csv:2");
+}
+
+TEST(ChUnicampCsv, malformedRowsNameFileAndLine) {
+	std::string p = writeFile("bad1.csv", row(56) + "\n" + row(55) + "\n");
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }),
+	          p + ":2: expected 65 columns (image, emotion, 5 phones, CDV, word, 56 points), found 64");
+	p = writeFile("bad2.csv", "\n" + row(56, "(1,2)") + "\n");
+	EXPECT_NE(errorOf([&] { readChUnicampCsv(p); }).find(p + ":2: "), std::string::npos);
+	p = writeFile("bad3.csv", row(56, "(x;2)"));
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }), p + ":1: column 10: expected a point '(x;y)', found '(x;2)'");
+	p = writeFile("bad4.csv", row(56, "(nan;2)"));
+	EXPECT_NE(errorOf([&] { readChUnicampCsv(p); }).find("column 10"), std::string::npos);
+	p = writeFile("empty.csv", "\n\n");
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }), p + ": the corpus file has no rows");
+	EXPECT_NE(errorOf([&] { readChUnicampCsv("/nonexistent/x.csv"); }).find("/nonexistent/x.csv: cannot read file"), std::string::npos);
+}
+
+TEST(Pts, readsOneBasedCoordinatesAndFindsTheImage) {
+	CorpusEntry e = readPts(kData + "/corpus/face.pts");
+	ASSERT_EQ(e.points.rows(), 4);
+	EXPECT_DOUBLE_EQ(e.points(0, 0), 10.0);
+	EXPECT_DOUBLE_EQ(e.points(1, 0), 30.5);
+	EXPECT_DOUBLE_EQ(e.points(2, 1), 40.0);
+	EXPECT_EQ(e.imagePath, kData + "/corpus/face.ppm");
+	std::string p = writeFile("short.pts", "version: 1\nn_points: 3\n{\n1 2\n3 4\n}\n");
+	EXPECT_EQ(errorOf([&] { readPts(p); }), p + ": n_points says 3 but 2 points follow");
+}
+
+TEST(Asf, immShapesAreInPixels) {
+	SKIP_WITHOUT_IMM();
+	const Corpus& c = test::immCorpus();
+	EXPECT_EQ(c.schemeName, "imm-73");
+	ASSERT_EQ(c.entries.size(), 120u);
+	const CorpusEntry& e = c.entries[0];
+	EXPECT_NE(e.imagePath.find("01_01.jpg"), std::string::npos);
+	ASSERT_EQ(e.points.rows(), 73);
+	// First point of 01_01.asf: 0.31251052, 0.37090045 of an 800×600 image.
+	EXPECT_NEAR(e.points(0, 0), 0.31251052 * 800, 1e-9);
+	EXPECT_NEAR(e.points(0, 1), 0.37090045 * 600, 1e-9);
+	EXPECT_EQ(e.cdv, "01_01");
+}
+
+TEST(Corpus, folderWithoutShapesIsRejected) {
+	std::string dir = test::tempDir("emptycorpus");
+	EXPECT_EQ(errorOf([&] { loadCorpus(dir); }), dir + ": no .asf or .pts shape files in this folder");
+	EXPECT_EQ(errorOf([&] { loadCorpus(dir + "/nope"); }), dir + "/nope: corpus not found");
+}

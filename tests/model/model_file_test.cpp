@@ -1,1 +1,115 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "base/error.h"
+#include "model/model_file.h"
+#include "test_support.h"
+
+using namespace talkhead;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string errorOf(const std::string& path) {
+	try {
+		loadModel(path);
+	} catch (const Error& e) {
+		return e.what();
+	}
+	return "no error";
+}
+
+std::vector<char> readAll(const std::string& p) {
+	std::ifstream in(p, std::ios::binary);
+	return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeAll(const std::string& p, const std::vector<char>& b) {
+	std::ofstream out(p, std::ios::binary);
+	out.write(b.data(), std::streamsize(b.size()));
+}
+
+template <class A, class B>
+bool sameBytes(const A& a, const B& b) {
+	return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(*a.data()) * std::size_t(a.size())) == 0;
+}
+
+}  // namespace
+
+TEST(ModelFile, roundTripIsBitExact) {
+	SKIP_WITHOUT_IMM();
+	const FaceModel& m = test::immModel(6);
+	std::string dir = test::tempDir("roundtrip"), path = dir + "/m.thm";
+	saveModel(m, path);
+	FaceModel r = loadModel(path);
+	EXPECT_EQ(r.scheme.name, m.scheme.name);
+	EXPECT_EQ(r.scheme.pointNames, m.scheme.pointNames);
+	EXPECT_EQ(r.width, m.width);
+	EXPECT_TRUE(sameBytes(r.meanShape, m.meanShape));
+	ASSERT_EQ(r.alignedShapes.size(), m.alignedShapes.size());
+	for (std::size_t i = 0; i < m.alignedShapes.size(); ++i) EXPECT_TRUE(sameBytes(r.alignedShapes[i], m.alignedShapes[i]));
+	EXPECT_EQ(r.samples.size(), m.samples.size());
+	EXPECT_EQ(r.samples[3].cdv, m.samples[3].cdv);
+	EXPECT_EQ(r.faceMesh.triangles, m.faceMesh.triangles);
+	EXPECT_EQ(r.frameMesh.triangles, m.frameMesh.triangles);
+	EXPECT_EQ(r.baseface.data, m.baseface.data);
+	ASSERT_EQ(r.regions.size(), m.regions.size());
+	for (std::size_t i = 0; i < m.regions.size(); ++i) {
+		EXPECT_EQ(r.regions[i].pixels, m.regions[i].pixels);
+		EXPECT_TRUE(sameBytes(r.regions[i].alpha, m.regions[i].alpha));
+		EXPECT_TRUE(sameBytes(r.regions[i].pca.basis, m.regions[i].pca.basis));
+		EXPECT_TRUE(sameBytes(r.regions[i].pca.mean, m.regions[i].pca.mean));
+		EXPECT_TRUE(sameBytes(r.regions[i].pca.sigma, m.regions[i].pca.sigma));
+		EXPECT_TRUE(sameBytes(r.regions[i].pca.eigenvalues, m.regions[i].pca.eigenvalues));
+		EXPECT_TRUE(sameBytes(r.regions[i].pca.trainingCoefficients, m.regions[i].pca.trainingCoefficients));
+	}
+	// Saving the loaded model gives the same file.
+	saveModel(r, dir + "/again.thm");
+	EXPECT_EQ(readAll(path), readAll(dir + "/again.thm"));
+	// No temporary file is left behind.
+	int files = 0;
+	for (auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+	EXPECT_EQ(files, 2);
+}
+
+TEST(ModelFile, damageIsDetected) {
+	SKIP_WITHOUT_IMM();
+	const FaceModel& m = test::immModel(6);
+	std::string dir = test::tempDir("damage"), path = dir + "/m.thm";
+	saveModel(m, path);
+	const std::vector<char> good = readAll(path);
+	// A single flipped byte anywhere in the payload.
+	for (std::size_t pos : {std::size_t(40), good.size() / 3, good.size() / 2, good.size() - 1}) {
+		auto bad = good;
+		bad[pos] ^= 0x10;
+		writeAll(dir + "/flip.thm", bad);
+		EXPECT_NE(errorOf(dir + "/flip.thm").find("checksum mismatch"), std::string::npos) << "flip at " << pos;
+	}
+	auto truncated = good;
+	truncated.resize(good.size() - 1000);
+	writeAll(dir + "/trunc.thm", truncated);
+	EXPECT_NE(errorOf(dir + "/trunc.thm").find("truncated"), std::string::npos);
+	auto version = good;
+	version[8] = 99;
+	writeAll(dir + "/version.thm", version);
+	EXPECT_NE(errorOf(dir + "/version.thm").find("format version 99 is not supported"), std::string::npos);
+	writeAll(dir + "/magic.thm", std::vector<char>{'n', 'o', 'p', 'e'});
+	EXPECT_NE(errorOf(dir + "/magic.thm").find("not a talkhead model file"), std::string::npos);
+	EXPECT_EQ(errorOf(dir + "/missing.thm").rfind(dir + "/missing.thm: cannot open model", 0), 0u);
+}
+
+TEST(ModelFile, checksumSeesEverySingleByteChange) {
+	std::vector<unsigned char> data(1000);
+	for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<unsigned char>(i * 7);
+	const auto h = checksum64(data.data(), data.size());
+	for (std::size_t i = 0; i < data.size(); i += 37) {
+		auto d = data;
+		d[i] ^= 1;
+		EXPECT_NE(checksum64(d.data(), d.size()), h);
+	}
+	EXPECT_NE(checksum64(data.data(), 999), h);
+}

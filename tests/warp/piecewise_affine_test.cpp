@@ -1,1 +1,119 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cstring>
+
+#include "media/image_io.h"
+#include "test_support.h"
+#include "warp/piecewise_affine.h"
+
+using namespace talkhead;
+
+namespace {
+
+// Pixels at least `margin` px inside the hull of the points.
+std::vector<std::uint8_t> hullMask(const Points& p, int w, int h, double margin) {
+	std::vector<cv::Point2f> pts, hull;
+	for (Eigen::Index i = 0; i < p.rows(); ++i) pts.emplace_back(float(p(i, 0)), float(p(i, 1)));
+	cv::convexHull(pts, hull);
+	std::vector<std::uint8_t> m(std::size_t(w) * h, 0);
+	for (int y = 0; y < h; ++y)
+		for (int x = 0; x < w; ++x) m[std::size_t(y) * w + x] = cv::pointPolygonTest(hull, cv::Point2f(float(x), float(y)), true) >= margin;
+	return m;
+}
+
+const CorpusEntry& immEntry(std::size_t i) { return test::immCorpus().entries.at(i); }
+
+}  // namespace
+
+TEST(PiecewiseAffineWarp, identityWarpReturnsTheImage) {
+	SKIP_WITHOUT_IMM();
+	const CorpusEntry& e = immEntry(0);
+	Image8 img = readImage(e.imagePath);
+	TriangleMesh mesh = delaunayTriangulation(e.points);
+	PiecewiseAffineWarp warp(mesh, e.points, img.width, img.height);
+	warp.setSource(e.points);
+	Image out(img.width, img.height, 3);
+	warp.apply(img, out);
+	auto mask = hullMask(e.points, img.width, img.height, 0.5);
+	EXPECT_GE(psnr(toFloat(img), out, mask), 60.0);
+}
+
+TEST(PiecewiseAffineWarp, globalSimilarityEqualsWarpAffine) {
+	SKIP_WITHOUT_IMM();
+	const CorpusEntry& e = immEntry(3);
+	Image8 img = readImage(e.imagePath);
+	const Similarity t = Similarity::fromScaleAngle(1.08, 0.12, -30.0, 12.5);
+	Points dst = t.apply(e.points);
+	TriangleMesh mesh = delaunayTriangulation(e.points);
+	PiecewiseAffineWarp warp(mesh, dst, img.width, img.height);
+	warp.setSource(e.points);
+	Image8 ours(img.width, img.height, 3);
+	warp.apply(img, ours);
+
+	cv::Mat src(img.height, img.width, CV_8UC3, img.data.data()), ref;
+	cv::Matx23d M(t.a, -t.b, t.tx, t.b, t.a, t.ty);
+	cv::warpAffine(src, ref, M, src.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+	Image8 refImg(img.width, img.height, 3);
+	std::memcpy(refImg.data.data(), ref.data, refImg.data.size());
+	auto mask = hullMask(dst, img.width, img.height, 1.0);
+	EXPECT_GE(psnr(toFloat(ours), toFloat(refImg), mask), 40.0);
+}
+
+TEST(PiecewiseAffineWarp, roundTripThroughAnotherShape) {
+	SKIP_WITHOUT_IMM();
+	const CorpusEntry& s = immEntry(0);
+	const CorpusEntry& other = immEntry(15);  // another person's shape, aligned onto this one
+	Image8 img = readImage(s.imagePath);
+	Eigen::VectorXd w = Eigen::VectorXd::Ones(s.points.rows());
+	Points t = alignSimilarity(other.points, s.points, w).apply(other.points);
+	TriangleMesh mesh = delaunayTriangulation(s.points);
+	PiecewiseAffineWarp forward(mesh, t, img.width, img.height);
+	forward.setSource(s.points);
+	Image there(img.width, img.height, 3, 0.f);
+	forward.apply(img, there);
+	PiecewiseAffineWarp back(mesh, s.points, img.width, img.height);
+	back.setSource(t);
+	Image again(img.width, img.height, 3, 0.f);
+	back.apply(there, again);
+	auto mask = hullMask(s.points, img.width, img.height, 2.0);
+	EXPECT_GE(psnr(toFloat(img), again, mask), 30.0);
+}
+
+TEST(PiecewiseAffineWarp, leavesPixelsOutsideTheMeshAlone) {
+	Points p(3, 2);
+	p << 10, 10, 50, 12, 20, 40;
+	TriangleMesh mesh = delaunayTriangulation(p);
+	PiecewiseAffineWarp warp(mesh, p, 64, 48);
+	warp.setSource(p);
+	Image8 src = test::testPattern(64, 48);
+	Image8 dst(64, 48, 3, 7);
+	warp.apply(src, dst);
+	EXPECT_EQ(dst.at(0, 0, 0), 7);
+	EXPECT_EQ(dst.at(60, 45, 2), 7);
+	EXPECT_EQ(dst.at(25, 20, 1), src.at(25, 20, 1));
+}
+
+TEST(PiecewiseAffineWarp, translationBySubpixelMatchesBilinear) {
+	// A pure translation by (0.25, 0.5): every output pixel is a known bilinear mix of four inputs.
+	Points p(4, 2);
+	p << 5, 5, 58, 5, 58, 42, 5, 42;
+	Points q = p;
+	q.col(0).array() -= 0.25;
+	q.col(1).array() -= 0.5;
+	TriangleMesh mesh = delaunayTriangulation(p);
+	PiecewiseAffineWarp warp(mesh, q, 64, 48);
+	warp.setSource(p);
+	Image8 src = test::testPattern(64, 48);
+	Image dst(64, 48, 3, -1.f);
+	warp.apply(src, dst);
+	for (int y = 10; y < 38; ++y)
+		for (int x = 10; x < 54; ++x)
+			for (int c = 0; c < 3; ++c) {
+				float expect = 0.75f * 0.5f * src.at(x, y, c) + 0.25f * 0.5f * src.at(x + 1, y, c) + 0.75f * 0.5f * src.at(x, y + 1, c) +
+				               0.25f * 0.5f * src.at(x + 1, y + 1, c);
+				ASSERT_NEAR(dst.at(x, y, c), expect, 1e-3) << x << "," << y;
+			}
+}

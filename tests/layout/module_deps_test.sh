@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Each module may include only headers of the modules it depends on (CMakeLists.txt), so the data
+# flow stays one-way. Lists the offending includes and fails if there are any.
+set -u
+SRC=$1
+declare -A allowed=(
+	[base]="base"
+	[geometry]="base geometry"
+	[image]="base geometry image"
+	[warp]="base geometry image warp"
+	[model]="base geometry image warp model"
+	[media]="base geometry image media"
+	[corpus]="base geometry image media corpus"
+	[viz]="base geometry image warp model viz"
+	[cli]="base geometry image warp model media corpus viz cli"
+)
+fail=0
+for dir in "$SRC"/*/; do
+	mod=$(basename "$dir")
+	[ -n "${allowed[$mod]+x}" ] || { echo "module '$mod' is not in the dependency table of this test"; fail=1; continue; }
+	while IFS= read -r line; do
+		inc=$(sed -E 's/.*#include "([a-z_]+)\/.*/\1/' <<<"${line#*:}")
+		case " ${allowed[$mod]} " in *" $inc "*) ;; *) echo "forbidden: $line"; fail=1 ;; esac
+	done < <(grep -rHn '#include "[a-z_]*/' "$dir")
+done
+[ $fail = 0 ] && echo "module dependencies ok"
+exit $fail
