@@ -20,7 +20,8 @@ namespace talkhead::cli {
 namespace {
 
 // "--components 40" (every region) or "--components face=200,lips=all"; same for --evr.
-void parseComponentOption(const Args& args, const std::string& name, const std::vector<std::string>& regions, BuildOptions& opts) {
+// regions == nullptr: check the values only (before the corpus is read).
+void parseComponentOption(const Args& args, const std::string& name, const std::vector<std::string>* regions, BuildOptions& opts) {
 	auto v = args.get(name);
 	if (!v) return;
 	const bool isEvr = name == "--evr";
@@ -47,9 +48,9 @@ void parseComponentOption(const Args& args, const std::string& name, const std::
 			continue;
 		}
 		std::string region = item.substr(0, eq);
-		if (std::find(regions.begin(), regions.end(), region) == regions.end()) {
+		if (regions && std::find(regions->begin(), regions->end(), region) == regions->end()) {
 			std::string known;
-			for (const auto& r : regions) known += (known.empty() ? "" : ", ") + r;
+			for (const auto& r : *regions) known += (known.empty() ? "" : ", ") + r;
 			throw UsageError("build: " + name + ": unknown region '" + region + "' (regions: " + known + ")");
 		}
 		auto [it, inserted] = opts.regionPca.try_emplace(region, opts.pca);
@@ -77,6 +78,13 @@ int runBuild(const std::vector<std::string>& argv) {
 	auto output = args.get("--output");
 	if (!output) throw UsageError("build: -o MODEL.thm is required");
 	const bool quiet = args.has("--quiet");
+	BuildOptions opts;
+	opts.threads = unsigned(args.number("--threads", 0, 0, 256));
+	if (args.has("--components") && args.has("--evr") && args.get("--components")->find('=') == std::string::npos &&
+	    args.get("--evr")->find('=') == std::string::npos)
+		throw UsageError("build: give either --components N or --evr X for all regions, not both");
+	parseComponentOption(args, "--components", nullptr, opts);
+	parseComponentOption(args, "--evr", nullptr, opts);
 	const auto started = std::chrono::steady_clock::now();
 
 	Corpus corpus = loadFilteredCorpus(args.positionals()[0], args);
@@ -89,15 +97,12 @@ int runBuild(const std::vector<std::string>& argv) {
 	if (scheme.pointCount() != k)
 		throw Error(corpus.path, 0, "has " + std::to_string(k) + " points per shape, scheme " + scheme.name + " has " + std::to_string(scheme.pointCount()));
 
-	BuildOptions opts;
-	opts.threads = unsigned(args.number("--threads", 0, 0, 256));
 	std::vector<std::string> regionNames;
 	for (const auto& r : scheme.regions) regionNames.push_back(r.name);
-	if (args.has("--components") && args.has("--evr") && args.get("--components")->find('=') == std::string::npos &&
-	    args.get("--evr")->find('=') == std::string::npos)
-		throw UsageError("build: give either --components N or --evr X for all regions, not both");
-	parseComponentOption(args, "--components", regionNames, opts);
-	parseComponentOption(args, "--evr", regionNames, opts);
+	opts = BuildOptions{};
+	opts.threads = unsigned(args.number("--threads", 0, 0, 256));
+	parseComponentOption(args, "--components", &regionNames, opts);
+	parseComponentOption(args, "--evr", &regionNames, opts);
 
 	// Check the output location before the expensive part.
 	std::filesystem::path out(*output);

@@ -35,8 +35,12 @@ int main(int argc, char** argv) {
 	using namespace talkhead;
 	std::vector<std::string> args(argv + 1, argv + argc);
 	if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+		if (args.empty()) {
+			std::fputs(kUsage, stderr);
+			return 2;
+		}
 		std::cout << kUsage;
-		return args.empty() ? 2 : 0;
+		return 0;
 	}
 	if (args[0] == "--version" || args[0] == "-V") {
 		std::cout << "talkhead " << TALKHEAD_VERSION << "\n";

@@ -186,7 +186,7 @@ CorpusEntry readPts(const std::string& path) {
 	}
 	fs::path p(path);
 	std::string found;
-	for (const char* ext : {".png", ".jpg", ".jpeg", ".PNG", ".JPG", ".bmp", ".tif"}) {
+	for (const char* ext : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".ppm", ".PNG", ".JPG", ".JPEG", ".BMP", ".TIF"}) {
 		fs::path cand = p;
 		cand.replace_extension(ext);
 		std::error_code ec;
@@ -195,7 +195,7 @@ CorpusEntry readPts(const std::string& path) {
 			break;
 		}
 	}
-	if (found.empty()) throw Error(path, 0, "no image with the same name beside it (.png, .jpg, .bmp, .tif)");
+	if (found.empty()) throw Error(path, 0, "no image with the same name beside it (.png, .jpg, .jpeg, .bmp, .tif, .tiff, .ppm)");
 	e.imagePath = found;
 	e.emotion = "-";
 	e.cdv = p.stem().string();

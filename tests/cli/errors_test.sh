@@ -14,7 +14,7 @@ check() {  # check NAME EXPECTED_RC PATTERN -- command...
 		echo "ok   $name: $(cat "$T/err")"
 	fi
 }
-check "no args" 2 "usage" -- "$TH" 2>/dev/null || true
+"$TH" >/dev/null 2>"$T/err"; [ $? = 2 ] && grep -q "^usage: talkhead" "$T/err" || { echo "FAIL no args"; fail=1; }
 check "unknown command" 2 "unknown command 'frobnicate'" -- "$TH" frobnicate
 check "unknown option" 2 "unknown option '--bogus'" -- "$TH" build --bogus
 check "missing -o" 2 "-o MODEL.thm is required" -- "$TH" build "$T"

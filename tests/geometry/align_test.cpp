@@ -89,11 +89,13 @@ TEST(Procrustes, immFrontalShapesConvergeWithNormalisedMean) {
 	EXPECT_NEAR(s.angle(), 0.0, 1e-6);
 	EXPECT_NEAR(s.tx, 0.0, 1e-3);
 	EXPECT_NEAR(s.ty, 0.0, 1e-3);
-	// The mean is the mean of the aligned shapes (to the convergence tolerance).
+	// The mean of the aligned shapes is close to the normalised mean but not equal to it: aligning to
+	// a target shrinks shapes slightly (decisions.md: c̄ uses the column mean, s̄ the GPA mean).
 	Points avg = Points::Zero(73, 2);
 	for (const auto& a : r.aligned) avg += a;
 	avg /= 120.0;
-	EXPECT_LT((avg - r.mean).cwiseAbs().maxCoeff(), 0.05);
+	const double extent = (r.mean.colwise().maxCoeff() - r.mean.colwise().minCoeff()).maxCoeff();
+	EXPECT_LT((avg - r.mean).cwiseAbs().maxCoeff(), 0.005 * extent);
 	// Deterministic.
 	ProcrustesResult again = generalizedProcrustes(shapes, scheme.weights);
 	EXPECT_EQ(again.reference, r.reference);
