@@ -16,7 +16,7 @@ void saveModel(const FaceModel& model, const std::string& path);
 // Throws Error("PATH: …") for a missing, truncated, corrupted (checksum) or wrong-version file.
 FaceModel loadModel(const std::string& path);
 
-// 64-bit checksum of a byte range (word-wise multiply–xor; any single changed byte changes it).
+// 64-bit checksum of a byte range (four interleaved multiply–xor lanes; any single changed byte changes it).
 std::uint64_t checksum64(const void* data, std::size_t size, std::uint64_t seed = 0x9E3779B97F4A7C15ull);
 
 }  // namespace talkhead
