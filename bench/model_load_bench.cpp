@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Times loadModel (read, checksum, parse) in-process, excluding program start-up.
+// usage: bench_model_load MODEL.thm [REPEATS]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <vector>
+
+#include "model/model_file.h"
+
+int main(int argc, char** argv) {
+	if (argc < 2) {
+		std::fprintf(stderr, "usage: bench_model_load MODEL.thm [REPEATS]\n");
+		return 2;
+	}
+	const int reps = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
+	std::vector<double> ms;
+	std::size_t samples = 0;
+	for (int i = 0; i < reps; ++i) {
+		auto t0 = std::chrono::steady_clock::now();
+		talkhead::FaceModel m = talkhead::loadModel(argv[1]);
+		ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+		samples = m.sampleCount();
+	}
+	std::sort(ms.begin(), ms.end());
+	double mib = double(std::filesystem::file_size(argv[1])) / 1048576.0;
+	std::printf("model %s: %zu samples, %.1f MiB; load median %.1f ms (min %.1f) = %.2f GiB/s\n", argv[1], samples, mib, ms[ms.size() / 2],
+	            ms.front(), mib / 1024.0 / (ms[ms.size() / 2] / 1000.0));
+	return 0;
+}
