@@ -8,5 +8,6 @@ namespace talkhead::cli {
 // Each returns the process exit code; errors are thrown (Error → 1, UsageError → 2).
 int runBuild(const std::vector<std::string>& args);
 int runInspect(const std::vector<std::string>& args);
+int runCorpus(const std::vector<std::string>& args);
 
 }  // namespace talkhead::cli

@@ -25,6 +25,7 @@ const char* kUsage =
     "commands:\n"
     "  build     build a face model (.thm) from an annotated image corpus\n"
     "  inspect   summarise a face model, draw it (-o DIR), measure reconstruction (--recon)\n"
+    "  corpus    corpus tools: 'corpus synth' writes the synthetic expressive viseme corpus\n"
     "\n"
     "  talkhead <command> --help   options of one command\n"
     "  talkhead --version          version\n";
@@ -51,9 +52,10 @@ int main(int argc, char** argv) {
 	try {
 		if (command == "build") return cli::runBuild(rest);
 		if (command == "inspect") return cli::runInspect(rest);
+		if (command == "corpus") return cli::runCorpus(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

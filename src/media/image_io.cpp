@@ -3,6 +3,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <unistd.h>
@@ -56,13 +57,14 @@ Image8 readImage(const std::string& path) {
 	return out;
 }
 
-void writeImage(const std::string& path, const Image8& image) {
+void writeImage(const std::string& path, const Image8& image, int pngCompression) {
 	namespace fs = std::filesystem;
 	fs::path target(path);
 	fs::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
 	auto out = OIIO::ImageOutput::create(target.filename().string());
 	if (!out) throw Error(path, 0, "cannot write images of this type: " + oiioError("unknown extension"));
 	OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
+	if (pngCompression >= 0) spec.attribute("png:compressionLevel", std::min(9, pngCompression));
 	// The temporary keeps the real extension at the end so the writer picks the same format.
 	if (!out->open(tmp.string(), spec)) throw Error(path, 0, "cannot write image: " + oiioError(out->geterror()));
 	bool ok = out->write_image(OIIO::TypeDesc::UINT8, image.data.data());

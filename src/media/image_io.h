@@ -12,7 +12,8 @@ Image8 readImage(const std::string& path);
 
 // Writes an image (format from the extension, e.g. .png) to a temporary name in the same folder and
 // renames it into place, so a failure leaves no partial file.
-void writeImage(const std::string& path, const Image8& image);
+// pngCompression: 0 (fastest) … 9 (smallest); −1 = the library's default.
+void writeImage(const std::string& path, const Image8& image, int pngCompression = -1);
 
 // Width and height of an image file without decoding its pixels.
 void imageSize(const std::string& path, int& width, int& height);

@@ -11,8 +11,9 @@ declare -A allowed=(
 	[model]="base geometry image warp model"
 	[media]="base geometry image media"
 	[corpus]="base geometry image media corpus"
+	[phonetics]="base phonetics"
 	[viz]="base geometry image warp model viz"
-	[cli]="base geometry image warp model media corpus viz cli"
+	[cli]="base geometry image warp model media corpus viz phonetics cli"
 )
 fail=0
 for dir in "$SRC"/*/; do

@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "synth_corpus.h"
+
+#include <atomic>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <unistd.h>
+
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/parallel.h"
+#include "base/text.h"
+#include "base/tsv.h"
+#include "media/image_io.h"
+#include "phonetics/labels.h"
+
+namespace fs = std::filesystem;
+
+namespace talkhead {
+
+namespace {
+
+std::string dataFile(const std::string& rel) {
+	if (auto p = findDataFile(rel)) return *p;
+	throw Error("data file '" + rel + "' not found");
+}
+
+// SplitMix64: a well-mixed deterministic hash for the per-image jitter.
+std::uint64_t splitmix(std::uint64_t x) {
+	x += 0x9E3779B97F4A7C15ull;
+	x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+	x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+	return x ^ (x >> 31);
+}
+std::uint64_t hashString(const std::string& s) {
+	std::uint64_t h = 1469598103934665603ull;
+	for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+	return h;
+}
+double unit(std::uint64_t& state) {  // uniform in [−1, 1)
+	state = splitmix(state);
+	return double(state >> 11) / double(1ull << 52) - 1.0;
+}
+
+}  // namespace
+
+std::map<std::string, Articulation> loadArticulations(const std::string& path) {
+	TsvTable t = readTsv(path);
+	const auto cl = t.column("label");
+	std::map<std::string, Articulation> out;
+	for (const auto& r : t.rows) {
+		Articulation a;
+		a.jaw = t.number(r, t.column("jaw"), 0, 1);
+		a.width = t.number(r, t.column("width"), -1, 1);
+		a.round = t.number(r, t.column("round"), 0, 1);
+		a.upper = t.number(r, t.column("upper"), 0, 1);
+		a.tuck = t.number(r, t.column("tuck"), 0, 1);
+		a.closed = t.number(r, t.column("closed"), 0, 1);
+		a.tongue = t.number(r, t.column("tongue"), 0, 1);
+		a.teeth = t.number(r, t.column("teeth"), 0, 1);
+		auto label = canonicalViseme(r.fields[cl]);
+		if (!label) throw Error(path, r.line, "unknown viseme '" + r.fields[cl] + "'");
+		out[*label] = a;
+	}
+	for (const auto& v : visemeLabels())
+		if (!out.count(v.label)) throw Error(path, 0, "no articulation for viseme '" + v.label + "'");
+	return out;
+}
+
+std::map<std::string, ActionUnits> loadActionUnits(const std::string& path) {
+	TsvTable t = readTsv(path);
+	const auto cl = t.column("emotion");
+	std::map<std::string, ActionUnits> out;
+	for (const auto& r : t.rows) {
+		ActionUnits u;
+		auto au = [&](const char* name) { return t.number(r, t.column(name), 0, 1); };
+		u.au1 = au("AU1"), u.au2 = au("AU2"), u.au4 = au("AU4"), u.au5 = au("AU5"), u.au6 = au("AU6"), u.au7 = au("AU7");
+		u.au9 = au("AU9"), u.au12 = au("AU12"), u.au15 = au("AU15"), u.au17 = au("AU17"), u.au23 = au("AU23"), u.au24 = au("AU24");
+		u.au43 = au("AU43"), u.au26 = au("AU26");
+		auto label = canonicalEmotion(r.fields[cl]);
+		if (!label) throw Error(path, r.line, "unknown emotion '" + r.fields[cl] + "'");
+		out[*label] = u;
+	}
+	for (const auto& e : emotionLabels())
+		if (!out.count(e.label)) throw Error(path, 0, "no action-unit profile for emotion '" + e.label + "'");
+	return out;
+}
+
+const std::map<std::string, Articulation>& articulations() {
+	static const auto m = loadArticulations(dataFile("corpus-tools/data/viseme-articulation.tsv"));
+	return m;
+}
+
+const std::map<std::string, ActionUnits>& actionUnits() {
+	static const auto m = loadActionUnits(dataFile("corpus-tools/data/expression-aus.tsv"));
+	return m;
+}
+
+std::vector<SynthItem> synthCorpusItems(const SynthCorpusOptions& o) {
+	std::vector<std::string> emotions = o.emotions, visemes = o.visemes;
+	if (emotions.empty())
+		for (const auto& e : emotionLabels()) emotions.push_back(e.label);
+	if (visemes.empty())
+		for (const auto& v : visemeLabels()) visemes.push_back(v.label);
+	std::vector<SynthItem> items;
+	for (const auto& e : emotions) {
+		for (const auto& vl : visemes) {
+			const VisemeLabel* v = nullptr;
+			for (const auto& x : visemeLabels())
+				if (x.label == vl) v = &x;
+			if (!v) throw std::logic_error("synthCorpusItems: unknown viseme " + vl);
+			SynthItem it;
+			it.emotion = e;
+			it.viseme = v->label;
+			it.articulation = articulations().at(v->label);
+			it.actionUnits = actionUnits().at(e);
+			std::uint64_t s = splitmix(o.seed ^ splitmix(hashString(e) ^ (hashString(v->label) << 1)));
+			const double scale = o.height / 720.0;
+			it.pose.angleDeg = 2.0 * unit(s);
+			it.pose.scale = 1.0 + 0.02 * unit(s);
+			it.pose.dx = 12.0 * scale * unit(s);
+			it.pose.dy = 8.0 * scale * unit(s);
+			it.fileName = e + "_" + v->ascii + ".png";
+			// Phone context: the viseme's first listed context (V1 C V2 or C V), centre = the group's first phone.
+			it.context = {"_", "_", v->group.empty() ? "_" : v->group.front(), "_", "_"};
+			if (v->kind == "consonant" && !v->contexts.empty()) {
+				const std::string& c = v->contexts.front();
+				const std::string& centre = v->group.front();
+				auto pos = c.find(centre);
+				if (pos != std::string::npos) {
+					if (pos > 0) it.context[1] = c.substr(0, pos);
+					if (pos + centre.size() < c.size()) it.context[3] = c.substr(pos + centre.size());
+				}
+			}
+			it.word = "-";
+			items.push_back(std::move(it));
+		}
+	}
+	return items;
+}
+
+std::string chUnicampCsvRow(const SynthItem& it, const Points& p) {
+	std::ostringstream row;
+	row << it.fileName << ',' << it.emotion;
+	for (const auto& c : it.context) row << ',' << c;
+	row << ',' << it.viseme << ',' << it.word;
+	char buf[64];
+	for (Eigen::Index i = 0; i < p.rows(); ++i) {
+		std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", p(i, 0), p(i, 1));
+		row << buf;
+	}
+	return row.str();
+}
+
+void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, ProgressSink& progress) {
+	if (o.width < 64 || o.height < 64 || o.width > 7680 || o.height > 4320)
+		throw Error("absurd corpus image size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " (64x64 to 7680x4320)");
+	std::error_code ec;
+	fs::create_directories(dir, ec);
+	if (ec) throw Error(dir, 0, "cannot create folder: " + ec.message());
+	const std::vector<SynthItem> items = synthCorpusItems(o);
+	const FaceRenderer renderer(o.width, o.height);
+	std::vector<std::string> rows(items.size());
+	std::atomic<std::size_t> done{0};
+	std::mutex m;
+	parallelFor(items.size(), o.threads, [&](std::size_t i) {
+		SynthFace face = renderer.render(items[i].articulation, items[i].actionUnits, items[i].pose);
+		writeImage((fs::path(dir) / items[i].fileName).string(), face.image, o.pngCompression);
+		rows[i] = chUnicampCsvRow(items[i], face.points);
+		std::size_t d = ++done;
+		std::lock_guard<std::mutex> lock(m);
+		progress.report(double(d) / double(items.size()), "drawing faces");
+	});
+	const fs::path csv = fs::path(dir) / "corpus.csv";
+	const fs::path tmp = fs::path(dir) / (".tmp-" + std::to_string(::getpid()) + "-corpus.csv");
+	{
+		std::ofstream out(tmp, std::ios::binary);
+		for (const auto& r : rows) out << r << '\n';
+		if (!out) throw Error(csv.string(), 0, "cannot write");
+	}
+	fs::rename(tmp, csv, ec);
+	if (ec) throw Error(csv.string(), 0, "cannot write: " + ec.message());
+}
+
+}  // namespace talkhead
