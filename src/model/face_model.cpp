@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "base/error.h"
+#include "base/memory.h"
 #include "base/parallel.h"
 #include "image/region_mask.h"
 #include "warp/piecewise_affine.h"
@@ -42,18 +43,19 @@ void checkShape(const Points& s, int k, int width, int height, const std::string
 	}
 }
 
-// The c = [a; s] row of one sample: planar appearance of the region, then the aligned shape.
-void fillRow(const RegionModel& r, const Image& frame, const Points& aligned, Eigen::MatrixXf& data, Eigen::Index row) {
+// The c = [a; s] column of one sample: planar appearance of the region, then the aligned shape.
+void fillColumn(const RegionModel& r, const Image& frame, const Points& aligned, Eigen::MatrixXf& data, Eigen::Index col) {
 	const Eigen::Index q = r.pixelCount();
+	float* c = data.col(col).data();
 	for (Eigen::Index p = 0; p < q; ++p) {
 		const float* px = &frame.data[std::size_t(r.pixels[p]) * 3];
-		data(row, p) = px[0];
-		data(row, q + p) = px[1];
-		data(row, 2 * q + p) = px[2];
+		c[p] = px[0];
+		c[q + p] = px[1];
+		c[2 * q + p] = px[2];
 	}
 	for (Eigen::Index i = 0; i < aligned.rows(); ++i) {
-		data(row, 3 * q + 2 * i) = float(aligned(i, 0));
-		data(row, 3 * q + 2 * i + 1) = float(aligned(i, 1));
+		c[3 * q + 2 * i] = float(aligned(i, 0));
+		c[3 * q + 2 * i + 1] = float(aligned(i, 1));
 	}
 }
 
@@ -118,9 +120,19 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 
 	// Appearance: warp every image to s̄ and fill each region's data matrix row.
 	std::vector<Eigen::MatrixXf> data(model.regions.size());
-	for (std::size_t r = 0; r < model.regions.size(); ++r)
-		data[r].resize(Eigen::Index(m), model.regions[r].appearanceSize() + 2 * k);
-	const PiecewiseAffineWarp toMean(model.frameMesh, meanWithBorder, width, height);
+	for (std::size_t r = 0; r < model.regions.size(); ++r) {
+		data[r].resize(model.regions[r].appearanceSize() + 2 * k, Eigen::Index(m));
+		adviseHugePages(data[r].data(), std::size_t(data[r].size()) * sizeof(float));
+	}
+	// Only the pixels of the regions are needed: warp just their bounding box.
+	int bx0 = width, by0 = height, bx1 = 0, by1 = 0;
+	for (const auto& r : model.regions)
+		for (auto p : r.pixels) {
+			const int x = p % width, y = p / width;
+			bx0 = std::min(bx0, x), by0 = std::min(by0, y), bx1 = std::max(bx1, x + 1), by1 = std::max(by1, y + 1);
+		}
+	PiecewiseAffineWarp toMean(model.frameMesh, meanWithBorder, width, height);
+	toMean.clipSpans(bx0, by0, bx1, by1);
 	std::atomic<std::size_t> done{0};
 	std::mutex progressMutex;
 	parallelFor(m, options.threads, [&](std::size_t i) {
@@ -130,16 +142,23 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 			                                     ", the other images are " + std::to_string(width) + "x" + std::to_string(height));
 		PiecewiseAffineWarp warp = toMean;
 		warp.setSource(withFrameBorder(shapes[i], width, height));
-		Image frame(width, height, 3);
+		thread_local Image frame;  // reused: one 1280×720 float frame is 11 MB of page faults
+		if (frame.width != width || frame.height != height) frame = Image(width, height, 3);
 		warp.apply(img, frame);
 		for (std::size_t r = 0; r < model.regions.size(); ++r)
-			fillRow(model.regions[r], frame, model.alignedShapes[i], data[r], Eigen::Index(i));
-		if (i == model.basefaceIndex) model.baseface = toU8(frame);
+			fillColumn(model.regions[r], frame, model.alignedShapes[i], data[r], Eigen::Index(i));
 		std::size_t d = ++done;
 		std::lock_guard<std::mutex> lock(progressMutex);
 		progress.report(0.7 * double(d) / double(m), "warping images");
 	});
 
+	// The baseface: the image nearest to the mean, warped to it over the whole frame.
+	{
+		PiecewiseAffineWarp warp(model.frameMesh, meanWithBorder, width, height);
+		warp.setSource(withFrameBorder(shapes[model.basefaceIndex], width, height));
+		model.baseface = Image8(width, height, 3);
+		warp.apply(images(model.basefaceIndex), model.baseface);
+	}
 	for (std::size_t r = 0; r < model.regions.size(); ++r) {
 		RegionModel& region = model.regions[r];
 		progress.report(0.7 + 0.3 * double(r) / double(model.regions.size()), "PCA " + region.name);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "base/error.h"
+#include "base/memory.h"
 
 namespace talkhead {
 
@@ -77,15 +78,7 @@ constexpr char kMagic[8] = {'T', 'A', 'L', 'K', 'H', 'E', 'A', 'D'};
 constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8 + 8;
 enum class Type : std::uint32_t { F32 = 1, F64 = 2, I32 = 3, U8 = 4, Str = 5 };
 
-// Large arrays are read straight into their final storage; asking for transparent huge pages there
-// first cuts the page faults of a 1 GB model from ~250k to ~500 (they dominate loading on VMs).
-void adviseHugePages(void* p, std::size_t bytes) {
-	constexpr std::uintptr_t huge = 2u << 20;
-	if (bytes < 4 * huge) return;
-	std::uintptr_t a = (reinterpret_cast<std::uintptr_t>(p) + huge - 1) & ~(huge - 1);
-	std::uintptr_t b = (reinterpret_cast<std::uintptr_t>(p) + bytes) & ~(huge - 1);
-	if (b > a) ::madvise(reinterpret_cast<void*>(a), b - a, MADV_HUGEPAGE);
-}
+// Large arrays are read straight into their final storage, with huge pages asked for first.
 
 // Streams records to a file, hashing as it goes; the header's size and checksum are patched at the end.
 class Writer {

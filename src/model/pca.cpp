@@ -2,6 +2,8 @@
 // Eigen-heavy translation unit: standardisation, Gram matrix, eigen-decomposition.
 #include "model/pca.h"
 
+#include "base/memory.h"
+
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <stdexcept>
@@ -18,32 +20,28 @@ Eigen::Index CorrelationPca::componentsFor(double fraction) const {
 	return eigenvalues.size();
 }
 
-CorrelationPca correlationPca(Eigen::MatrixXf& H, const PcaOptions& options) {
-	const Eigen::Index m = H.rows(), n = H.cols();
+CorrelationPca correlationPca(Eigen::MatrixXf& Ht, const PcaOptions& options) {
+	const Eigen::Index n = Ht.rows(), m = Ht.cols();
 	if (m < 2) throw std::invalid_argument("PCA needs at least 2 samples");
 	CorrelationPca r;
-	r.mean.resize(n);
-	r.sigma.resize(n);
-	// Eq. 4.11–4.15: per-column standardisation, accumulated in double.
-	for (Eigen::Index j = 0; j < n; ++j) {
-		float* col = H.col(j).data();
-		double s = 0;
-		for (Eigen::Index i = 0; i < m; ++i) s += col[i];
-		const double mean = s / m;
-		double ss = 0;
-		for (Eigen::Index i = 0; i < m; ++i) ss += (col[i] - mean) * (col[i] - mean);
-		double sd = std::sqrt(ss / (m - 1));
-		if (!(sd > 1e-6 * std::max(1.0, std::abs(mean)))) sd = 1.0;  // constant column
-		for (Eigen::Index i = 0; i < m; ++i) col[i] = float((col[i] - mean) / sd);
-		r.mean(j) = float(mean);
-		r.sigma(j) = float(sd);
-	}
-	// Gram matrix H·Hᵀ (m × m) in double, in column blocks so H never needs a double copy.
+	// Eq. 4.11–4.15: per-variable standardisation, accumulated in double, one sample column at a time.
+	Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), sumSq = Eigen::VectorXd::Zero(n);
+	for (Eigen::Index i = 0; i < m; ++i) sum += Ht.col(i).cast<double>();
+	const Eigen::VectorXd mean = sum / double(m);
+	for (Eigen::Index i = 0; i < m; ++i) sumSq += (Ht.col(i).cast<double>() - mean).array().square().matrix();
+	Eigen::VectorXd sd = (sumSq / double(m - 1)).cwiseSqrt();
+	for (Eigen::Index j = 0; j < n; ++j)
+		if (!(sd(j) > 1e-6 * std::max(1.0, std::abs(mean(j))))) sd(j) = 1.0;  // constant variable
+	const Eigen::VectorXd inv = sd.cwiseInverse();
+	for (Eigen::Index i = 0; i < m; ++i) Ht.col(i) = ((Ht.col(i).cast<double>() - mean).cwiseProduct(inv)).cast<float>();
+	r.mean = mean.cast<float>();
+	r.sigma = sd.cast<float>();
+	// Gram matrix H·Hᵀ (m × m) in double, over row blocks of Hᵀ so it never needs a double copy.
 	Eigen::MatrixXd G = Eigen::MatrixXd::Zero(m, m);
-	const Eigen::Index block = 2048;
+	const Eigen::Index block = 1024;
 	for (Eigen::Index j = 0; j < n; j += block) {
 		const Eigen::Index b = std::min(block, n - j);
-		Eigen::MatrixXd Hb = H.middleCols(j, b).cast<double>();
+		Eigen::MatrixXd Hb = Ht.middleRows(j, b).transpose().cast<double>();  // m × b
 		G.selfadjointView<Eigen::Lower>().rankUpdate(Hb);
 	}
 	G.triangularView<Eigen::StrictlyUpper>() = G.transpose();
@@ -70,7 +68,9 @@ CorrelationPca correlationPca(Eigen::MatrixXf& H, const PcaOptions& options) {
 		Vs.col(i) = (V.col(i) / s).cast<float>();
 		r.trainingCoefficients.col(i) = (V.col(i) * s).cast<float>();
 	}
-	r.basis.noalias() = H.transpose() * Vs;
+	r.basis.resize(n, keep);
+	adviseHugePages(r.basis.data(), std::size_t(r.basis.size()) * sizeof(float));
+	r.basis.noalias() = Ht * Vs;
 	return r;
 }
 

@@ -25,10 +25,11 @@ struct CorrelationPca {
 	Eigen::Index componentsFor(double fraction) const;
 };
 
-// data: m × n, one sample per row; it is standardised in place (it becomes H). Constant columns get
-// σ = 1 (they are zero in H and carry no variance), so they never produce NaN.
-// Components with λ ≤ 1e-10 · λ_max are null (H is centred, so its rank is at most m − 1) and are dropped.
-CorrelationPca correlationPca(Eigen::MatrixXf& data, const PcaOptions& options = {});
+// samples: n × m, one sample per COLUMN (the thesis's C transposed, so each sample is contiguous); it is
+// standardised in place (it becomes Hᵀ). Constant variables get σ = 1 (they are zero in H and carry no
+// variance), so they never produce NaN. Components with λ ≤ 1e-10 · λ_max are null (H is centred, so
+// its rank is at most m − 1) and are dropped.
+CorrelationPca correlationPca(Eigen::MatrixXf& samples, const PcaOptions& options = {});
 
 // α = ((c − c̄) / σ) · basis, for one sample c (n).
 Eigen::VectorXf pcaProject(const CorrelationPca& pca, const Eigen::Ref<const Eigen::VectorXf>& sample);

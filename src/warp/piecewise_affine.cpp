@@ -60,6 +60,17 @@ void PiecewiseAffineWarp::setSource(const Points& source) {
 	}
 }
 
+void PiecewiseAffineWarp::clipSpans(int x0, int y0, int x1, int y1) {
+	std::vector<Span> kept;
+	for (Span s : spans_) {
+		if (s.y < y0 || s.y >= y1) continue;
+		s.x0 = std::max(s.x0, x0);
+		s.x1 = std::min(s.x1, x1);
+		if (s.x0 < s.x1) kept.push_back(s);
+	}
+	spans_.swap(kept);
+}
+
 std::vector<std::uint8_t> PiecewiseAffineWarp::coverage() const {
 	std::vector<std::uint8_t> m(std::size_t(width_) * height_, 0);
 	for (const Span& s : spans_)

@@ -20,6 +20,9 @@ public:
 	// Source shape (same vertex count as the mesh). Cheap: one 2×3 affine per triangle.
 	void setSource(const Points& source);
 
+	// Restricts the warp to the destination pixels in [x0, x1) × [y0, y1); the others are left alone.
+	void clipSpans(int x0, int y0, int x1, int y1);
+
 	// dst must be width × height with src's channel count; src may have any size.
 	template <class In, class Out>
 	void apply(const ImageT<In>& src, ImageT<Out>& dst) const;

@@ -40,7 +40,7 @@ TEST(CorrelationPca, eigenvaluesMatchDirectSvd) {
 	Eigen::MatrixXd H = standardise(data);
 	Eigen::JacobiSVD<Eigen::MatrixXd> svd(H);
 	Eigen::VectorXd expected = svd.singularValues().array().square() / double(H.rows());
-	Eigen::MatrixXf work = data;
+	Eigen::MatrixXf work = data.transpose();
 	CorrelationPca p = correlationPca(work);
 	ASSERT_EQ(p.eigenvalues.size(), 39);  // centred: rank m − 1
 	for (Eigen::Index i = 0; i < p.eigenvalues.size(); ++i)
@@ -49,7 +49,7 @@ TEST(CorrelationPca, eigenvaluesMatchDirectSvd) {
 }
 
 TEST(CorrelationPca, evrSumsToOneAndBasisIsOrthonormal) {
-	Eigen::MatrixXf data = sampleData(30, 200, 2);
+	Eigen::MatrixXf data = sampleData(30, 200, 2).transpose();
 	CorrelationPca p = correlationPca(data);
 	double sum = 0;
 	for (Eigen::Index i = 0; i < p.eigenvalues.size(); ++i) sum += p.explainedVarianceRatio(i);
@@ -62,7 +62,8 @@ TEST(CorrelationPca, evrSumsToOneAndBasisIsOrthonormal) {
 TEST(CorrelationPca, constantColumnsGiveNoNaN) {
 	Eigen::MatrixXf data = sampleData(20, 50, 3);
 	data.col(7).setZero();
-	CorrelationPca p = correlationPca(data);
+	Eigen::MatrixXf work = data.transpose();
+	CorrelationPca p = correlationPca(work);
 	EXPECT_TRUE(p.basis.allFinite());
 	EXPECT_TRUE(p.mean.allFinite());
 	EXPECT_EQ(p.sigma(5), 1.0f);
@@ -72,7 +73,7 @@ TEST(CorrelationPca, constantColumnsGiveNoNaN) {
 
 TEST(CorrelationPca, allComponentsReconstructTrainingRowsAndProjectionAgrees) {
 	const Eigen::MatrixXf data = sampleData(25, 120, 4);
-	Eigen::MatrixXf work = data;
+	Eigen::MatrixXf work = data.transpose();
 	CorrelationPca p = correlationPca(work);
 	for (Eigen::Index i = 0; i < data.rows(); ++i) {
 		Eigen::VectorXf row = data.row(i).transpose();
@@ -84,7 +85,7 @@ TEST(CorrelationPca, allComponentsReconstructTrainingRowsAndProjectionAgrees) {
 }
 
 TEST(CorrelationPca, truncationByCountAndByEvr) {
-	Eigen::MatrixXf a = sampleData(30, 100, 5), b = a, c = a;
+	Eigen::MatrixXf a = sampleData(30, 100, 5).transpose(), b = a, c = a;
 	CorrelationPca full = correlationPca(a);
 	CorrelationPca byCount = correlationPca(b, PcaOptions{5, 1.0});
 	CorrelationPca byEvr = correlationPca(c, PcaOptions{0, 0.9});
