@@ -31,3 +31,30 @@ std::optional<std::string> findDataFile(const std::string& relative) {
 }
 
 }  // namespace talkhead
+
+namespace talkhead {
+
+std::vector<std::string> defaultModelCandidates() {
+	std::vector<std::string> c;
+	if (const char* env = std::getenv("TALKHEAD_MODEL"); env && *env) c.emplace_back(env);
+	std::error_code ec;
+	fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+	if (!ec) {
+		c.push_back((exe.parent_path() / "models" / "default.thm").string());
+		c.push_back((exe.parent_path().parent_path() / "share" / "talkhead" / "models" / "default.thm").string());
+	}
+#ifdef TALKHEAD_BINARY_DIR
+	c.emplace_back(TALKHEAD_BINARY_DIR "/models/default.thm");
+#endif
+	return c;
+}
+
+std::optional<std::string> findDefaultModel() {
+	for (const auto& p : defaultModelCandidates()) {
+		std::error_code ec;
+		if (fs::is_regular_file(p, ec)) return p;
+	}
+	return std::nullopt;
+}
+
+}  // namespace talkhead

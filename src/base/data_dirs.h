@@ -14,4 +14,11 @@ std::vector<std::string> dataDirs();
 // First existing "<dir>/<relative>" over dataDirs(), or nullopt.
 std::optional<std::string> findDataFile(const std::string& relative);
 
+// The default face model: $TALKHEAD_MODEL, else models/default.thm beside the executable (build tree),
+// in <executable>/../share/talkhead/models (installed tree), or in the build tree this was compiled in.
+// nullopt when none exists.
+std::optional<std::string> findDefaultModel();
+// Where findDefaultModel() looks, for error messages.
+std::vector<std::string> defaultModelCandidates();
+
 }  // namespace talkhead

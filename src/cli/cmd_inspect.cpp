@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <iostream>
 
+#include "base/data_dirs.h"
 #include "base/error.h"
+#include "base/parallel.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/corpus_filter.h"
@@ -13,11 +15,20 @@
 #include "media/image_io.h"
 #include "model/face_model.h"
 #include "model/model_file.h"
+#include "phonetics/labels.h"
 #include "viz/inspect_images.h"
 
 namespace talkhead::cli {
 
 namespace {
+
+// The default face model, or an Error saying where it was looked for and how to get it.
+std::string defaultModelPath() {
+	if (auto p = findDefaultModel()) return *p;
+	std::string where;
+	for (const auto& c : defaultModelCandidates()) where += (where.empty() ? "" : ", ") + c;
+	throw Error("no default face model found (looked for " + where + "); build one with scripts/demo (or the 'default_model' build target), or name a model");
+}
 
 void printSummary(const FaceModel& m, const std::string& path) {
 	std::error_code ec;
@@ -52,26 +63,48 @@ int reconstruct(const FaceModel& model, const std::string& corpusPath, const Arg
 	std::printf("%-28s", "image");
 	for (const auto& r : model.regions) std::printf(" | %-12s %8s %8s %7s", r.name.c_str(), "MSE", "PSNR", "SSIM");
 	std::printf("\n");
-	for (const auto& e : corpus.entries) {
-		Image8 img = readImage(e.imagePath);
-		Projection p = projectImage(model, img, e.points);
-		std::printf("%-28s", std::filesystem::path(e.imagePath).filename().string().c_str());
-		for (std::size_t ri = 0; ri < model.regions.size(); ++ri) {
-			const RegionModel& r = model.regions[ri];
-			// Compare in the shape-free frame over the region's pixels (thesis App. B, Eq. B.6).
-			Image recon = p.shapeFree;
-			scatterAppearance(r, synthesizeAppearance(r, p.coefficients[ri]), recon);
-			for (float& v : recon.data) v = std::min(255.f, std::max(0.f, v));
-			std::vector<std::uint8_t> mask(p.shapeFree.pixelCount(), 0);
-			for (auto px : r.pixels) mask[std::size_t(px)] = 1;
-			Quality qu;
-			qu.psnr = psnr(p.shapeFree, recon, mask);
-			qu.mse = 255.0 * 255.0 / std::pow(10.0, qu.psnr / 10.0);
-			qu.ssim = ssim(p.shapeFree, recon, mask);
-			q[ri].push_back(qu);
-			std::printf(" | %-12s %8.2f %8.2f %7.4f", "", qu.mse, qu.psnr, qu.ssim);
+	// In batches: shape-free vectors of a chunk of images (in parallel), then one GEMM per region to
+	// project and one to reconstruct.
+	const std::size_t chunk = 64;
+	for (std::size_t first = 0; first < corpus.entries.size(); first += chunk) {
+		const std::size_t count = std::min(chunk, corpus.entries.size() - first);
+		std::vector<Eigen::MatrixXf> combined(model.regions.size());
+		for (std::size_t r = 0; r < model.regions.size(); ++r) combined[r].resize(model.regions[r].pca.mean.size(), Eigen::Index(count));
+		parallelFor(count, 0, [&](std::size_t k) {
+			const CorpusEntry& e = corpus.entries[first + k];
+			Projection p = projectImage(model, readImage(e.imagePath), e.points, false);
+			for (std::size_t r = 0; r < model.regions.size(); ++r)
+				combined[r].col(Eigen::Index(k)) = combinedVector(model.regions[r], p.shapeFree, p.alignedShape);
+		});
+		std::vector<Eigen::MatrixXf> recon;
+		for (std::size_t r = 0; r < model.regions.size(); ++r)
+			recon.push_back(synthesizeAppearances(model.regions[r], projectCombined(model.regions[r], combined[r])));
+		std::vector<std::vector<Quality>> chunkQ(count, std::vector<Quality>(model.regions.size()));
+		parallelFor(count, 0, [&](std::size_t k) {
+			for (std::size_t ri = 0; ri < model.regions.size(); ++ri) {
+				const RegionModel& r = model.regions[ri];
+				// Compare in the shape-free frame over the region's pixels (thesis App. B, Eq. B.6); outside
+				// the region both images hold the baseface, so the SSIM window sees the same surroundings.
+				Image actual = toFloat(model.baseface), rec = actual;
+				scatterAppearance(r, combined[ri].col(Eigen::Index(k)).head(r.appearanceSize()), actual);
+				Eigen::VectorXf a = recon[ri].col(Eigen::Index(k)).cwiseMax(0.f).cwiseMin(255.f);
+				scatterAppearance(r, a, rec);
+				std::vector<std::uint8_t> mask(actual.pixelCount(), 0);
+				for (auto px : r.pixels) mask[std::size_t(px)] = 1;
+				Quality& qu = chunkQ[k][ri];
+				qu.mse = (combined[ri].col(Eigen::Index(k)).head(r.appearanceSize()) - a).squaredNorm() / double(r.appearanceSize());
+				qu.psnr = psnrFromMse(qu.mse);
+				qu.ssim = ssim(actual, rec, mask);
+			}
+		});
+		for (std::size_t k = 0; k < count; ++k) {
+			std::printf("%-28s", std::filesystem::path(corpus.entries[first + k].imagePath).filename().string().c_str());
+			for (std::size_t ri = 0; ri < model.regions.size(); ++ri) {
+				q[ri].push_back(chunkQ[k][ri]);
+				std::printf(" | %-12s %8.2f %8.2f %7.4f", "", chunkQ[k][ri].mse, chunkQ[k][ri].psnr, chunkQ[k][ri].ssim);
+			}
+			std::printf("\n");
 		}
-		std::printf("\n");
 	}
 	std::printf("%-28s", "mean");
 	for (std::size_t ri = 0; ri < model.regions.size(); ++ri) {
@@ -90,17 +123,18 @@ int reconstruct(const FaceModel& model, const std::string& corpusPath, const Arg
 }  // namespace
 
 int runInspect(const std::vector<std::string>& argv) {
-	Args args("inspect", "talkhead inspect MODEL.thm [-o DIR] [--recon CORPUS]",
+	Args args("inspect", "talkhead inspect [MODEL.thm] [-o DIR] [--recon CORPUS]",
 	          {{"--output", "DIR", "write pictures of the model (PNG) into DIR", "-o"},
 	           {"--recon", "CORPUS", "project and reconstruct each image of CORPUS; print MSE, PSNR, SSIM per region"},
 	           kIncludeOption,
 	           kExcludeOption,
 	           {"--quiet", "", "no summary", "-q"}},
-	          "Prints a summary of a face model; writes pictures of it (baseface and mesh, modes, explained\n"
-	          "variance, contact sheet of every keypose) with -o; measures reconstruction with --recon.");
+	          "Prints a summary of a face model (default: the embedded default face); writes pictures of it\n"
+	          "(baseface and mesh, modes, explained variance, contact sheet of every keypose) with -o; measures\n"
+	          "reconstruction with --recon.");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("inspect: expected one MODEL.thm argument");
-	const std::string path = args.positionals()[0];
+	if (args.positionals().size() > 1) throw UsageError("inspect: expected at most one MODEL.thm argument");
+	const std::string path = args.positionals().empty() ? defaultModelPath() : args.positionals()[0];
 	FaceModel model = loadModel(path);
 	if (!args.has("--quiet")) printSummary(model, path);
 	if (auto dir = args.get("--output")) {
@@ -117,7 +151,14 @@ int runInspect(const std::vector<std::string>& argv) {
 		write("baseface_mesh.png", drawBasefaceMesh(model));
 		for (std::size_t r = 0; r < model.regions.size(); ++r) write("modes_" + model.regions[r].name + ".png", drawRegionModes(model, int(r)));
 		write("explained_variance.png", drawVarianceCurves(model));
-		write("contact_sheet.png", drawContactSheet(model));
+		// Captions in ASCII (the drawing font has no IPA): viseme labels by their ASCII alias.
+		write("contact_sheet.png", drawContactSheet(model, 160, [](const SampleInfo& s) {
+			      std::string cdv = s.cdv;
+			      if (auto c = canonicalViseme(cdv))
+				      for (const auto& v : visemeLabels())
+					      if (v.label == *c) cdv = v.ascii;
+			      return (s.emotion == "-" ? std::string() : s.emotion + " ") + cdv;
+		      }));
 		for (const auto& w : written) std::printf("wrote %s\n", w.c_str());
 	}
 	if (auto corpus = args.get("--recon")) return reconstruct(model, *corpus, args);

@@ -59,17 +59,6 @@ void fillColumn(const RegionModel& r, const Image& frame, const Points& aligned,
 	}
 }
 
-Eigen::VectorXf combinedVector(const RegionModel& r, const Image& frame, const Points& aligned) {
-	const Eigen::Index q = r.pixelCount();
-	Eigen::VectorXf c(3 * q + 2 * aligned.rows());
-	c.head(3 * q) = gatherAppearance(r, frame);
-	for (Eigen::Index i = 0; i < aligned.rows(); ++i) {
-		c(3 * q + 2 * i) = float(aligned(i, 0));
-		c(3 * q + 2 * i + 1) = float(aligned(i, 1));
-	}
-	return c;
-}
-
 }  // namespace
 
 FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes, const std::vector<SampleInfo>& samples,
@@ -192,7 +181,24 @@ void scatterAppearance(const RegionModel& r, const Eigen::Ref<const Eigen::Vecto
 	}
 }
 
-Projection projectImage(const FaceModel& model, const Image8& image, const Points& shape) {
+Eigen::VectorXf combinedVector(const RegionModel& r, const Image& frame, const Points& aligned) {
+	const Eigen::Index q = r.pixelCount();
+	Eigen::VectorXf c(3 * q + 2 * aligned.rows());
+	c.head(3 * q) = gatherAppearance(r, frame);
+	for (Eigen::Index i = 0; i < aligned.rows(); ++i) {
+		c(3 * q + 2 * i) = float(aligned(i, 0));
+		c(3 * q + 2 * i + 1) = float(aligned(i, 1));
+	}
+	return c;
+}
+
+Eigen::MatrixXf projectCombined(const RegionModel& region, const Eigen::Ref<const Eigen::MatrixXf>& combined) {
+	const auto& p = region.pca;
+	Eigen::MatrixXf h = (combined.colwise() - p.mean).array().colwise() / p.sigma.array();
+	return p.basis.transpose() * h;
+}
+
+Projection projectImage(const FaceModel& model, const Image8& image, const Points& shape, bool coefficients) {
 	if (shape.rows() != model.pointCount())
 		throw Error("shape has " + std::to_string(shape.rows()) + " points, the model has " + std::to_string(model.pointCount()));
 	Projection p;
@@ -201,7 +207,8 @@ Projection projectImage(const FaceModel& model, const Image8& image, const Point
 	warp.setSource(withFrameBorder(shape, image.width, image.height));
 	p.shapeFree = Image(model.width, model.height, 3);
 	warp.apply(image, p.shapeFree);
-	for (const RegionModel& r : model.regions) p.coefficients.push_back(pcaProject(r.pca, combinedVector(r, p.shapeFree, p.alignedShape)));
+	if (coefficients)
+		for (const RegionModel& r : model.regions) p.coefficients.push_back(pcaProject(r.pca, combinedVector(r, p.shapeFree, p.alignedShape)));
 	return p;
 }
 
@@ -224,12 +231,27 @@ Eigen::VectorXf sampleCoefficients(const RegionModel& region, std::size_t sample
 	return region.pca.trainingCoefficients.row(Eigen::Index(sample)).transpose();
 }
 
+Eigen::MatrixXf synthesizeAppearances(const RegionModel& region, const Eigen::Ref<const Eigen::MatrixXf>& coefficients) {
+	const auto& p = region.pca;
+	const Eigen::Index q3 = region.appearanceSize(), l = std::min<Eigen::Index>(coefficients.rows(), p.basis.cols());
+	Eigen::MatrixXf a = p.basis.topLeftCorner(q3, l) * coefficients.topRows(l);
+	for (Eigen::Index c = 0; c < a.cols(); ++c) a.col(c) = p.mean.head(q3) + p.sigma.head(q3).cwiseProduct(a.col(c));
+	return a;
+}
+
 Image compositeAppearance(const FaceModel& model, const std::vector<Eigen::VectorXf>& coefficients) {
 	if (coefficients.size() != model.regions.size()) throw std::logic_error("compositeAppearance: one coefficient vector per region");
+	std::vector<Eigen::VectorXf> appearances;
+	for (std::size_t r = 0; r < model.regions.size(); ++r) appearances.push_back(synthesizeAppearance(model.regions[r], coefficients[r]));
+	return compositeRegions(model, appearances);
+}
+
+Image compositeRegions(const FaceModel& model, const std::vector<Eigen::VectorXf>& appearances) {
+	if (appearances.size() != model.regions.size()) throw std::logic_error("compositeRegions: one appearance per region");
 	Image frame = toFloat(model.baseface);
 	for (std::size_t ri = 0; ri < model.regions.size(); ++ri) {
 		const RegionModel& r = model.regions[ri];
-		const Eigen::VectorXf a = synthesizeAppearance(r, coefficients[ri]);
+		const Eigen::VectorXf& a = appearances[ri];
 		const Eigen::Index q = r.pixelCount();
 		for (Eigen::Index p = 0; p < q; ++p) {
 			float* px = &frame.data[std::size_t(r.pixels[p]) * 3];

@@ -82,7 +82,12 @@ struct Projection {
 	Image shapeFree;                              // the image warped to s̄ (model frame, float)
 	std::vector<Eigen::VectorXf> coefficients;    // α per region (α_i = hᵀh_i over the full [a; s])
 };
-Projection projectImage(const FaceModel& model, const Image8& image, const Points& shape);
+// coefficients = false: only the aligned shape and the shape-free image (for batch projection).
+Projection projectImage(const FaceModel& model, const Image8& image, const Points& shape, bool coefficients = true);
+// The region's combined vector c = [a; s] (n) of a shape-free image and its aligned shape.
+Eigen::VectorXf combinedVector(const RegionModel& region, const Image& shapeFree, const Points& alignedShape);
+// Batch projection: α for the columns of `combined` (n × count) → l × count, one GEMM.
+Eigen::MatrixXf projectCombined(const RegionModel& region, const Eigen::Ref<const Eigen::MatrixXf>& combined);
 
 // Synthesis: shape-free appearance of a region, channel-planar (3q), â = ā + D_a Σ α_i e_i (Eq. 5.2).
 Eigen::VectorXf synthesizeAppearance(const RegionModel& region, const Eigen::Ref<const Eigen::VectorXf>& alpha);
@@ -91,9 +96,14 @@ Points synthesizeShape(const FaceModel& model, const Eigen::Ref<const Eigen::Vec
 // Appearance of a training sample (its stored coefficients), per region.
 Eigen::VectorXf sampleCoefficients(const RegionModel& region, std::size_t sample);
 
+// Appearances of many coefficient vectors at once (one GEMM): coefficients l × count → 3q × count.
+Eigen::MatrixXf synthesizeAppearances(const RegionModel& region, const Eigen::Ref<const Eigen::MatrixXf>& coefficients);
+
 // Spec §5.3: the baseface with every region's appearance pasted coarse → fine through its soft mask,
 // in the mean-shape frame, clamped to [0, 255]. coefficients: one vector per region.
 Image compositeAppearance(const FaceModel& model, const std::vector<Eigen::VectorXf>& coefficients);
+// The same from already synthesised region appearances (3q each, channel-planar).
+Image compositeRegions(const FaceModel& model, const std::vector<Eigen::VectorXf>& appearances);
 // Writes a region's planar appearance vector into an interleaved model-frame image (ROI pixels only).
 void scatterAppearance(const RegionModel& region, const Eigen::Ref<const Eigen::VectorXf>& appearance, Image& frame);
 // Reads a region's planar appearance vector out of a model-frame image.

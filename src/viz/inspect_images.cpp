@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/parallel.h"
 #include "image/region_mask.h"
 
 namespace talkhead {
@@ -148,21 +149,29 @@ Image8 drawVarianceCurves(const FaceModel& model) {
 	return fromMat(m);
 }
 
-Image8 drawContactSheet(const FaceModel& model, int thumbWidth) {
+Image8 drawContactSheet(const FaceModel& model, int thumbWidth, const std::function<std::string(const SampleInfo&)>& labelOf) {
 	const cv::Rect box = faceBox(model);
 	const std::size_t n = model.sampleCount();
 	const int cols = int(std::min<std::size_t>(n, std::max<std::size_t>(1, std::size_t(std::ceil(std::sqrt(double(n) * 1.6))))));
 	const int rowsN = int((n + cols - 1) / cols);
 	const int thumbH = std::max(1, int(std::lround(double(box.height) * thumbWidth / box.width)));
 	cv::Mat sheet(rowsN * thumbH, cols * thumbWidth, CV_8UC3, cv::Scalar(30, 30, 30));
-	for (std::size_t i = 0; i < n; ++i) {
-		std::vector<Eigen::VectorXf> coeffs;
-		for (const auto& r : model.regions) coeffs.push_back(sampleCoefficients(r, i));
-		Image8 frame = warpFromMean(model, compositeAppearance(model, coeffs), model.alignedShapes[i]);
-		cv::Mat t = cropScaled(frame, box, thumbWidth);
-		const auto& s = model.samples[i];
-		label(t, (s.emotion == "-" ? std::string() : s.emotion + " ") + s.cdv, {4, thumbH - 6}, 0.4);
-		t.copyTo(sheet(cv::Rect(int(i % cols) * thumbWidth, int(i / cols) * thumbH, thumbWidth, thumbH)));
+	const std::size_t chunk = 196;  // appearances by GEMM, a chunk of samples at a time (packing the basis once per chunk)
+	for (std::size_t first = 0; first < n; first += chunk) {
+		const std::size_t count = std::min(chunk, n - first);
+		std::vector<Eigen::MatrixXf> appearances;
+		for (const auto& r : model.regions)
+			appearances.push_back(synthesizeAppearances(r, r.pca.trainingCoefficients.middleRows(Eigen::Index(first), Eigen::Index(count)).transpose()));
+		parallelFor(count, 0, [&](std::size_t k) {
+			const std::size_t i = first + k;
+			std::vector<Eigen::VectorXf> a;
+			for (const auto& m : appearances) a.push_back(m.col(Eigen::Index(k)));
+			Image8 frame = warpFromMean(model, compositeRegions(model, a), model.alignedShapes[i]);
+			cv::Mat t = cropScaled(frame, box, thumbWidth);
+			const auto& s = model.samples[i];
+			label(t, labelOf ? labelOf(s) : (s.emotion == "-" ? std::string() : s.emotion + " ") + s.cdv, {4, thumbH - 6}, 0.4);
+			t.copyTo(sheet(cv::Rect(int(i % cols) * thumbWidth, int(i / cols) * thumbH, thumbWidth, thumbH)));
+		});
 	}
 	return fromMat(sheet);
 }

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <functional>
+#include <string>
+
 #include "image/image.h"
 #include "model/face_model.h"
 
@@ -15,6 +18,8 @@ Image8 drawRegionModes(const FaceModel& model, int region, int modes = 3);
 // Thesis Fig. 4.7: cumulative explained variance per region, with the 80 % and 90 % points marked.
 Image8 drawVarianceCurves(const FaceModel& model);
 // Every training sample's (emotion, CDV) keypose reconstructed from the model, as a labelled grid.
-Image8 drawContactSheet(const FaceModel& model, int thumbWidth = 160);
+// label gives each thumbnail's caption (ASCII: the font has no IPA); default "emotion cdv".
+Image8 drawContactSheet(const FaceModel& model, int thumbWidth = 160,
+                        const std::function<std::string(const SampleInfo&)>& label = {});
 
 }  // namespace talkhead
