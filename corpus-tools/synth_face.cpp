@@ -325,7 +325,29 @@ std::vector<P> faceOutline(const Geometry& g) {
 	return closedCurve(ctrl, 12);
 }
 
+cv::Matx23d poseMatrix(const HeadPose& pose, int width, int height) {
+	const double angle = pose.angleDeg * M_PI / 180.0;
+	const double ca = pose.scale * std::cos(angle), sa = pose.scale * std::sin(angle);
+	const double cx = width / 2.0, cy = height / 2.0;
+	return cv::Matx23d(ca, -sa, cx - ca * cx + sa * cy + pose.dx, sa, ca, cy - sa * cx - ca * cy + pose.dy);
+}
+
+Points placePoints(const Geometry& g, const cv::Matx23d& M, double ox, double oy, double f) {
+	const std::vector<P> fp = featurePoints(g);
+	Points out(Eigen::Index(fp.size()), 2);
+	for (std::size_t i = 0; i < fp.size(); ++i) {
+		const double x = ox + fp[i].x * f, y = oy + fp[i].y * f;
+		out(Eigen::Index(i), 0) = M(0, 0) * x + M(0, 1) * y + M(0, 2);
+		out(Eigen::Index(i), 1) = M(1, 0) * x + M(1, 1) * y + M(1, 2);
+	}
+	return out;
+}
+
 }  // namespace
+
+Points FaceRenderer::points(const Articulation& a, const ActionUnits& u, const HeadPose& pose) const {
+	return placePoints(computeGeometry(a, u), poseMatrix(pose, width_, height_), width_ / 2.0, 0.40 * height_, height_ / 7.2);
+}
 
 FaceRenderer::FaceRenderer(int width, int height) : width_(width), height_(height) {
 	cv::Mat canvas(height, width, CV_32FC3);
@@ -536,23 +558,14 @@ SynthFace FaceRenderer::render(const Articulation& a, const ActionUnits& u, cons
 	pa.shade(stroke(std::vector<P>{{0.05, g.n3.y + 0.03}, {g.vml.x * 0.8, g.vml.y - 0.01}}, 0.012, 0.012), 0.06, 0.02);
 
 	// Head pose: one similarity about the image centre, applied to the pixels and the points alike.
-	const double angle = pose.angleDeg * M_PI / 180.0;
-	const double ca = pose.scale * std::cos(angle), sa = pose.scale * std::sin(angle);
-	const double cx = width_ / 2.0, cy = height_ / 2.0;
-	cv::Matx23d M(ca, -sa, cx - ca * cx + sa * cy + pose.dx, sa, ca, cy - sa * cx - ca * cy + pose.dy);
+	const cv::Matx23d M = poseMatrix(pose, width_, height_);
 	cv::Mat warped;
 	cv::warpAffine(canvas, warped, M, canvas.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
 	SynthFace out;
 	out.image = Image8(width_, height_, 3);
 	cv::Mat out8(height_, width_, CV_8UC3, out.image.data.data());
 	warped.convertTo(out8, CV_8UC3);  // saturating, rounds to nearest
-	const std::vector<P> fp = featurePoints(g);
-	out.points.resize(Eigen::Index(fp.size()), 2);
-	for (std::size_t i = 0; i < fp.size(); ++i) {
-		const double x = ox + fp[i].x * f, y = oy + fp[i].y * f;
-		out.points(Eigen::Index(i), 0) = M(0, 0) * x + M(0, 1) * y + M(0, 2);
-		out.points(Eigen::Index(i), 1) = M(1, 0) * x + M(1, 1) * y + M(1, 2);
-	}
+	out.points = placePoints(g, M, ox, oy, f);
 	return out;
 }
 

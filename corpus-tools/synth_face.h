@@ -44,6 +44,8 @@ class FaceRenderer {
 public:
 	FaceRenderer(int width, int height);
 	SynthFace render(const Articulation& a, const ActionUnits& au, const HeadPose& pose) const;
+	// The feature points alone (what render() returns in .points), without drawing.
+	Points points(const Articulation& a, const ActionUnits& au, const HeadPose& pose) const;
 	int width() const { return width_; }
 	int height() const { return height_; }
 

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "geometry/scheme.h"
+#include "phonetics/labels.h"
+#include "synth_corpus.h"
+
+using namespace talkhead;
+
+namespace {
+const FaceRenderer& renderer() {
+	static const FaceRenderer r(640, 360);
+	return r;
+}
+int idx(const char* name) {
+	static const Scheme s = loadScheme("ch-unicamp-56");
+	return s.indexOf(name);
+}
+const SynthItem& item(const std::vector<SynthItem>& items, const std::string& emotion, const std::string& viseme) {
+	for (const auto& it : items)
+		if (it.emotion == emotion && it.viseme == viseme) return it;
+	throw std::runtime_error("no item " + emotion + " " + viseme);
+}
+// Points without head jitter, so differences are articulation only.
+Points still(const SynthItem& it) { return renderer().points(it.articulation, it.actionUnits, HeadPose{}); }
+double eyeCorners(const Points& p) { return (p.row(idx("REYE1")) - p.row(idx("LEYE1"))).norm(); }
+const std::vector<int>& mouthPoints() {
+	static const std::vector<int> m = [] {
+		std::vector<int> v;
+		for (const char* n : {"RM1", "RM2", "RM3", "RM4", "RM5", "LM1", "LM2", "LM3", "LM4", "LM5", "CUM", "CLM", "VMR", "VML", "CIUM", "CILM", "CJAW"})
+			v.push_back(idx(n));
+		return v;
+	}();
+	return m;
+}
+}  // namespace
+
+TEST(SynthCorpus, labelsAreTheCanonicalLists) {
+	EXPECT_EQ(emotionLabels().size(), 23u);
+	EXPECT_EQ(visemeLabels().size(), 34u);
+	auto items = synthCorpusItems({});
+	EXPECT_EQ(items.size(), 782u);
+	std::set<std::string> files;
+	for (const auto& it : items) files.insert(it.fileName);
+	EXPECT_EQ(files.size(), 782u) << "file names must be unique";
+	EXPECT_EQ(canonicalEmotion("Sadness"), std::optional<std::string>("distress"));
+	EXPECT_EQ(canonicalEmotion("disgust"), std::optional<std::string>("hate"));
+	EXPECT_EQ(canonicalViseme("<p1>"), std::optional<std::string>("p1"));
+	EXPECT_EQ(canonicalViseme("sh1"), std::optional<std::string>("ʃ1"));
+	EXPECT_EQ(canonicalViseme("E"), std::optional<std::string>("ɛ"));
+	EXPECT_EQ(canonicalViseme("e"), std::optional<std::string>("e"));
+}
+
+TEST(SynthFace, sameInputsGiveTheSameBytes) {
+	auto items = synthCorpusItems({});
+	const SynthItem& it = item(items, "joy", "a");
+	SynthFace a = renderer().render(it.articulation, it.actionUnits, it.pose);
+	SynthFace b = renderer().render(it.articulation, it.actionUnits, it.pose);
+	EXPECT_EQ(a.image.data, b.image.data);
+	EXPECT_EQ(a.points, b.points);
+	EXPECT_EQ(a.points, renderer().points(it.articulation, it.actionUnits, it.pose));
+}
+
+TEST(SynthCorpus, seedChangesTheJitterOnly) {
+	SynthCorpusOptions o1, o2;
+	o2.seed = 2;
+	auto a = synthCorpusItems(o1), b = synthCorpusItems(o2), a2 = synthCorpusItems(o1);
+	ASSERT_EQ(a.size(), b.size());
+	int posesDiffer = 0;
+	for (std::size_t i = 0; i < a.size(); ++i) {
+		EXPECT_EQ(a[i].fileName, b[i].fileName);
+		EXPECT_EQ(a[i].context, b[i].context);
+		EXPECT_EQ(a[i].pose.angleDeg, a2[i].pose.angleDeg);  // same seed: same jitter
+		posesDiffer += a[i].pose.angleDeg != b[i].pose.angleDeg;
+		// Jitter bounds: ≤ 2°, ± 2 % scale.
+		EXPECT_LE(std::abs(a[i].pose.angleDeg), 2.0);
+		EXPECT_LE(std::abs(a[i].pose.scale - 1), 0.02);
+		if (i % 97 == 0) {
+			// The two versions of an image differ by a similarity transform of the head only.
+			Points pa = renderer().points(a[i].articulation, a[i].actionUnits, a[i].pose);
+			Points pb = renderer().points(b[i].articulation, b[i].actionUnits, b[i].pose);
+			Similarity s = alignSimilarity(pa, pb, Eigen::VectorXd::Ones(56));
+			EXPECT_LT((s.apply(pa) - pb).cwiseAbs().maxCoeff(), 1e-6);
+			EXPECT_GT((pa - pb).cwiseAbs().maxCoeff(), 0.1);
+		}
+	}
+	EXPECT_GT(posesDiffer, 770);
+}
+
+TEST(SynthCorpus, pointsLieInsideTheImage) {
+	for (const auto& it : synthCorpusItems({})) {
+		Points p = renderer().points(it.articulation, it.actionUnits, it.pose);
+		EXPECT_GE(p.col(0).minCoeff(), 0) << it.fileName;
+		EXPECT_GE(p.col(1).minCoeff(), 0) << it.fileName;
+		EXPECT_LT(p.col(0).maxCoeff(), 640) << it.fileName;
+		EXPECT_LT(p.col(1).maxCoeff(), 360) << it.fileName;
+	}
+}
+
+TEST(SynthCorpus, visemesTheThesisSeparatesHaveDifferentMouths) {
+	auto items = synthCorpusItems({});
+	const std::vector<std::vector<std::string>> groups = {{"p1", "p2"}, {"f1", "f2"}, {"t1", "t2"}, {"s1", "s2"}, {"l1", "l2", "l3", "l4"},
+	                                                      {"ʃ1", "ʃ2"}, {"ʎ1", "ʎ2", "ʎ3"}, {"r1", "r2"}, {"k1", "k2", "k3"}, {"i1", "i2"}};
+	// Threshold: 2 % of the eye-corner distance (≈ 2.3 px at 640×360, 7 px at 1920×1080) for the mouth
+	// point that moves most.
+	const double threshold = 0.02;
+	for (const std::string emotion : {"neutral", "joy", "anger"})
+		for (const auto& g : groups)
+			for (std::size_t i = 0; i < g.size(); ++i)
+				for (std::size_t j = i + 1; j < g.size(); ++j) {
+					Points a = still(item(items, emotion, g[i])), b = still(item(items, emotion, g[j]));
+					double most = 0;
+					for (int k : mouthPoints()) most = std::max(most, (a.row(k) - b.row(k)).norm());
+					EXPECT_GT(most / eyeCorners(a), threshold) << emotion << ": " << g[i] << " vs " << g[j];
+				}
+}
+
+TEST(SynthCorpus, bilabialsCloseTheLipsAndOpenVowelsOpenTheJaw) {
+	auto items = synthCorpusItems({});
+	for (const auto& e : emotionLabels()) {
+		for (const char* v : {"p1", "p2"}) {
+			Points p = still(item(items, e.label, v));
+			EXPECT_LT((p.row(idx("CIUM")) - p.row(idx("CILM"))).norm(), 0.01) << e.label << " " << v;
+			EXPECT_LT((p.row(idx("RM4")) - p.row(idx("RM5"))).norm(), 0.01) << e.label << " " << v;
+		}
+		// <a> has the largest jaw opening of all visemes (chin lowest, lips furthest apart).
+		Points a = still(item(items, e.label, "a"));
+		for (const auto& v : visemeLabels()) {
+			if (v.label == "a") continue;
+			Points p = still(item(items, e.label, v.label));
+			EXPECT_GT(a(idx("CJAW"), 1), p(idx("CJAW"), 1)) << e.label << ": a vs " << v.label;
+			EXPECT_GT(a(idx("CILM"), 1) - a(idx("CIUM"), 1), p(idx("CILM"), 1) - p(idx("CIUM"), 1)) << e.label << ": a vs " << v.label;
+		}
+	}
+}
+
+TEST(SynthCorpus, expressionsMoveBrowsAndMouthAsTheirActionUnitsSay) {
+	auto items = synthCorpusItems({});
+	Points neutral = still(item(items, "neutral", "e")), joy = still(item(items, "joy", "e")), anger = still(item(items, "anger", "e")),
+	       fear = still(item(items, "fear", "e"));
+	auto width = [](const Points& p) { return p(idx("LM2"), 0) - p(idx("RM2"), 0); };
+	EXPECT_GT(width(joy), 1.1 * width(neutral));                            // a smile widens the mouth
+	EXPECT_LT(joy(idx("RM2"), 1), neutral(idx("RM2"), 1));                  // and lifts its corners
+	EXPECT_GT(anger(idx("REB1"), 1), neutral(idx("REB1"), 1) + 3);          // AU4 lowers the inner brow
+	EXPECT_LT(fear(idx("REB1"), 1), neutral(idx("REB1"), 1) - 3);           // AU1 raises it
+	EXPECT_LT(fear(idx("REYE2"), 1), neutral(idx("REYE2"), 1) - 1);         // AU5 raises the upper lid
+}
