@@ -97,11 +97,13 @@ int main(int argc, char** argv) {
 			thread_local dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
 			const CorpusEntry& e = corpus.entries[picked[k]];
 			Image8 img = readImage(e.imagePath);
-			// Detect on a half-size image (faces here are ~280 px wide; HOG needs ≥ 80), predict at full size.
+			// Detect on a half-size image when it is large (faces are ~280 px wide at 720p; HOG needs ≥ 80),
+			// predict at full size.
 			dlib::array2d<dlib::rgb_pixel> full(img.height, img.width), half;
 			for (int y = 0; y < img.height; ++y)
 				for (int x = 0; x < img.width; ++x) full[y][x] = dlib::rgb_pixel(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
-			half.set_size(img.height / 2, img.width / 2);
+			const long factor = img.height >= 600 ? 2 : 1;
+			half.set_size(img.height / factor, img.width / factor);
 			dlib::resize_image(full, half);
 			std::vector<dlib::rectangle> faces = detector(half);
 			const std::string name = e.imagePath.substr(e.imagePath.find_last_of('/') + 1);
@@ -112,7 +114,7 @@ int main(int argc, char** argv) {
 			dlib::rectangle r = faces.front();
 			for (const auto& f : faces)
 				if (f.area() > r.area()) r = f;
-			r = dlib::rectangle(r.left() * 2, r.top() * 2, r.right() * 2 + 1, r.bottom() * 2 + 1);
+			r = dlib::rectangle(r.left() * factor, r.top() * factor, r.right() * factor + factor - 1, r.bottom() * factor + factor - 1);
 			dlib::full_object_detection shape = sp(full, r);
 			auto ib = [&](int i) { return Eigen::RowVector2d(shape.part(i).x(), shape.part(i).y()); };
 			const double iod = (e.points.row(16) - e.points.row(20)).norm();
