@@ -9,5 +9,6 @@ namespace talkhead::cli {
 int runBuild(const std::vector<std::string>& args);
 int runInspect(const std::vector<std::string>& args);
 int runCorpus(const std::vector<std::string>& args);
+int runVisemes(const std::vector<std::string>& args);
 
 }  // namespace talkhead::cli

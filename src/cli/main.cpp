@@ -26,6 +26,7 @@ const char* kUsage =
     "  build     build a face model (.thm) from an annotated image corpus\n"
     "  inspect   summarise a face model, draw it (-o DIR), measure reconstruction (--recon)\n"
     "  corpus    corpus tools: 'corpus synth' writes the synthetic expressive viseme corpus\n"
+    "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
     "\n"
     "  talkhead <command> --help   options of one command\n"
     "  talkhead --version          version\n";
@@ -53,9 +54,10 @@ int main(int argc, char** argv) {
 		if (command == "build") return cli::runBuild(rest);
 		if (command == "inspect") return cli::runInspect(rest);
 		if (command == "corpus") return cli::runCorpus(rest);
+		if (command == "visemes") return cli::runVisemes(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// talkhead visemes TRANSCRIPT
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <unistd.h>
+
+#include "base/error.h"
+#include "base/text.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "phonetics/language.h"
+#include "phonetics/writers.h"
+
+namespace talkhead::cli {
+
+namespace {
+
+std::string joined(const std::vector<std::string>& v) {
+	std::string s;
+	for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+	return s;
+}
+
+// Writes text to PATH through a temporary name (or to stdout for "-").
+void writeOutput(const std::string& path, const std::string& text) {
+	if (path == "-") {
+		std::cout << text;
+		std::cout.flush();
+		return;
+	}
+	namespace fs = std::filesystem;
+	fs::path target(path), tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
+	{
+		std::ofstream out(tmp, std::ios::binary);
+		out << text;
+		if (!out) {
+			out.close();
+			std::remove(tmp.c_str());
+			throw Error(path, 0, "cannot write");
+		}
+	}
+	std::error_code ec;
+	fs::rename(tmp, target, ec);
+	if (ec) {
+		std::remove(tmp.c_str());
+		throw Error(path, 0, "cannot write: " + ec.message());
+	}
+}
+
+}  // namespace
+
+int runVisemes(const std::vector<std::string>& argv) {
+	Args args("visemes", "talkhead visemes TRANSCRIPT|- [options]",
+	          {{"--lang", "LANG", "language of the phones: pt-BR (default) or en-US"},
+	           {"--format", "FORMAT", "input format (default: detected): " + joined(transcriptFormats())},
+	           {"--tier", "NAME", "TextGrid tier (default: the first interval tier named like phones, else the first)"},
+	           {"--utterance", "NAME|N", "HTK MLF utterance (name or 1-based index; default the first)"},
+	           {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
+	           {"--fps", "N", "output frame rate for keypose spacing (default 30)"},
+	           {"--out-format", "FORMAT", "tsv (default), json, textgrid, rhubarb-tsv, rhubarb-json"},
+	           {"--output", "OUT", "write here instead of standard output", "-o"}},
+	          "Maps a timed transcript to context-dependent visemes (Costa 2015) and keyposes: one row per phone\n"
+	          "with start, end, phone (IPA), CDV and keypose time. Word-level input (GRID .align, word speech\n"
+	          "marks) is phonemised with espeak-ng; viseme-level input (Polly visemes, Rhubarb cues) maps directly.");
+	if (!args.parse(argv)) return 0;
+	if (args.positionals().size() != 1) throw UsageError("visemes: expected one TRANSCRIPT argument (or - for standard input)");
+	ReadOptions ro;
+	ro.format = args.get("--format", "");
+	if (!ro.format.empty()) {
+		const auto& f = transcriptFormats();
+		if (std::find(f.begin(), f.end(), ro.format) == f.end())
+			throw UsageError("visemes: unknown --format '" + ro.format + "' (" + joined(f) + ")");
+	}
+	ro.tier = args.get("--tier", "");
+	ro.utterance = args.get("--utterance", "");
+	const std::string outFormat = args.get("--out-format", "tsv");
+	const auto& of = visemeOutputFormats();
+	if (std::find(of.begin(), of.end(), outFormat) == of.end())
+		throw UsageError("visemes: unknown --out-format '" + outFormat + "' (" + joined(of) + ")");
+	const std::string policy = args.get("--unknown", "error");
+	UnknownPhone unknown = UnknownPhone::Error;
+	if (policy == "nearest") unknown = UnknownPhone::Nearest;
+	else if (policy == "silence") unknown = UnknownPhone::Silence;
+	else if (policy != "error") throw UsageError("visemes: --unknown must be error, nearest or silence");
+	const double fps = args.number("--fps", 30, 1, 240);
+	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
+
+	const std::string path = args.positionals()[0];
+	Transcript tr = readTranscript(path, ro);
+	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
+	std::vector<Keypose> keys = keyposes(phones, Ticks(std::llround(double(kTicksPerSecond) / fps)));
+	writeOutput(args.get("--output", "-"), formatVisemes(phones, keys, outFormat, lang.tag(), path));
+	return 0;
+}
+
+}  // namespace talkhead::cli

@@ -1,0 +1,304 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "phonetics/language.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/text.h"
+#include "base/tsv.h"
+#include "phonetics/espeak.h"
+#include "phonetics/labels.h"
+
+namespace talkhead {
+
+namespace {
+
+std::string folded(const std::string& s) { return toLower(s); }
+
+// Removes stress and length marks (ˈ ˌ ː ˑ and ASCII ':'), and ARPAbet stress digits at the end.
+std::string stripMarks(const std::string& s) {
+	std::string out;
+	for (std::size_t i = 0; i < s.size();) {
+		if (s.compare(i, 2, "\xCB\x88") == 0 || s.compare(i, 2, "\xCB\x8C") == 0 || s.compare(i, 2, "\xCB\x90") == 0 ||
+		    s.compare(i, 2, "\xCB\x91") == 0) {
+			i += 2;
+			continue;
+		}
+		if (s[i] == ':' || s[i] == '\'' || s[i] == ',') {
+			++i;
+			continue;
+		}
+		out += s[i++];
+	}
+	while (out.size() > 1 && std::isdigit((unsigned char)out.back()) && std::isupper((unsigned char)out[0])) out.pop_back();
+	return out;
+}
+
+// UTF-8 code-point prefix lengths of s, longest first (excluding the whole string).
+std::vector<std::size_t> prefixes(const std::string& s) {
+	std::vector<std::size_t> cuts;
+	for (std::size_t i = 1; i < s.size(); ++i)
+		if ((s[i] & 0xC0) != 0x80) cuts.push_back(i);
+	std::reverse(cuts.begin(), cuts.end());
+	return cuts;
+}
+
+std::string dataDirFor(const std::string& tag) {
+	if (auto p = findDataFile("phonetics/" + tag + "/inventory.tsv")) return std::filesystem::path(*p).parent_path().string();
+	return "";
+}
+
+}  // namespace
+
+Language::Language(const std::string& tag, const std::string& dir) : tag_(tag) {
+	TsvTable inv = readTsv(dir + "/inventory.tsv");
+	const auto cp = inv.column("phone"), ck = inv.column("kind"), cg = inv.column("group"), cv = inv.column("vclass"), cc = inv.column("cdv");
+	for (const auto& r : inv.rows) {
+		PhoneInfo p;
+		p.phone = r.fields[cp];
+		p.kind = r.fields[ck];
+		if (p.kind != "vowel" && p.kind != "consonant" && p.kind != "liquid" && p.kind != "glide" && p.kind != "pause")
+			throw Error(inv.path, r.line, "kind must be vowel, consonant, liquid, glide or pause");
+		p.group = r.fields[cg] == "-" ? "" : r.fields[cg];
+		const std::string& vc = r.fields[cv];
+		if (vc != "-") {
+			if (vc != "i" && vc != "a" && vc != "u") throw Error(inv.path, r.line, "vclass must be i, a, u or -");
+			p.vclass = vc[0];
+		}
+		p.cdv = r.fields[cc] == "-" ? "" : r.fields[cc];
+		if (!p.cdv.empty() && !canonicalViseme(p.cdv)) throw Error(inv.path, r.line, "unknown CDV '" + p.cdv + "'");
+		if (p.cdv.empty() && p.group.empty()) throw Error(inv.path, r.line, "a phone needs a CDV or a consonant group");
+		if (inventory_.count(p.phone)) throw Error(inv.path, r.line, "phone '" + p.phone + "' listed twice");
+		order_.push_back(p.phone);
+		inventory_[p.phone] = p;
+	}
+	TsvTable sym = readTsv(dir + "/symbols.tsv");
+	const auto cs = sym.column("symbol"), cph = sym.column("phones");
+	for (const auto& r : sym.rows) {
+		auto phones = splitWhitespace(r.fields[cph]);
+		if (phones.empty()) throw Error(sym.path, r.line, "no phones");
+		for (const auto& p : phones)
+			if (!inventory_.count(p)) throw Error(sym.path, r.line, "phone '" + p + "' is not in the inventory");
+		symbols_[r.fields[cs]] = phones;
+		symbolsFolded_.emplace(folded(r.fields[cs]), phones);
+	}
+	for (const auto& p : order_) symbols_.emplace(p, std::vector<std::string>{p});
+}
+
+const Language& Language::get(const std::string& tag) {
+	static std::mutex m;
+	static std::map<std::string, std::unique_ptr<Language>> cache;
+	std::lock_guard<std::mutex> lock(m);
+	std::string canon;
+	for (const auto& a : available())
+		if (toLower(a) == toLower(tag)) canon = a;
+	if (canon.empty()) {
+		std::string known;
+		for (const auto& a : available()) known += (known.empty() ? "" : ", ") + a;
+		throw Error("no viseme table for language '" + tag + "' (languages: " + known + ")");
+	}
+	auto& slot = cache[canon];
+	if (!slot) slot = std::make_unique<Language>(canon, dataDirFor(canon));
+	return *slot;
+}
+
+std::vector<std::string> Language::available() {
+	std::vector<std::string> out;
+	for (const char* t : {"pt-BR", "en-US"})
+		if (!dataDirFor(t).empty()) out.emplace_back(t);
+	return out;
+}
+
+std::optional<std::vector<std::string>> Language::normalize(const std::string& label) const {
+	const std::string l(trim(label));
+	if (l.empty()) return std::vector<std::string>{"_"};
+	if (auto it = symbols_.find(l); it != symbols_.end()) return it->second;
+	const std::string s = stripMarks(l);
+	if (auto it = symbols_.find(s); it != symbols_.end()) return it->second;
+	if (auto it = symbolsFolded_.find(folded(s)); it != symbolsFolded_.end()) return it->second;
+	return std::nullopt;
+}
+
+std::optional<std::vector<std::string>> Language::nearest(const std::string& label) const {
+	const std::string s = stripMarks(std::string(trim(label)));
+	for (std::size_t cut : prefixes(s))
+		if (auto p = normalize(s.substr(0, cut))) return p;
+	return std::nullopt;
+}
+
+const PhoneInfo& Language::info(const std::string& phone) const {
+	auto it = inventory_.find(phone);
+	if (it == inventory_.end()) throw std::logic_error("Language::info: unknown phone " + phone);
+	return it->second;
+}
+
+std::string Language::inventoryList() const {
+	std::string s;
+	for (const auto& p : order_) s += (s.empty() ? "" : " ") + p;
+	return s;
+}
+
+namespace {
+
+// (group key, context) → CDV, from phonetics/visemes.tsv.
+const std::map<std::pair<std::string, std::string>, std::string>& contextTable() {
+	static const auto table = [] {
+		std::map<std::pair<std::string, std::string>, std::string> t;
+		for (const auto& v : visemeLabels())
+			if (v.kind == "consonant" && !v.group.empty())
+				for (const auto& c : v.contexts) t[{v.group.front(), c}] = v.label;
+		return t;
+	}();
+	return table;
+}
+
+std::string firstCdvOfGroup(const std::string& group) {
+	for (const auto& v : visemeLabels())
+		if (v.kind == "consonant" && !v.group.empty() && v.group.front() == group) return v.label;
+	return "sil";
+}
+
+const std::map<std::pair<std::string, std::string>, std::string>& visemeInput() {
+	static const auto table = [] {
+		std::map<std::pair<std::string, std::string>, std::string> t;
+		auto path = findDataFile("phonetics/viseme-input.tsv");
+		if (!path) throw Error("data file 'phonetics/viseme-input.tsv' not found");
+		TsvTable tab = readTsv(*path);
+		const auto cs = tab.column("scheme"), cy = tab.column("symbol"), cc = tab.column("cdv");
+		for (const auto& r : tab.rows) {
+			auto c = canonicalViseme(r.fields[cc]);
+			if (!c) throw Error(tab.path, r.line, "unknown CDV '" + r.fields[cc] + "'");
+			t[{r.fields[cs], r.fields[cy]}] = *c;
+		}
+		return t;
+	}();
+	return table;
+}
+
+}  // namespace
+
+void assignCdvs(std::vector<PhoneSegment>& ph, const Language& lang) {
+	const std::size_t n = ph.size();
+	auto info = [&](std::size_t i) -> const PhoneInfo& { return lang.info(ph[i].phone); };
+	auto vowelish = [&](std::size_t i) { return info(i).vclass != 0 && (info(i).kind == "vowel" || info(i).kind == "glide"); };
+	for (std::size_t i = 0; i < n; ++i) {
+		const PhoneInfo& p = info(i);
+		if (p.kind == "pause") {
+			ph[i].cdv = "sil";
+			continue;
+		}
+		if (!p.cdv.empty()) {
+			ph[i].cdv = p.cdv;
+			// <i2>: [i] between two [t d n] or two [ʃ ʒ] consonants (visemes.tsv: tit ʃiʃ).
+			if (p.cdv == "i1" && i > 0 && i + 1 < n) {
+				const std::string& gl = info(i - 1).group;
+				const std::string& gr = info(i + 1).group;
+				if (gl == gr && (gl == "t" || gl == "ʃ")) ph[i].cdv = "i2";
+			}
+			continue;
+		}
+		// Consonant: V1 from the phone directly to the left, V2 from the first vowel to the right within
+		// two phones, stepping over liquids and glides of a cluster.
+		char v1 = 0, v2 = 0;
+		if (i > 0 && vowelish(i - 1)) v1 = info(i - 1).vclass;
+		for (std::size_t j = i + 1; j < n && j <= i + 2; ++j) {
+			if (info(j).kind == "vowel") {
+				v2 = info(j).vclass;
+				break;
+			}
+			if (info(j).kind != "liquid" && info(j).kind != "glide") break;
+		}
+		if (!v2) {
+			// Coda or before a pause: the lips keep the nucleus's shape (nearest vowel to the left).
+			for (std::size_t j = i; j-- > 0 && j + 3 > i;)
+				if (vowelish(j)) {
+					v2 = info(j).vclass;
+					break;
+				}
+			if (!v2) v2 = 'a';
+		}
+		std::string context;
+		if (v1) {
+			const char* reduced = v2 == 'i' ? "ɪ" : v2 == 'u' ? "ʊ" : "ɐ";
+			context = std::string(1, v1) + p.group + reduced;
+		} else {
+			context = p.group + std::string(1, v2);
+		}
+		auto it = contextTable().find({p.group, context});
+		ph[i].cdv = it != contextTable().end() ? it->second : firstCdvOfGroup(p.group);
+	}
+}
+
+std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& lang, UnknownPhone unknown) {
+	std::vector<PhoneSegment> out;
+	if (tr.level == LabelLevel::Viseme) {
+		for (const auto& iv : tr.intervals) {
+			std::string cdv = "sil";
+			if (!iv.label.empty()) {
+				auto it = visemeInput().find({tr.visemeScheme, iv.label});
+				if (it == visemeInput().end()) {
+					std::string known;
+					for (const auto& [k, v] : visemeInput())
+						if (k.first == tr.visemeScheme) known += (known.empty() ? "" : " ") + k.second;
+					if (unknown == UnknownPhone::Error)
+						throw Error(tr.path, iv.line, "unknown " + tr.visemeScheme + " viseme '" + iv.label + "' (known: " + known + ")");
+				} else {
+					cdv = it->second;
+				}
+			}
+			out.push_back({iv.start, iv.end, iv.label, iv.label.empty() ? "_" : iv.label, cdv, iv.line});
+		}
+		return out;
+	}
+	std::vector<Interval> phoneIntervals;
+	if (tr.level == LabelLevel::Word) {
+		phoneIntervals = expandWords(tr, lang.tag());
+	} else {
+		phoneIntervals = tr.intervals;
+	}
+	for (const auto& iv : phoneIntervals) {
+		auto phones = lang.normalize(iv.label);
+		if (!phones) {
+			if (unknown == UnknownPhone::Nearest) phones = lang.nearest(iv.label);
+			if (!phones && unknown != UnknownPhone::Error) phones = std::vector<std::string>{"_"};
+			if (!phones)
+				throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + iv.label + "' (known: " + lang.inventoryList() +
+				                                  "; or use --unknown=nearest|silence)");
+		}
+		// Split the interval equally among the phones it spells (diphthongs, affricates).
+		const std::int64_t total = (iv.end - iv.start).count(), k = std::int64_t(phones->size());
+		for (std::int64_t j = 0; j < k; ++j) {
+			const Ticks a = iv.start + Ticks(total * j / k), b = iv.start + Ticks(total * (j + 1) / k);
+			out.push_back({a, b, iv.label, (*phones)[std::size_t(j)], "", iv.line});
+		}
+	}
+	assignCdvs(out, lang);
+	return out;
+}
+
+std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame) {
+	std::vector<Keypose> out;
+	std::size_t i = 0;
+	while (i < ph.size()) {
+		// A run of phones with the same CDV makes one keypose at the run's midpoint.
+		std::size_t j = i;
+		while (j + 1 < ph.size() && ph[j + 1].cdv == ph[i].cdv) ++j;
+		Keypose k{Ticks((ph[i].start.count() + ph[j].end.count()) / 2), ph[i].cdv, i, j};
+		if (!out.empty() && k.time - out.back().time < frame) {
+			// Too close to the previous keypose to be seen: keep the one whose phones last longer.
+			const Keypose& prev = out.back();
+			const Ticks prevLen = ph[prev.last].end - ph[prev.first].start, len = ph[j].end - ph[i].start;
+			if (len > prevLen) out.back() = k;
+		} else {
+			out.push_back(k);
+		}
+		i = j + 1;
+	}
+	return out;
+}
+
+}  // namespace talkhead

@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "phonetics/transcript.h"
+
+namespace talkhead {
+
+// A phone of a language's inventory (phonetics/<lang>/inventory.tsv).
+struct PhoneInfo {
+	std::string phone;  // canonical IPA
+	std::string kind;   // vowel | consonant | liquid | glide | pause
+	std::string group;  // consonants: the CDV group key (first phone of the homorganic group), else "-"
+	char vclass = 0;    // vowels and glides: context class 'i', 'a' or 'u'; 0 otherwise
+	std::string cdv;    // fixed CDV (vowels, glides, pauses, fixed consonants), or "" (decided by context)
+};
+
+// Language data: the phone inventory and every accepted spelling of each phone (IPA, X-SAMPA, espeak
+// mnemonics, Praat trigraphs, ARPAbet …) → canonical IPA phones. Loaded from phonetics/<tag>/.
+class Language {
+public:
+	static const Language& get(const std::string& tag);  // "pt-BR", "en-US" (case-insensitive); throws Error
+	static std::vector<std::string> available();
+	Language(const std::string& tag, const std::string& dir);
+
+	const std::string& tag() const { return tag_; }
+	// Canonical phones for a label (a diphthong or affricate may give two); nullopt if unknown.
+	std::optional<std::vector<std::string>> normalize(const std::string& label) const;
+	// The known phone closest to an unknown label (longest known prefix), or nullopt.
+	std::optional<std::vector<std::string>> nearest(const std::string& label) const;
+	const PhoneInfo& info(const std::string& phone) const;
+	// The inventory, for messages.
+	std::string inventoryList() const;
+
+private:
+	std::string tag_;
+	std::map<std::string, PhoneInfo> inventory_;
+	std::vector<std::string> order_;
+	std::map<std::string, std::vector<std::string>> symbols_, symbolsFolded_;
+};
+
+enum class UnknownPhone { Error, Nearest, Silence };
+
+// One phone of the utterance with its CDV.
+struct PhoneSegment {
+	Ticks start{0}, end{0};
+	std::string label;  // as in the transcript
+	std::string phone;  // canonical IPA ("_" = pause)
+	std::string cdv;    // keypose class (phonetics/visemes.tsv)
+	long line = 0;
+};
+
+// Normalises a phone-, word- or viseme-level transcript to phones with CDVs (spec §2.5 and
+// docs/decisions.md): word level goes through espeak-ng; viseme level maps through
+// phonetics/viseme-input.tsv; an interval whose label expands to N phones is split into N equal parts.
+std::vector<PhoneSegment> phoneSegments(const Transcript& transcript, const Language& language, UnknownPhone unknown = UnknownPhone::Error);
+
+// The context-dependent viseme rule (spec §2.5) over a phone sequence: vowels by table, [i] → <i2>
+// between two [t d n] or two [ʃ ʒ]; consonants by the V1 C V2 / C V context looked up in the group's
+// contexts (phonetics/visemes.tsv), the right vowel searched up to 2 phones ahead over liquids/glides.
+void assignCdvs(std::vector<PhoneSegment>& phones, const Language& language);
+
+// A keypose: a CDV at an instant (the midpoint of its phone, thesis Eq. 5.1).
+struct Keypose {
+	Ticks time{0};
+	std::string cdv;
+	std::size_t first = 0, last = 0;  // the phone segments it stands for
+};
+
+// One keypose per phone at its midpoint, with the project's edge rules (docs/decisions.md): runs of the
+// same CDV merge into one keypose at the run's midpoint; a keypose less than one frame after the previous
+// one is dropped unless its phone is longer (then it replaces the previous one).
+std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& phones, Ticks frame);
+
+}  // namespace talkhead

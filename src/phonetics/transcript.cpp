@@ -1,0 +1,561 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Timed-transcript readers: Praat TextGrid (long and short text, UTF-8/UTF-16), MBROLA .pho, HTK .lab
+// and MLF, GRID .align, speech-marks JSON lines (Polly), plain TSV, Rhubarb mouth cues (TSV and JSON).
+#include "phonetics/transcript.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+#include "base/error.h"
+#include "base/json.h"
+#include "base/text.h"
+
+namespace talkhead {
+
+const std::vector<std::string>& transcriptFormats() {
+	static const std::vector<std::string> f = {"textgrid", "pho", "htk", "grid", "marks", "tsv", "rhubarb-tsv", "rhubarb-json"};
+	return f;
+}
+
+namespace {
+
+constexpr std::int64_t kTicksPerMs = kTicksPerSecond / 1000;
+constexpr std::int64_t kTicksPerGridUnit = kTicksPerSecond / 25000;  // 1/1000 of a 25 fps frame = 40 µs
+
+// UTF-16 (with BOM) → UTF-8; UTF-8 BOM stripped; anything else unchanged.
+std::string toUtf8(const std::string& in) {
+	if (in.size() >= 3 && (unsigned char)in[0] == 0xEF && (unsigned char)in[1] == 0xBB && (unsigned char)in[2] == 0xBF) return in.substr(3);
+	if (in.size() < 2) return in;
+	const unsigned char b0 = in[0], b1 = in[1];
+	const bool le = b0 == 0xFF && b1 == 0xFE, be = b0 == 0xFE && b1 == 0xFF;
+	if (!le && !be) return in;
+	std::string out;
+	auto unit = [&](std::size_t i) -> unsigned {
+		const unsigned char a = in[i], b = in[i + 1];
+		return le ? unsigned(a | (b << 8)) : unsigned((a << 8) | b);
+	};
+	for (std::size_t i = 2; i + 1 < in.size(); i += 2) {
+		unsigned cp = unit(i);
+		if (cp >= 0xD800 && cp < 0xDC00 && i + 3 < in.size()) {
+			unsigned lo = unit(i + 2);
+			if (lo >= 0xDC00 && lo < 0xE000) {
+				cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
+				i += 2;
+			}
+		}
+		if (cp < 0x80) out += char(cp);
+		else if (cp < 0x800) out += char(0xC0 | (cp >> 6)), out += char(0x80 | (cp & 0x3F));
+		else if (cp < 0x10000) out += char(0xE0 | (cp >> 12)), out += char(0x80 | ((cp >> 6) & 0x3F)), out += char(0x80 | (cp & 0x3F));
+		else
+			out += char(0xF0 | (cp >> 18)), out += char(0x80 | ((cp >> 12) & 0x3F)), out += char(0x80 | ((cp >> 6) & 0x3F)),
+			    out += char(0x80 | (cp & 0x3F));
+	}
+	return out;
+}
+
+struct Line {
+	long no;
+	std::string text;  // trimmed, CR removed
+};
+std::vector<Line> lines(const std::string& text) {
+	std::vector<Line> out;
+	long n = 0;
+	for (std::string l : split(text, '\n')) {
+		++n;
+		if (!l.empty() && l.back() == '\r') l.pop_back();
+		out.push_back({n, std::string(trim(l))});
+	}
+	return out;
+}
+
+Ticks seconds(const std::string& path, long line, const std::string& s, const char* what) {
+	double v;
+	if (!parseDouble(s, v)) throw Error(path, line, std::string("expected ") + what + " in seconds, found '" + s + "'");
+	if (v < 0) throw Error(path, line, std::string(what) + " is negative (" + s + ")");
+	if (v > 86400) throw Error(path, line, std::string(what) + " is absurd (" + s + " s)");
+	return ticksFromSeconds(v);
+}
+
+Ticks integerUnits(const std::string& path, long line, const std::string& s, double ticksPerUnit, const char* what) {
+	long long v;
+	if (!parseInt(s, v)) throw Error(path, line, std::string("expected ") + what + " as an integer, found '" + s + "'");
+	if (v < 0) throw Error(path, line, std::string(what) + " is negative (" + s + ")");
+	if (double(v) * ticksPerUnit / double(kTicksPerSecond) > 86400) throw Error(path, line, std::string(what) + " is absurd (" + s + ")");
+	return Ticks(std::llround(double(v) * ticksPerUnit));
+}
+
+// ---- Praat TextGrid ------------------------------------------------------------------------------
+// Long and short text forms carry the same sequence of values (numbers, quoted strings, <exists>);
+// the long form adds "key =" names and "[n]:" headings, which the tokenizer skips.
+struct Token {
+	enum Kind { Number, String, Flag } kind;
+	std::string text;
+	long line;
+};
+
+std::vector<Token> textGridTokens(const std::string& t, const std::string& path) {
+	std::vector<Token> out;
+	long line = 1;
+	std::size_t i = 0;
+	while (i < t.size()) {
+		const char c = t[i];
+		if (c == '\n') {
+			++line;
+			++i;
+		} else if (c == '"') {
+			std::string s;
+			const long startLine = line;
+			++i;
+			for (;;) {
+				if (i >= t.size()) throw Error(path, startLine, "unterminated string");
+				if (t[i] == '"') {
+					if (i + 1 < t.size() && t[i + 1] == '"') {  // "" is an escaped quote
+						s += '"';
+						i += 2;
+						continue;
+					}
+					++i;
+					break;
+				}
+				if (t[i] == '\n') ++line;
+				s += t[i++];
+			}
+			out.push_back({Token::String, s, startLine});
+		} else if (c == '[') {  // "item [1]:" headings
+			while (i < t.size() && t[i] != ']' && t[i] != '\n') ++i;
+			if (i < t.size() && t[i] == ']') ++i;
+		} else if (c == '!') {  // comment to end of line
+			while (i < t.size() && t[i] != '\n') ++i;
+		} else if (c == '<') {
+			std::size_t e = t.find('>', i);
+			if (e == std::string::npos) throw Error(path, line, "unterminated <flag>");
+			out.push_back({Token::Flag, t.substr(i, e - i + 1), line});
+			i = e + 1;
+		} else if (c == '-' || c == '+' || c == '.' || std::isdigit((unsigned char)c)) {
+			std::size_t j = i + 1;
+			while (j < t.size() && (std::isalnum((unsigned char)t[j]) || t[j] == '.' || t[j] == '-' || t[j] == '+')) ++j;
+			out.push_back({Token::Number, t.substr(i, j - i), line});
+			i = j;
+		} else if (std::isalpha((unsigned char)c)) {  // keys: skip the word
+			while (i < t.size() && (std::isalnum((unsigned char)t[i]) || t[i] == '_' || t[i] == '?')) ++i;
+		} else {
+			++i;
+		}
+	}
+	return out;
+}
+
+class TokenReader {
+public:
+	TokenReader(std::vector<Token> t, std::string path) : t_(std::move(t)), path_(std::move(path)) {}
+	const Token& next(Token::Kind k, const char* what) {
+		if (i_ >= t_.size()) throw Error(path_, t_.empty() ? 0 : t_.back().line, std::string("unexpected end of file: expected ") + what);
+		const Token& tok = t_[i_++];
+		if (tok.kind != k) throw Error(path_, tok.line, std::string("expected ") + what + ", found '" + tok.text + "'");
+		return tok;
+	}
+	double number(const char* what) {
+		const Token& tok = next(Token::Number, what);
+		double v;
+		if (!parseDouble(tok.text, v)) throw Error(path_, tok.line, std::string("expected ") + what + ", found '" + tok.text + "'");
+		return v;
+	}
+	long long count(const char* what) {
+		const Token& tok = next(Token::Number, what);
+		long long v;
+		if (!parseInt(tok.text, v) || v < 0 || v > 10'000'000) throw Error(path_, tok.line, std::string("bad ") + what + " '" + tok.text + "'");
+		return v;
+	}
+	bool peekFlag() const { return i_ < t_.size() && t_[i_].kind == Token::Flag; }
+	long line() const { return i_ < t_.size() ? t_[i_].line : (t_.empty() ? 0 : t_.back().line); }
+
+private:
+	std::vector<Token> t_;
+	std::string path_;
+	std::size_t i_ = 0;
+};
+
+bool phoneLikeTierName(const std::string& name) {
+	const std::string n = toLower(name);
+	for (const char* p : {"phone", "phones", "phoneme", "phonemes", "segment", "segments", "phon", "fon", "fones"})
+		if (n == p) return true;
+	return false;
+}
+
+Transcript readTextGrid(const std::string& text, const std::string& path, const ReadOptions& o) {
+	TokenReader r(textGridTokens(text, path), path);
+	if (r.next(Token::String, "\"ooTextFile\"").text != "ooTextFile") throw Error(path, 1, "not a Praat text file (expected File type = \"ooTextFile\")");
+	if (r.next(Token::String, "\"TextGrid\"").text != "TextGrid") throw Error(path, 2, "not a TextGrid (Object class is not \"TextGrid\")");
+	const double gridMin = r.number("xmin"), gridMax = r.number("xmax");
+	if (!r.peekFlag()) throw Error(path, r.line(), "expected <exists> (a TextGrid with tiers)");
+	const std::string flag = r.next(Token::Flag, "<exists>").text;
+	const long long tiers = flag == "<exists>" ? r.count("number of tiers") : 0;
+	struct Tier {
+		std::string name, cls;
+		long line;
+		std::vector<Interval> intervals;
+	};
+	std::vector<Tier> all;
+	for (long long k = 0; k < tiers; ++k) {
+		Tier tier;
+		tier.line = r.line();
+		tier.cls = r.next(Token::String, "tier class").text;
+		tier.name = r.next(Token::String, "tier name").text;
+		const double tmin = r.number("tier xmin"), tmax = r.number("tier xmax");
+		const long long n = r.count("interval count");
+		if (tier.cls == "IntervalTier") {
+			for (long long j = 0; j < n; ++j) {
+				const long line = r.line();
+				const double a = r.number("interval xmin"), b = r.number("interval xmax");
+				const std::string label = r.next(Token::String, "interval text").text;
+				if (b < a) throw Error(path, line, "interval ends (" + std::to_string(b) + ") before it starts (" + std::to_string(a) + ")");
+				if (a < tmin - 1e-9 || b > tmax + 1e-9 || b > gridMax + 1e-9 || a < gridMin - 1e-9)
+					throw Error(path, line, "interval [" + std::to_string(a) + ", " + std::to_string(b) + "] lies outside its tier [" +
+					                            std::to_string(tmin) + ", " + std::to_string(tmax) + "]");
+				if (a < 0) throw Error(path, line, "negative time");
+				tier.intervals.push_back({ticksFromSeconds(a), ticksFromSeconds(b), std::string(trim(label)), line});
+			}
+		} else if (tier.cls == "TextTier") {
+			for (long long j = 0; j < n; ++j) {
+				r.number("point time");
+				r.next(Token::String, "point mark");
+			}
+		} else {
+			throw Error(path, tier.line, "unknown tier class '" + tier.cls + "'");
+		}
+		all.push_back(std::move(tier));
+	}
+	const Tier* chosen = nullptr;
+	std::string names;
+	for (const auto& t : all) names += (names.empty() ? "" : ", ") + ("'" + t.name + "' (" + (t.cls == "IntervalTier" ? "intervals" : "points") + ")");
+	if (!o.tier.empty()) {
+		for (const auto& t : all)
+			if (t.name == o.tier) chosen = &t;
+		if (!chosen) throw Error(path, 0, "no tier named '" + o.tier + "' (tiers: " + (names.empty() ? "none" : names) + ")");
+		if (chosen->cls != "IntervalTier") throw Error(path, chosen->line, "tier '" + o.tier + "' is a point tier; phones need an interval tier");
+	} else {
+		for (const auto& t : all)
+			if (!chosen && t.cls == "IntervalTier" && phoneLikeTierName(t.name)) chosen = &t;
+		for (const auto& t : all)
+			if (!chosen && t.cls == "IntervalTier") chosen = &t;
+		if (!chosen) throw Error(path, 0, "no interval tier (tiers: " + (names.empty() ? "none" : names) + ")");
+	}
+	Transcript tr;
+	tr.format = "textgrid";
+	tr.intervals = chosen->intervals;
+	return tr;
+}
+
+// ---- MBROLA .pho -----------------------------------------------------------------------------------
+Transcript readPho(const std::string& text, const std::string& path) {
+	Transcript tr;
+	tr.format = "pho";
+	Ticks t{0};
+	for (const Line& l : lines(text)) {
+		std::string s = l.text.substr(0, l.text.find(';'));
+		auto f = splitWhitespace(s);
+		if (f.empty()) continue;
+		if (f.size() < 2 || f.size() % 2 != 0)
+			throw Error(path, l.no, "expected 'phone duration_ms [position pitch]…', found '" + l.text + "'");
+		double ms;
+		if (!parseDouble(f[1], ms) || ms < 0 || ms > 600000) throw Error(path, l.no, "bad duration '" + f[1] + "' (milliseconds)");
+		const Ticks d(std::llround(ms * double(kTicksPerMs)));
+		tr.intervals.push_back({t, t + d, f[0] == "_" ? "" : f[0], l.no});
+		t += d;
+	}
+	return tr;
+}
+
+// ---- HTK .lab / MLF and GRID .align -----------------------------------------------------------------
+// "start end label [score …]" with integer times; HTK in 100 ns units, GRID in 40 µs units.
+std::vector<Interval> readStartEndLabel(const std::vector<Line>& ls, const std::string& path, double ticksPerUnit) {
+	std::vector<Interval> out;
+	for (const Line& l : ls) {
+		if (l.text.empty() || l.text[0] == '#') continue;
+		auto f = splitWhitespace(l.text);
+		if (f.size() < 3) throw Error(path, l.no, "expected 'start end label', found '" + l.text + "'");
+		Ticks a = integerUnits(path, l.no, f[0], ticksPerUnit, "start"), b = integerUnits(path, l.no, f[1], ticksPerUnit, "end");
+		if (b < a) throw Error(path, l.no, "interval ends before it starts");
+		out.push_back({a, b, f[2], l.no});
+	}
+	return out;
+}
+
+Transcript readHtk(const std::string& text, const std::string& path, const ReadOptions& o) {
+	Transcript tr;
+	tr.format = "htk";
+	std::vector<Line> ls = lines(text);
+	const double ticksPer100ns = double(kTicksPerSecond) / 1e7;
+	if (!ls.empty() && ls.front().text == "#!MLF!#") {
+		// Master label file: "name" lines, label lines, "." ends each utterance.
+		struct Utt {
+			std::string name;
+			long line;
+			std::vector<Line> body;
+		};
+		std::vector<Utt> utts;
+		Utt* cur = nullptr;
+		for (std::size_t i = 1; i < ls.size(); ++i) {
+			const Line& l = ls[i];
+			if (l.text.empty()) continue;
+			if (!cur) {
+				if (l.text.front() != '"') throw Error(path, l.no, "expected a quoted utterance name in the MLF");
+				utts.push_back({l.text.substr(1, l.text.size() - 2), l.no, {}});
+				cur = &utts.back();
+			} else if (l.text == ".") {
+				cur = nullptr;
+			} else {
+				cur->body.push_back(l);
+			}
+		}
+		if (utts.empty()) throw Error(path, 0, "the MLF holds no utterance");
+		const Utt* pick = &utts.front();
+		if (!o.utterance.empty()) {
+			pick = nullptr;
+			long long idx;
+			if (parseInt(o.utterance, idx) && idx >= 1 && std::size_t(idx) <= utts.size()) pick = &utts[std::size_t(idx - 1)];
+			for (const auto& u : utts)
+				if (!pick && u.name.find(o.utterance) != std::string::npos) pick = &u;
+			if (!pick) {
+				std::string names;
+				for (const auto& u : utts) names += (names.empty() ? "" : ", ") + u.name;
+				throw Error(path, 0, "no utterance '" + o.utterance + "' in the MLF (utterances: " + names + ")");
+			}
+		}
+		tr.intervals = readStartEndLabel(pick->body, path, ticksPer100ns);
+	} else {
+		tr.intervals = readStartEndLabel(ls, path, ticksPer100ns);
+	}
+	return tr;
+}
+
+Transcript readGrid(const std::string& text, const std::string& path) {
+	Transcript tr;
+	tr.format = "grid";
+	tr.level = LabelLevel::Word;
+	tr.intervals = readStartEndLabel(lines(text), path, double(kTicksPerGridUnit));
+	return tr;
+}
+
+// ---- plain TSV: start end label in seconds -----------------------------------------------------------
+Transcript readTsv(const std::string& text, const std::string& path) {
+	Transcript tr;
+	tr.format = "tsv";
+	bool first = true;
+	for (const Line& l : lines(text)) {
+		if (l.text.empty() || l.text[0] == '#') continue;
+		auto f = split(l.text, '\t');
+		if (f.size() == 1) f = splitWhitespace(l.text);
+		double dummy;
+		if (first && f.size() >= 2 && !parseDouble(f[0], dummy)) {  // a header line
+			first = false;
+			continue;
+		}
+		first = false;
+		if (f.size() < 2 || f.size() > 3) throw Error(path, l.no, "expected 'start<TAB>end<TAB>label' in seconds, found '" + l.text + "'");
+		Ticks a = seconds(path, l.no, f[0], "start"), b = seconds(path, l.no, f[1], "end");
+		if (b < a) throw Error(path, l.no, "interval ends before it starts");
+		tr.intervals.push_back({a, b, f.size() == 3 ? std::string(trim(f[2])) : "", l.no});
+	}
+	return tr;
+}
+
+// ---- Rhubarb mouth cues ---------------------------------------------------------------------------
+// TSV: "time<TAB>shape", each shape holding until the next cue; the last cue (normally X) ends the file.
+Transcript readRhubarbTsv(const std::string& text, const std::string& path) {
+	Transcript tr;
+	tr.format = "rhubarb-tsv";
+	tr.level = LabelLevel::Viseme;
+	tr.visemeScheme = "rhubarb";
+	std::vector<std::pair<Ticks, Line>> cues;
+	for (const Line& l : lines(text)) {
+		if (l.text.empty()) continue;
+		auto f = splitWhitespace(l.text);
+		if (f.size() != 2) throw Error(path, l.no, "expected 'time<TAB>mouth shape', found '" + l.text + "'");
+		cues.emplace_back(seconds(path, l.no, f[0], "time"), Line{l.no, f[1]});
+	}
+	for (std::size_t i = 0; i + 1 < cues.size(); ++i)
+		tr.intervals.push_back({cues[i].first, cues[i + 1].first, cues[i].second.text, cues[i].second.no});
+	if (cues.size() == 1) tr.intervals.push_back({cues[0].first, cues[0].first + Ticks(kTicksPerSecond / 10), cues[0].second.text, cues[0].second.no});
+	return tr;
+}
+
+double jsonNumber(const JsonValue& o, const char* key, const std::string& path, long line) {
+	const JsonValue* v = o.find(key);
+	if (!v || v->kind != JsonValue::Kind::Number) throw Error(path, line, std::string("expected a number \"") + key + "\"");
+	return v->number;
+}
+
+Transcript readRhubarbJson(const std::string& text, const std::string& path) {
+	Transcript tr;
+	tr.format = "rhubarb-json";
+	tr.level = LabelLevel::Viseme;
+	tr.visemeScheme = "rhubarb";
+	JsonValue doc = parseJson(text, path);
+	const JsonValue* cues = doc.find("mouthCues");
+	if (!cues || cues->kind != JsonValue::Kind::Array) throw Error(path, 0, "no \"mouthCues\" array");
+	long k = 0;
+	for (const JsonValue& c : cues->array) {
+		++k;
+		const JsonValue* v = c.find("value");
+		if (!v || v->kind != JsonValue::Kind::String) throw Error(path, 0, "mouth cue " + std::to_string(k) + " has no \"value\"");
+		const double a = jsonNumber(c, "start", path, 0), b = jsonNumber(c, "end", path, 0);
+		if (a < 0 || b < a) throw Error(path, 0, "mouth cue " + std::to_string(k) + " has bad times");
+		tr.intervals.push_back({ticksFromSeconds(a), ticksFromSeconds(b), v->string, k});
+	}
+	return tr;
+}
+
+// ---- speech marks (JSON lines, Amazon Polly) ----------------------------------------------------------
+// Viseme marks when there are any (viseme level), else word marks (word level). A mark lasts until the
+// next mark of its type; the last one until the end of the last sentence mark's text is unknown, so it
+// gets 150 ms (docs/decisions.md).
+Transcript readMarks(const std::string& text, const std::string& path) {
+	Transcript tr;
+	tr.format = "marks";
+	struct Mark {
+		Ticks t;
+		std::string type, value;
+		long line;
+	};
+	std::vector<Mark> marks;
+	for (const Line& l : lines(text)) {
+		if (l.text.empty()) continue;
+		JsonValue m = parseJson(l.text, path, l.no);
+		if (m.kind != JsonValue::Kind::Object) throw Error(path, l.no, "expected a JSON object per line");
+		const double ms = jsonNumber(m, "time", path, l.no);
+		if (ms < 0) throw Error(path, l.no, "negative time");
+		const JsonValue* type = m.find("type");
+		const JsonValue* value = m.find("value");
+		if (!type || type->kind != JsonValue::Kind::String) throw Error(path, l.no, "expected \"type\"");
+		if (!value || value->kind != JsonValue::Kind::String) throw Error(path, l.no, "expected a string \"value\"");
+		marks.push_back({Ticks(std::llround(ms * double(kTicksPerMs))), type->string, value->string, l.no});
+	}
+	bool hasViseme = false;
+	for (const auto& m : marks) hasViseme |= m.type == "viseme";
+	const std::string want = hasViseme ? "viseme" : "word";
+	tr.level = hasViseme ? LabelLevel::Viseme : LabelLevel::Word;
+	tr.visemeScheme = hasViseme ? "polly" : "";
+	std::vector<Mark> sel;
+	for (const auto& m : marks)
+		if (m.type == want) sel.push_back(m);
+	std::stable_sort(sel.begin(), sel.end(), [](const Mark& a, const Mark& b) { return a.t < b.t; });
+	for (std::size_t i = 0; i < sel.size(); ++i) {
+		const Ticks end = i + 1 < sel.size() ? sel[i + 1].t : sel[i].t + Ticks(150 * kTicksPerMs);
+		tr.intervals.push_back({sel[i].t, end, sel[i].value, sel[i].line});
+	}
+	return tr;
+}
+
+bool allIntegers(const std::vector<std::string>& f, std::size_t n) {
+	long long v;
+	for (std::size_t i = 0; i < n && i < f.size(); ++i)
+		if (!parseInt(f[i], v)) return false;
+	return f.size() >= n;
+}
+
+}  // namespace
+
+std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
+	const std::string text = toUtf8(raw);
+	std::string_view t = trim(text);
+	if (t.empty()) return std::nullopt;
+	if (t.find("ooTextFile") != std::string_view::npos && t.find("TextGrid") != std::string_view::npos) return "textgrid";
+	if (startsWith(t, "#!MLF!#")) return "htk";
+	if (t.front() == '{' || t.front() == '[') {
+		if (t.find("\"mouthCues\"") != std::string_view::npos) return "rhubarb-json";
+		if (t.find("\"time\"") != std::string_view::npos && t.find("\"type\"") != std::string_view::npos) return "marks";
+		return std::nullopt;
+	}
+	// Line formats: look at the first data line (and the largest time for HTK vs GRID).
+	std::vector<std::string> first;
+	long long maxEnd = 0;
+	bool intsOnly = true, semicolon = false;
+	for (const Line& l : lines(text)) {
+		if (l.text.empty()) continue;
+		if (l.text[0] == ';') {
+			semicolon = true;
+			continue;
+		}
+		if (l.text[0] == '#') continue;
+		auto f = splitWhitespace(l.text);
+		if (first.empty()) first = f;
+		long long v;
+		if (f.size() >= 3 && allIntegers(f, 2)) {
+			if (parseInt(f[1], v)) maxEnd = std::max(maxEnd, v);
+		} else {
+			intsOnly = false;
+		}
+	}
+	if (first.empty()) return semicolon ? std::optional<std::string>("pho") : std::nullopt;
+	double d;
+	if (first.size() == 2 && parseDouble(first[0], d) && first[1].size() == 1 && std::string("ABCDEFGHX").find(first[1]) != std::string::npos)
+		return "rhubarb-tsv";
+	if (first.size() >= 2 && !parseDouble(first[0], d) && parseDouble(first[1], d)) return "pho";
+	if (first.size() >= 3 && allIntegers(first, 2) && intsOnly) return maxEnd < 1'000'000 ? "grid" : "htk";
+	if (first.size() >= 2 && parseDouble(first[0], d)) return "tsv";
+	if (first.size() >= 2 && !parseDouble(first[0], d)) return "tsv";  // a header line
+	return std::nullopt;
+}
+
+Transcript parseTranscript(const std::string& bytes, const std::string& path, const ReadOptions& o) {
+	const std::string text = toUtf8(bytes);
+	if (trim(text).empty()) throw Error(path, 0, "empty transcript");
+	std::string format = o.format;
+	if (format.empty()) {
+		auto f = detectTranscriptFormat(text);
+		if (!f && endsWith(toLower(path), ".align")) f = "grid";
+		if (!f) throw Error(path, 0, "cannot tell the transcript format; name it with --format (textgrid, pho, htk, grid, marks, tsv, rhubarb-tsv, rhubarb-json)");
+		format = *f;
+		// Integer "start end word" files are HTK or GRID; the extension settles it where it can.
+		if ((format == "htk" || format == "grid") && !startsWith(trim(text), "#!MLF!#")) {
+			if (endsWith(toLower(path), ".align")) format = "grid";
+			else if (endsWith(toLower(path), ".lab") || endsWith(toLower(path), ".mlf")) format = "htk";
+		}
+	}
+	Transcript tr;
+	if (format == "textgrid") tr = readTextGrid(text, path, o);
+	else if (format == "pho") tr = readPho(text, path);
+	else if (format == "htk") tr = readHtk(text, path, o);
+	else if (format == "grid") tr = readGrid(text, path);
+	else if (format == "marks") tr = readMarks(text, path);
+	else if (format == "tsv") tr = readTsv(text, path);
+	else if (format == "rhubarb-tsv") tr = readRhubarbTsv(text, path);
+	else if (format == "rhubarb-json") tr = readRhubarbJson(text, path);
+	else throw Error("unknown transcript format '" + format + "' (known: textgrid, pho, htk, grid, marks, tsv, rhubarb-tsv, rhubarb-json)");
+	tr.path = path;
+
+	// Validation: sort, reject overlaps, drop zero-length intervals, fill gaps with pauses.
+	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& a, const Interval& b) { return a.start < b.start; });
+	std::vector<Interval> clean;
+	for (const Interval& iv : tr.intervals) {
+		if (iv.end == iv.start) continue;
+		if (!clean.empty() && iv.start < clean.back().end) {
+			const Interval& prev = clean.back();
+			char buf[160];
+			std::snprintf(buf, sizeof buf, "interval '%s' [%.6g, %.6g] overlaps '%s' [%.6g, %.6g] (line %ld) by %.6g s", iv.label.c_str(),
+			              toSeconds(iv.start), toSeconds(iv.end), prev.label.c_str(), toSeconds(prev.start), toSeconds(prev.end), prev.line,
+			              toSeconds(prev.end - iv.start));
+			throw Error(path, iv.line, buf);
+		}
+		if (!clean.empty() && iv.start > clean.back().end) clean.push_back({clean.back().end, iv.start, "", iv.line});  // a gap: pause
+		clean.push_back(iv);
+	}
+	if (clean.empty()) throw Error(path, 0, "the transcript has no interval of non-zero length");
+	tr.intervals = std::move(clean);
+	return tr;
+}
+
+Transcript readTranscript(const std::string& path, const ReadOptions& o) {
+	if (path == "-") {
+		std::string data((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
+		return parseTranscript(data, "-", o);
+	}
+	return parseTranscript(readTextFile(path), path, o);
+}
+
+}  // namespace talkhead

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "base/ticks.h"
+
+namespace talkhead {
+
+// What the labels of a transcript are.
+enum class LabelLevel { Phone, Word, Viseme };
+
+// One labelled interval [start, end) of a timed transcript.
+struct Interval {
+	Ticks start{0}, end{0};
+	std::string label;  // as written in the file (trimmed); empty = pause
+	long line = 0;      // source line, for error messages (0 = unknown)
+};
+
+// A timed transcript in the one internal representation: intervals sorted by start, non-overlapping.
+struct Transcript {
+	std::string path;                   // for error messages ("-" = standard input)
+	std::string format;                 // textgrid, pho, htk, grid, marks, tsv, rhubarb-tsv, rhubarb-json
+	LabelLevel level = LabelLevel::Phone;
+	std::string visemeScheme;           // for Viseme level: "polly" or "rhubarb"
+	std::vector<Interval> intervals;
+};
+
+struct ReadOptions {
+	std::string format;     // empty = detect from the content
+	std::string tier;       // TextGrid tier name (empty = the first phone-like interval tier)
+	std::string utterance;  // HTK MLF utterance name or 1-based index (empty = the first)
+};
+
+// The formats read, for --format and messages.
+const std::vector<std::string>& transcriptFormats();
+
+// Reads a transcript from text (UTF-8, or UTF-16 with a BOM for TextGrids). Validation (spec §5.2 and
+// docs/decisions.md): rows are sorted by start; overlaps, negative or reversed times and malformed lines
+// are errors naming the file and line; zero-length intervals are dropped; gaps become pauses; empty
+// labels are pauses.
+Transcript parseTranscript(const std::string& bytes, const std::string& path, const ReadOptions& options = {});
+// From a file, or standard input when path is "-".
+Transcript readTranscript(const std::string& path, const ReadOptions& options = {});
+
+// Detects the format from the content (nullopt when nothing matches).
+std::optional<std::string> detectTranscriptFormat(const std::string& text);
+
+}  // namespace talkhead

@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "phonetics/writers.h"
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/json.h"
+#include "base/tsv.h"
+
+namespace talkhead {
+
+const std::vector<std::string>& visemeOutputFormats() {
+	static const std::vector<std::string> f = {"tsv", "json", "textgrid", "rhubarb-tsv", "rhubarb-json"};
+	return f;
+}
+
+std::string rhubarbShape(const std::string& cdv) {
+	static const std::map<std::string, std::string> table = [] {
+		std::map<std::string, std::string> t;
+		auto path = findDataFile("phonetics/rhubarb-shapes.tsv");
+		if (!path) throw Error("data file 'phonetics/rhubarb-shapes.tsv' not found");
+		TsvTable tab = readTsv(*path);
+		const auto cc = tab.column("cdv"), cs = tab.column("shape");
+		for (const auto& r : tab.rows) t[r.fields[cc]] = r.fields[cs];
+		return t;
+	}();
+	auto it = table.find(cdv);
+	return it == table.end() ? "X" : it->second;
+}
+
+namespace {
+
+std::string sec(Ticks t) {
+	char buf[32];
+	std::snprintf(buf, sizeof buf, "%.6f", toSeconds(t));
+	return buf;
+}
+
+// Keypose time of each phone ("" when its keypose was dropped as too close to a neighbour).
+std::vector<std::string> keyTimes(const std::vector<PhoneSegment>& ph, const std::vector<Keypose>& keys) {
+	std::vector<std::string> t(ph.size());
+	for (const auto& k : keys)
+		for (std::size_t i = k.first; i <= k.last && i < ph.size(); ++i) t[i] = sec(k.time);
+	return t;
+}
+
+std::string textGridString(const std::string& s) {
+	std::string o = "\"";
+	for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+	return o + "\"";
+}
+
+struct Cue {
+	Ticks start, end;
+	std::string shape;
+};
+std::vector<Cue> rhubarbCues(const std::vector<PhoneSegment>& ph) {
+	std::vector<Cue> cues;
+	for (const auto& p : ph) {
+		const std::string s = rhubarbShape(p.cdv);
+		if (!cues.empty() && cues.back().shape == s && cues.back().end == p.start) cues.back().end = p.end;
+		else cues.push_back({p.start, p.end, s});
+	}
+	return cues;
+}
+
+}  // namespace
+
+std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector<Keypose>& keys, const std::string& format,
+                          const std::string& lang, const std::string& source) {
+	std::ostringstream o;
+	const auto kt = keyTimes(ph, keys);
+	const Ticks end = ph.empty() ? Ticks(0) : ph.back().end;
+	if (format == "tsv") {
+		o << "start\tend\tphone\tcdv\tkeypose\n";
+		for (std::size_t i = 0; i < ph.size(); ++i)
+			o << sec(ph[i].start) << '\t' << sec(ph[i].end) << '\t' << ph[i].phone << '\t' << ph[i].cdv << '\t' << (kt[i].empty() ? "-" : kt[i]) << '\n';
+	} else if (format == "json") {
+		o << "{\n  \"language\": " << jsonQuote(lang) << ",\n  \"source\": " << jsonQuote(source) << ",\n  \"duration\": " << sec(end)
+		  << ",\n  \"phones\": [\n";
+		for (std::size_t i = 0; i < ph.size(); ++i)
+			o << "    {\"start\": " << sec(ph[i].start) << ", \"end\": " << sec(ph[i].end) << ", \"label\": " << jsonQuote(ph[i].label)
+			  << ", \"phone\": " << jsonQuote(ph[i].phone) << ", \"cdv\": " << jsonQuote(ph[i].cdv)
+			  << ", \"keypose\": " << (kt[i].empty() ? "null" : kt[i]) << "}" << (i + 1 < ph.size() ? "," : "") << "\n";
+		o << "  ],\n  \"keyposes\": [\n";
+		for (std::size_t i = 0; i < keys.size(); ++i)
+			o << "    {\"time\": " << sec(keys[i].time) << ", \"cdv\": " << jsonQuote(keys[i].cdv) << "}" << (i + 1 < keys.size() ? "," : "") << "\n";
+		o << "  ]\n}\n";
+	} else if (format == "textgrid") {
+		o << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n\nxmin = 0\nxmax = " << sec(end) << "\ntiers? <exists>\nsize = 3\nitem []:\n";
+		auto tier = [&](int n, const char* name, auto labelOf) {
+			o << "    item [" << n << "]:\n        class = \"IntervalTier\"\n        name = \"" << name << "\"\n        xmin = 0\n        xmax = " << sec(end)
+			  << "\n        intervals: size = " << ph.size() << "\n";
+			for (std::size_t i = 0; i < ph.size(); ++i)
+				o << "        intervals [" << i + 1 << "]:\n            xmin = " << sec(ph[i].start) << "\n            xmax = " << sec(ph[i].end)
+				  << "\n            text = " << textGridString(labelOf(ph[i])) << "\n";
+		};
+		tier(1, "phones", [](const PhoneSegment& p) { return p.phone == "_" ? std::string() : p.phone; });
+		tier(2, "cdv", [](const PhoneSegment& p) { return p.cdv; });
+		o << "    item [3]:\n        class = \"TextTier\"\n        name = \"keyposes\"\n        xmin = 0\n        xmax = " << sec(end)
+		  << "\n        points: size = " << keys.size() << "\n";
+		for (std::size_t i = 0; i < keys.size(); ++i)
+			o << "        points [" << i + 1 << "]:\n            number = " << sec(keys[i].time) << "\n            mark = " << textGridString(keys[i].cdv)
+			  << "\n";
+	} else if (format == "rhubarb-tsv") {
+		auto cues = rhubarbCues(ph);
+		for (const auto& c : cues) o << sec(c.start).substr(0, sec(c.start).size() - 4) << '\t' << c.shape << '\n';
+		o << sec(end).substr(0, sec(end).size() - 4) << "\tX\n";
+	} else if (format == "rhubarb-json") {
+		auto cues = rhubarbCues(ph);
+		o << "{\n  \"metadata\": {\n    \"soundFile\": " << jsonQuote(source) << ",\n    \"duration\": " << sec(end) << "\n  },\n  \"mouthCues\": [\n";
+		for (std::size_t i = 0; i < cues.size(); ++i)
+			o << "    { \"start\": " << sec(cues[i].start) << ", \"end\": " << sec(cues[i].end) << ", \"value\": \"" << cues[i].shape << "\" }"
+			  << (i + 1 < cues.size() ? "," : "") << "\n";
+		o << "  ]\n}\n";
+	} else {
+		throw Error("unknown output format '" + format + "' (tsv, json, textgrid, rhubarb-tsv, rhubarb-json)");
+	}
+	return o.str();
+}
+
+}  // namespace talkhead

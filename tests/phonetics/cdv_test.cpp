@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "base/error.h"
+#include "phonetics/labels.h"
+#include "phonetics/language.h"
+#include "phonetics/writers.h"
+
+using namespace talkhead;
+
+namespace {
+const std::string kDir = std::string(TALKHEAD_TEST_DATA_DIR) + "/transcripts/";
+
+std::vector<std::string> cdvs(const std::vector<PhoneSegment>& p) {
+	std::vector<std::string> c;
+	for (const auto& s : p) c.push_back(s.cdv);
+	return c;
+}
+
+// CDVs of a phone string (one phone per space-separated token), 100 ms each.
+std::vector<std::string> cdvsOf(const std::string& phones, const std::string& lang = "pt-BR") {
+	Transcript t;
+	t.path = "test";
+	long k = 0;
+	std::string cur;
+	for (std::size_t i = 0; i <= phones.size(); ++i) {
+		if (i == phones.size() || phones[i] == ' ') {
+			if (!cur.empty()) t.intervals.push_back({Ticks(k * 70560000), Ticks((k + 1) * 70560000), cur == "_" ? "" : cur, k + 1}), ++k;
+			cur.clear();
+		} else {
+			cur += phones[i];
+		}
+	}
+	return cdvs(phoneSegments(t, Language::get(lang)));
+}
+
+std::string errorOf(const std::function<void()>& f) {
+	try {
+		f();
+	} catch (const Error& e) {
+		return e.what();
+	}
+	return "no error";
+}
+
+const std::vector<std::string> kWorkedExample = {"sil", "k1", "i1", "t1", "o", "t1", "i1", "s1", "e", "l2", "e", "t1", "ɪ", "sil"};
+}  // namespace
+
+TEST(Cdv, thesisWorkedExampleFromEveryFormat) {
+	// Costa 2015 Table 5.3: "Que notícia excelente!" = k i n o t i s e l ẽ t ɪ
+	// → <k1> <i1> <t1> <o> <t1> <i1> <s1> <e> <l2> <e> <t1> <ɪ>.
+	const Language& pt = Language::get("pt-BR");
+	for (const char* f : {"que_noticia.TextGrid", "que_noticia_short.TextGrid", "que_noticia_utf16.TextGrid", "que_noticia.pho", "que_noticia.lab"})
+		EXPECT_EQ(cdvs(phoneSegments(readTranscript(kDir + f), pt)), kWorkedExample) << f;
+}
+
+TEST(Cdv, thesisTable34Examples) {
+	// Costa 2015 Table 3.4 ("Fear" text): the consonant in the middle of each snippet.
+	EXPECT_EQ(cdvsOf("i p a")[1], "p1");    // conseguirei pagar
+	EXPECT_EQ(cdvsOf("o p i")[1], "p2");    // o pior
+	EXPECT_EQ(cdvsOf("ɐ f a")[1], "f1");    // minha família
+	EXPECT_EQ(cdvsOf("u f i")[1], "f2");    // contrato ficarei
+	EXPECT_EQ(cdvsOf("t u")[0], "t1");      // Tulha
+	EXPECT_EQ(cdvsOf("a t a")[1], "t2");    // batalhei
+	EXPECT_EQ(cdvsOf("a s a")[1], "s1");    // passado
+	EXPECT_EQ(cdvsOf("ɪ s u")[1], "s2");    // simplesmente sumirão
+	EXPECT_EQ(cdvsOf("u l i")[1], "l1");    // Juliano
+	EXPECT_EQ(cdvsOf("a l i")[1], "l2");    // realizei
+	EXPECT_EQ(cdvsOf("l u")[0], "l3");      // Lucas
+	EXPECT_EQ(cdvsOf("i l ʊ")[1], "l4");    // Lilo
+	EXPECT_EQ(cdvsOf("a ʒ u")[1], "ʃ1");    // ajuda
+	EXPECT_EQ(cdvsOf("ʊ ʒ u")[1], "ʃ2");    // o Juliano
+	EXPECT_EQ(cdvsOf("i ʎ ɐ")[1], "ʎ1");    // família
+	EXPECT_EQ(cdvsOf("u ʎ ɐ")[1], "ʎ2");    // Tulha
+	EXPECT_EQ(cdvsOf("i ɲ ʊ")[1], "ʎ3");    // sozinho
+	EXPECT_EQ(cdvsOf("u k ɐ")[1], "k1");    // Lucas
+	EXPECT_EQ(cdvsOf("ɐ k a")[1], "k2");    // linda casa
+	EXPECT_EQ(cdvsOf("o k u")[1], "k3");    // preocupado
+	EXPECT_EQ(cdvsOf("a ʁ a")[1], "r1");    // arrasado
+	EXPECT_EQ(cdvsOf("a ʁ ʊ")[1], "r2");    // carro
+	EXPECT_EQ(cdvsOf("d i z")[1], "i1");    // dizem: <i2> in Table 3.4, <i1> by our rule (decisions.md)
+	EXPECT_EQ(cdvsOf("t i d")[1], "i2");    // [i] between two [t d n]
+	EXPECT_EQ(cdvsOf("ʃ i ʒ")[1], "i2");    // … or two [ʃ ʒ]
+}
+
+TEST(Cdv, clustersCodasAndNotations) {
+	// [pr]: the cluster liquid is stepped over to reach the vowel.
+	EXPECT_EQ(cdvsOf("p ɾ u")[0], "p2");
+	EXPECT_EQ(cdvsOf("p ɾ a")[0], "p1");
+	// X-SAMPA / Praat spellings normalise to the same phones.
+	EXPECT_EQ(cdvsOf("E"), (std::vector<std::string>{"ɛ"}));
+	EXPECT_EQ(cdvsOf("\\ep"), (std::vector<std::string>{"ɛ"}));
+	EXPECT_EQ(cdvsOf("S u"), cdvsOf("ʃ u"));
+	EXPECT_EQ(cdvsOf("_ sil"), (std::vector<std::string>{"sil", "sil"}));
+}
+
+TEST(Cdv, englishMapsOntoTheSameClasses) {
+	const Language& en = Language::get("en-US");
+	std::vector<PhoneSegment> p = phoneSegments(readTranscript(kDir + "hello_arpabet.lab"), en);
+	ASSERT_EQ(p.size(), 10u);
+	for (const auto& s : p) EXPECT_TRUE(canonicalViseme(s.cdv).has_value()) << s.label << " → " << s.cdv;
+	EXPECT_EQ(p.front().cdv, "sil");
+	EXPECT_EQ(p[3].phone, "l");
+	EXPECT_EQ(p[3].cdv.substr(0, 1), "l");
+	EXPECT_EQ(p[8].cdv.substr(0, 1), "t");  // D: alveolar
+	// ARPAbet diphthongs expand into two phones, each half the interval.
+	Transcript t;
+	t.path = "d";
+	t.intervals = {{Ticks(0), Ticks(70560000), "AY1", 1}};
+	auto d = phoneSegments(t, en);
+	ASSERT_EQ(d.size(), 2u);
+	EXPECT_EQ(d[0].end, Ticks(35280000));
+}
+
+TEST(Cdv, unknownPhonesAreReportedOrMapped) {
+	Transcript t;
+	t.path = "x.TextGrid";
+	t.intervals = {{Ticks(0), Ticks(100), "a", 3}, {Ticks(100), Ticks(200), "tʰ", 4}, {Ticks(200), Ticks(300), "a", 5}};
+	const Language& pt = Language::get("pt-BR");
+	const std::string e = errorOf([&] { phoneSegments(t, pt); });
+	EXPECT_EQ(e.rfind("x.TextGrid:4: unknown pt-BR phone 'tʰ' (known: ", 0), 0u) << e;
+	EXPECT_NE(e.find("--unknown=nearest|silence"), std::string::npos);
+	auto near = phoneSegments(t, pt, UnknownPhone::Nearest);
+	EXPECT_EQ(near[1].phone, "t");
+	auto sil = phoneSegments(t, pt, UnknownPhone::Silence);
+	EXPECT_EQ(sil[1].cdv, "sil");
+	EXPECT_THROW(Language::get("xx-YY"), Error);
+}
+
+TEST(Cdv, visemeLevelInputMapsStraight) {
+	const Language& pt = Language::get("pt-BR");
+	auto polly = phoneSegments(readTranscript(kDir + "polly_visemes.marks"), pt);
+	EXPECT_EQ(polly.front().cdv, "k1");
+	EXPECT_EQ(polly.back().cdv, "sil");
+	auto rh = phoneSegments(readTranscript(kDir + "rhubarb.tsv"), pt);
+	EXPECT_EQ(rh[0].cdv, "sil");  // X
+	EXPECT_EQ(rh[3].cdv, "p1");   // A: closed lips
+}
+
+TEST(Keyposes, oneAtEachPhoneMidpointWithMergesAndDrops) {
+	const Ticks frame(kTicksPerSecond / 30);
+	std::vector<PhoneSegment> p = {{Ticks(0), Ticks(7056000), "", "_", "sil", 1},
+	                               {Ticks(7056000), Ticks(14112000), "a", "a", "a", 2},
+	                               {Ticks(14112000), Ticks(21168000), "a", "a", "a", 3},
+	                               {Ticks(21168000), Ticks(21168000 + 7056000), "p", "p", "p1", 4},
+	                               {Ticks(28224000), Ticks(28224000 + 705600), "i", "i", "i1", 5},
+	                               {Ticks(28929600), Ticks(28929600 + 70560000), "u", "u", "u", 6}};
+	auto k = keyposes(p, frame);
+	ASSERT_EQ(k.size(), 4u);
+	EXPECT_EQ(k[0].time, Ticks(3528000));  // Eq. 5.1: (t_{i−1} + t_i) / 2, exact in flicks
+	EXPECT_EQ(k[1].cdv, "a");              // two [a]s: one keypose at the run's midpoint
+	EXPECT_EQ(k[1].time, Ticks(14112000));
+	EXPECT_EQ(k[2].cdv, "p1");             // the 1 ms [i] falls within a frame of [p]: dropped
+	EXPECT_EQ(k[3].cdv, "u");
+	EXPECT_EQ(k[3].time, Ticks(28929600 + 35280000));
+}
+
+TEST(Writers, textGridRoundTripIsIdentical) {
+	const Language& pt = Language::get("pt-BR");
+	auto phones = phoneSegments(readTranscript(kDir + "que_noticia.TextGrid"), pt);
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	const std::string tg = formatVisemes(phones, keys, "textgrid", "pt-BR", "x");
+	auto again = phoneSegments(parseTranscript(tg, "roundtrip.TextGrid"), pt);
+	ASSERT_EQ(again.size(), phones.size());
+	for (std::size_t i = 0; i < phones.size(); ++i) {
+		EXPECT_EQ(again[i].phone, phones[i].phone);
+		EXPECT_EQ(again[i].cdv, phones[i].cdv);
+		EXPECT_EQ(again[i].start, phones[i].start);
+		EXPECT_EQ(again[i].end, phones[i].end);
+	}
+	EXPECT_EQ(formatVisemes(again, keyposes(again, Ticks(kTicksPerSecond / 30)), "textgrid", "pt-BR", "x"), tg);
+	// The CDV tier reads back as CDVs too.
+	Transcript cdvTier = parseTranscript(tg, "roundtrip.TextGrid", {"", "cdv", ""});
+	EXPECT_EQ(cdvTier.intervals[1].label, "k1");
+	// Rhubarb cues: closed lips for [p b m] would be A; the first cue is the pause.
+	const std::string rh = formatVisemes(phones, keys, "rhubarb-tsv", "pt-BR", "x");
+	EXPECT_EQ(rh.substr(0, 7), "0.00\tX\n");
+}
+
+TEST(Espeak, gridWordsExpandToPhonesInsideEachWord) {
+	const std::string path = std::string(TALKHEAD_SHARED_DATA) + "/grid/swwp2s.align";
+	Transcript words;
+	try {
+		words = readTranscript(path);
+	} catch (const Error&) {
+		GTEST_SKIP() << "GRID data not found at " << path;
+	}
+	const Language& en = Language::get("en-US");
+	auto phones = phoneSegments(words, en, UnknownPhone::Nearest);
+	ASSERT_GT(phones.size(), 15u);
+	for (const auto& w : words.intervals) {
+		int inside = 0;
+		for (const auto& p : phones) {
+			if (p.line != w.line) continue;
+			EXPECT_GE(p.start, w.start) << w.label;
+			EXPECT_LE(p.end, w.end) << w.label;
+			++inside;
+		}
+		EXPECT_GE(inside, 1) << w.label;
+		if (w.label == "white") EXPECT_GE(inside, 3);  // w aɪ t
+	}
+	for (std::size_t i = 1; i < phones.size(); ++i) EXPECT_EQ(phones[i].start, phones[i - 1].end);
+	EXPECT_EQ(phones.front().start, words.intervals.front().start);
+	EXPECT_EQ(phones.back().end, words.intervals.back().end);
+}
