@@ -10,5 +10,6 @@ int runBuild(const std::vector<std::string>& args);
 int runInspect(const std::vector<std::string>& args);
 int runCorpus(const std::vector<std::string>& args);
 int runVisemes(const std::vector<std::string>& args);
+int runRender(const std::vector<std::string>& args);
 
 }  // namespace talkhead::cli

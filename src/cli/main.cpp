@@ -26,6 +26,7 @@ const char* kUsage =
     "  build     build a face model (.thm) from an annotated image corpus\n"
     "  inspect   summarise a face model, draw it (-o DIR), measure reconstruction (--recon)\n"
     "  corpus    corpus tools: 'corpus synth' writes the synthetic expressive viseme corpus\n"
+    "  render    render a talking-head video from a transcript, audio and an emotion\n"
     "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
     "\n"
     "  talkhead <command> --help   options of one command\n"
@@ -55,9 +56,10 @@ int main(int argc, char** argv) {
 		if (command == "inspect") return cli::runInspect(rest);
 		if (command == "corpus") return cli::runCorpus(rest);
 		if (command == "visemes") return cli::runVisemes(rest);
+		if (command == "render") return cli::runRender(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

@@ -22,7 +22,12 @@ Points withFrameBorder(const Points& points, int width, int height) {
 
 std::vector<Span> rasterizeMesh(const Points& p, const TriangleMesh& mesh, int width, int height) {
 	std::vector<Span> spans;
-	spans.reserve(static_cast<std::size_t>(height) * 4);
+	rasterizeMesh(p, mesh, width, height, spans);
+	return spans;
+}
+
+void rasterizeMesh(const Points& p, const TriangleMesh& mesh, int width, int height, std::vector<Span>& spans) {
+	spans.clear();
 	for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
 		const Triangle& t = mesh.triangles[ti];
 		// Edges in canonical direction (from the lexicographically smaller (y, x) end) so that two
@@ -61,7 +66,6 @@ std::vector<Span> rasterizeMesh(const Points& p, const TriangleMesh& mesh, int w
 	}
 	std::sort(spans.begin(), spans.end(),
 	          [](const Span& a, const Span& b) { return a.y != b.y ? a.y < b.y : a.x0 < b.x0; });
-	return spans;
 }
 
 }  // namespace talkhead

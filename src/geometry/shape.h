@@ -82,5 +82,7 @@ struct Span {
 // shared edges belong to exactly one triangle (half-open rule on canonical edges), so a valid
 // triangulation partitions the pixels it covers. Spans are ordered by row, then x.
 std::vector<Span> rasterizeMesh(const Points& points, const TriangleMesh& mesh, int width, int height);
+// The same into an existing vector (its capacity is reused: no allocation per frame).
+void rasterizeMesh(const Points& points, const TriangleMesh& mesh, int width, int height, std::vector<Span>& spans);
 
 }  // namespace talkhead

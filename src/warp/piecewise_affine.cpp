@@ -12,12 +12,17 @@
 namespace talkhead {
 
 PiecewiseAffineWarp::PiecewiseAffineWarp(const TriangleMesh& mesh, const Points& destination, int width, int height)
-    : mesh_(mesh), destination_(destination), width_(width), height_(height) {
-	if (destination.rows() != mesh.vertexCount) throw std::logic_error("PiecewiseAffineWarp: vertex count differs");
-	spans_ = rasterizeMesh(destination, mesh, width, height);
-	inverseBasis_.resize(mesh.triangles.size() * 6);
-	for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-		const Triangle& tri = mesh.triangles[t];
+    : mesh_(mesh), width_(width), height_(height) {
+	setDestination(destination);
+}
+
+void PiecewiseAffineWarp::setDestination(const Points& destination) {
+	if (destination.rows() != mesh_.vertexCount) throw std::logic_error("PiecewiseAffineWarp: vertex count differs");
+	destination_ = destination;
+	rasterizeMesh(destination, mesh_, width_, height_, spans_);
+	inverseBasis_.resize(mesh_.triangles.size() * 6);
+	for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+		const Triangle& tri = mesh_.triangles[t];
 		double x0 = destination(tri[0], 0), y0 = destination(tri[0], 1);
 		double ax = destination(tri[1], 0) - x0, ay = destination(tri[1], 1) - y0;
 		double bx = destination(tri[2], 0) - x0, by = destination(tri[2], 1) - y0;
@@ -34,7 +39,7 @@ PiecewiseAffineWarp::PiecewiseAffineWarp(const TriangleMesh& mesh, const Points&
 		m[4] = x0;
 		m[5] = y0;
 	}
-	affine_.assign(mesh.triangles.size() * 6, 0.f);
+	affine_.assign(mesh_.triangles.size() * 6, 0.f);
 }
 
 void PiecewiseAffineWarp::setSource(const Points& source) {

@@ -17,6 +17,10 @@ public:
 	PiecewiseAffineWarp() = default;
 	PiecewiseAffineWarp(const TriangleMesh& mesh, const Points& destination, int width, int height);
 
+	// A new destination shape: re-rasterises the mesh into the existing buffers (no allocation once they
+	// are large enough). The source must be set again afterwards.
+	void setDestination(const Points& destination);
+
 	// Source shape (same vertex count as the mesh). Cheap: one 2×3 affine per triangle.
 	void setSource(const Points& source);
 

@@ -12,8 +12,9 @@ declare -A allowed=(
 	[media]="base geometry image media"
 	[corpus]="base geometry image media corpus"
 	[phonetics]="base phonetics"
+	[synth]="base geometry image warp model phonetics synth"
 	[viz]="base geometry image warp model viz"
-	[cli]="base geometry image warp model media corpus viz phonetics cli"
+	[cli]="base geometry image warp model media corpus viz phonetics synth cli"
 )
 fail=0
 for dir in "$SRC"/*/; do

@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// talkhead render: transcript (+ audio, emotion) → talking-head video.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/parallel.h"
+#include "base/text.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "cli/progress_bar.h"
+#include "media/audio.h"
+#include "media/image_io.h"
+#include "media/video_writer.h"
+#include "model/model_file.h"
+#include "phonetics/labels.h"
+#include "phonetics/language.h"
+#include "synth/synthesizer.h"
+
+namespace fs = std::filesystem;
+
+namespace talkhead::cli {
+
+namespace {
+
+std::string emotionList() {
+	std::string s;
+	for (const auto& e : emotionLabels()) s += (s.empty() ? "" : ", ") + e.label;
+	return s;
+}
+
+// Removes a temporary output unless released (a failure leaves no file behind).
+struct TempFile {
+	std::string path;
+	bool keep = false;
+	~TempFile() {
+		if (!keep && !path.empty()) {
+			std::error_code ec;
+			fs::remove_all(path, ec);
+		}
+	}
+};
+
+std::string tempNameFor(const std::string& target) {
+	fs::path t(target);
+	return (t.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + t.filename().string())).string();
+}
+
+void checkWritableFolder(const std::string& path) {
+	fs::path parent = fs::path(path).parent_path();
+	if (parent.empty()) parent = ".";
+	std::error_code ec;
+	if (!fs::is_directory(parent, ec)) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' does not exist");
+	if (::access(parent.c_str(), W_OK) != 0) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' is not writable");
+}
+
+}  // namespace
+
+int runRender(const std::vector<std::string>& argv) {
+	Args args("render", "talkhead render --transcript T [--audio A] [--emotion LABEL] -o OUT.mp4 [options]",
+	          {{"--transcript", "FILE", "timed transcript (TextGrid, .pho, HTK, GRID, speech marks, TSV, Rhubarb; - = stdin)"},
+	           {"--audio", "FILE", "speech audio (any format libav reads); the video lasts as long as it"},
+	           {"--emotion", "LABEL", "one of the 23 emotion labels or an alias (default neutral)"},
+	           {"--model", "M.thm", "face model (default: the embedded default face)"},
+	           {"--lang", "LANG", "language of the transcript: pt-BR (default) or en-US"},
+	           {"--fps", "N", "frame rate: 30 (default), 25, 24, 60 or a fraction like 30000/1001"},
+	           {"--size", "WxH", "output size (default: the model's frame size)"},
+	           {"--format", "FORMAT", "mp4 (default) or y4m (raw frames, e.g. -o - | ffplay -)"},
+	           {"--frames", "DIR", "also write every frame as DIR/frame_NNNNNN.png"},
+	           {"--landmarks-out", "F.tsv", "write every frame's feature points (frame, time, x y per point)"},
+	           {"--no-audio", "", "no audio track even when --audio is given (its length still sets the duration)"},
+	           {"--crf", "N", "H.264 quality, 0–51 (default 20)"},
+	           {"--preset", "NAME", "x264 preset (default veryfast)"},
+	           {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
+	           {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
+	           {"--transcript-format", "FORMAT", "transcript format if detection fails"},
+	           {"--tier", "NAME", "TextGrid tier"},
+	           {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
+	           {"--threads", "N", "worker threads (default: all cores)"},
+	           {"--json-progress", "", "machine-readable progress lines on stderr"},
+	           {"--quiet", "", "no progress and no summary", "-q"},
+	           {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}},
+	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint, its appearance\n"
+	          "from the face model for (emotion, context-dependent viseme), feature points moving on zero-tangent\n"
+	          "Hermite curves between keyposes, forward and backward piecewise-affine warps and a cross-dissolve;\n"
+	          "H.264 + AAC MP4 muxed in process.");
+	if (!args.parse(argv)) return 0;
+	if (!args.positionals().empty()) throw UsageError("render: unexpected argument '" + args.positionals()[0] + "'");
+	auto transcriptPath = args.get("--transcript");
+	if (!transcriptPath) throw UsageError("render: --transcript FILE is required");
+	auto output = args.get("--output");
+	if (!output) throw UsageError("render: -o OUT is required");
+	const std::string format = args.get("--format", "mp4");
+	if (format != "mp4" && format != "y4m") throw UsageError("render: --format must be mp4 or y4m");
+	if (*output == "-" && format != "y4m") throw UsageError("render: -o - needs --format y4m");
+	const auto emotion = canonicalEmotion(args.get("--emotion", "neutral"));
+	if (!emotion) throw Error("unknown emotion '" + args.get("--emotion", "") + "' (known: " + emotionList() + "; aliases such as sadness, disgust)");
+	VideoOptions vo;
+	{
+		const std::string fps = args.get("--fps", "30");
+		auto slash = fps.find('/');
+		long long num, den = 1;
+		bool ok = slash == std::string::npos ? parseInt(fps, num) : (parseInt(fps.substr(0, slash), num) && parseInt(fps.substr(slash + 1), den));
+		if (!ok || num < 1 || den < 1 || num > 240 * den || num < den) throw UsageError("render: --fps must be 1–240, e.g. 30 or 30000/1001");
+		vo.fpsNum = int(num);
+		vo.fpsDen = int(den);
+	}
+	vo.crf = int(args.number("--crf", 20, 0, 51));
+	vo.preset = args.get("--preset", "veryfast");
+	SynthOptions so;
+	so.emotion = *emotion;
+	if (auto s = args.get("--size")) {
+		auto x = s->find('x');
+		long long w, h;
+		if (x == std::string::npos || !parseInt(s->substr(0, x), w) || !parseInt(s->substr(x + 1), h) || w < 16 || h < 16 || w > 7680 || h > 4320 || w % 2 || h % 2)
+			throw UsageError("render: --size must be an even WIDTHxHEIGHT from 16x16 to 7680x4320, got '" + *s + "'");
+		so.width = int(w);
+		so.height = int(h);
+	}
+	const std::string traj = args.get("--trajectory", "hermite"), diss = args.get("--dissolve", "linear");
+	if ((traj != "hermite" && traj != "linear") || (diss != "hermite" && diss != "linear"))
+		throw UsageError("render: --trajectory and --dissolve take hermite or linear");
+	so.trajectory = traj == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	so.dissolve = diss == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	const std::string policy = args.get("--unknown", "error");
+	UnknownPhone unknown = policy == "nearest" ? UnknownPhone::Nearest : policy == "silence" ? UnknownPhone::Silence : UnknownPhone::Error;
+	if (policy != "error" && policy != "nearest" && policy != "silence") throw UsageError("render: --unknown must be error, nearest or silence");
+	const unsigned threads = unsigned(args.number("--threads", 0, 0, 256));
+	const bool quiet = args.has("--quiet"), jsonProgress = args.has("--json-progress");
+	if (*output != "-") checkWritableFolder(*output);
+	if (auto f = args.get("--landmarks-out")) checkWritableFolder(*f);
+
+	const auto t0 = std::chrono::steady_clock::now();
+	// Timeline.
+	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
+	ReadOptions ro;
+	ro.format = args.get("--transcript-format", "");
+	ro.tier = args.get("--tier", "");
+	Transcript tr = readTranscript(*transcriptPath, ro);
+	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
+	const std::int64_t frameNumer = kTicksPerSecond * vo.fpsDen;  // frame n at n · frameNumer / fpsNum ticks
+	const Ticks frameTicks(frameNumer / vo.fpsNum);
+	std::vector<Keypose> keys = keyposes(phones, frameTicks);
+	// Duration: the audio's, or the transcript's.
+	AudioClip audio;
+	Ticks duration = phones.back().end;
+	if (auto a = args.get("--audio")) {
+		audio = decodeAudio(*a);
+		const Ticks audioDur = audio.duration();
+		const Ticks tolerance(kTicksPerSecond / 10);
+		if (duration > audioDur + tolerance) {
+			char buf[200];
+			std::snprintf(buf, sizeof buf, "the transcript (%.3f s) is longer than the audio (%.3f s) by %.3f s", toSeconds(duration), toSeconds(audioDur),
+			              toSeconds(duration - audioDur));
+			throw Error(*transcriptPath, 0, buf);
+		}
+		duration = audioDur;
+	}
+	const std::int64_t frames = std::max<std::int64_t>(1, (duration.count() * vo.fpsNum + frameNumer / 2) / frameNumer);  // round(duration × fps)
+	// Model and synthesizer.
+	std::string modelPath = args.get("--model", "");
+	if (modelPath.empty()) {
+		auto d = findDefaultModel();
+		if (!d) throw Error("no default face model found; build it with scripts/demo (target default_model) or give --model");
+		modelPath = *d;
+	}
+	FaceModel model = loadModel(modelPath);
+	Synthesizer synth(model, so);
+	vo.width = synth.width();
+	vo.height = synth.height();
+	synth.prepare(keys);
+	const auto subs = synth.substitutions();
+	if (!subs.empty() && !quiet) {
+		std::string s;
+		for (const auto& x : subs) s += (s.empty() ? "" : "; ") + x;
+		std::fprintf(stderr, "talkhead: the model lacks some (emotion, viseme) entries; substituted: %s\n", s.c_str());
+	}
+	// Outputs (temporary names, renamed when complete).
+	TempFile tmpVideo, tmpLandmarks, tmpFrames;
+	std::unique_ptr<Mp4Writer> mp4;
+	std::unique_ptr<Y4mWriter> y4m;
+	std::FILE* y4mFile = nullptr;
+	const bool withAudio = !audio.samples.empty() && !args.has("--no-audio");
+	if (format == "mp4") {
+		tmpVideo.path = tempNameFor(*output);
+		mp4 = std::make_unique<Mp4Writer>(tmpVideo.path, vo, withAudio ? &audio : nullptr);
+	} else if (*output == "-") {
+		y4mFile = stdout;
+		y4m = std::make_unique<Y4mWriter>(stdout, vo);
+	} else {
+		tmpVideo.path = tempNameFor(*output);
+		y4mFile = std::fopen(tmpVideo.path.c_str(), "wb");
+		if (!y4mFile) throw Error(*output, 0, "cannot write");
+		y4m = std::make_unique<Y4mWriter>(y4mFile, vo);
+	}
+	std::ofstream landmarks;
+	if (auto f = args.get("--landmarks-out")) {
+		tmpLandmarks.path = tempNameFor(*f);
+		landmarks.open(tmpLandmarks.path);
+		landmarks << "frame\ttime";
+		for (const auto& n : model.scheme.pointNames) landmarks << '\t' << n << "_x\t" << n << "_y";
+		landmarks << '\n';
+	}
+	std::string framesDir;
+	if (auto d = args.get("--frames")) {
+		framesDir = *d;
+		std::error_code ec;
+		fs::create_directories(framesDir, ec);
+		if (ec) throw Error(framesDir, 0, "cannot create folder: " + ec.message());
+	}
+
+	// Frames are independent: draw a batch in parallel, then write it in order.
+	ProgressBar bar(quiet || jsonProgress);
+	const unsigned nThreads = resolveThreads(threads);
+	const std::size_t batch = std::max<std::size_t>(4, 2 * nThreads);
+	std::vector<Image8> buffers(batch);
+	std::vector<Points> pts(batch);
+	std::vector<Synthesizer::Workspace> workspaces(nThreads);
+	std::vector<std::unique_ptr<std::mutex>> wsLocks;
+	for (unsigned i = 0; i < nThreads; ++i) wsLocks.push_back(std::make_unique<std::mutex>());
+	int lastPercent = -1;
+	for (std::int64_t first = 0; first < frames; first += std::int64_t(batch)) {
+		const std::size_t count = std::size_t(std::min<std::int64_t>(std::int64_t(batch), frames - first));
+		parallelFor(count, nThreads, [&](std::size_t k) {
+			// One workspace per worker slot (indices are handed out in order, so k % nThreads is free).
+			const std::size_t slot = k % nThreads;
+			std::lock_guard<std::mutex> lock(*wsLocks[slot]);
+			const Ticks tau((first + std::int64_t(k)) * frameNumer / vo.fpsNum);
+			synth.renderFrame(tau, keys, workspaces[slot], buffers[k], pts[k]);
+		});
+		for (std::size_t k = 0; k < count; ++k) {
+			const std::int64_t n = first + std::int64_t(k);
+			if (mp4) mp4->write(buffers[k]);
+			if (y4m) y4m->write(buffers[k]);
+			if (!framesDir.empty()) {
+				char name[64];
+				std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)n);
+				writeImage((fs::path(framesDir) / name).string(), buffers[k], 1);
+			}
+			if (landmarks.is_open()) {
+				char buf[64];
+				std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)n, double(n) * vo.fpsDen / vo.fpsNum);
+				landmarks << buf;
+				for (Eigen::Index i = 0; i < pts[k].rows(); ++i) {
+					std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", pts[k](i, 0), pts[k](i, 1));
+					landmarks << buf;
+				}
+				landmarks << '\n';
+			}
+		}
+		const double fraction = double(first + std::int64_t(count)) / double(frames);
+		bar.report(fraction, "rendering");
+		const int percent = int(fraction * 100);
+		if (jsonProgress && percent != lastPercent) {
+			std::fprintf(stderr, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)(first + std::int64_t(count)),
+			             (long long)frames, fraction);
+			std::fflush(stderr);
+			lastPercent = percent;
+		}
+	}
+	if (mp4) mp4->finish();
+	mp4.reset();
+	y4m.reset();
+	if (y4mFile && y4mFile != stdout && std::fclose(y4mFile) != 0) throw Error(*output, 0, "cannot write");
+	if (landmarks.is_open()) {
+		landmarks.close();
+		if (!landmarks) throw Error(*args.get("--landmarks-out"), 0, "cannot write");
+		fs::rename(tmpLandmarks.path, *args.get("--landmarks-out"));
+		tmpLandmarks.keep = true;
+	}
+	if (!tmpVideo.path.empty()) {
+		std::error_code ec;
+		fs::rename(tmpVideo.path, *output, ec);
+		if (ec) throw Error(*output, 0, "cannot write: " + ec.message());
+		tmpVideo.keep = true;
+	}
+	bar.finish();
+	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	if (jsonProgress) std::fprintf(stderr, "{\"type\": \"done\", \"frames\": %lld, \"seconds\": %.3f}\n", (long long)frames, secs);
+	else if (!quiet)
+		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %d/%d fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
+		             output->c_str(), (long long)frames, vo.width, vo.height, vo.fpsNum, vo.fpsDen, toSeconds(duration),
+		             withAudio ? "audio" : "transcript", keys.size(), so.emotion.c_str(), secs, double(frames) / secs, toSeconds(duration) / secs);
+	return 0;
+}
+
+}  // namespace talkhead::cli

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "image/image.h"
+#include "media/audio.h"
+
+namespace talkhead {
+
+struct VideoOptions {
+	int width = 1280, height = 720;
+	int fpsNum = 30, fpsDen = 1;  // frame rate as a fraction (30000/1001 allowed)
+	int crf = 23;                 // libx264 constant rate factor
+	std::string preset = "veryfast";
+	int threads = 0;              // encoder threads (0 = all cores)
+};
+
+// H.264 (libx264, yuv420p) + AAC MP4, muxed in process with libav. Frames are 8-bit RGB of the given
+// size, written in order; the audio (optional) is encoded alongside, and what is left of it after the last
+// frame is written by finish(). Writes to `path` directly: callers write to a temporary name and rename.
+class Mp4Writer {
+public:
+	Mp4Writer(const std::string& path, const VideoOptions& options, const AudioClip* audio);
+	~Mp4Writer();
+	Mp4Writer(const Mp4Writer&) = delete;
+	Mp4Writer& operator=(const Mp4Writer&) = delete;
+	void write(const Image8& frame);
+	void finish();
+
+private:
+	struct Impl;
+	std::unique_ptr<Impl> impl_;
+};
+
+// YUV4MPEG2 (C420jpeg) stream of RGB frames, e.g. to standard output for `| ffplay -`.
+class Y4mWriter {
+public:
+	Y4mWriter(std::FILE* out, const VideoOptions& options);
+	~Y4mWriter();
+	void write(const Image8& frame);
+
+private:
+	std::FILE* out_;
+	VideoOptions o_;
+	std::vector<std::uint8_t> yuv_;
+	void* sws_ = nullptr;
+};
+
+}  // namespace talkhead
