@@ -20,7 +20,11 @@ namespace {
 std::string folded(const std::string& s) { return toLower(s); }
 
 // Removes stress and length marks (ˈ ˌ ː ˑ and ASCII ':'), and ARPAbet stress digits at the end.
-std::string stripMarks(const std::string& s) {
+std::string stripMarks(const std::string& in) {
+	// Praat's stress and length trigraphs first (\'1 \'2 \:f), before the apostrophe goes.
+	std::string s = in;
+	for (const char* t : {"\\'1", "\\'2", "\\:f", "\\.f"})
+		for (std::size_t p; (p = s.find(t)) != std::string::npos;) s.erase(p, 3);
 	std::string out;
 	for (std::size_t i = 0; i < s.size();) {
 		if (s.compare(i, 2, "\xCB\x88") == 0 || s.compare(i, 2, "\xCB\x8C") == 0 || s.compare(i, 2, "\xCB\x90") == 0 ||
@@ -34,7 +38,14 @@ std::string stripMarks(const std::string& s) {
 		}
 		out += s[i++];
 	}
-	while (out.size() > 1 && std::isdigit((unsigned char)out.back()) && std::isupper((unsigned char)out[0])) out.pop_back();
+	// ARPAbet stress digits (AY1, ah0): ASCII letters followed by digits.
+	std::size_t letters = 0;
+	while (letters < out.size() && std::isalpha((unsigned char)out[letters])) ++letters;
+	if (letters > 0 && letters < out.size()) {
+		bool digits = true;
+		for (std::size_t k = letters; k < out.size(); ++k) digits &= bool(std::isdigit((unsigned char)out[k]));
+		if (digits) out.resize(letters);
+	}
 	return out;
 }
 
@@ -115,7 +126,7 @@ std::vector<std::string> Language::available() {
 
 std::optional<std::vector<std::string>> Language::normalize(const std::string& label) const {
 	const std::string l(trim(label));
-	if (l.empty()) return std::vector<std::string>{"_"};
+	if (l.empty() || l == "#") return std::vector<std::string>{"_"};  // '#' cannot be a table row (comment)
 	if (auto it = symbols_.find(l); it != symbols_.end()) return it->second;
 	const std::string s = stripMarks(l);
 	if (auto it = symbols_.find(s); it != symbols_.end()) return it->second;

@@ -99,12 +99,13 @@ TEST(Cdv, clustersCodasAndNotations) {
 TEST(Cdv, englishMapsOntoTheSameClasses) {
 	const Language& en = Language::get("en-US");
 	std::vector<PhoneSegment> p = phoneSegments(readTranscript(kDir + "hello_arpabet.lab"), en);
-	ASSERT_EQ(p.size(), 10u);
+	ASSERT_EQ(p.size(), 11u);  // OW1 is a diphthong: o + ʊ
 	for (const auto& s : p) EXPECT_TRUE(canonicalViseme(s.cdv).has_value()) << s.label << " → " << s.cdv;
 	EXPECT_EQ(p.front().cdv, "sil");
 	EXPECT_EQ(p[3].phone, "l");
 	EXPECT_EQ(p[3].cdv.substr(0, 1), "l");
-	EXPECT_EQ(p[8].cdv.substr(0, 1), "t");  // D: alveolar
+	EXPECT_EQ(p[4].phone, "o");
+	EXPECT_EQ(p[9].cdv.substr(0, 1), "t");  // D: alveolar
 	// ARPAbet diphthongs expand into two phones, each half the interval.
 	Transcript t;
 	t.path = "d";
@@ -141,20 +142,20 @@ TEST(Cdv, visemeLevelInputMapsStraight) {
 
 TEST(Keyposes, oneAtEachPhoneMidpointWithMergesAndDrops) {
 	const Ticks frame(kTicksPerSecond / 30);
-	std::vector<PhoneSegment> p = {{Ticks(0), Ticks(7056000), "", "_", "sil", 1},
-	                               {Ticks(7056000), Ticks(14112000), "a", "a", "a", 2},
-	                               {Ticks(14112000), Ticks(21168000), "a", "a", "a", 3},
-	                               {Ticks(21168000), Ticks(21168000 + 7056000), "p", "p", "p1", 4},
-	                               {Ticks(28224000), Ticks(28224000 + 705600), "i", "i", "i1", 5},
-	                               {Ticks(28929600), Ticks(28929600 + 70560000), "u", "u", "u", 6}};
+	auto ms = [](long v) { return Ticks(v * (kTicksPerSecond / 1000)); };
+	std::vector<PhoneSegment> p = {{ms(0), ms(100), "", "_", "sil", 1},       {ms(100), ms(200), "a", "a", "a", 2},
+	                               {ms(200), ms(300), "a", "a", "a", 3},      {ms(300), ms(340), "p", "p", "p1", 4},
+	                               {ms(340), ms(341), "i", "i", "i1", 5},     {ms(341), ms(441), "u", "u", "u", 6}};
 	auto k = keyposes(p, frame);
 	ASSERT_EQ(k.size(), 4u);
-	EXPECT_EQ(k[0].time, Ticks(3528000));  // Eq. 5.1: (t_{i−1} + t_i) / 2, exact in flicks
-	EXPECT_EQ(k[1].cdv, "a");              // two [a]s: one keypose at the run's midpoint
-	EXPECT_EQ(k[1].time, Ticks(14112000));
-	EXPECT_EQ(k[2].cdv, "p1");             // the 1 ms [i] falls within a frame of [p]: dropped
+	EXPECT_EQ(k[0].time, ms(50));   // Eq. 5.1: (t_{i−1} + t_i) / 2, exact in flicks
+	EXPECT_EQ(k[1].cdv, "a");       // two [a]s: one keypose at the run's midpoint
+	EXPECT_EQ(k[1].time, ms(200));
+	EXPECT_EQ(k[2].cdv, "p1");      // the 1 ms [i] (keypose at 340.5 ms) falls within a frame of [p]'s (320 ms): dropped
 	EXPECT_EQ(k[3].cdv, "u");
-	EXPECT_EQ(k[3].time, Ticks(28929600 + 35280000));
+	EXPECT_EQ(k[3].time, ms(391));
+	EXPECT_EQ(k[1].first, 1u);
+	EXPECT_EQ(k[1].last, 2u);
 }
 
 TEST(Writers, textGridRoundTripIsIdentical) {
