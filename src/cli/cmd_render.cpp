@@ -84,6 +84,7 @@ int runRender(const std::vector<std::string>& argv) {
 	           {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
 	           {"--threads", "N", "worker threads (default: all cores)"},
 	           {"--json-progress", "", "machine-readable progress lines on stderr"},
+	           {"--timing", "", "print the time of each stage (load, keyposes, warps, blend, encode) on stderr"},
 	           {"--quiet", "", "no progress and no summary", "-q"},
 	           {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}},
 	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint, its appearance\n"
@@ -170,11 +171,18 @@ int runRender(const std::vector<std::string>& argv) {
 		if (!d) throw Error("no default face model found; build it with scripts/demo (target default_model) or give --model");
 		modelPath = *d;
 	}
+	using Clock = std::chrono::steady_clock;
+	auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+	const auto tLoad = Clock::now();
 	FaceModel model = loadModel(modelPath);
+	const double loadSeconds = since(tLoad);
 	Synthesizer synth(model, so);
 	vo.width = synth.width();
 	vo.height = synth.height();
+	const auto tPrep = Clock::now();
 	synth.prepare(keys);
+	const double keyposeSeconds = since(tPrep);
+	double drawSeconds = 0, encodeSeconds = 0;
 	const auto subs = synth.substitutions();
 	if (!subs.empty() && !quiet) {
 		std::string s;
@@ -227,6 +235,7 @@ int runRender(const std::vector<std::string>& argv) {
 	int lastPercent = -1;
 	for (std::int64_t first = 0; first < frames; first += std::int64_t(batch)) {
 		const std::size_t count = std::size_t(std::min<std::int64_t>(std::int64_t(batch), frames - first));
+		const auto tDraw = Clock::now();
 		parallelFor(count, nThreads, [&](std::size_t k) {
 			// One workspace per worker slot (indices are handed out in order, so k % nThreads is free).
 			const std::size_t slot = k % nThreads;
@@ -234,6 +243,8 @@ int runRender(const std::vector<std::string>& argv) {
 			const Ticks tau((first + std::int64_t(k)) * frameNumer / vo.fpsNum);
 			synth.renderFrame(tau, keys, workspaces[slot], buffers[k], pts[k]);
 		});
+		drawSeconds += since(tDraw);
+		const auto tEncode = Clock::now();
 		for (std::size_t k = 0; k < count; ++k) {
 			const std::int64_t n = first + std::int64_t(k);
 			if (mp4) mp4->write(buffers[k]);
@@ -254,6 +265,7 @@ int runRender(const std::vector<std::string>& argv) {
 				landmarks << '\n';
 			}
 		}
+		encodeSeconds += since(tEncode);
 		const double fraction = double(first + std::int64_t(count)) / double(frames);
 		bar.report(fraction, "rendering");
 		const int percent = int(fraction * 100);
@@ -264,8 +276,10 @@ int runRender(const std::vector<std::string>& argv) {
 			lastPercent = percent;
 		}
 	}
+	const auto tFinish = Clock::now();
 	if (mp4) mp4->finish();
 	mp4.reset();
+	encodeSeconds += since(tFinish);
 	y4m.reset();
 	if (y4mFile && y4mFile != stdout && std::fclose(y4mFile) != 0) throw Error(*output, 0, "cannot write");
 	if (landmarks.is_open()) {
@@ -281,6 +295,14 @@ int runRender(const std::vector<std::string>& argv) {
 		tmpVideo.keep = true;
 	}
 	bar.finish();
+	if (args.has("--timing")) {
+		double warp = 0, blend = 0;
+		for (const auto& w : workspaces) warp += w.warpSeconds, blend += w.blendSeconds;
+		std::fprintf(stderr,
+		             "timing: model load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warps %.3f s, blend %.3f s thread time); "
+		             "encode+write %.3f s; %lld frames\n",
+		             loadSeconds, keyposeSeconds, keys.size(), drawSeconds, warp, blend, encodeSeconds, (long long)frames);
+	}
 	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	if (jsonProgress) std::fprintf(stderr, "{\"type\": \"done\", \"frames\": %lld, \"seconds\": %.3f}\n", (long long)frames, secs);
 	else if (!quiet)

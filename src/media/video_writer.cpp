@@ -185,9 +185,16 @@ void Mp4Writer::finish() { impl_->finish(); }
 Y4mWriter::Y4mWriter(std::FILE* out, const VideoOptions& o) : out_(out), o_(o) {
 	std::fprintf(out_, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 C420jpeg\n", o.width, o.height, o.fpsNum, o.fpsDen);
 	yuv_.resize(std::size_t(o.width) * o.height + 2 * std::size_t((o.width + 1) / 2) * ((o.height + 1) / 2));
-	sws_ = sws_getContext(o.width, o.height, AV_PIX_FMT_RGB24, o.width, o.height, AV_PIX_FMT_YUVJ420P, SWS_BILINEAR | SWS_ACCURATE_RND, nullptr,
+	sws_ = sws_getContext(o.width, o.height, AV_PIX_FMT_RGB24, o.width, o.height, AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND, nullptr,
 	                      nullptr, nullptr);
 	if (!sws_) throw Error("cannot set up colour conversion for y4m");
+	// C420jpeg is full-range ("JPEG") YUV: ask swscale for full range output.
+	int* invTable;
+	int* table;
+	int srcRange, dstRange, brightness, contrast, saturation;
+	SwsContext* c = static_cast<SwsContext*>(sws_);
+	sws_getColorspaceDetails(c, &invTable, &srcRange, &table, &dstRange, &brightness, &contrast, &saturation);
+	sws_setColorspaceDetails(c, invTable, 1, table, 1, brightness, contrast, saturation);
 }
 
 Y4mWriter::~Y4mWriter() { sws_freeContext(static_cast<SwsContext*>(sws_)); }

@@ -2,9 +2,11 @@
 #include "synth/synthesizer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "base/error.h"
+#include "base/parallel.h"
 #include "phonetics/labels.h"
 #include "warp/piecewise_affine.h"
 
@@ -26,9 +28,7 @@ std::string groupOf(const std::string& cdv) {
 }
 }  // namespace
 
-const KeyposeImage& Synthesizer::keypose(const std::string& cdv) {
-	std::lock_guard<std::mutex> lock(mutex_);
-	if (auto it = cache_.find(cdv); it != cache_.end()) return *it->second;
+long Synthesizer::resolve(const std::string& cdv) const {
 	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs.
 	long sample = model_.findSample(o_.emotion, cdv);
 	if (sample < 0) sample = model_.findSample("neutral", cdv);
@@ -45,18 +45,12 @@ const KeyposeImage& Synthesizer::keypose(const std::string& cdv) {
 			if (model_.samples[i].emotion == o_.emotion) sample = long(i);
 		if (sample < 0) sample = 0;
 	}
-	auto k = std::make_unique<KeyposeImage>();
-	const SampleInfo& s = model_.samples[std::size_t(sample)];
-	k->usedEmotion = s.emotion;
-	k->usedCdv = s.cdv;
-	if (s.emotion != o_.emotion || s.cdv != cdv) substitutions_.push_back(o_.emotion + " " + cdv + " -> " + s.emotion + " " + s.cdv);
-	// Spec §5.3: appearance per region from its coefficients, composited coarse to fine into the
-	// baseface (mean-shape frame), then warped to the keypose shape (the entry's aligned shape).
-	std::vector<Eigen::VectorXf> coeffs;
-	for (const auto& r : model_.regions) coeffs.push_back(sampleCoefficients(r, std::size_t(sample)));
-	k->shape = model_.alignedShapes[std::size_t(sample)];
-	k->image = warpFromMean(model_, compositeAppearance(model_, coeffs), k->shape);
-	return *cache_.emplace(cdv, std::move(k)).first->second;
+	return sample;
+}
+
+const KeyposeImage& Synthesizer::keypose(const std::string& cdv) {
+	prepare({Keypose{Ticks(0), cdv, 0, 0}});
+	return cached(cdv);
 }
 
 const KeyposeImage& Synthesizer::cached(const std::string& cdv) const {
@@ -72,7 +66,41 @@ std::vector<std::string> Synthesizer::substitutions() const {
 }
 
 void Synthesizer::prepare(const std::vector<Keypose>& keys) {
-	for (const auto& k : keys) keypose(k.cdv);
+	// Every keypose of the timeline: the appearances of all of them in one GEMM per region (the basis is
+	// read once, not once per keypose), then composite and warp each.
+	std::vector<std::string> todo;
+	{
+		std::lock_guard<std::mutex> lock(mutex_);
+		for (const auto& k : keys)
+			if (!cache_.count(k.cdv) && std::find(todo.begin(), todo.end(), k.cdv) == todo.end()) todo.push_back(k.cdv);
+	}
+	if (todo.empty()) return;
+	std::vector<long> samples;
+	for (const auto& cdv : todo) samples.push_back(resolve(cdv));
+	std::vector<Eigen::MatrixXf> appearances;
+	for (const auto& r : model_.regions) {
+		Eigen::MatrixXf c(r.pca.components(), Eigen::Index(samples.size()));
+		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(r, std::size_t(samples[j]));
+		appearances.push_back(synthesizeAppearances(r, c));
+	}
+	std::vector<std::unique_ptr<KeyposeImage>> made(todo.size());
+	parallelFor(todo.size(), 0, [&](std::size_t j) {
+		auto k = std::make_unique<KeyposeImage>();
+		const SampleInfo& s = model_.samples[std::size_t(samples[j])];
+		k->usedEmotion = s.emotion;
+		k->usedCdv = s.cdv;
+		std::vector<Eigen::VectorXf> a;
+		for (const auto& m : appearances) a.push_back(m.col(Eigen::Index(j)));
+		k->shape = model_.alignedShapes[std::size_t(samples[j])];
+		k->image = warpFromMean(model_, compositeRegions(model_, a), k->shape);
+		made[j] = std::move(k);
+	});
+	std::lock_guard<std::mutex> lock(mutex_);
+	for (std::size_t j = 0; j < todo.size(); ++j) {
+		if (made[j]->usedEmotion != o_.emotion || made[j]->usedCdv != todo[j])
+			substitutions_.push_back(o_.emotion + " " + todo[j] + " -> " + made[j]->usedEmotion + " " + made[j]->usedCdv);
+		cache_.emplace(todo[j], std::move(made[j]));
+	}
 }
 
 Points Synthesizer::trajectory(const Points& s, const Points& t, double u, Trajectory kind) {
@@ -98,6 +126,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 	points = p;
 	points.col(0) *= scaleX_;
 	points.col(1) *= scaleY_;
+	const auto t0 = std::chrono::steady_clock::now();
 	const Points pOut = withFrameBorder(points, width_, height_);
 	if (!ws.warp) ws.warp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, pOut, width_, height_);
 	else ws.warp->setDestination(pOut);
@@ -105,12 +134,15 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 	ws.warp->setSource(withFrameBorder(src.shape, model_.width, model_.height));
 	if (hold || u <= 0) {
 		ws.warp->apply(src.image, out);
+		ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		return;
 	}
 	if (ws.a.width != width_ || ws.a.height != height_) ws.a = Image8(width_, height_, 3), ws.b = Image8(width_, height_, 3);
 	ws.warp->apply(src.image, ws.a);
 	ws.warp->setSource(withFrameBorder(dst.shape, model_.width, model_.height));
 	ws.warp->apply(dst.image, ws.b);
+	const auto t1 = std::chrono::steady_clock::now();
+	ws.warpSeconds += std::chrono::duration<double>(t1 - t0).count();
 	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;  // Eq. 5.4: F = K_f (1 − t) + K_b t
 	const int wb = int(std::lround(w * 256)), wa = 256 - wb;
 	const std::uint8_t* a = ws.a.data.data();
@@ -118,6 +150,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 	std::uint8_t* o = out.data.data();
 	const std::size_t n = out.data.size();
 	for (std::size_t k = 0; k < n; ++k) o[k] = std::uint8_t((a[k] * wa + b[k] * wb + 128) >> 8);
+	ws.blendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 
 }  // namespace talkhead

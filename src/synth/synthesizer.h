@@ -49,6 +49,7 @@ public:
 	struct Workspace {
 		std::unique_ptr<PiecewiseAffineWarp> warp;
 		Image8 a, b;
+		double warpSeconds = 0, blendSeconds = 0;  // time spent, for benchmarks
 	};
 	// Draws the frame at time τ (keyposes must be prepared) into `out` (output size) and its feature
 	// points (output pixels) into `points`.
@@ -66,6 +67,7 @@ private:
 	std::map<std::string, std::unique_ptr<KeyposeImage>> cache_;
 	std::vector<std::string> substitutions_;
 	const KeyposeImage& cached(const std::string& cdv) const;
+	long resolve(const std::string& cdv) const;  // the model sample used for a CDV
 };
 
 }  // namespace talkhead

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# talkhead render end to end: MP4 (H.264 + AAC) decoded back, y4m, frames, landmarks, determinism, errors.
+set -euo pipefail
+TH=$1; DATA=$2; SHARED=$3
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+# A small face: the synthetic corpus at 320x180, two emotions, all visemes.
+"$TH" corpus synth -q -o "$T/c" --size 320x180 --emotions neutral,joy
+"$TH" build -q "$T/c/corpus.csv" -o "$T/face.thm"
+TG=$DATA/transcripts/que_noticia.TextGrid   # 1.30 s
+# 2.0 s of audio (a 220 Hz tone, 44.1 kHz mono WAV).
+/usr/bin/python3 - "$T/tone.wav" <<'PY'
+import math, struct, sys, wave
+w = wave.open(sys.argv[1], "wb"); w.setnchannels(1); w.setsampwidth(2); w.setframerate(44100)
+w.writeframes(b"".join(struct.pack("<h", int(8000 * math.sin(2 * math.pi * 220 * i / 44100))) for i in range(88200))); w.close()
+PY
+probe() { ffprobe -v error -count_frames -select_streams "$2" -show_entries stream="$3" -of csv=p=0 "$1"; }
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --audio "$T/tone.wav" --emotion joy -o "$T/a.mp4" --landmarks-out "$T/a.tsv"
+# Video: H.264, 30 fps, round(2.0 × 30) = 60 frames; audio: AAC, 2.0 s; durations within one frame.
+test "$(probe "$T/a.mp4" v:0 codec_name,nb_read_frames,r_frame_rate)" = "h264,30/1,60"
+test "$(probe "$T/a.mp4" a:0 codec_name)" = "aac"
+vd=$(probe "$T/a.mp4" v:0 duration); ad=$(probe "$T/a.mp4" a:0 duration)
+awk -v v="$vd" -v a="$ad" 'BEGIN { d = v - a; if (d < 0) d = -d; if (d > 1 / 30 || a < 1.99 || a > 2.05) { print "durations " v " " a; exit 1 } }'
+test -z "$(ffmpeg -v warning -i "$T/a.mp4" -f null - 2>&1)"   # decodes with no warnings
+# Landmarks: a header and one row per frame with 2 + 2 × 56 columns.
+test "$(wc -l <"$T/a.tsv")" = 61
+awk -F'\t' 'NR > 1 && NF != 114 { print "bad landmark row " NR; exit 1 }' "$T/a.tsv"
+# Determinism: the same inputs give the same file.
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --audio "$T/tone.wav" --emotion joy -o "$T/b.mp4" --threads 1
+cmp "$T/a.mp4" "$T/b.mp4"
+# No audio: the transcript sets the duration (1.30 s → 39 frames); y4m stream and PNG frames.
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" -o "$T/n.mp4" --fps 25
+test "$(probe "$T/n.mp4" v:0 nb_read_frames)" = 33   # round(1.3 × 25) = 32.5 → 33
+test -z "$(ffprobe -v error -select_streams a -show_entries stream=index -of csv=p=0 "$T/n.mp4")"
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --format y4m -o - --size 160x90 >"$T/s.y4m"
+head -c 64 "$T/s.y4m" | head -1 | grep -q '^YUV4MPEG2 W160 H90 F30:1 Ip A1:1 C420jpeg$'
+test "$(grep -c FRAME "$T/s.y4m")" = 39
+test "$(stat -c %s "$T/s.y4m")" = $(( $(head -1 "$T/s.y4m" | wc -c) + 39 * (6 + 160 * 90 * 3 / 2) ))
+! grep -q swscaler "$T/o" 2>/dev/null
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" -o "$T/f.mp4" --frames "$T/frames" --no-audio --audio "$T/tone.wav"
+test "$(ls "$T/frames" | wc -l)" = 60
+# Real speech in another container: GRID's MPEG-1 clip carries MP2 audio; English words via espeak-ng.
+if [ -f "$SHARED/grid/id2_vcd_swwp2s.mpg" ]; then
+	"$TH" render -q --model "$T/face.thm" --lang en-US --unknown nearest --transcript "$SHARED/grid/swwp2s.align" --audio "$SHARED/grid/id2_vcd_swwp2s.mpg" -o "$T/g.mp4"
+	n=$(probe "$T/g.mp4" v:0 nb_read_frames); [ "$n" -ge 88 ] && [ "$n" -le 91 ]   # the clip's ~3 s of MP2 audio
+fi
+# Errors: one line, non-zero exit, no output file.
+err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
+err render --model "$T/face.thm" --transcript "$TG" --emotion grumpy -o "$T/x.mp4" | grep -q "unknown emotion 'grumpy'"
+/usr/bin/python3 -c "import wave; w=wave.open('$T/short.wav','wb'); w.setnchannels(1); w.setsampwidth(2); w.setframerate(16000); w.writeframes(b'\0\0'*8000); w.close()"
+err render --model "$T/face.thm" --transcript "$TG" --audio "$T/short.wav" -o "$T/x.mp4" | grep -q "the transcript (1.300 s) is longer than the audio (0.500 s) by 0.800 s"
+err render --model "$T/none.thm" --transcript "$TG" -o "$T/x.mp4" | grep -q "$T/none.thm: cannot open model"
+err render --model "$T/face.thm" --transcript "$TG" -o "$T/no/such/dir/x.mp4" | grep -q "does not exist"
+/usr/bin/python3 -c "import wave; w=wave.open('$T/empty.wav','wb'); w.setnchannels(1); w.setsampwidth(2); w.setframerate(16000); w.close()"
+err render --model "$T/face.thm" --transcript "$TG" --audio "$T/empty.wav" -o "$T/x.mp4" | grep -q "$T/empty.wav"
+test ! -e "$T/x.mp4"
+test -z "$(ls -A "$T" | grep '^\.tmp-' || true)"
+echo "render ok"

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "geometry/scheme.h"
+#include "image/region_mask.h"
+#include "synth/synthesizer.h"
+#include "synth_corpus.h"
+#include "warp/piecewise_affine.h"
+
+using namespace talkhead;
+
+namespace {
+
+// A small model built in memory from the synthetic corpus: 3 emotions × 6 visemes at 320×180.
+struct SmallFace {
+	std::vector<SynthItem> items;
+	std::vector<SynthFace> faces;
+	FaceModel model;
+};
+
+const SmallFace& smallFace() {
+	static const SmallFace f = [] {
+		SmallFace s;
+		SynthCorpusOptions o;
+		o.width = 320;
+		o.height = 180;
+		o.emotions = {"neutral", "joy", "anger"};
+		o.visemes = {"sil", "a", "u", "p1", "f1", "i1"};
+		s.items = synthCorpusItems(o);
+		FaceRenderer r(o.width, o.height);
+		std::vector<Points> shapes;
+		std::vector<SampleInfo> samples;
+		for (const auto& it : s.items) {
+			s.faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
+			shapes.push_back(s.faces.back().points);
+			samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
+		}
+		NullProgress quiet;
+		s.model = buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height,
+		                         [&](std::size_t i) { return s.faces[i].image; }, BuildOptions{}, quiet);
+		return s;
+	}();
+	return f;
+}
+
+Ticks ms(long v) { return Ticks(v * (kTicksPerSecond / 1000)); }
+
+}  // namespace
+
+TEST(Trajectory, hermiteMidpointsAndZeroSpeedAtKeyposes) {
+	Points s(2, 2), t(2, 2);
+	s << 0, 0, 10, 20;
+	t << 30, -10, 10, 60;
+	EXPECT_LT((Synthesizer::trajectory(s, t, 0.5, Trajectory::Hermite) - (s + t) / 2).cwiseAbs().maxCoeff(), 1e-12);
+	EXPECT_LT((Synthesizer::trajectory(s, t, 0.5, Trajectory::Linear) - (s + t) / 2).cwiseAbs().maxCoeff(), 1e-12);
+	EXPECT_EQ(Synthesizer::trajectory(s, t, 0, Trajectory::Hermite), s);
+	EXPECT_EQ(Synthesizer::trajectory(s, t, 1, Trajectory::Hermite), t);
+	// Speed (finite differences): ≈ 0 at both keyposes with Hermite, constant with linear.
+	const double h = 1e-4;
+	auto speed = [&](double u, Trajectory k) {
+		return (Synthesizer::trajectory(s, t, std::min(1.0, u + h), k) - Synthesizer::trajectory(s, t, std::max(0.0, u - h), k)).norm() /
+		       (std::min(1.0, u + h) - std::max(0.0, u - h));
+	};
+	const double full = (t - s).norm();
+	EXPECT_LT(speed(0, Trajectory::Hermite), 1e-3 * full);
+	EXPECT_LT(speed(1, Trajectory::Hermite), 1e-3 * full);
+	EXPECT_NEAR(speed(0.5, Trajectory::Hermite), 1.5 * full, 1e-3 * full);  // peak speed 1.5× the linear one
+	for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) EXPECT_NEAR(speed(u, Trajectory::Linear), full, 1e-6 * full);
+}
+
+TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
+	const SmallFace& f = smallFace();
+	for (const std::string emotion : {"joy", "anger"}) {
+		SynthOptions o;
+		o.emotion = emotion;
+		Synthesizer synth(f.model, o);
+		// A timeline through every viseme of the model: 200 ms phones, keyposes at their midpoints.
+		std::vector<PhoneSegment> phones;
+		const std::vector<std::string> order = {"sil", "a", "p1", "u", "f1", "i1", "sil"};
+		for (std::size_t i = 0; i < order.size(); ++i) phones.push_back({ms(200 * long(i)), ms(200 * long(i) + 200), "", "", order[i], 0});
+		auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+		ASSERT_EQ(keys.size(), order.size());
+		synth.prepare(keys);
+		EXPECT_TRUE(synth.substitutions().empty());
+		Synthesizer::Workspace ws;
+		for (const auto& k : keys) {
+			Image8 frame;
+			Points pts;
+			synth.renderFrame(k.time, keys, ws, frame, pts);
+			const long sample = f.model.findSample(emotion, k.cdv);
+			ASSERT_GE(sample, 0);
+			// The corpus image, its head jitter removed (warped to its aligned shape, where the keypose is drawn).
+			const SynthFace& face = f.faces[std::size_t(sample)];
+			const Points& aligned = f.model.alignedShapes[std::size_t(sample)];
+			EXPECT_LT((pts - aligned).cwiseAbs().maxCoeff(), 1e-9) << "points at the keypose are its shape";
+			PiecewiseAffineWarp w(f.model.frameMesh, withFrameBorder(aligned, 320, 180), 320, 180);
+			w.setSource(withFrameBorder(face.points, 320, 180));
+			Image8 truth(320, 180, 3);
+			w.apply(face.image, truth);
+			// The model's face region, drawn on the keypose's shape (its fully opaque part).
+			const RegionSpec& spec = f.model.scheme.regions[0];
+			Points boundary(spec.boundary.size(), 2);
+			for (std::size_t i = 0; i < spec.boundary.size(); ++i) boundary.row(Eigen::Index(i)) = aligned.row(spec.boundary[i]);
+			const std::vector<float> alpha = softRegionMask(boundary, spec.grow, spec.feather * std::sqrt(regionArea(boundary, spec.grow)), 320, 180);
+			std::vector<std::uint8_t> mask(alpha.size());
+			for (std::size_t i = 0; i < alpha.size(); ++i) mask[i] = alpha[i] > 0.99f;
+			EXPECT_GE(psnr(toFloat(frame), toFloat(truth), mask), 30.0) << emotion << " " << k.cdv;
+		}
+		// Halfway between two keyposes the points are the midpoints of their shapes.
+		Image8 frame;
+		Points pts;
+		const Ticks mid((keys[1].time.count() + keys[2].time.count()) / 2);
+		synth.renderFrame(mid, keys, ws, frame, pts);
+		const auto& a = f.model.alignedShapes[std::size_t(f.model.findSample(emotion, "a"))];
+		const auto& p1 = f.model.alignedShapes[std::size_t(f.model.findSample(emotion, "p1"))];
+		EXPECT_LT((pts - (a + p1) / 2).cwiseAbs().maxCoeff(), 1e-9);
+	}
+}
+
+TEST(Synthesizer, missingEntriesFallBackAndSaySo) {
+	const SmallFace& f = smallFace();
+	SynthOptions o;
+	o.emotion = "fear";  // not in the small model
+	Synthesizer synth(f.model, o);
+	synth.keypose("a");
+	synth.keypose("p2");  // not in the model at all: neutral p2 missing → the group's p1
+	auto subs = synth.substitutions();
+	ASSERT_EQ(subs.size(), 2u);
+	EXPECT_EQ(subs[0], "fear a -> neutral a");
+	EXPECT_EQ(subs[1], "fear p2 -> neutral p1");
+}
+
+TEST(Synthesizer, sameInputsGiveTheSameFrames) {
+	const SmallFace& f = smallFace();
+	SynthOptions o;
+	o.emotion = "joy";
+	o.width = 640;
+	o.height = 360;  // scaled output
+	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "u", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	Image8 a, b;
+	Points pa, pb;
+	for (Image8* img : {&a, &b}) {
+		Synthesizer s(f.model, o);
+		s.prepare(keys);
+		Synthesizer::Workspace ws;
+		s.renderFrame(ms(110), keys, ws, *img, img == &a ? pa : pb);
+	}
+	EXPECT_EQ(a.width, 640);
+	EXPECT_EQ(a.data, b.data);
+	EXPECT_EQ(pa, pb);
+}
