@@ -5,6 +5,7 @@ extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
 #include <libavutil/channel_layout.h>
+#include <libavutil/log.h>
 #include <libavutil/opt.h>
 #include <libswresample/swresample.h>
 }
@@ -17,6 +18,7 @@ namespace talkhead {
 
 AudioClip decodeAudio(const std::string& path, int outRate) {
 	if (!std::filesystem::exists(path)) throw Error(path, 0, "audio file not found");
+	av_log_set_level(AV_LOG_FATAL);  // problems are reported through return codes, as one error line
 	AVFormatContext* fmt = nullptr;
 	checkAv(avformat_open_input(&fmt, path.c_str(), nullptr, nullptr), path, "cannot open audio");
 	struct FmtGuard {
