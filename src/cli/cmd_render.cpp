@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "base/data_dirs.h"
 #include "base/error.h"
@@ -223,59 +224,80 @@ int runRender(const std::vector<std::string>& argv) {
 		if (ec) throw Error(framesDir, 0, "cannot create folder: " + ec.message());
 	}
 
-	// Frames are independent: draw a batch in parallel, then write it in order.
+	// Frames are independent: workers draw a batch (and convert it to YUV) while a writer thread encodes
+	// the previous batch in order (double buffering).
 	ProgressBar bar(quiet || jsonProgress);
 	const unsigned nThreads = resolveThreads(threads);
-	const std::size_t batch = std::max<std::size_t>(4, 2 * nThreads);
-	std::vector<Image8> buffers(batch);
-	std::vector<Points> pts(batch);
-	std::vector<Synthesizer::Workspace> workspaces(nThreads);
-	std::vector<std::unique_ptr<std::mutex>> wsLocks;
-	for (unsigned i = 0; i < nThreads; ++i) wsLocks.push_back(std::make_unique<std::mutex>());
+	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
+	struct Batch {
+		std::vector<Image8> rgb;
+		std::vector<YuvImage> yuv;
+		std::vector<Points> pts;
+		std::int64_t first = 0;
+		std::size_t count = 0;
+	};
+	Batch batches[2];
+	for (auto& b : batches) b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch);
+	std::vector<Synthesizer::Workspace> workspaces(batch);
 	int lastPercent = -1;
+	std::exception_ptr writeError;
+	auto writeBatch = [&](Batch& bt) {
+		try {
+			const auto tEncode = Clock::now();
+			for (std::size_t k = 0; k < bt.count; ++k) {
+				const std::int64_t n = bt.first + std::int64_t(k);
+				if (mp4) mp4->write(bt.yuv[k]);
+				if (y4m) y4m->write(bt.rgb[k]);
+				if (!framesDir.empty()) {
+					char name[64];
+					std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)n);
+					writeImage((fs::path(framesDir) / name).string(), bt.rgb[k], 1);
+				}
+				if (landmarks.is_open()) {
+					char buf[64];
+					std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)n, double(n) * vo.fpsDen / vo.fpsNum);
+					landmarks << buf;
+					for (Eigen::Index i = 0; i < bt.pts[k].rows(); ++i) {
+						std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", bt.pts[k](i, 0), bt.pts[k](i, 1));
+						landmarks << buf;
+					}
+					landmarks << '\n';
+				}
+			}
+			encodeSeconds += since(tEncode);
+		} catch (...) {
+			writeError = std::current_exception();
+		}
+	};
+	std::thread writer;
+	int cur = 0;
 	for (std::int64_t first = 0; first < frames; first += std::int64_t(batch)) {
-		const std::size_t count = std::size_t(std::min<std::int64_t>(std::int64_t(batch), frames - first));
+		Batch& bt = batches[cur];
+		bt.first = first;
+		bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(batch), frames - first));
 		const auto tDraw = Clock::now();
-		parallelFor(count, nThreads, [&](std::size_t k) {
-			// One workspace per worker slot (indices are handed out in order, so k % nThreads is free).
-			const std::size_t slot = k % nThreads;
-			std::lock_guard<std::mutex> lock(*wsLocks[slot]);
-			const Ticks tau((first + std::int64_t(k)) * frameNumer / vo.fpsNum);
-			synth.renderFrame(tau, keys, workspaces[slot], buffers[k], pts[k]);
+		parallelFor(bt.count, nThreads, [&](std::size_t k) {
+			const Ticks tau((bt.first + std::int64_t(k)) * frameNumer / vo.fpsNum);
+			synth.renderFrame(tau, keys, workspaces[k], bt.rgb[k], bt.pts[k]);
+			if (mp4) rgbToYuv420(bt.rgb[k], bt.yuv[k]);
 		});
 		drawSeconds += since(tDraw);
-		const auto tEncode = Clock::now();
-		for (std::size_t k = 0; k < count; ++k) {
-			const std::int64_t n = first + std::int64_t(k);
-			if (mp4) mp4->write(buffers[k]);
-			if (y4m) y4m->write(buffers[k]);
-			if (!framesDir.empty()) {
-				char name[64];
-				std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)n);
-				writeImage((fs::path(framesDir) / name).string(), buffers[k], 1);
-			}
-			if (landmarks.is_open()) {
-				char buf[64];
-				std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)n, double(n) * vo.fpsDen / vo.fpsNum);
-				landmarks << buf;
-				for (Eigen::Index i = 0; i < pts[k].rows(); ++i) {
-					std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", pts[k](i, 0), pts[k](i, 1));
-					landmarks << buf;
-				}
-				landmarks << '\n';
-			}
-		}
-		encodeSeconds += since(tEncode);
-		const double fraction = double(first + std::int64_t(count)) / double(frames);
+		if (writer.joinable()) writer.join();
+		if (writeError) std::rethrow_exception(writeError);
+		writer = std::thread(writeBatch, std::ref(bt));
+		cur ^= 1;
+		const double fraction = double(first + std::int64_t(bt.count)) / double(frames);
 		bar.report(fraction, "rendering");
 		const int percent = int(fraction * 100);
 		if (jsonProgress && percent != lastPercent) {
-			std::fprintf(stderr, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)(first + std::int64_t(count)),
+			std::fprintf(stderr, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)(first + std::int64_t(bt.count)),
 			             (long long)frames, fraction);
 			std::fflush(stderr);
 			lastPercent = percent;
 		}
 	}
+	if (writer.joinable()) writer.join();
+	if (writeError) std::rethrow_exception(writeError);
 	const auto tFinish = Clock::now();
 	if (mp4) mp4->finish();
 	mp4.reset();

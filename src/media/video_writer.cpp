@@ -140,6 +140,21 @@ struct Mp4Writer::Impl {
 		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.fpsDen, o.fpsNum}, AVRational{1, audio->sampleRate}), false);
 	}
 
+	void writeYuv(const YuvImage& img) {
+		if (img.width != o.width || img.height != o.height) throw std::logic_error("Mp4Writer: frame size differs");
+		checkAv(av_frame_make_writable(vframe), path, "video frame");
+		const int cw = (o.width + 1) / 2, ch = (o.height + 1) / 2;
+		for (int y = 0; y < o.height; ++y) std::memcpy(vframe->data[0] + std::size_t(y) * vframe->linesize[0], img.y.data() + std::size_t(y) * o.width, std::size_t(o.width));
+		for (int y = 0; y < ch; ++y) {
+			std::memcpy(vframe->data[1] + std::size_t(y) * vframe->linesize[1], img.u.data() + std::size_t(y) * cw, std::size_t(cw));
+			std::memcpy(vframe->data[2] + std::size_t(y) * vframe->linesize[2], img.v.data() + std::size_t(y) * cw, std::size_t(cw));
+		}
+		vframe->pts = frameIndex++;
+		checkAv(avcodec_send_frame(venc, vframe), path, "H.264 encoding failed");
+		drain(venc, vst);
+		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.fpsDen, o.fpsNum}, AVRational{1, audio->sampleRate}), false);
+	}
+
 	void finish() {
 		if (finished) return;
 		finished = true;
@@ -180,6 +195,35 @@ Mp4Writer::Mp4Writer(const std::string& path, const VideoOptions& o, const Audio
 
 Mp4Writer::~Mp4Writer() = default;
 void Mp4Writer::write(const Image8& frame) { impl_->write(frame); }
+void Mp4Writer::write(const YuvImage& frame) { impl_->writeYuv(frame); }
+
+void rgbToYuv420(const Image8& rgb, YuvImage& yuv) {
+	const int w = rgb.width, h = rgb.height, cw = (w + 1) / 2, ch = (h + 1) / 2;
+	yuv.width = w;
+	yuv.height = h;
+	yuv.y.resize(std::size_t(w) * h);
+	yuv.u.resize(std::size_t(cw) * ch);
+	yuv.v.resize(std::size_t(cw) * ch);
+	// BT.601 limited range in 8.8 fixed point: Y = 16 + (66R + 129G + 25B)/256, etc.
+	for (int y = 0; y < h; ++y) {
+		const std::uint8_t* p = rgb.row(y);
+		std::uint8_t* out = yuv.y.data() + std::size_t(y) * w;
+		for (int x = 0; x < w; ++x, p += 3) out[x] = std::uint8_t((66 * p[0] + 129 * p[1] + 25 * p[2] + 128 + (16 << 8)) >> 8);
+	}
+	for (int y = 0; y < ch; ++y) {
+		const std::uint8_t* r0 = rgb.row(2 * y);
+		const std::uint8_t* r1 = rgb.row(std::min(2 * y + 1, h - 1));
+		std::uint8_t* u = yuv.u.data() + std::size_t(y) * cw;
+		std::uint8_t* v = yuv.v.data() + std::size_t(y) * cw;
+		for (int x = 0; x < cw; ++x) {
+			const int x0 = 2 * x * 3, x1 = std::min(2 * x + 1, w - 1) * 3;
+			const int r = r0[x0] + r0[x1] + r1[x0] + r1[x1], g = r0[x0 + 1] + r0[x1 + 1] + r1[x0 + 1] + r1[x1 + 1],
+			          b = r0[x0 + 2] + r0[x1 + 2] + r1[x0 + 2] + r1[x1 + 2];
+			u[x] = std::uint8_t((-38 * r - 74 * g + 112 * b + 512 + (128 << 10)) >> 10);
+			v[x] = std::uint8_t((112 * r - 94 * g - 18 * b + 512 + (128 << 10)) >> 10);
+		}
+	}
+}
 void Mp4Writer::finish() { impl_->finish(); }
 
 Y4mWriter::Y4mWriter(std::FILE* out, const VideoOptions& o) : out_(out), o_(o) {

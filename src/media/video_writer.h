@@ -3,11 +3,20 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 #include "media/audio.h"
 
 namespace talkhead {
+
+// A frame in YUV 4:2:0 (BT.601, limited range: what H.264 players expect), planes packed.
+struct YuvImage {
+	int width = 0, height = 0;
+	std::vector<std::uint8_t> y, u, v;
+};
+// RGB → YUV 4:2:0 (BT.601 limited range, chroma averaged over 2×2). Thread-safe, no allocation once sized.
+void rgbToYuv420(const Image8& rgb, YuvImage& yuv);
 
 struct VideoOptions {
 	int width = 1280, height = 720;
@@ -27,6 +36,7 @@ public:
 	Mp4Writer(const Mp4Writer&) = delete;
 	Mp4Writer& operator=(const Mp4Writer&) = delete;
 	void write(const Image8& frame);
+	void write(const YuvImage& frame);  // already converted (e.g. by worker threads)
 	void finish();
 
 private:
