@@ -130,26 +130,18 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 	const Points pOut = withFrameBorder(points, width_, height_);
 	if (!ws.warp) ws.warp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, pOut, width_, height_);
 	else ws.warp->setDestination(pOut);
-	// Forward warp of the source keypose S → P(t); backward warp of the target T → P(t); dissolve.
-	ws.warp->setSource(withFrameBorder(src.shape, model_.width, model_.height));
 	if (hold || u <= 0) {
+		ws.warp->setSource(withFrameBorder(src.shape, model_.width, model_.height));
 		ws.warp->apply(src.image, out);
 		ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		return;
 	}
-	if (ws.a.width != width_ || ws.a.height != height_) ws.a = Image8(width_, height_, 3), ws.b = Image8(width_, height_, 3);
-	ws.warp->apply(src.image, ws.a);
-	ws.warp->setSource(withFrameBorder(dst.shape, model_.width, model_.height));
-	ws.warp->apply(dst.image, ws.b);
+	// Eq. 5.4 in one pass: F = K_f (1 − t) + K_b t, K_f = source warped S → P(t), K_b = target warped T → P(t).
+	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
+	ws.warp->dissolve(src.image, withFrameBorder(src.shape, model_.width, model_.height), dst.image,
+	                  withFrameBorder(dst.shape, model_.width, model_.height), w, out);
 	const auto t1 = std::chrono::steady_clock::now();
 	ws.warpSeconds += std::chrono::duration<double>(t1 - t0).count();
-	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;  // Eq. 5.4: F = K_f (1 − t) + K_b t
-	const int wb = int(std::lround(w * 256)), wa = 256 - wb;
-	const std::uint8_t* a = ws.a.data.data();
-	const std::uint8_t* b = ws.b.data.data();
-	std::uint8_t* o = out.data.data();
-	const std::size_t n = out.data.size();
-	for (std::size_t k = 0; k < n; ++k) o[k] = std::uint8_t((a[k] * wa + b[k] * wb + 128) >> 8);
 	ws.blendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 

@@ -24,6 +24,10 @@ public:
 	// Source shape (same vertex count as the mesh). Cheap: one 2×3 affine per triangle.
 	void setSource(const Points& source);
 
+	// Costa (2015) Eq. 5.4 in one pass: dst = (1 − w)·A warped from sourceA + w·B warped from sourceB, both
+	// to this warp's destination shape (8-bit RGB; w quantised to 1/256). Sets the source (to sourceB).
+	void dissolve(const Image8& a, const Points& sourceA, const Image8& b, const Points& sourceB, double w, Image8& dst);
+
 	// Restricts the warp to the destination pixels in [x0, x1) × [y0, y1); the others are left alone.
 	void clipSpans(int x0, int y0, int x1, int y1);
 
@@ -57,6 +61,7 @@ private:
 	std::vector<Span> spans_;
 	std::vector<double> inverseBasis_;  // per triangle: inverse of [d1−d0, d2−d0] (4) and d0 (2)
 	std::vector<float> affine_;         // per triangle: sx = a0·x + a1·y + a2, sy = a3·x + a4·y + a5
+	std::vector<float> affineA_;        // dissolve(): the first source's maps
 };
 
 }  // namespace talkhead

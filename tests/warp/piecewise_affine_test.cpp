@@ -149,3 +149,36 @@ TEST(PiecewiseAffineWarp, eightBitFastPathAgreesWithFloatPathEverywhere) {
 		for (std::size_t i = 0; i < fast.data.size(); ++i) ASSERT_LE(std::abs(float(fast.data[i]) - ref.data[i]), 2.0f) << "trial " << trial << " at " << i;
 	}
 }
+
+TEST(PiecewiseAffineWarp, fusedDissolveEqualsTwoWarpsAndABlend) {
+	Image8 a = test::testPattern(97, 61), b(97, 61, 3);
+	for (std::size_t i = 0; i < b.data.size(); ++i) b.data[i] = std::uint8_t(255 - a.data[i] / 2);
+	std::mt19937 rng(11);
+	std::uniform_real_distribution<double> u(-10, 105);
+	for (int trial = 0; trial < 10; ++trial) {
+		Points s(5, 2), t(5, 2), d(5, 2);
+		for (int i = 0; i < 5; ++i) {
+			s.row(i) << u(rng), u(rng) * 0.6;
+			t.row(i) << u(rng), u(rng) * 0.6;
+			d.row(i) << u(rng), u(rng) * 0.6;
+		}
+		Points sb = withFrameBorder(s, 97, 61), tb = withFrameBorder(t, 97, 61), db = withFrameBorder(d, 97, 61);
+		TriangleMesh mesh;
+		try {
+			mesh = delaunayTriangulation(db);
+		} catch (const Error&) {
+			continue;
+		}
+		PiecewiseAffineWarp warp(mesh, db, 97, 61);
+		for (double w : {0.0, 0.3, 1.0}) {
+			Image8 fused(97, 61, 3), wa(97, 61, 3), wb(97, 61, 3);
+			warp.dissolve(a, sb, b, tb, w, fused);
+			warp.setSource(sb);
+			warp.apply(a, wa);
+			warp.setSource(tb);
+			warp.apply(b, wb);
+			for (std::size_t i = 0; i < fused.data.size(); ++i)
+				ASSERT_LE(std::abs(double(fused.data[i]) - ((1 - w) * wa.data[i] + w * wb.data[i])), 2.5) << "trial " << trial << " w " << w;
+		}
+	}
+}
