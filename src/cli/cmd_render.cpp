@@ -16,6 +16,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/progress_bar.h"
+#include "cli/render_video.h"
 #include "media/audio.h"
 #include "media/image_io.h"
 #include "media/video_writer.h"
@@ -62,6 +63,189 @@ void checkWritableFolder(const std::string& path) {
 }
 
 }  // namespace
+
+std::int64_t frameCount(Ticks duration, int fpsNum, int fpsDen) {
+	const std::int64_t numer = kTicksPerSecond * fpsDen;
+	return std::max<std::int64_t>(1, (duration.count() * fpsNum + numer / 2) / numer);
+}
+
+void renderVideo(const RenderJob& job) {
+	const std::vector<Keypose>& keys = job.keys;
+	VideoOptions vo = job.video;
+	const SynthOptions& so = job.synth;
+	const std::int64_t frames = job.frames, frameNumer = kTicksPerSecond * vo.fpsDen;
+	const Ticks duration = job.duration;
+	const bool quiet = job.quiet, jsonProgress = job.jsonProgress;
+	const unsigned threads = job.threads;
+	const std::string format = job.format;
+	const auto t0 = job.started;
+	// Model and synthesizer.
+	std::string modelPath = job.modelPath;
+	if (modelPath.empty()) {
+		auto d = findDefaultModel();
+		if (!d) throw Error("no default face model found; build it with scripts/demo (target default_model) or give --model");
+		modelPath = *d;
+	}
+	using Clock = std::chrono::steady_clock;
+	auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+	const auto tLoad = Clock::now();
+	FaceModel model = loadModel(modelPath);
+	const double loadSeconds = since(tLoad);
+	Synthesizer synth(model, so);
+	vo.width = synth.width();
+	vo.height = synth.height();
+	const auto tPrep = Clock::now();
+	synth.prepare(keys);
+	const double keyposeSeconds = since(tPrep);
+	double drawSeconds = 0, encodeSeconds = 0;
+	const auto subs = synth.substitutions();
+	if (!subs.empty() && !quiet) {
+		std::string s;
+		for (const auto& x : subs) s += (s.empty() ? "" : "; ") + x;
+		std::fprintf(stderr, "talkhead: the model lacks some (emotion, viseme) entries; substituted: %s\n", s.c_str());
+	}
+	// Outputs (temporary names, renamed when complete).
+	TempFile tmpVideo, tmpLandmarks, tmpFrames;
+	std::unique_ptr<Mp4Writer> mp4;
+	std::unique_ptr<Y4mWriter> y4m;
+	std::FILE* y4mFile = nullptr;
+	const bool withAudio = job.audio && !job.audio->samples.empty() && !job.noAudio;
+	if (format == "mp4") {
+		tmpVideo.path = tempNameFor(job.output);
+		mp4 = std::make_unique<Mp4Writer>(tmpVideo.path, vo, withAudio ? job.audio : nullptr);
+	} else if (job.output == "-") {
+		y4mFile = stdout;
+		y4m = std::make_unique<Y4mWriter>(stdout, vo);
+	} else {
+		tmpVideo.path = tempNameFor(job.output);
+		y4mFile = std::fopen(tmpVideo.path.c_str(), "wb");
+		if (!y4mFile) throw Error(job.output, 0, "cannot write");
+		y4m = std::make_unique<Y4mWriter>(y4mFile, vo);
+	}
+	std::ofstream landmarks;
+	if (auto f = job.landmarksOut) {
+		tmpLandmarks.path = tempNameFor(*f);
+		landmarks.open(tmpLandmarks.path);
+		landmarks << "frame\ttime";
+		for (const auto& n : model.scheme.pointNames) landmarks << '\t' << n << "_x\t" << n << "_y";
+		landmarks << '\n';
+	}
+	std::string framesDir;
+	if (auto d = job.framesDir) {
+		framesDir = *d;
+		std::error_code ec;
+		fs::create_directories(framesDir, ec);
+		if (ec) throw Error(framesDir, 0, "cannot create folder: " + ec.message());
+	}
+
+	// Frames are independent: workers draw a batch (and convert it to YUV) while a writer thread encodes
+	// the previous batch in order (double buffering).
+	ProgressBar bar(quiet || jsonProgress);
+	const unsigned nThreads = resolveThreads(threads);
+	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
+	struct Batch {
+		std::vector<Image8> rgb;
+		std::vector<YuvImage> yuv;
+		std::vector<Points> pts;
+		std::int64_t first = 0;
+		std::size_t count = 0;
+	};
+	Batch batches[2];
+	for (auto& b : batches) b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch);
+	std::vector<Synthesizer::Workspace> workspaces(batch);
+	int lastPercent = -1;
+	std::exception_ptr writeError;
+	auto writeBatch = [&](Batch& bt) {
+		try {
+			const auto tEncode = Clock::now();
+			for (std::size_t k = 0; k < bt.count; ++k) {
+				const std::int64_t n = bt.first + std::int64_t(k);
+				if (mp4) mp4->write(bt.yuv[k]);
+				if (y4m) y4m->write(bt.rgb[k]);
+				if (!framesDir.empty()) {
+					char name[64];
+					std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)n);
+					writeImage((fs::path(framesDir) / name).string(), bt.rgb[k], 1);
+				}
+				if (landmarks.is_open()) {
+					char buf[64];
+					std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)n, double(n) * vo.fpsDen / vo.fpsNum);
+					landmarks << buf;
+					for (Eigen::Index i = 0; i < bt.pts[k].rows(); ++i) {
+						std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", bt.pts[k](i, 0), bt.pts[k](i, 1));
+						landmarks << buf;
+					}
+					landmarks << '\n';
+				}
+			}
+			encodeSeconds += since(tEncode);
+		} catch (...) {
+			writeError = std::current_exception();
+		}
+	};
+	std::thread writer;
+	int cur = 0;
+	for (std::int64_t first = 0; first < frames; first += std::int64_t(batch)) {
+		Batch& bt = batches[cur];
+		bt.first = first;
+		bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(batch), frames - first));
+		const auto tDraw = Clock::now();
+		parallelFor(bt.count, nThreads, [&](std::size_t k) {
+			const Ticks tau((bt.first + std::int64_t(k)) * frameNumer / vo.fpsNum);
+			synth.renderFrame(tau, keys, workspaces[k], bt.rgb[k], bt.pts[k]);
+			if (mp4) rgbToYuv420(bt.rgb[k], bt.yuv[k]);
+		});
+		drawSeconds += since(tDraw);
+		if (writer.joinable()) writer.join();
+		if (writeError) std::rethrow_exception(writeError);
+		writer = std::thread(writeBatch, std::ref(bt));
+		cur ^= 1;
+		const double fraction = double(first + std::int64_t(bt.count)) / double(frames);
+		bar.report(fraction, "rendering");
+		const int percent = int(fraction * 100);
+		if (jsonProgress && percent != lastPercent) {
+			std::fprintf(stderr, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)(first + std::int64_t(bt.count)),
+			             (long long)frames, fraction);
+			std::fflush(stderr);
+			lastPercent = percent;
+		}
+	}
+	if (writer.joinable()) writer.join();
+	if (writeError) std::rethrow_exception(writeError);
+	const auto tFinish = Clock::now();
+	if (mp4) mp4->finish();
+	mp4.reset();
+	encodeSeconds += since(tFinish);
+	y4m.reset();
+	if (y4mFile && y4mFile != stdout && std::fclose(y4mFile) != 0) throw Error(job.output, 0, "cannot write");
+	if (landmarks.is_open()) {
+		landmarks.close();
+		if (!landmarks) throw Error(*job.landmarksOut, 0, "cannot write");
+		fs::rename(tmpLandmarks.path, *job.landmarksOut);
+		tmpLandmarks.keep = true;
+	}
+	if (!tmpVideo.path.empty()) {
+		std::error_code ec;
+		fs::rename(tmpVideo.path, job.output, ec);
+		if (ec) throw Error(job.output, 0, "cannot write: " + ec.message());
+		tmpVideo.keep = true;
+	}
+	bar.finish();
+	if (job.timing) {
+		double warp = 0, blend = 0;
+		for (const auto& w : workspaces) warp += w.warpSeconds, blend += w.blendSeconds;
+		std::fprintf(stderr,
+		             "timing: model load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warps %.3f s, blend %.3f s thread time); "
+		             "encode+write %.3f s; %lld frames\n",
+		             loadSeconds, keyposeSeconds, keys.size(), drawSeconds, warp, blend, encodeSeconds, (long long)frames);
+	}
+	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	if (jsonProgress) std::fprintf(stderr, "{\"type\": \"done\", \"frames\": %lld, \"seconds\": %.3f}\n", (long long)frames, secs);
+	else if (!quiet)
+		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %d/%d fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
+		             job.output.c_str(), (long long)frames, vo.width, vo.height, vo.fpsNum, vo.fpsDen, toSeconds(duration),
+		             withAudio ? "audio" : "transcript", keys.size(), so.emotion.c_str(), secs, double(frames) / secs, toSeconds(duration) / secs);
+}
 
 int runRender(const std::vector<std::string>& argv) {
 	Args args("render", "talkhead render --transcript T [--audio A] [--emotion LABEL] -o OUT.mp4 [options]",
@@ -164,173 +348,26 @@ int runRender(const std::vector<std::string>& argv) {
 		}
 		duration = audioDur;
 	}
-	const std::int64_t frames = std::max<std::int64_t>(1, (duration.count() * vo.fpsNum + frameNumer / 2) / frameNumer);  // round(duration × fps)
-	// Model and synthesizer.
-	std::string modelPath = args.get("--model", "");
-	if (modelPath.empty()) {
-		auto d = findDefaultModel();
-		if (!d) throw Error("no default face model found; build it with scripts/demo (target default_model) or give --model");
-		modelPath = *d;
-	}
-	using Clock = std::chrono::steady_clock;
-	auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
-	const auto tLoad = Clock::now();
-	FaceModel model = loadModel(modelPath);
-	const double loadSeconds = since(tLoad);
-	Synthesizer synth(model, so);
-	vo.width = synth.width();
-	vo.height = synth.height();
-	const auto tPrep = Clock::now();
-	synth.prepare(keys);
-	const double keyposeSeconds = since(tPrep);
-	double drawSeconds = 0, encodeSeconds = 0;
-	const auto subs = synth.substitutions();
-	if (!subs.empty() && !quiet) {
-		std::string s;
-		for (const auto& x : subs) s += (s.empty() ? "" : "; ") + x;
-		std::fprintf(stderr, "talkhead: the model lacks some (emotion, viseme) entries; substituted: %s\n", s.c_str());
-	}
-	// Outputs (temporary names, renamed when complete).
-	TempFile tmpVideo, tmpLandmarks, tmpFrames;
-	std::unique_ptr<Mp4Writer> mp4;
-	std::unique_ptr<Y4mWriter> y4m;
-	std::FILE* y4mFile = nullptr;
-	const bool withAudio = !audio.samples.empty() && !args.has("--no-audio");
-	if (format == "mp4") {
-		tmpVideo.path = tempNameFor(*output);
-		mp4 = std::make_unique<Mp4Writer>(tmpVideo.path, vo, withAudio ? &audio : nullptr);
-	} else if (*output == "-") {
-		y4mFile = stdout;
-		y4m = std::make_unique<Y4mWriter>(stdout, vo);
-	} else {
-		tmpVideo.path = tempNameFor(*output);
-		y4mFile = std::fopen(tmpVideo.path.c_str(), "wb");
-		if (!y4mFile) throw Error(*output, 0, "cannot write");
-		y4m = std::make_unique<Y4mWriter>(y4mFile, vo);
-	}
-	std::ofstream landmarks;
-	if (auto f = args.get("--landmarks-out")) {
-		tmpLandmarks.path = tempNameFor(*f);
-		landmarks.open(tmpLandmarks.path);
-		landmarks << "frame\ttime";
-		for (const auto& n : model.scheme.pointNames) landmarks << '\t' << n << "_x\t" << n << "_y";
-		landmarks << '\n';
-	}
-	std::string framesDir;
-	if (auto d = args.get("--frames")) {
-		framesDir = *d;
-		std::error_code ec;
-		fs::create_directories(framesDir, ec);
-		if (ec) throw Error(framesDir, 0, "cannot create folder: " + ec.message());
-	}
-
-	// Frames are independent: workers draw a batch (and convert it to YUV) while a writer thread encodes
-	// the previous batch in order (double buffering).
-	ProgressBar bar(quiet || jsonProgress);
-	const unsigned nThreads = resolveThreads(threads);
-	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
-	struct Batch {
-		std::vector<Image8> rgb;
-		std::vector<YuvImage> yuv;
-		std::vector<Points> pts;
-		std::int64_t first = 0;
-		std::size_t count = 0;
-	};
-	Batch batches[2];
-	for (auto& b : batches) b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch);
-	std::vector<Synthesizer::Workspace> workspaces(batch);
-	int lastPercent = -1;
-	std::exception_ptr writeError;
-	auto writeBatch = [&](Batch& bt) {
-		try {
-			const auto tEncode = Clock::now();
-			for (std::size_t k = 0; k < bt.count; ++k) {
-				const std::int64_t n = bt.first + std::int64_t(k);
-				if (mp4) mp4->write(bt.yuv[k]);
-				if (y4m) y4m->write(bt.rgb[k]);
-				if (!framesDir.empty()) {
-					char name[64];
-					std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)n);
-					writeImage((fs::path(framesDir) / name).string(), bt.rgb[k], 1);
-				}
-				if (landmarks.is_open()) {
-					char buf[64];
-					std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)n, double(n) * vo.fpsDen / vo.fpsNum);
-					landmarks << buf;
-					for (Eigen::Index i = 0; i < bt.pts[k].rows(); ++i) {
-						std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", bt.pts[k](i, 0), bt.pts[k](i, 1));
-						landmarks << buf;
-					}
-					landmarks << '\n';
-				}
-			}
-			encodeSeconds += since(tEncode);
-		} catch (...) {
-			writeError = std::current_exception();
-		}
-	};
-	std::thread writer;
-	int cur = 0;
-	for (std::int64_t first = 0; first < frames; first += std::int64_t(batch)) {
-		Batch& bt = batches[cur];
-		bt.first = first;
-		bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(batch), frames - first));
-		const auto tDraw = Clock::now();
-		parallelFor(bt.count, nThreads, [&](std::size_t k) {
-			const Ticks tau((bt.first + std::int64_t(k)) * frameNumer / vo.fpsNum);
-			synth.renderFrame(tau, keys, workspaces[k], bt.rgb[k], bt.pts[k]);
-			if (mp4) rgbToYuv420(bt.rgb[k], bt.yuv[k]);
-		});
-		drawSeconds += since(tDraw);
-		if (writer.joinable()) writer.join();
-		if (writeError) std::rethrow_exception(writeError);
-		writer = std::thread(writeBatch, std::ref(bt));
-		cur ^= 1;
-		const double fraction = double(first + std::int64_t(bt.count)) / double(frames);
-		bar.report(fraction, "rendering");
-		const int percent = int(fraction * 100);
-		if (jsonProgress && percent != lastPercent) {
-			std::fprintf(stderr, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)(first + std::int64_t(bt.count)),
-			             (long long)frames, fraction);
-			std::fflush(stderr);
-			lastPercent = percent;
-		}
-	}
-	if (writer.joinable()) writer.join();
-	if (writeError) std::rethrow_exception(writeError);
-	const auto tFinish = Clock::now();
-	if (mp4) mp4->finish();
-	mp4.reset();
-	encodeSeconds += since(tFinish);
-	y4m.reset();
-	if (y4mFile && y4mFile != stdout && std::fclose(y4mFile) != 0) throw Error(*output, 0, "cannot write");
-	if (landmarks.is_open()) {
-		landmarks.close();
-		if (!landmarks) throw Error(*args.get("--landmarks-out"), 0, "cannot write");
-		fs::rename(tmpLandmarks.path, *args.get("--landmarks-out"));
-		tmpLandmarks.keep = true;
-	}
-	if (!tmpVideo.path.empty()) {
-		std::error_code ec;
-		fs::rename(tmpVideo.path, *output, ec);
-		if (ec) throw Error(*output, 0, "cannot write: " + ec.message());
-		tmpVideo.keep = true;
-	}
-	bar.finish();
-	if (args.has("--timing")) {
-		double warp = 0, blend = 0;
-		for (const auto& w : workspaces) warp += w.warpSeconds, blend += w.blendSeconds;
-		std::fprintf(stderr,
-		             "timing: model load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warps %.3f s, blend %.3f s thread time); "
-		             "encode+write %.3f s; %lld frames\n",
-		             loadSeconds, keyposeSeconds, keys.size(), drawSeconds, warp, blend, encodeSeconds, (long long)frames);
-	}
-	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	if (jsonProgress) std::fprintf(stderr, "{\"type\": \"done\", \"frames\": %lld, \"seconds\": %.3f}\n", (long long)frames, secs);
-	else if (!quiet)
-		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %d/%d fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
-		             output->c_str(), (long long)frames, vo.width, vo.height, vo.fpsNum, vo.fpsDen, toSeconds(duration),
-		             withAudio ? "audio" : "transcript", keys.size(), so.emotion.c_str(), secs, double(frames) / secs, toSeconds(duration) / secs);
+	const std::int64_t frames = frameCount(duration, vo.fpsNum, vo.fpsDen);  // round(duration × fps)
+	RenderJob job;
+	job.keys = keys;
+	job.frames = frames;
+	job.duration = duration;
+	job.video = vo;
+	job.synth = so;
+	job.output = *output;
+	job.format = format;
+	job.modelPath = args.get("--model", "");
+	job.framesDir = args.get("--frames");
+	job.landmarksOut = args.get("--landmarks-out");
+	job.audio = audio.samples.empty() ? nullptr : &audio;
+	job.noAudio = args.has("--no-audio");
+	job.quiet = quiet;
+	job.jsonProgress = jsonProgress;
+	job.timing = args.has("--timing");
+	job.threads = threads;
+	job.started = t0;
+	renderVideo(job);
 	return 0;
 }
 

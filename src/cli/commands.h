@@ -11,5 +11,6 @@ int runInspect(const std::vector<std::string>& args);
 int runCorpus(const std::vector<std::string>& args);
 int runVisemes(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
+int runSay(const std::vector<std::string>& args);
 
 }  // namespace talkhead::cli

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // talkhead: command-line entry point. One catch ladder: usage errors exit 2, all other failures 1.
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -27,6 +28,7 @@ const char* kUsage =
     "  inspect   summarise a face model, draw it (-o DIR), measure reconstruction (--recon)\n"
     "  corpus    corpus tools: 'corpus synth' writes the synthetic expressive viseme corpus\n"
     "  render    render a talking-head video from a transcript, audio and an emotion\n"
+    "  say       text in, talking-head video with speech out (espeak-ng, in process)\n"
     "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
     "\n"
     "  talkhead <command> --help   options of one command\n"
@@ -36,6 +38,8 @@ const char* kUsage =
 
 int main(int argc, char** argv) {
 	using namespace talkhead;
+	// A reader that goes away (| head, a closed ffplay) is a write error with a message, not a silent kill.
+	std::signal(SIGPIPE, SIG_IGN);
 	std::vector<std::string> args(argv + 1, argv + argc);
 	if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
 		if (args.empty()) {
@@ -57,9 +61,10 @@ int main(int argc, char** argv) {
 		if (command == "corpus") return cli::runCorpus(rest);
 		if (command == "visemes") return cli::runVisemes(rest);
 		if (command == "render") return cli::runRender(rest);
+		if (command == "say") return cli::runSay(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

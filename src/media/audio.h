@@ -21,4 +21,7 @@ struct AudioClip {
 // `sampleRate` with at most 2 channels. Throws Error naming the file; zero-length audio is an error.
 AudioClip decodeAudio(const std::string& path, int sampleRate = 48000);
 
+// Writes a 16-bit PCM WAV through a temporary name (renamed when complete).
+void writeWav(const std::string& path, const AudioClip& clip);
+
 }  // namespace talkhead

@@ -5,6 +5,7 @@
 #include <espeak-ng/speak_lib.h>
 
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 
 #include "base/error.h"
@@ -22,14 +23,18 @@ std::mutex& espeakMutex() {
 struct Collector {
 	std::vector<std::pair<std::string, int>> phonemes;  // name, audio position (ms)
 	long samples = 0;
+	std::vector<short>* pcm = nullptr;  // where to keep the audio (speak), or nullptr (phonemes only)
 };
 
 Collector* g_current = nullptr;  // the synthesis in progress (guarded by espeakMutex)
 
-int onSynth(short*, int count, espeak_EVENT* events) {
+int onSynth(short* wav, int count, espeak_EVENT* events) {
 	Collector* c = g_current;
 	if (!c) return 0;
-	if (count > 0) c->samples += count;
+	if (count > 0) {
+		c->samples += count;
+		if (c->pcm && count > 0) c->pcm->insert(c->pcm->end(), wav, wav + count);
+	}
 	for (espeak_EVENT* e = events; e && e->type != espeakEVENT_LIST_TERMINATED; ++e) {
 		if (e->type == espeakEVENT_PHONEME) {
 			char name[9] = {};
@@ -55,6 +60,66 @@ bool isPause(const std::string& ipa) { return ipa.empty() || ipa == "_" || ipa =
 }  // namespace
 
 std::string espeakVoiceFor(const std::string& tag) { return toLower(tag); }
+
+namespace {
+void setVoice(const std::string& voice) {
+	if (startsWith(voice, "mb-")) {
+		// Check for MBROLA first: espeak-ng would print its own multi-line complaint.
+		const std::string name = voice.substr(3);
+		std::error_code ec;
+		bool found = std::filesystem::exists("/usr/bin/mbrola", ec);
+		bool voiceFound = false;
+		for (const std::string p : {"/usr/share/mbrola/" + name + "/" + name, "/usr/share/mbrola/" + name, "/usr/share/mbrola/voices/" + name})
+			voiceFound |= std::filesystem::is_regular_file(p, ec);
+		if (!found || !voiceFound)
+			throw Error("espeak-ng cannot use the MBROLA voice '" + voice + "': install MBROLA and that voice (Debian contrib/non-free: enable them in " +
+			            "/etc/apt/sources.list, then apt-get install mbrola mbrola-" + name + ")");
+	}
+	if (espeak_SetVoiceByName(voice.c_str()) == EE_OK) return;
+	throw Error("espeak-ng has no voice '" + voice + "' (espeak-ng --voices lists them)");
+}
+}  // namespace
+
+Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm, int pitch) {
+	if (trim(text).empty()) throw Error("nothing to say: the text is empty");
+	std::lock_guard<std::mutex> lock(espeakMutex());
+	const int rate = initialise();
+	setVoice(voice);
+	espeak_SetParameter(espeakRATE, rateWpm > 0 ? rateWpm : 175, 0);
+	espeak_SetParameter(espeakPITCH, pitch >= 0 ? pitch : 50, 0);
+	Speech sp;
+	sp.sampleRate = rate;
+	Collector c;
+	c.pcm = &sp.pcm;
+	g_current = &c;
+	const std::string z = text + '\0';
+	const espeak_ERROR err = espeak_Synth(z.data(), z.size(), 0, POS_CHARACTER, 0, espeakCHARS_UTF8, nullptr, nullptr);
+	espeak_Synchronize();
+	g_current = nullptr;
+	espeak_SetParameter(espeakRATE, 175, 0);
+	espeak_SetParameter(espeakPITCH, 50, 0);
+	if (err != EE_OK) throw Error("espeak-ng could not synthesise the text");
+	const std::int64_t ticksPerSample = kTicksPerSecond / rate;
+	const Ticks end(std::int64_t(sp.pcm.size()) * ticksPerSample);
+	bool speech = false;
+	sp.phones.path = "espeak-ng";
+	sp.phones.format = "espeak";
+	Ticks t(0);
+	for (std::size_t i = 0; i < c.phonemes.size(); ++i) {
+		const Ticks start = std::min(end, Ticks(std::int64_t(c.phonemes[i].second) * (kTicksPerSecond / 1000)));
+		const Ticks next = i + 1 < c.phonemes.size() ? std::min(end, Ticks(std::int64_t(c.phonemes[i + 1].second) * (kTicksPerSecond / 1000))) : end;
+		if (start > t) sp.phones.intervals.push_back({t, start, "", 0});  // silence before the phoneme
+		const Ticks a = std::max(t, start);
+		if (next <= a) continue;
+		const std::string name = isPause(c.phonemes[i].first) ? "" : c.phonemes[i].first;
+		speech |= !name.empty();
+		sp.phones.intervals.push_back({a, next, name, long(i + 1)});
+		t = next;
+	}
+	if (t < end) sp.phones.intervals.push_back({t, end, "", 0});
+	if (!speech || sp.pcm.empty()) throw Error("nothing to say: the text has no speakable words");
+	return sp;
+}
 
 std::vector<SpokenPhone> espeakPhones(const std::string& text, const std::string& voice) {
 	std::lock_guard<std::mutex> lock(espeakMutex());

@@ -20,6 +20,17 @@ std::string espeakVoiceFor(const std::string& languageTag);
 // returns the phones with the durations espeak-ng gives them; pauses are dropped. Throws Error.
 std::vector<SpokenPhone> espeakPhones(const std::string& text, const std::string& voice);
 
+// Text-to-speech in one pass (libespeak-ng, synchronous): the PCM and each phoneme's interval (IPA
+// labels; pauses are empty labels), sorted, contiguous from 0 to the end of the PCM.
+struct Speech {
+	int sampleRate = 0;
+	std::vector<short> pcm;  // mono
+	Transcript phones;       // phone level, path "espeak-ng"
+};
+// rateWpm 0 / pitch −1 = the voice's defaults. Throws Error for an unknown voice (with how to get MBROLA
+// voices for "mb-…" names) and for text with nothing to say.
+Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm = 0, int pitch = -1);
+
 // Word-level transcript → phone intervals: each word is phonemised and its phones spread over the
 // word's interval in proportion to espeak-ng's own durations; pauses ("", "sil", "sp", "_") stay pauses.
 std::vector<Interval> expandWords(const Transcript& words, const std::string& languageTag);
