@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "base/atomic_file.h"
 #include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/parallel.h"
@@ -176,15 +177,9 @@ void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, Progr
 		std::lock_guard<std::mutex> lock(m);
 		progress.report(double(d) / double(items.size()), "drawing faces");
 	});
-	const fs::path csv = fs::path(dir) / "corpus.csv";
-	const fs::path tmp = fs::path(dir) / (".tmp-" + std::to_string(::getpid()) + "-corpus.csv");
-	{
-		std::ofstream out(tmp, std::ios::binary);
-		for (const auto& r : rows) out << r << '\n';
-		if (!out) throw Error(csv.string(), 0, "cannot write");
-	}
-	fs::rename(tmp, csv, ec);
-	if (ec) throw Error(csv.string(), 0, "cannot write: " + ec.message());
+	std::string csv;
+	for (const auto& r : rows) csv += r + '\n';
+	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), csv);
 }
 
 }  // namespace talkhead

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "base/error.h"
+#include "base/text.h"
 
 namespace talkhead {
 
@@ -91,14 +92,6 @@ private:
 		}
 		return v;
 	}
-	void utf8(unsigned cp, std::string& out) {
-		if (cp < 0x80) out += char(cp);
-		else if (cp < 0x800) out += char(0xC0 | (cp >> 6)), out += char(0x80 | (cp & 0x3F));
-		else if (cp < 0x10000) out += char(0xE0 | (cp >> 12)), out += char(0x80 | ((cp >> 6) & 0x3F)), out += char(0x80 | (cp & 0x3F));
-		else
-			out += char(0xF0 | (cp >> 18)), out += char(0x80 | ((cp >> 12) & 0x3F)), out += char(0x80 | ((cp >> 6) & 0x3F)),
-			    out += char(0x80 | (cp & 0x3F));
-	}
 	unsigned hex4() {
 		if (i_ + 4 > t_.size()) fail("bad \\u escape");
 		unsigned v = 0;
@@ -140,7 +133,7 @@ private:
 						unsigned lo = hex4();
 						cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
 					}
-					utf8(cp, out);
+					appendUtf8(cp, out);
 					break;
 				}
 				default: fail("bad escape");

@@ -82,6 +82,24 @@ bool parseInt(std::string_view s, long long& out) {
 bool startsWith(std::string_view s, std::string_view p) { return s.substr(0, p.size()) == p; }
 bool endsWith(std::string_view s, std::string_view p) { return s.size() >= p.size() && s.substr(s.size() - p.size()) == p; }
 
+void appendUtf8(unsigned cp, std::string& out) {
+	if (cp < 0x80) {
+		out += char(cp);
+	} else if (cp < 0x800) {
+		out += char(0xC0 | (cp >> 6));
+		out += char(0x80 | (cp & 0x3F));
+	} else if (cp < 0x10000) {
+		out += char(0xE0 | (cp >> 12));
+		out += char(0x80 | ((cp >> 6) & 0x3F));
+		out += char(0x80 | (cp & 0x3F));
+	} else {
+		out += char(0xF0 | (cp >> 18));
+		out += char(0x80 | ((cp >> 12) & 0x3F));
+		out += char(0x80 | ((cp >> 6) & 0x3F));
+		out += char(0x80 | (cp & 0x3F));
+	}
+}
+
 std::string toLower(std::string_view s) {
 	std::string r(s);
 	for (char& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -18,5 +18,7 @@ bool parseInt(std::string_view s, long long& out);
 bool startsWith(std::string_view s, std::string_view prefix);
 bool endsWith(std::string_view s, std::string_view suffix);
 std::string toLower(std::string_view s);
+// Appends the UTF-8 encoding of a code point.
+void appendUtf8(unsigned codePoint, std::string& out);
 
 }  // namespace talkhead

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <thread>
 
+#include "base/atomic_file.h"
 #include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/parallel.h"
@@ -49,10 +50,6 @@ struct TempFile {
 	}
 };
 
-std::string tempNameFor(const std::string& target) {
-	fs::path t(target);
-	return (t.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + t.filename().string())).string();
-}
 
 void checkWritableFolder(const std::string& path) {
 	fs::path parent = fs::path(path).parent_path();
@@ -111,20 +108,20 @@ void renderVideo(const RenderJob& job) {
 	std::FILE* y4mFile = nullptr;
 	const bool withAudio = job.audio && !job.audio->samples.empty() && !job.noAudio;
 	if (format == "mp4") {
-		tmpVideo.path = tempNameFor(job.output);
+		tmpVideo.path = temporaryNameFor(job.output);
 		mp4 = std::make_unique<Mp4Writer>(tmpVideo.path, vo, withAudio ? job.audio : nullptr);
 	} else if (job.output == "-") {
 		y4mFile = stdout;
 		y4m = std::make_unique<Y4mWriter>(stdout, vo);
 	} else {
-		tmpVideo.path = tempNameFor(job.output);
+		tmpVideo.path = temporaryNameFor(job.output);
 		y4mFile = std::fopen(tmpVideo.path.c_str(), "wb");
 		if (!y4mFile) throw Error(job.output, 0, "cannot write");
 		y4m = std::make_unique<Y4mWriter>(y4mFile, vo);
 	}
 	std::ofstream landmarks;
 	if (auto f = job.landmarksOut) {
-		tmpLandmarks.path = tempNameFor(*f);
+		tmpLandmarks.path = temporaryNameFor(*f);
 		landmarks.open(tmpLandmarks.path);
 		landmarks << "frame\ttime";
 		for (const auto& n : model.scheme.pointNames) landmarks << '\t' << n << "_x\t" << n << "_y";

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <iterator>
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "cli/args.h"
@@ -84,10 +85,7 @@ int runSay(const std::vector<std::string>& argv) {
 	for (short v : speech.pcm) audio.samples.push_back(float(v) / 32768.f);
 	if (auto f = args.get("--save-audio")) writeWav(*f, audio);
 	if (auto f = args.get("--save-transcript")) {
-		const std::string tg = formatVisemes(phones, job.keys, "textgrid", lang.tag(), "espeak-ng");
-		std::ofstream o(*f, std::ios::binary);
-		o << tg;
-		if (!o) throw Error(*f, 0, "cannot write");
+		writeFileAtomically(*f, formatVisemes(phones, job.keys, "textgrid", lang.tag(), "espeak-ng"));
 	}
 	job.duration = audio.duration();
 	job.frames = frameCount(job.duration, job.video.fpsNum, job.video.fpsDen);

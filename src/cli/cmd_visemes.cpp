@@ -7,6 +7,7 @@
 #include <iostream>
 #include <unistd.h>
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "cli/args.h"
@@ -31,23 +32,7 @@ void writeOutput(const std::string& path, const std::string& text) {
 		std::cout.flush();
 		return;
 	}
-	namespace fs = std::filesystem;
-	fs::path target(path), tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
-	{
-		std::ofstream out(tmp, std::ios::binary);
-		out << text;
-		if (!out) {
-			out.close();
-			std::remove(tmp.c_str());
-			throw Error(path, 0, "cannot write");
-		}
-	}
-	std::error_code ec;
-	fs::rename(tmp, target, ec);
-	if (ec) {
-		std::remove(tmp.c_str());
-		throw Error(path, 0, "cannot write: " + ec.message());
-	}
+	writeFileAtomically(path, text);
 }
 
 }  // namespace

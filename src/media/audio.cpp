@@ -14,9 +14,8 @@ extern "C" {
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <unistd.h>
 
+#include "base/atomic_file.h"
 #include "media/av_util.h"
 
 namespace talkhead {
@@ -106,42 +105,28 @@ AudioClip decodeAudio(const std::string& path, int outRate) {
 }
 
 void writeWav(const std::string& path, const AudioClip& clip) {
-	namespace fs = std::filesystem;
-	const fs::path target(path), tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
 	const std::uint32_t dataBytes = std::uint32_t(clip.samples.size() * 2);
-	auto u32 = [](std::ofstream& o, std::uint32_t v) { o.write(reinterpret_cast<const char*>(&v), 4); };
-	auto u16 = [](std::ofstream& o, std::uint16_t v) { o.write(reinterpret_cast<const char*>(&v), 2); };
-	{
-		std::ofstream o(tmp, std::ios::binary);
-		o.write("RIFF", 4);
-		u32(o, 36 + dataBytes);
-		o.write("WAVEfmt ", 8);
-		u32(o, 16);
-		u16(o, 1);
-		u16(o, std::uint16_t(clip.channels));
-		u32(o, std::uint32_t(clip.sampleRate));
-		u32(o, std::uint32_t(clip.sampleRate * clip.channels * 2));
-		u16(o, std::uint16_t(clip.channels * 2));
-		u16(o, 16);
-		o.write("data", 4);
-		u32(o, dataBytes);
-		for (float f : clip.samples) {
-			const float c = f < -1.f ? -1.f : (f > 1.f ? 1.f : f);
-			const std::int16_t v = std::int16_t(std::lround(c * 32767.f));
-			o.write(reinterpret_cast<const char*>(&v), 2);
-		}
-		if (!o) {
-			o.close();
-			std::remove(tmp.c_str());
-			throw Error(path, 0, "cannot write");
-		}
+	std::string b;
+	b.reserve(44 + dataBytes);
+	auto u32 = [&](std::uint32_t v) { b.append(reinterpret_cast<const char*>(&v), 4); };
+	auto u16 = [&](std::uint16_t v) { b.append(reinterpret_cast<const char*>(&v), 2); };
+	b += "RIFF";
+	u32(36 + dataBytes);
+	b += "WAVEfmt ";
+	u32(16);
+	u16(1);
+	u16(std::uint16_t(clip.channels));
+	u32(std::uint32_t(clip.sampleRate));
+	u32(std::uint32_t(clip.sampleRate * clip.channels * 2));
+	u16(std::uint16_t(clip.channels * 2));
+	u16(16);
+	b += "data";
+	u32(dataBytes);
+	for (float f : clip.samples) {
+		const float c = f < -1.f ? -1.f : (f > 1.f ? 1.f : f);
+		u16(std::uint16_t(std::int16_t(std::lround(c * 32767.f))));
 	}
-	std::error_code ec;
-	fs::rename(tmp, target, ec);
-	if (ec) {
-		std::remove(tmp.c_str());
-		throw Error(path, 0, "cannot write: " + ec.message());
-	}
+	writeFileAtomically(path, b);
 }
 
 }  // namespace talkhead

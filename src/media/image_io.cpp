@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <unistd.h>
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 
 namespace talkhead {
@@ -60,7 +61,7 @@ Image8 readImage(const std::string& path) {
 void writeImage(const std::string& path, const Image8& image, int pngCompression) {
 	namespace fs = std::filesystem;
 	fs::path target(path);
-	fs::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
+	fs::path tmp = temporaryNameFor(path);
 	auto out = OIIO::ImageOutput::create(target.filename().string());
 	if (!out) throw Error(path, 0, "cannot write images of this type: " + oiioError("unknown extension"));
 	OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);

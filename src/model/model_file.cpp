@@ -8,6 +8,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/memory.h"
 
@@ -312,7 +313,7 @@ void writeRecords(Writer& w, const FaceModel& model) {
 void saveModel(const FaceModel& model, const std::string& path) {
 	namespace fs = std::filesystem;
 	fs::path target(path);
-	fs::path tmp = target.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + target.filename().string());
+	fs::path tmp = temporaryNameFor(path);
 	std::FILE* f = std::fopen(tmp.c_str(), "wb");
 	if (!f) throw Error(path, 0, std::string("cannot write model: ") + std::strerror(errno));
 	char head[kHeaderSize] = {};

@@ -69,7 +69,7 @@ void setVoice(const std::string& voice) {
 		std::error_code ec;
 		bool found = std::filesystem::exists("/usr/bin/mbrola", ec);
 		bool voiceFound = false;
-		for (const std::string p : {"/usr/share/mbrola/" + name + "/" + name, "/usr/share/mbrola/" + name, "/usr/share/mbrola/voices/" + name})
+		for (const std::string& p : {"/usr/share/mbrola/" + name + "/" + name, "/usr/share/mbrola/" + name, "/usr/share/mbrola/voices/" + name})
 			voiceFound |= std::filesystem::is_regular_file(p, ec);
 		if (!found || !voiceFound)
 			throw Error("espeak-ng cannot use the MBROLA voice '" + voice + "': install MBROLA and that voice (Debian contrib/non-free: enable them in " +

@@ -47,12 +47,7 @@ std::string toUtf8(const std::string& in) {
 				i += 2;
 			}
 		}
-		if (cp < 0x80) out += char(cp);
-		else if (cp < 0x800) out += char(0xC0 | (cp >> 6)), out += char(0x80 | (cp & 0x3F));
-		else if (cp < 0x10000) out += char(0xE0 | (cp >> 12)), out += char(0x80 | ((cp >> 6) & 0x3F)), out += char(0x80 | (cp & 0x3F));
-		else
-			out += char(0xF0 | (cp >> 18)), out += char(0x80 | ((cp >> 12) & 0x3F)), out += char(0x80 | ((cp >> 6) & 0x3F)),
-			    out += char(0x80 | (cp & 0x3F));
+		appendUtf8(cp, out);
 	}
 	return out;
 }

@@ -130,47 +130,6 @@ inline std::uint8_t storeInRange<std::uint8_t>(float v) {
 }
 
 
-// Interior run for 8-bit RGB → 8-bit RGB in SSE2 fixed point: 7-bit bilinear weights (1/128 px),
-// each pixel's three channels in one register. Callers guarantee that the 2×2 neighbourhood plus one
-// byte (the 4-byte loads) lies inside the source for every x in [xa, xb).
-inline void bilinearRunRgb8(const std::uint8_t* sp, std::size_t stride, const float* a, float rx, float ry, int xa, int xb,
-                            std::uint8_t* o) {
-	const __m128i zero = _mm_setzero_si128();
-	const __m128i round = _mm_set1_epi32(1 << 13);
-	auto load32 = [](const std::uint8_t* p) {
-		std::int32_t v;
-		std::memcpy(&v, p, 4);
-		return _mm_cvtsi32_si128(v);
-	};
-	// Source position in 32.32 fixed point, stepped along the run (drift < 1e-6 px over any run).
-	constexpr double one = 4294967296.0;
-	const double sx0 = double(a[0]) * xa + rx, sy0 = double(a[3]) * xa + ry;
-	std::int64_t u = std::llround(sx0 * one), v = std::llround(sy0 * one);
-	const std::int64_t du = std::llround(double(a[0]) * one), dv = std::llround(double(a[3]) * one);
-	for (int x = xa; x < xb; ++x, o += 3, u += du, v += dv) {
-		const int ix = int(u >> 32), iy = int(v >> 32);
-		const int wx = int(u >> 25) & 127, wy = int(v >> 25) & 127;
-		const std::uint8_t* p = sp + std::size_t(iy) * stride + std::size_t(ix) * 3;
-		const std::uint8_t* q = p + stride;
-		const __m128i wxv = _mm_set1_epi32((wx << 16) | (128 - wx));
-		const __m128i wyv = _mm_set1_epi32((wy << 16) | (128 - wy));
-		__m128i top = _mm_unpacklo_epi8(_mm_unpacklo_epi8(load32(p), load32(p + 3)), zero);  // r0 r1 g0 g1 b0 b1 . .
-		__m128i bottom = _mm_unpacklo_epi8(_mm_unpacklo_epi8(load32(q), load32(q + 3)), zero);
-		top = _mm_madd_epi16(top, wxv);  // 32-bit r g b ., ×128
-		bottom = _mm_madd_epi16(bottom, wxv);
-		__m128i tb = _mm_unpacklo_epi16(_mm_packs_epi32(top, top), _mm_packs_epi32(bottom, bottom));  // rt rb gt gb bt bb . .
-		__m128i r = _mm_srai_epi32(_mm_add_epi32(_mm_madd_epi16(tb, wyv), round), 14);
-		r = _mm_packus_epi16(_mm_packs_epi32(r, r), zero);
-		const std::uint32_t rgb = std::uint32_t(_mm_cvtsi128_si32(r));
-		o[0] = std::uint8_t(rgb);
-		o[1] = std::uint8_t(rgb >> 8);
-		o[2] = std::uint8_t(rgb >> 16);
-	}
-}
-}  // namespace
-
-namespace {
-
 // The run [fa, fb) of the span's pixels whose 2×2 source neighbourhood (plus the 4-byte loads) lies
 // inside a sw × sh source under the affine map a; fa = fb = x1 when there is none.
 inline void interiorRun(const float* a, const Span& s, int sw, int sh, int& fa, int& fb) {
@@ -217,6 +176,26 @@ inline __m128i sampleRgb8(const std::uint8_t* sp, std::size_t stride, std::int64
 	return _mm_madd_epi16(tb, wyv);
 }
 
+
+// Interior run for 8-bit RGB → 8-bit RGB in SSE2 fixed point: 7-bit bilinear weights (1/128 px),
+// each pixel's three channels in one register. Callers guarantee that the 2×2 neighbourhood plus one
+// byte (the 4-byte loads) lies inside the source for every x in [xa, xb).
+inline void bilinearRunRgb8(const std::uint8_t* sp, std::size_t stride, const float* a, float rx, float ry, int xa, int xb,
+                            std::uint8_t* o) {
+	const __m128i zero = _mm_setzero_si128(), round = _mm_set1_epi32(1 << 13);
+	// Source position in 32.32 fixed point, stepped along the run (drift < 1e-6 px over any run).
+	constexpr double one = 4294967296.0;
+	std::int64_t u = std::llround((double(a[0]) * xa + rx) * one), v = std::llround((double(a[3]) * xa + ry) * one);
+	const std::int64_t du = std::llround(double(a[0]) * one), dv = std::llround(double(a[3]) * one);
+	for (int x = xa; x < xb; ++x, o += 3, u += du, v += dv) {
+		__m128i r = _mm_srai_epi32(_mm_add_epi32(sampleRgb8(sp, stride, u, v), round), 14);
+		r = _mm_packus_epi16(_mm_packs_epi32(r, r), zero);
+		const std::uint32_t rgb = std::uint32_t(_mm_cvtsi128_si32(r));
+		o[0] = std::uint8_t(rgb);
+		o[1] = std::uint8_t(rgb >> 8);
+		o[2] = std::uint8_t(rgb >> 16);
+	}
+}
 }  // namespace
 
 void PiecewiseAffineWarp::dissolve(const Image8& a, const Points& sourceA, const Image8& b, const Points& sourceB, double w, Image8& dst) {
@@ -279,32 +258,13 @@ void PiecewiseAffineWarp::apply(const ImageT<In>& src, ImageT<Out>& dst) const {
 	const In* sp = src.data.data();
 	Out* dp = dst.data.data();
 	const std::size_t stride = std::size_t(sw) * ch;
-	// Interior limits: a sample whose 2×2 neighbourhood lies inside the image needs no clamping.
-	const float limX = float(sw - 2) - 1e-3f, limY = float(sh - 1) - 1e-3f;  // ix ≤ w−3: 4-byte loads stay inside
 	for (const Span& s : spans_) {
 		const float* a = &affine_[std::size_t(s.tri) * 6];
 		const float rx = a[1] * float(s.y) + a[2], ry = a[4] * float(s.y) + a[5];
 		Out* o = dp + (std::size_t(s.y) * width_ + s.x0) * ch;
-		// The map is affine along the span: find the run [fa, fb) of pixels whose 2×2 source
-		// neighbourhood lies inside the image (no clamping there); the ends use the clamped path.
-		int fa = s.x0, fb = s.x1;
-		auto limit = [&](float slope, float offset, float lim) {
-			if (std::abs(slope) < 1e-9f) {
-				if (!(offset >= 0.f && offset < lim)) fb = fa;
-				return;
-			}
-			float t0 = (0.f - offset) / slope, t1 = (lim - offset) / slope;
-			if (slope < 0) std::swap(t0, t1);
-			fa = std::max(fa, int(std::ceil(std::max(t0, -1e9f))) + 1);
-			fb = std::min(fb, int(std::floor(std::min(t1, 1e9f))) - 1);
-		};
-		limit(a[0], rx, limX);
-		limit(a[3], ry, limY);
-		auto inBounds = [&](int x) {
-			const float u = a[0] * float(x) + rx, v = a[3] * float(x) + ry;
-			return u >= 0.f && u < limX && v >= 0.f && v < limY;
-		};
-		if (fb <= fa || !inBounds(fa) || !inBounds(fb - 1)) fa = fb = s.x1;  // all clamped
+		// The map is affine along the span: the run [fa, fb) needs no clamping; the ends use the clamped path.
+		int fa, fb;
+		interiorRun(a, s, sw, sh, fa, fb);
 		for (int x = s.x0; x < fa; ++x, o += ch) sampleClamped(sp, sw, sh, ch, stride, a[0] * float(x) + rx, a[3] * float(x) + ry, o);
 		if constexpr (std::is_same_v<In, std::uint8_t> && std::is_same_v<Out, std::uint8_t>) {
 			if (ch == 3 && fb > fa) {
