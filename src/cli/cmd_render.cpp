@@ -86,7 +86,12 @@ void renderVideo(const RenderJob& job) {
 	using Clock = std::chrono::steady_clock;
 	auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
 	const auto tLoad = Clock::now();
-	FaceModel model = loadModel(modelPath);
+	FaceModel model = loadModel(modelPath, ModelParts::Render);
+	for (const auto& r : model.regions)
+		if (r.sampleAppearances.empty()) {  // no appearance cache: the keyposes need the bases
+			model = loadModel(modelPath);
+			break;
+		}
 	const double loadSeconds = since(tLoad);
 	Synthesizer synth(model, so);
 	vo.width = synth.width();

@@ -154,9 +154,34 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 		auto it = options.regionPca.find(region.name);
 		region.pca = correlationPca(data[r], it != options.regionPca.end() ? it->second : options.pca);
 		data[r] = Eigen::MatrixXf();  // free as we go
+		// The render-time cache: each sample's reconstruction, 8-bit, by GEMM in chunks of samples.
+		const std::size_t q3 = std::size_t(region.appearanceSize());
+		region.sampleAppearances.resize(m * q3);
+		for (std::size_t first = 0; first < m; first += 128) {
+			const std::size_t count = std::min<std::size_t>(128, m - first);
+			const Eigen::MatrixXf a = synthesizeAppearances(
+			    region, region.pca.trainingCoefficients.middleRows(Eigen::Index(first), Eigen::Index(count)).transpose());
+			for (std::size_t k = 0; k < count; ++k) {
+				std::uint8_t* dst = &region.sampleAppearances[(first + k) * q3];
+				const float* src = a.col(Eigen::Index(k)).data();
+				for (std::size_t j = 0; j < q3; ++j) {
+					const float v = src[j] + 0.5f;
+					dst[j] = std::uint8_t(v <= 0.f ? 0.f : (v >= 255.f ? 255.f : v));
+				}
+			}
+		}
 	}
 	progress.report(1.0, "done");
 	return model;
+}
+
+Eigen::VectorXf RegionModel::cachedAppearance(std::size_t sample) const {
+	const std::size_t q3 = std::size_t(appearanceSize());
+	if (sampleAppearances.size() < (sample + 1) * q3) return {};
+	Eigen::VectorXf a(static_cast<Eigen::Index>(q3));
+	const std::uint8_t* src = &sampleAppearances[sample * q3];
+	for (std::size_t j = 0; j < q3; ++j) a(Eigen::Index(j)) = src[j];
+	return a;
 }
 
 Eigen::VectorXf gatherAppearance(const RegionModel& r, const Image& frame) {

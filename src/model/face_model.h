@@ -31,8 +31,13 @@ struct RegionModel {
 	std::vector<std::int32_t> pixels;  // q pixel indices (y·width + x) in the model frame, ascending
 	std::vector<float> alpha;          // q soft-mask values in (0, 1]
 	CorrelationPca pca;
+	// Every training sample's appearance reconstructed from its kept components (Eq. 5.2), 8-bit,
+	// channel-planar, sample after sample (samples × 3q): keyposes need no basis product at render time.
+	std::vector<std::uint8_t> sampleAppearances;
 
 	Eigen::Index pixelCount() const { return Eigen::Index(pixels.size()); }
+	// Sample i's cached appearance as floats (3q), or an empty vector when the model has no cache.
+	Eigen::VectorXf cachedAppearance(std::size_t sample) const;
 	Eigen::Index appearanceSize() const { return 3 * pixelCount(); }
 };
 

@@ -88,13 +88,21 @@ public:
 	void raw(const void* p, std::size_t n) {
 		if (n && std::fwrite(p, 1, n, f_) != n) ok_ = false;
 		sum_.update(p, n);
+		record_.update(p, n);
 		size_ += n;
 	}
 	template <class T>
 	void pod(T v) {
 		raw(&v, sizeof v);
 	}
+	// Each record ends with the checksum of its own bytes, so a reader may skip records it does not need
+	// (render skips the bases) and still verify everything it reads.
+	void endRecord() {
+		const std::uint64_t c = record_.finish();
+		raw(&c, 8);
+	}
 	void header(const std::string& name, Type t, std::uint64_t count) {
+		record_ = Checksum64();
 		pod<std::uint32_t>(std::uint32_t(name.size()));
 		raw(name.data(), name.size());
 		pod<std::uint32_t>(std::uint32_t(t));
@@ -103,18 +111,22 @@ public:
 	void f32(const std::string& name, const float* p, std::size_t n) {
 		header(name, Type::F32, n);
 		raw(p, n * 4);
+		endRecord();
 	}
 	void f64(const std::string& name, const double* p, std::size_t n) {
 		header(name, Type::F64, n);
 		raw(p, n * 8);
+		endRecord();
 	}
 	void i32(const std::string& name, const std::int32_t* p, std::size_t n) {
 		header(name, Type::I32, n);
 		raw(p, n * 4);
+		endRecord();
 	}
 	void u8(const std::string& name, const std::uint8_t* p, std::size_t n) {
 		header(name, Type::U8, n);
 		raw(p, n);
+		endRecord();
 	}
 	void i64(const std::string& name, std::int64_t v) {
 		double d = double(v);
@@ -126,6 +138,7 @@ public:
 			pod<std::uint32_t>(std::uint32_t(s.size()));
 			raw(s.data(), s.size());
 		}
+		endRecord();
 	}
 	bool ok() const { return ok_; }
 	std::uint64_t size() const { return size_; }
@@ -133,7 +146,7 @@ public:
 
 private:
 	std::FILE* f_;
-	Checksum64 sum_;
+	Checksum64 sum_, record_;
 	std::uint64_t size_ = 0;
 	bool ok_ = true;
 };
@@ -147,6 +160,7 @@ public:
 		need(n);
 		if (n && std::fread(p, 1, n, f_) != n) fail("unexpected end of data");
 		sum_.update(p, n);
+		record_.update(p, n);
 		left_ -= n;
 	}
 	template <class T>
@@ -156,6 +170,8 @@ public:
 		return v;
 	}
 	std::size_t expect(const std::string& name, Type t, std::size_t elemSize) {
+		record_ = Checksum64();
+		recordName_ = name;
 		std::uint32_t len = pod<std::uint32_t>();
 		need(len);
 		std::string got(len, '\0');
@@ -173,7 +189,17 @@ public:
 		T* dst = alloc(n);
 		adviseHugePages(dst, n * sizeof(T));
 		raw(dst, n * sizeof(T));
+		endRecord();
 	}
+	// Skips an array record without reading its data (its checksum cannot be verified then).
+	void skip(const std::string& name, Type t, std::size_t elemSize) {
+		const std::size_t n = expect(name, t, elemSize);
+		need(n * elemSize + 8);
+		if (std::fseek(f_, long(n * elemSize + 8), SEEK_CUR) != 0) fail("cannot seek");
+		left_ -= n * elemSize + 8;
+		skipped_ = true;
+	}
+	bool skipped() const { return skipped_; }
 	template <class T>
 	std::vector<T> array(const std::string& name, Type t) {
 		std::vector<T> v;
@@ -203,7 +229,14 @@ public:
 			raw(s.data(), len);
 			v.push_back(std::move(s));
 		}
+		endRecord();
 		return v;
+	}
+	void endRecord() {
+		const std::uint64_t expected = record_.finish();
+		std::uint64_t stored;
+		raw(&stored, 8);
+		if (stored != expected) fail("checksum mismatch in record '" + recordName_ + "'");
 	}
 	[[noreturn]] void fail(const std::string& what) const { throw Error(path_, 0, "corrupt model file: " + what); }
 	void need(std::size_t n) const {
@@ -216,7 +249,9 @@ private:
 	std::FILE* f_;
 	std::uint64_t left_;
 	std::string path_;
-	Checksum64 sum_;
+	Checksum64 sum_, record_;
+	std::string recordName_;
+	bool skipped_ = false;
 };
 
 void writePoints(Writer& w, const std::string& name, const Points& p) { w.f64(name, p.data(), std::size_t(p.size())); }
@@ -305,6 +340,7 @@ void writeRecords(Writer& w, const FaceModel& model) {
 		w.i64("components", p.basis.cols());
 		w.f32("basis", p.basis.data(), std::size_t(p.basis.size()));
 		w.f32("coefficients", p.trainingCoefficients.data(), std::size_t(p.trainingCoefficients.size()));
+		w.u8("appearances", r.sampleAppearances.data(), r.sampleAppearances.size());
 	}
 }
 
@@ -336,7 +372,7 @@ void saveModel(const FaceModel& model, const std::string& path) {
 
 namespace {
 
-FaceModel readRecords(Reader& r);
+FaceModel readRecords(Reader& r, bool bases);
 
 // The checksum of the payload from `offset` to the end, read in chunks (used to tell corruption from
 // a format problem when parsing stops early).
@@ -351,7 +387,7 @@ std::uint64_t payloadChecksum(std::FILE* f) {
 
 }  // namespace
 
-FaceModel loadModel(const std::string& path) {
+FaceModel loadModel(const std::string& path, ModelParts parts) {
 	std::FILE* f = std::fopen(path.c_str(), "rb");
 	if (!f) throw Error(path, 0, std::string("cannot open model: ") + std::strerror(errno));
 	struct Closer {
@@ -378,18 +414,21 @@ FaceModel loadModel(const std::string& path) {
 	Reader r(f, size, path);
 	FaceModel m;
 	try {
-		m = readRecords(r);
-	} catch (const Error&) {
-		if (payloadChecksum(f) != sum) throw Error(path, 0, "corrupt model file: checksum mismatch");
+		m = readRecords(r, parts == ModelParts::All);
+	} catch (const Error& e) {
+		// A damaged record says so itself; anything else that stops the parse is reported as damage
+		// when the payload's checksum disagrees (a flipped byte in a length field, say).
+		if (std::string(e.what()).find("checksum mismatch") == std::string::npos && payloadChecksum(f) != sum)
+			throw Error(path, 0, "corrupt model file: checksum mismatch");
 		throw;
 	}
-	if (r.checksum() != sum) throw Error(path, 0, "corrupt model file: checksum mismatch");
+	if (!r.skipped() && r.checksum() != sum) throw Error(path, 0, "corrupt model file: checksum mismatch");
 	return m;
 }
 
 namespace {
 
-FaceModel readRecords(Reader& r) {
+FaceModel readRecords(Reader& r, bool bases) {
 	FaceModel m;
 	Scheme& s = m.scheme;
 	auto one = [&](const std::string& name) {
@@ -472,15 +511,25 @@ FaceModel readRecords(Reader& r) {
 		const Eigen::Index l = Eigen::Index(count("components", 1e7));
 		if (rm.alpha.size() != rm.pixels.size() || Eigen::Index(mean.size()) != n || Eigen::Index(sigma.size()) != n || Eigen::Index(eig.size()) < l)
 			r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
-		r.arrayInto<float>("basis", Type::F32, [&](std::size_t count) {
-			if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
-			rm.pca.basis.resize(n, l);
-			return rm.pca.basis.data();
-		});
-		r.arrayInto<float>("coefficients", Type::F32, [&](std::size_t count) {
-			if (count != samples * std::size_t(l)) r.fail("region '" + rm.name + "' coefficients have the wrong size");
-			rm.pca.trainingCoefficients.resize(Eigen::Index(samples), l);
-			return rm.pca.trainingCoefficients.data();
+		if (!bases) {
+			r.skip("basis", Type::F32, 4);
+			r.skip("coefficients", Type::F32, 4);
+		} else {
+			r.arrayInto<float>("basis", Type::F32, [&](std::size_t count) {
+				if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
+				rm.pca.basis.resize(n, l);
+				return rm.pca.basis.data();
+			});
+			r.arrayInto<float>("coefficients", Type::F32, [&](std::size_t count) {
+				if (count != samples * std::size_t(l)) r.fail("region '" + rm.name + "' coefficients have the wrong size");
+				rm.pca.trainingCoefficients.resize(Eigen::Index(samples), l);
+				return rm.pca.trainingCoefficients.data();
+			});
+		}
+		r.arrayInto<std::uint8_t>("appearances", Type::U8, [&](std::size_t count) {
+			if (count != 0 && count != samples * std::size_t(3 * rm.pixelCount())) r.fail("region '" + rm.name + "' appearance cache has the wrong size");
+			rm.sampleAppearances.resize(count);
+			return rm.sampleAppearances.data();
 		});
 		rm.pca.mean = Eigen::Map<Eigen::VectorXf>(mean.data(), n);
 		rm.pca.sigma = Eigen::Map<Eigen::VectorXf>(sigma.data(), n);

@@ -10,11 +10,15 @@ namespace talkhead {
 // The .thm model file: "TALKHEAD" magic, u32 format version, u32 flags, u64 payload size, u64 payload
 // checksum, then the payload: named, typed records (little-endian; float32 for image and basis data,
 // float64 for shapes and eigenvalues). Written to a temporary name and renamed into place.
-constexpr std::uint32_t kModelFormatVersion = 1;
+constexpr std::uint32_t kModelFormatVersion = 3;  // 2: per-sample appearance cache; 3: per-record checksums
 
 void saveModel(const FaceModel& model, const std::string& path);
+// What to load: everything, or what rendering needs (the bases and training coefficients are skipped,
+// so a 1.4 GB model loads its ~0.3 GB of render data; every record read is still checksum-verified).
+enum class ModelParts { All, Render };
+
 // Throws Error("PATH: …") for a missing, truncated, corrupted (checksum) or wrong-version file.
-FaceModel loadModel(const std::string& path);
+FaceModel loadModel(const std::string& path, ModelParts parts = ModelParts::All);
 
 // 64-bit checksum of a byte range (four interleaved multiply–xor lanes; any single changed byte changes it).
 std::uint64_t checksum64(const void* data, std::size_t size, std::uint64_t seed = 0x9E3779B97F4A7C15ull);

@@ -77,8 +77,16 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 	if (todo.empty()) return;
 	std::vector<long> samples;
 	for (const auto& cdv : todo) samples.push_back(resolve(cdv));
+	// The model's 8-bit cache of every sample's reconstruction when it has one (format 2), else one GEMM
+	// per region.
 	std::vector<Eigen::MatrixXf> appearances;
 	for (const auto& r : model_.regions) {
+		if (!r.sampleAppearances.empty()) {
+			Eigen::MatrixXf a(r.appearanceSize(), Eigen::Index(samples.size()));
+			for (std::size_t j = 0; j < samples.size(); ++j) a.col(Eigen::Index(j)) = r.cachedAppearance(std::size_t(samples[j]));
+			appearances.push_back(std::move(a));
+			continue;
+		}
 		Eigen::MatrixXf c(r.pca.components(), Eigen::Index(samples.size()));
 		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(r, std::size_t(samples[j]));
 		appearances.push_back(synthesizeAppearances(r, c));

@@ -63,6 +63,18 @@ TEST(FaceModel, allComponentsReconstructTrainingImagesAbove45dB) {
 	}
 }
 
+TEST(FaceModel, appearanceCacheHoldsEachSamplesReconstruction) {
+	SKIP_WITHOUT_IMM();
+	const FaceModel& m = test::immModel();
+	for (const auto& r : m.regions) {
+		ASSERT_EQ(r.sampleAppearances.size(), m.sampleCount() * std::size_t(r.appearanceSize()));
+		for (std::size_t i : {std::size_t(0), std::size_t(13)}) {
+			const Eigen::VectorXf exact = synthesizeAppearance(r, sampleCoefficients(r, i)).cwiseMax(0.f).cwiseMin(255.f);
+			EXPECT_LE((r.cachedAppearance(i) - exact).cwiseAbs().maxCoeff(), 0.5f + 1e-3f) << r.name << " sample " << i;
+		}
+	}
+}
+
 TEST(FaceModel, heldOutImageReconstructsWorseThanTrainingButSensibly) {
 	SKIP_WITHOUT_IMM();
 	const FaceModel& m = test::immModel();
