@@ -70,7 +70,11 @@ int main(int argc, char** argv) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");
 		return 1;
 	} catch (const std::exception& e) {
-		std::fprintf(stderr, "talkhead: error: %s\n", describeException(e).c_str());
+		// One line, whatever the message quotes (a label read from a file may hold a newline).
+		std::string message = describeException(e);
+		for (char& c : message)
+			if (c == '\n' || c == '\r') c = ' ';
+		std::fprintf(stderr, "talkhead: error: %s\n", message.c_str());
 		return 1;
 	}
 }

@@ -126,8 +126,8 @@ std::vector<Token> textGridTokens(const std::string& t, const std::string& path)
 		} else if (c == '!') {  // comment to end of line
 			while (i < t.size() && t[i] != '\n') ++i;
 		} else if (c == '<') {
-			std::size_t e = t.find('>', i);
-			if (e == std::string::npos) throw Error(path, line, "unterminated <flag>");
+			std::size_t e = t.find('>', i), nl = t.find('\n', i);
+			if (e == std::string::npos || (nl != std::string::npos && nl < e)) throw Error(path, line, "unterminated <flag>");
 			out.push_back({Token::Flag, t.substr(i, e - i + 1), line});
 			i = e + 1;
 		} else if (c == '-' || c == '+' || c == '.' || std::isdigit((unsigned char)c)) {
@@ -144,25 +144,33 @@ std::vector<Token> textGridTokens(const std::string& t, const std::string& path)
 	return out;
 }
 
+// A token as quoted in an error message: one line, at most 40 characters.
+std::string shown(const std::string& s) {
+	std::string o;
+	for (char c : s) o += (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
+	if (o.size() > 40) o = o.substr(0, 40) + "…";
+	return o;
+}
+
 class TokenReader {
 public:
 	TokenReader(std::vector<Token> t, std::string path) : t_(std::move(t)), path_(std::move(path)) {}
 	const Token& next(Token::Kind k, const char* what) {
 		if (i_ >= t_.size()) throw Error(path_, t_.empty() ? 0 : t_.back().line, std::string("unexpected end of file: expected ") + what);
 		const Token& tok = t_[i_++];
-		if (tok.kind != k) throw Error(path_, tok.line, std::string("expected ") + what + ", found '" + tok.text + "'");
+		if (tok.kind != k) throw Error(path_, tok.line, std::string("expected ") + what + ", found '" + shown(tok.text) + "'");
 		return tok;
 	}
 	double number(const char* what) {
 		const Token& tok = next(Token::Number, what);
 		double v;
-		if (!parseDouble(tok.text, v)) throw Error(path_, tok.line, std::string("expected ") + what + ", found '" + tok.text + "'");
+		if (!parseDouble(tok.text, v)) throw Error(path_, tok.line, std::string("expected ") + what + ", found '" + shown(tok.text) + "'");
 		return v;
 	}
 	long long count(const char* what) {
 		const Token& tok = next(Token::Number, what);
 		long long v;
-		if (!parseInt(tok.text, v) || v < 0 || v > 10'000'000) throw Error(path_, tok.line, std::string("bad ") + what + " '" + tok.text + "'");
+		if (!parseInt(tok.text, v) || v < 0 || v > 10'000'000) throw Error(path_, tok.line, std::string("bad ") + what + " '" + shown(tok.text) + "'");
 		return v;
 	}
 	bool peekFlag() const { return i_ < t_.size() && t_[i_].kind == Token::Flag; }
@@ -220,7 +228,7 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 				r.next(Token::String, "point mark");
 			}
 		} else {
-			throw Error(path, tier.line, "unknown tier class '" + tier.cls + "'");
+			throw Error(path, tier.line, "unknown tier class '" + shown(tier.cls) + "'");
 		}
 		all.push_back(std::move(tier));
 	}
