@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "test_support.h"
 
+#include "base/error.h"
+
 #include <cmath>
 #include <filesystem>
 #include <unistd.h>
@@ -33,6 +35,15 @@ Image8 testPattern(int width, int height) {
 			img.at(x, y, 2) = std::uint8_t(127.5 + 120 * std::cos(5 * u * v * 6 + 2 * u));
 		}
 	return img;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+	try {
+		f();
+	} catch (const Error& e) {
+		return e.what();
+	}
+	return "no error";
 }
 
 std::string tempDir(const std::string& name) {

@@ -2,6 +2,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@ const Corpus& immCorpus();
 
 // A smooth colourful test image (sums of sines), deterministic.
 Image8 testPattern(int width, int height);
+
+// The message of the talkhead::Error that f throws, or "no error".
+std::string errorOf(const std::function<void()>& f);
 
 // A fresh empty folder under the build's temporary area, removed at exit.
 std::string tempDir(const std::string& name);

@@ -8,6 +8,17 @@
 
 namespace talkhead::cli {
 
+void parseSize(const std::string& option, const std::string& value, int& width, int& height, int minSide, bool evenOnly) {
+	const auto x = value.find('x');
+	long long w, h;
+	if (x == std::string::npos || !parseInt(value.substr(0, x), w) || !parseInt(value.substr(x + 1), h) || w < minSide || h < minSide || w > 7680 ||
+	    h > 4320 || (evenOnly && (w % 2 || h % 2)))
+		throw UsageError(option + " must be " + (evenOnly ? "an even " : "") + "WIDTHxHEIGHT from " + std::to_string(minSide) + "x" +
+		                 std::to_string(minSide) + " to 7680x4320, got '" + value + "'");
+	width = int(w);
+	height = int(h);
+}
+
 Args::Args(std::string command, std::string synopsis, std::vector<OptionSpec> options, std::string description)
     : command_(std::move(command)), synopsis_(std::move(synopsis)), description_(std::move(description)), options_(std::move(options)) {
 	options_.push_back({"--help", "", "show this help and exit", "-h"});

@@ -14,6 +14,10 @@ public:
 	using std::runtime_error::runtime_error;
 };
 
+// "1280x720" → width, height; throws UsageError naming the option unless both are in [minSide, max] and,
+// when evenOnly, even (H.264's 4:2:0 needs even sizes).
+void parseSize(const std::string& option, const std::string& value, int& width, int& height, int minSide = 16, bool evenOnly = true);
+
 struct OptionSpec {
 	std::string name;  // "--components"
 	std::string value; // value placeholder ("N"); empty = flag

@@ -15,16 +15,6 @@ namespace talkhead::cli {
 
 namespace {
 
-// "1280x720" → width, height.
-void parseSize(const std::string& s, int& w, int& h) {
-	auto x = s.find('x');
-	long long a, b;
-	if (x == std::string::npos || !parseInt(s.substr(0, x), a) || !parseInt(s.substr(x + 1), b) || a < 64 || b < 64 || a > 7680 || b > 4320)
-		throw UsageError("--size must be WIDTHxHEIGHT between 64x64 and 7680x4320, got '" + s + "'");
-	w = int(a);
-	h = int(b);
-}
-
 int runSynth(const std::vector<std::string>& argv) {
 	Args args("corpus synth", "talkhead corpus synth -o DIR [options]",
 	          {{"--output", "DIR", "folder to write the PNG images and corpus.csv into (required)", "-o"},
@@ -43,7 +33,7 @@ int runSynth(const std::vector<std::string>& argv) {
 	auto out = args.get("--output");
 	if (!out) throw UsageError("corpus synth: -o DIR is required");
 	SynthCorpusOptions o;
-	if (auto s = args.get("--size")) parseSize(*s, o.width, o.height);
+	if (auto s = args.get("--size")) parseSize("corpus synth: --size", *s, o.width, o.height, 64, false);
 	o.seed = std::uint64_t(args.number("--seed", 1, 0, 9.0e15));
 	o.threads = unsigned(args.number("--threads", 0, 0, 256));
 	if (auto e = args.get("--emotions"))

@@ -303,14 +303,7 @@ int runRender(const std::vector<std::string>& argv) {
 	vo.preset = args.get("--preset", "veryfast");
 	SynthOptions so;
 	so.emotion = *emotion;
-	if (auto s = args.get("--size")) {
-		auto x = s->find('x');
-		long long w, h;
-		if (x == std::string::npos || !parseInt(s->substr(0, x), w) || !parseInt(s->substr(x + 1), h) || w < 16 || h < 16 || w > 7680 || h > 4320 || w % 2 || h % 2)
-			throw UsageError("render: --size must be an even WIDTHxHEIGHT from 16x16 to 7680x4320, got '" + *s + "'");
-		so.width = int(w);
-		so.height = int(h);
-	}
+	if (auto s = args.get("--size")) parseSize("render: --size", *s, so.width, so.height);
 	const std::string traj = args.get("--trajectory", "hermite"), diss = args.get("--dissolve", "linear");
 	if ((traj != "hermite" && traj != "linear") || (diss != "hermite" && diss != "linear"))
 		throw UsageError("render: --trajectory and --dissolve take hermite or linear");

@@ -92,14 +92,7 @@ int runSay(const std::vector<std::string>& argv) {
 	job.video.crf = int(args.number("--crf", 20, 0, 51));
 	job.video.preset = args.get("--preset", "veryfast");
 	job.synth.emotion = *emotion;
-	if (auto s = args.get("--size")) {
-		auto x = s->find('x');
-		long long w, h;
-		if (x == std::string::npos || !parseInt(s->substr(0, x), w) || !parseInt(s->substr(x + 1), h) || w < 16 || h < 16 || w > 7680 || h > 4320 || w % 2 || h % 2)
-			throw UsageError("say: --size must be an even WIDTHxHEIGHT");
-		job.synth.width = int(w);
-		job.synth.height = int(h);
-	}
+	if (auto s = args.get("--size")) parseSize("say: --size", *s, job.synth.width, job.synth.height);
 	job.output = *output;
 	job.format = args.get("--format", "mp4");
 	if (job.format != "mp4" && job.format != "y4m") throw UsageError("say: --format must be mp4 or y4m");

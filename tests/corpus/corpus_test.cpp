@@ -12,14 +12,7 @@ using namespace talkhead;
 namespace {
 const std::string kData = TALKHEAD_TEST_DATA_DIR;
 
-std::string errorOf(const std::function<void()>& f) {
-	try {
-		f();
-	} catch (const Error& e) {
-		return e.what();
-	}
-	return "no error";
-}
+using test::errorOf;
 
 std::string writeFile(const std::string& name, const std::string& text) {
 	std::string p = test::tempDir("corpus") + "/" + name;

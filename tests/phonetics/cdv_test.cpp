@@ -8,6 +8,8 @@
 #include "phonetics/language.h"
 #include "phonetics/writers.h"
 
+#include "test_support.h"
+
 using namespace talkhead;
 
 namespace {
@@ -36,14 +38,7 @@ std::vector<std::string> cdvsOf(const std::string& phones, const std::string& la
 	return cdvs(phoneSegments(t, Language::get(lang)));
 }
 
-std::string errorOf(const std::function<void()>& f) {
-	try {
-		f();
-	} catch (const Error& e) {
-		return e.what();
-	}
-	return "no error";
-}
+using test::errorOf;
 
 const std::vector<std::string> kWorkedExample = {"sil", "k1", "i1", "t1", "o", "t1", "i1", "s1", "e", "l2", "e", "t1", "ɪ", "sil"};
 }  // namespace

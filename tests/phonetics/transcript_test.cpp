@@ -6,19 +6,14 @@
 #include "base/error.h"
 #include "phonetics/transcript.h"
 
+#include "test_support.h"
+
 using namespace talkhead;
 
 namespace {
 const std::string kDir = std::string(TALKHEAD_TEST_DATA_DIR) + "/transcripts/";
 
-std::string errorOf(const std::function<void()>& f) {
-	try {
-		f();
-	} catch (const Error& e) {
-		return e.what();
-	}
-	return "no error";
-}
+using test::errorOf;
 
 std::vector<std::string> labels(const Transcript& t) {
 	std::vector<std::string> l;
