@@ -234,12 +234,12 @@ void renderVideo(const RenderJob& job) {
 	}
 	bar.finish();
 	if (job.timing) {
-		double warp = 0, blend = 0;
-		for (const auto& w : workspaces) warp += w.warpSeconds, blend += w.blendSeconds;
+		double warp = 0;
+		for (const auto& w : workspaces) warp += w.warpSeconds;
 		std::fprintf(stderr,
-		             "timing: model load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warps %.3f s, blend %.3f s thread time); "
+		             "timing: model load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s thread time); "
 		             "encode+write %.3f s; %lld frames\n",
-		             loadSeconds, keyposeSeconds, keys.size(), drawSeconds, warp, blend, encodeSeconds, (long long)frames);
+		             loadSeconds, keyposeSeconds, keys.size(), drawSeconds, warp, encodeSeconds, (long long)frames);
 	}
 	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	if (jsonProgress) std::fprintf(stderr, "{\"type\": \"done\", \"frames\": %lld, \"seconds\": %.3f}\n", (long long)frames, secs);

@@ -148,9 +148,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
 	ws.warp->dissolve(src.image, withFrameBorder(src.shape, model_.width, model_.height), dst.image,
 	                  withFrameBorder(dst.shape, model_.width, model_.height), w, out);
-	const auto t1 = std::chrono::steady_clock::now();
-	ws.warpSeconds += std::chrono::duration<double>(t1 - t0).count();
-	ws.blendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+	ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace talkhead

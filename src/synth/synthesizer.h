@@ -48,7 +48,7 @@ public:
 
 	struct Workspace {
 		std::unique_ptr<PiecewiseAffineWarp> warp;
-		double warpSeconds = 0, blendSeconds = 0;  // time spent (warp+dissolve, and any separate blend), for benchmarks
+		double warpSeconds = 0;  // time spent in the warp+dissolve pass, for benchmarks
 	};
 	// Draws the frame at time τ (keyposes must be prepared) into `out` (output size) and its feature
 	// points (output pixels) into `points`.
