@@ -107,7 +107,7 @@ void renderVideo(const RenderJob& job) {
 		std::fprintf(stderr, "talkhead: the model lacks some (emotion, viseme) entries; substituted: %s\n", s.c_str());
 	}
 	// Outputs (temporary names, renamed when complete).
-	TempFile tmpVideo, tmpLandmarks, tmpFrames;
+	TempFile tmpVideo, tmpLandmarks;
 	std::unique_ptr<Mp4Writer> mp4;
 	std::unique_ptr<Y4mWriter> y4m;
 	std::FILE* y4mFile = nullptr;
