@@ -88,7 +88,7 @@ void renderVideo(const RenderJob& job) {
 	const auto tLoad = Clock::now();
 	FaceModel model = loadModel(modelPath, ModelParts::Render);
 	for (const auto& r : model.regions)
-		if (r.sampleAppearances.empty()) {  // no appearance cache: the keyposes need the bases
+		if (!r.hasAppearanceCache()) {  // no appearance cache: the keyposes need the bases
 			model = loadModel(modelPath);
 			break;
 		}

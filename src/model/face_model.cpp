@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <mutex>
 
 #include "base/error.h"
@@ -175,12 +176,23 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 	return model;
 }
 
+bool RegionModel::readCachedAppearance(std::size_t sample, std::uint8_t* out) const {
+	const std::size_t q3 = std::size_t(appearanceSize());
+	if (appearanceSource) {
+		appearanceSource->read(sample, out);
+		return true;
+	}
+	if (sampleAppearances.size() < (sample + 1) * q3) return false;
+	std::memcpy(out, &sampleAppearances[sample * q3], q3);
+	return true;
+}
+
 Eigen::VectorXf RegionModel::cachedAppearance(std::size_t sample) const {
 	const std::size_t q3 = std::size_t(appearanceSize());
-	if (sampleAppearances.size() < (sample + 1) * q3) return {};
+	std::vector<std::uint8_t> bytes(q3);
+	if (!readCachedAppearance(sample, bytes.data())) return {};
 	Eigen::VectorXf a(static_cast<Eigen::Index>(q3));
-	const std::uint8_t* src = &sampleAppearances[sample * q3];
-	for (std::size_t j = 0; j < q3; ++j) a(Eigen::Index(j)) = src[j];
+	for (std::size_t j = 0; j < q3; ++j) a(Eigen::Index(j)) = bytes[j];
 	return a;
 }
 

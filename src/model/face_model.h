@@ -3,6 +3,7 @@
 #include <array>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,14 @@ struct SampleInfo {
 	std::array<std::string, 5> context;
 };
 
+// Reads one sample's 8-bit appearance (3q bytes) of one region from wherever the cache lives (a model
+// file opened for rendering keeps it on disk). Thread-safe; throws Error naming the file on damage.
+class AppearanceSource {
+public:
+	virtual ~AppearanceSource() = default;
+	virtual void read(std::size_t sample, std::uint8_t* out) const = 0;
+};
+
 // One face region's appearance model (Costa 2015 §4.1.3): its pixels in the mean-shape frame, its soft
 // mask, and a correlation PCA over the combined vector c = [a; s] with a RGB channel-planar over the
 // region's q pixels (Eq. 4.4) and s the full aligned shape (2k), so n = 3q + 2k.
@@ -34,8 +43,13 @@ struct RegionModel {
 	// Every training sample's appearance reconstructed from its kept components (Eq. 5.2), 8-bit,
 	// channel-planar, sample after sample (samples × 3q): keyposes need no basis product at render time.
 	std::vector<std::uint8_t> sampleAppearances;
+	// The same cache left on disk (render loads): read sample by sample, each checksum-verified.
+	std::shared_ptr<const AppearanceSource> appearanceSource;
 
 	Eigen::Index pixelCount() const { return Eigen::Index(pixels.size()); }
+	bool hasAppearanceCache() const { return !sampleAppearances.empty() || appearanceSource != nullptr; }
+	// Sample i's cached appearance (3q bytes, channel-planar) into out; false when the model has no cache.
+	bool readCachedAppearance(std::size_t sample, std::uint8_t* out) const;
 	// Sample i's cached appearance as floats (3q), or an empty vector when the model has no cache.
 	Eigen::VectorXf cachedAppearance(std::size_t sample) const;
 	Eigen::Index appearanceSize() const { return 3 * pixelCount(); }

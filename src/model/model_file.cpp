@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fcntl.h>
 #include <fstream>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -77,7 +78,7 @@ namespace {
 
 constexpr char kMagic[8] = {'T', 'A', 'L', 'K', 'H', 'E', 'A', 'D'};
 constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8 + 8;
-enum class Type : std::uint32_t { F32 = 1, F64 = 2, I32 = 3, U8 = 4, Str = 5 };
+enum class Type : std::uint32_t { F32 = 1, F64 = 2, I32 = 3, U8 = 4, Str = 5, U64 = 6 };
 
 // Large arrays are read straight into their final storage, with huge pages asked for first.
 
@@ -128,6 +129,11 @@ public:
 		raw(p, n);
 		endRecord();
 	}
+	void u64(const std::string& name, const std::uint64_t* p, std::size_t n) {
+		header(name, Type::U64, n);
+		raw(p, n * 8);
+		endRecord();
+	}
 	void i64(const std::string& name, std::int64_t v) {
 		double d = double(v);
 		f64(name, &d, 1);
@@ -155,7 +161,10 @@ private:
 // anything is allocated, so a corrupt count cannot ask for more memory than the file holds.
 class Reader {
 public:
-	Reader(std::FILE* f, std::uint64_t size, std::string path) : f_(f), left_(size), path_(std::move(path)) {}
+	Reader(std::FILE* f, std::uint64_t size, std::string path) : f_(f), size_(size), left_(size), path_(std::move(path)) {}
+	// File offset of the next byte to be read.
+	std::uint64_t position() const { return kHeaderSize + size_ - left_; }
+	const std::string& path() const { return path_; }
 	void raw(void* p, std::size_t n) {
 		need(n);
 		if (n && std::fread(p, 1, n, f_) != n) fail("unexpected end of data");
@@ -193,10 +202,13 @@ public:
 	}
 	// Skips an array record without reading its data (its checksum cannot be verified then).
 	void skip(const std::string& name, Type t, std::size_t elemSize) {
-		const std::size_t n = expect(name, t, elemSize);
-		need(n * elemSize + 8);
-		if (std::fseek(f_, long(n * elemSize + 8), SEEK_CUR) != 0) fail("cannot seek");
-		left_ -= n * elemSize + 8;
+		skipData(expect(name, t, elemSize) * elemSize + 8);
+	}
+	// Skips n bytes of the current record (its checksum cannot be verified then).
+	void skipData(std::size_t n) {
+		need(n);
+		if (std::fseek(f_, long(n), SEEK_CUR) != 0) fail("cannot seek");
+		left_ -= n;
 		skipped_ = true;
 	}
 	bool skipped() const { return skipped_; }
@@ -213,6 +225,7 @@ public:
 	std::vector<double> f64(const std::string& name) { return array<double>(name, Type::F64); }
 	std::vector<std::int32_t> i32(const std::string& name) { return array<std::int32_t>(name, Type::I32); }
 	std::vector<std::uint8_t> u8(const std::string& name) { return array<std::uint8_t>(name, Type::U8); }
+	std::vector<std::uint64_t> u64(const std::string& name) { return array<std::uint64_t>(name, Type::U64); }
 	double scalar(const std::string& name) {
 		auto v = f64(name);
 		if (v.size() != 1) fail("record '" + name + "' should hold one value");
@@ -247,11 +260,41 @@ public:
 
 private:
 	std::FILE* f_;
-	std::uint64_t left_;
+	std::uint64_t size_, left_;
 	std::string path_;
 	Checksum64 sum_, record_;
 	std::string recordName_;
 	bool skipped_ = false;
+};
+
+// The appearance cache of one region left in the model file: pread one sample at a time and verify it
+// against its own checksum.
+class FileAppearanceSource : public AppearanceSource {
+public:
+	FileAppearanceSource(std::shared_ptr<int> fd, std::string path, std::uint64_t offset, std::size_t sampleSize, std::vector<std::uint64_t> sums,
+	                     std::string region)
+	    : fd_(std::move(fd)), path_(std::move(path)), offset_(offset), size_(sampleSize), sums_(std::move(sums)), region_(std::move(region)) {}
+	void read(std::size_t sample, std::uint8_t* out) const override {
+		if (sample >= sums_.size()) throw std::out_of_range("appearance sample out of range");
+		std::size_t done = 0;
+		const std::uint64_t at = offset_ + std::uint64_t(sample) * size_;
+		while (done < size_) {
+			const ssize_t n = ::pread(*fd_, out + done, size_ - done, off_t(at + done));
+			if (n <= 0) throw Error(path_, 0, "cannot read the model's appearance cache" + std::string(n < 0 ? std::string(": ") + std::strerror(errno) : ""));
+			done += std::size_t(n);
+		}
+		if (checksum64(out, size_) != sums_[sample])
+			throw Error(path_, 0, "corrupt model file: checksum mismatch in the cached appearance of sample " + std::to_string(sample) + " (region " +
+			                          region_ + ")");
+	}
+
+private:
+	std::shared_ptr<int> fd_;
+	std::string path_;
+	std::uint64_t offset_;
+	std::size_t size_;
+	std::vector<std::uint64_t> sums_;
+	std::string region_;
 };
 
 void writePoints(Writer& w, const std::string& name, const Points& p) { w.f64(name, p.data(), std::size_t(p.size())); }
@@ -341,6 +384,12 @@ void writeRecords(Writer& w, const FaceModel& model) {
 		w.f32("basis", p.basis.data(), std::size_t(p.basis.size()));
 		w.f32("coefficients", p.trainingCoefficients.data(), std::size_t(p.trainingCoefficients.size()));
 		w.u8("appearances", r.sampleAppearances.data(), r.sampleAppearances.size());
+		// One checksum per sample's cached appearance, so a render can read just the samples it uses.
+		std::vector<std::uint64_t> sums;
+		const std::size_t q3 = std::size_t(r.appearanceSize());
+		for (std::size_t i = 0; q3 && (i + 1) * q3 <= r.sampleAppearances.size(); ++i)
+			sums.push_back(checksum64(&r.sampleAppearances[i * q3], q3));
+		w.u64("appearanceChecksums", sums.data(), sums.size());
 	}
 }
 
@@ -497,6 +546,7 @@ FaceModel readRecords(Reader& r, bool bases) {
 	m.baseface = Image8(m.width, m.height, 3);
 	m.baseface.data = std::move(base);
 	std::int64_t regions = count("regions", 64);
+	std::shared_ptr<int> fd;  // shared by the regions' on-disk appearance caches
 	for (std::int64_t i = 0; i < regions; ++i) {
 		RegionModel rm;
 		rm.name = one("name");
@@ -526,11 +576,34 @@ FaceModel readRecords(Reader& r, bool bases) {
 				return rm.pca.trainingCoefficients.data();
 			});
 		}
-		r.arrayInto<std::uint8_t>("appearances", Type::U8, [&](std::size_t count) {
-			if (count != 0 && count != samples * std::size_t(3 * rm.pixelCount())) r.fail("region '" + rm.name + "' appearance cache has the wrong size");
-			rm.sampleAppearances.resize(count);
-			return rm.sampleAppearances.data();
-		});
+		const std::size_t q3 = std::size_t(3 * rm.pixelCount());
+		std::uint64_t cacheOffset = 0;
+		std::size_t cacheCount = 0;
+		if (!bases) {  // render: the cache stays on disk, read per sample through its checksums
+			cacheCount = r.expect("appearances", Type::U8, 1);
+			cacheOffset = r.position();
+			r.skipData(cacheCount + 8);
+		} else {
+			r.arrayInto<std::uint8_t>("appearances", Type::U8, [&](std::size_t count) {
+				cacheCount = count;
+				rm.sampleAppearances.resize(count);
+				return rm.sampleAppearances.data();
+			});
+		}
+		if (cacheCount != 0 && cacheCount != samples * q3) r.fail("region '" + rm.name + "' appearance cache has the wrong size");
+		auto sums = r.u64("appearanceChecksums");
+		if (sums.size() != (cacheCount ? samples : 0)) r.fail("region '" + rm.name + "' appearance checksums have the wrong size");
+		if (!bases && cacheCount) {
+			if (!fd) {
+				const int raw = ::open(r.path().c_str(), O_RDONLY | O_CLOEXEC);
+				if (raw < 0) r.fail(std::string("cannot reopen: ") + std::strerror(errno));
+				fd = std::shared_ptr<int>(new int(raw), [](int* p) {
+					::close(*p);
+					delete p;
+				});
+			}
+			rm.appearanceSource = std::make_shared<FileAppearanceSource>(fd, r.path(), cacheOffset, q3, std::move(sums), rm.name);
+		}
 		rm.pca.mean = Eigen::Map<Eigen::VectorXf>(mean.data(), n);
 		rm.pca.sigma = Eigen::Map<Eigen::VectorXf>(sigma.data(), n);
 		rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));

@@ -10,11 +10,13 @@ namespace talkhead {
 // The .thm model file: "TALKHEAD" magic, u32 format version, u32 flags, u64 payload size, u64 payload
 // checksum, then the payload: named, typed records (little-endian; float32 for image and basis data,
 // float64 for shapes and eigenvalues). Written to a temporary name and renamed into place.
-constexpr std::uint32_t kModelFormatVersion = 3;  // 2: per-sample appearance cache; 3: per-record checksums
+// 2: per-sample appearance cache; 3: per-record checksums; 4: per-sample checksums of the cache.
+constexpr std::uint32_t kModelFormatVersion = 4;
 
 void saveModel(const FaceModel& model, const std::string& path);
-// What to load: everything, or what rendering needs (the bases and training coefficients are skipped,
-// so a 1.4 GB model loads its ~0.3 GB of render data; every record read is still checksum-verified).
+// What to load: everything, or what rendering needs: the bases and training coefficients are skipped and
+// the per-sample appearance cache stays on disk (RegionModel::appearanceSource reads one sample at a
+// time), so a 1.4 GB model loads ~15 MB; every record and every sample read is checksum-verified.
 enum class ModelParts { All, Render };
 
 // Throws Error("PATH: …") for a missing, truncated, corrupted (checksum) or wrong-version file.

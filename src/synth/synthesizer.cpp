@@ -81,7 +81,7 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 	// per region.
 	std::vector<Eigen::MatrixXf> appearances;
 	for (const auto& r : model_.regions) {
-		if (!r.sampleAppearances.empty()) {
+		if (r.hasAppearanceCache()) {
 			Eigen::MatrixXf a(r.appearanceSize(), Eigen::Index(samples.size()));
 			for (std::size_t j = 0; j < samples.size(); ++j) a.col(Eigen::Index(j)) = r.cachedAppearance(std::size_t(samples[j]));
 			appearances.push_back(std::move(a));

@@ -124,9 +124,17 @@ TEST(ModelFile, renderLoadSkipsTheBasesButVerifiesWhatItReads) {
 	FaceModel r = loadModel(path, ModelParts::Render);
 	ASSERT_EQ(r.regions.size(), m.regions.size());
 	EXPECT_EQ(r.regions[0].pca.basis.size(), 0);
-	EXPECT_EQ(r.regions[0].sampleAppearances, m.regions[0].sampleAppearances);
+	// The appearance cache stays on disk and is read sample by sample, identical to the full load's.
+	EXPECT_TRUE(r.regions[0].sampleAppearances.empty());
+	ASSERT_TRUE(r.regions[0].hasAppearanceCache());
+	for (std::size_t i : {std::size_t(0), m.sampleCount() - 1})
+		for (std::size_t g = 0; g < m.regions.size(); ++g) {
+			EXPECT_EQ(r.regions[g].cachedAppearance(i), m.regions[g].cachedAppearance(i));
+			EXPECT_EQ(r.regions[g].cachedAppearance(i).size(), m.regions[g].appearanceSize());
+		}
 	EXPECT_EQ(r.baseface.data, m.baseface.data);
-	// A damaged byte in a record that is read is caught; one in a skipped basis only by a full load.
+	// A damaged byte in a record that is read is caught; one in a skipped basis only by a full load; one
+	// in the cached appearance of a sample when that sample is read (render) or by a full load.
 	const std::vector<char> good = readAll(path);
 	auto find = [&](const std::string& name) {
 		const std::string needle = std::string("\0\0\0", 3) + name;  // u32 length's high bytes, then the name
@@ -134,9 +142,18 @@ TEST(ModelFile, renderLoadSkipsTheBasesButVerifiesWhatItReads) {
 		return std::size_t(it - good.begin()) + needle.size() + 4 + 8 + 16;  // a few bytes into the data
 	};
 	auto bad = good;
-	bad[find("appearances")] ^= 0x20;
+	bad[find("appearances")] ^= 0x20;  // sample 0 of the first region
 	writeAll(dir + "/a.thm", bad);
 	EXPECT_NE(errorOf(dir + "/a.thm").find("checksum mismatch in record 'appearances'"), std::string::npos);
+	FaceModel damaged = loadModel(dir + "/a.thm", ModelParts::Render);
+	EXPECT_EQ(damaged.regions[0].cachedAppearance(1), m.regions[0].cachedAppearance(1));
+	try {
+		damaged.regions[0].cachedAppearance(0);
+		ADD_FAILURE() << "a damaged cached appearance was read without an error";
+	} catch (const Error& e) {
+		EXPECT_EQ(std::string(e.what()).rfind(dir + "/a.thm: corrupt model file: checksum mismatch in the cached appearance of sample 0", 0), 0u)
+		    << e.what();
+	}
 	bad = good;
 	bad[find("basis")] ^= 0x20;
 	writeAll(dir + "/b.thm", bad);
