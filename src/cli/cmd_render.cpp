@@ -93,14 +93,13 @@ void renderVideo(const RenderJob& job) {
 			break;
 		}
 	const double loadSeconds = since(tLoad);
-	Synthesizer synth(model, so);
+	SynthOptions synthOptions = so;
+	synthOptions.yuvRange = format == "y4m" ? YuvRange::Full : YuvRange::Limited;  // C420jpeg is full range; H.264 limited
+	Synthesizer synth(model, synthOptions);
 	vo.width = synth.width();
 	vo.height = synth.height();
-	const auto tPrep = Clock::now();
-	synth.prepare(keys);
-	const double keyposeSeconds = since(tPrep);
-	double drawSeconds = 0, encodeSeconds = 0;
-	const auto subs = synth.substitutions();
+	double keyposeSeconds = 0, drawSeconds = 0, encodeSeconds = 0;
+	const auto subs = synth.substitutionsFor(keys);
 	if (!subs.empty() && !quiet) {
 		std::string s;
 		for (const auto& x : subs) s += (s.empty() ? "" : "; ") + x;
@@ -140,11 +139,13 @@ void renderVideo(const RenderJob& job) {
 		if (ec) throw Error(framesDir, 0, "cannot create folder: " + ec.message());
 	}
 
-	// Frames are independent: workers draw a batch (and convert it to YUV) while a writer thread encodes
-	// the previous batch in order (double buffering).
+	// Frames are independent: workers draw a batch (straight into YUV unless PNG frames are wanted) while a
+	// writer thread encodes the previous batch in order (double buffering). The keyposes a batch needs are
+	// made just before it, and the first batch is small, so a stream starts after a frame or two.
 	ProgressBar bar(quiet || jsonProgress);
 	const unsigned nThreads = resolveThreads(threads);
 	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
+	const bool rgbFrames = !framesDir.empty();
 	struct Batch {
 		std::vector<Image8> rgb;
 		std::vector<YuvImage> yuv;
@@ -163,7 +164,7 @@ void renderVideo(const RenderJob& job) {
 			for (std::size_t k = 0; k < bt.count; ++k) {
 				const std::int64_t n = bt.first + std::int64_t(k);
 				if (mp4) mp4->write(bt.yuv[k]);
-				if (y4m) y4m->write(bt.rgb[k]);
+				if (y4m) y4m->write(bt.yuv[k]);
 				if (!framesDir.empty()) {
 					char name[64];
 					std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)n);
@@ -187,26 +188,35 @@ void renderVideo(const RenderJob& job) {
 	};
 	std::thread writer;
 	int cur = 0;
-	for (std::int64_t first = 0; first < frames; first += std::int64_t(batch)) {
+	auto frameTime = [&](std::int64_t n) { return Ticks(n * frameNumer / vo.fpsNum); };
+	for (std::int64_t first = 0; first < frames;) {
 		Batch& bt = batches[cur];
 		bt.first = first;
-		bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(batch), frames - first));
+		bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(first == 0 ? nThreads : batch), frames - first));
+		first += std::int64_t(bt.count);
+		const auto tPrep = Clock::now();
+		synth.prepare(Synthesizer::keyposesBetween(keys, frameTime(bt.first), frameTime(first - 1)));
+		keyposeSeconds += since(tPrep);
 		const auto tDraw = Clock::now();
 		parallelFor(bt.count, nThreads, [&](std::size_t k) {
-			const Ticks tau((bt.first + std::int64_t(k)) * frameNumer / vo.fpsNum);
-			synth.renderFrame(tau, keys, workspaces[k], bt.rgb[k], bt.pts[k]);
-			if (mp4) rgbToYuv420(bt.rgb[k], bt.yuv[k]);
+			const Ticks tau = frameTime(bt.first + std::int64_t(k));
+			if (rgbFrames) {
+				synth.renderFrame(tau, keys, workspaces[k], bt.rgb[k], bt.pts[k]);
+				rgbToYuv420(bt.rgb[k], bt.yuv[k], synthOptions.yuvRange);
+			} else {
+				synth.renderFrameYuv(tau, keys, workspaces[k], bt.yuv[k], bt.pts[k]);
+			}
 		});
 		drawSeconds += since(tDraw);
 		if (writer.joinable()) writer.join();
 		if (writeError) std::rethrow_exception(writeError);
 		writer = std::thread(writeBatch, std::ref(bt));
 		cur ^= 1;
-		const double fraction = double(first + std::int64_t(bt.count)) / double(frames);
+		const double fraction = double(first) / double(frames);
 		bar.report(fraction, "rendering");
 		const int percent = int(fraction * 100);
 		if (jsonProgress && percent != lastPercent) {
-			std::fprintf(stderr, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)(first + std::int64_t(bt.count)),
+			std::fprintf(stderr, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)first,
 			             (long long)frames, fraction);
 			std::fflush(stderr);
 			lastPercent = percent;

@@ -64,8 +64,28 @@ void rasterizeMesh(const Points& p, const TriangleMesh& mesh, int width, int hei
 			if (x0 < x1) spans.push_back(Span{y, x0, x1, static_cast<std::int32_t>(ti)});
 		}
 	}
-	std::sort(spans.begin(), spans.end(),
-	          [](const Span& a, const Span& b) { return a.y != b.y ? a.y < b.y : a.x0 < b.x0; });
+	// Row-major order (y, then x0; spans of a row never overlap): a counting sort by row, then insertion
+	// by x0 within each row (a handful of spans). Scratch is per thread, so per-frame calls do not allocate.
+	thread_local std::vector<std::int32_t> start;
+	thread_local std::vector<Span> sorted;
+	start.assign(std::size_t(std::max(height, 0)) + 1, 0);
+	for (const Span& s : spans) ++start[std::size_t(s.y) + 1];
+	for (std::size_t y = 1; y < start.size(); ++y) start[y] += start[y - 1];
+	sorted.resize(spans.size());
+	for (const Span& s : spans) sorted[std::size_t(start[std::size_t(s.y)]++)] = s;
+	// start[y] is now the end of row y; insertion-sort each row by x0.
+	std::size_t begin = 0;
+	for (int y = 0; y < height; ++y) {
+		const std::size_t end = std::size_t(start[std::size_t(y)]);
+		for (std::size_t i = begin + 1; i < end; ++i) {
+			const Span v = sorted[i];
+			std::size_t j = i;
+			for (; j > begin && sorted[j - 1].x0 > v.x0; --j) sorted[j] = sorted[j - 1];
+			sorted[j] = v;
+		}
+		begin = end;
+	}
+	spans.swap(sorted);
 }
 
 }  // namespace talkhead

@@ -7,7 +7,6 @@ extern "C" {
 #include <libavutil/channel_layout.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/opt.h>
-#include <libswscale/swscale.h>
 }
 
 #include <algorithm>
@@ -29,7 +28,7 @@ struct Mp4Writer::Impl {
 	AVFrame* vframe = nullptr;
 	AVFrame* aframe = nullptr;
 	AVPacket* pkt = nullptr;
-	SwsContext* sws = nullptr;
+	YuvImage rgbFrame;  // write(Image8): the converted frame
 	std::int64_t frameIndex = 0;
 	std::int64_t audioPos = 0;  // next audio sample frame to encode
 	bool finished = false;
@@ -89,9 +88,6 @@ struct Mp4Writer::Impl {
 		vframe->height = o.height;
 		checkAv(av_frame_get_buffer(vframe, 0), path, "video frame");
 		pkt = av_packet_alloc();
-		sws = sws_getContext(o.width, o.height, AV_PIX_FMT_RGB24, o.width, o.height, AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND, nullptr,
-		                     nullptr, nullptr);
-		if (!sws) throw Error(path, 0, "cannot set up colour conversion");
 	}
 
 	void drain(AVCodecContext* enc, AVStream* st) {
@@ -130,14 +126,8 @@ struct Mp4Writer::Impl {
 
 	void write(const Image8& img) {
 		if (img.width != o.width || img.height != o.height || img.channels != 3) throw std::logic_error("Mp4Writer: frame size differs");
-		checkAv(av_frame_make_writable(vframe), path, "video frame");
-		const uint8_t* src[1] = {img.data.data()};
-		const int stride[1] = {img.width * 3};
-		sws_scale(sws, src, stride, 0, img.height, vframe->data, vframe->linesize);
-		vframe->pts = frameIndex++;
-		checkAv(avcodec_send_frame(venc, vframe), path, "H.264 encoding failed");
-		drain(venc, vst);
-		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.fpsDen, o.fpsNum}, AVRational{1, audio->sampleRate}), false);
+		rgbToYuv420(img, rgbFrame, YuvRange::Limited);
+		writeYuv(rgbFrame);
 	}
 
 	void writeYuv(const YuvImage& img) {
@@ -170,7 +160,6 @@ struct Mp4Writer::Impl {
 	}
 
 	~Impl() {
-		sws_freeContext(sws);
 		av_packet_free(&pkt);
 		av_frame_free(&vframe);
 		av_frame_free(&aframe);
@@ -197,61 +186,23 @@ Mp4Writer::~Mp4Writer() = default;
 void Mp4Writer::write(const Image8& frame) { impl_->write(frame); }
 void Mp4Writer::write(const YuvImage& frame) { impl_->writeYuv(frame); }
 
-void rgbToYuv420(const Image8& rgb, YuvImage& yuv) {
-	const int w = rgb.width, h = rgb.height, cw = (w + 1) / 2, ch = (h + 1) / 2;
-	yuv.width = w;
-	yuv.height = h;
-	yuv.y.resize(std::size_t(w) * h);
-	yuv.u.resize(std::size_t(cw) * ch);
-	yuv.v.resize(std::size_t(cw) * ch);
-	// BT.601 limited range in 8.8 fixed point: Y = 16 + (66R + 129G + 25B)/256, etc.
-	for (int y = 0; y < h; ++y) {
-		const std::uint8_t* p = rgb.row(y);
-		std::uint8_t* out = yuv.y.data() + std::size_t(y) * w;
-		for (int x = 0; x < w; ++x, p += 3) out[x] = std::uint8_t((66 * p[0] + 129 * p[1] + 25 * p[2] + 128 + (16 << 8)) >> 8);
-	}
-	for (int y = 0; y < ch; ++y) {
-		const std::uint8_t* r0 = rgb.row(2 * y);
-		const std::uint8_t* r1 = rgb.row(std::min(2 * y + 1, h - 1));
-		std::uint8_t* u = yuv.u.data() + std::size_t(y) * cw;
-		std::uint8_t* v = yuv.v.data() + std::size_t(y) * cw;
-		for (int x = 0; x < cw; ++x) {
-			const int x0 = 2 * x * 3, x1 = std::min(2 * x + 1, w - 1) * 3;
-			const int r = r0[x0] + r0[x1] + r1[x0] + r1[x1], g = r0[x0 + 1] + r0[x1 + 1] + r1[x0 + 1] + r1[x1 + 1],
-			          b = r0[x0 + 2] + r0[x1 + 2] + r1[x0 + 2] + r1[x1 + 2];
-			u[x] = std::uint8_t((-38 * r - 74 * g + 112 * b + 512 + (128 << 10)) >> 10);
-			v[x] = std::uint8_t((112 * r - 94 * g - 18 * b + 512 + (128 << 10)) >> 10);
-		}
-	}
-}
 void Mp4Writer::finish() { impl_->finish(); }
 
 Y4mWriter::Y4mWriter(std::FILE* out, const VideoOptions& o) : out_(out), o_(o) {
 	std::fprintf(out_, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 C420jpeg\n", o.width, o.height, o.fpsNum, o.fpsDen);
-	yuv_.resize(std::size_t(o.width) * o.height + 2 * std::size_t((o.width + 1) / 2) * ((o.height + 1) / 2));
-	sws_ = sws_getContext(o.width, o.height, AV_PIX_FMT_RGB24, o.width, o.height, AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND, nullptr,
-	                      nullptr, nullptr);
-	if (!sws_) throw Error("cannot set up colour conversion for y4m");
-	// C420jpeg is full-range ("JPEG") YUV: ask swscale for full range output.
-	int* invTable;
-	int* table;
-	int srcRange, dstRange, brightness, contrast, saturation;
-	SwsContext* c = static_cast<SwsContext*>(sws_);
-	sws_getColorspaceDetails(c, &invTable, &srcRange, &table, &dstRange, &brightness, &contrast, &saturation);
-	sws_setColorspaceDetails(c, invTable, 1, table, 1, brightness, contrast, saturation);
 }
 
-Y4mWriter::~Y4mWriter() { sws_freeContext(static_cast<SwsContext*>(sws_)); }
-
 void Y4mWriter::write(const Image8& img) {
-	const int cw = (o_.width + 1) / 2, ch = (o_.height + 1) / 2;
-	uint8_t* dst[3] = {yuv_.data(), yuv_.data() + std::size_t(o_.width) * o_.height, yuv_.data() + std::size_t(o_.width) * o_.height + std::size_t(cw) * ch};
-	const int dstStride[3] = {o_.width, cw, cw};
-	const uint8_t* src[1] = {img.data.data()};
-	const int stride[1] = {img.width * 3};
-	sws_scale(static_cast<SwsContext*>(sws_), src, stride, 0, img.height, dst, dstStride);
+	rgbToYuv420(img, yuv_, YuvRange::Full);
+	write(yuv_);
+}
+
+void Y4mWriter::write(const YuvImage& f) {
+	if (f.width != o_.width || f.height != o_.height) throw std::logic_error("Y4mWriter: frame size differs");
 	std::fputs("FRAME\n", out_);
-	if (std::fwrite(yuv_.data(), 1, yuv_.size(), out_) != yuv_.size()) throw Error("-", 0, "cannot write the y4m stream (closed pipe?)");
+	if (std::fwrite(f.y.data(), 1, f.y.size(), out_) != f.y.size() || std::fwrite(f.u.data(), 1, f.u.size(), out_) != f.u.size() ||
+	    std::fwrite(f.v.data(), 1, f.v.size(), out_) != f.v.size())
+		throw Error("-", 0, "cannot write the y4m stream (closed pipe?)");
 	std::fflush(out_);
 }
 

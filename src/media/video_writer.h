@@ -6,17 +6,10 @@
 #include <vector>
 
 #include "image/image.h"
+#include "image/yuv.h"
 #include "media/audio.h"
 
 namespace talkhead {
-
-// A frame in YUV 4:2:0 (BT.601, limited range: what H.264 players expect), planes packed.
-struct YuvImage {
-	int width = 0, height = 0;
-	std::vector<std::uint8_t> y, u, v;
-};
-// RGB → YUV 4:2:0 (BT.601 limited range, chroma averaged over 2×2). Thread-safe, no allocation once sized.
-void rgbToYuv420(const Image8& rgb, YuvImage& yuv);
 
 struct VideoOptions {
 	int width = 1280, height = 720;
@@ -26,8 +19,8 @@ struct VideoOptions {
 	int threads = 0;              // encoder threads (0 = all cores)
 };
 
-// H.264 (libx264, yuv420p) + AAC MP4, muxed in process with libav. Frames are 8-bit RGB of the given
-// size, written in order; the audio (optional) is encoded alongside, and what is left of it after the last
+// H.264 (libx264, yuv420p) + AAC MP4, muxed in process with libav. Frames are 8-bit RGB or limited-range
+// YUV 4:2:0 of the given size, written in order; the audio (optional) is encoded alongside, and what is left of it after the last
 // frame is written by finish(). Writes to `path` directly: callers write to a temporary name and rename.
 class Mp4Writer {
 public:
@@ -44,18 +37,17 @@ private:
 	std::unique_ptr<Impl> impl_;
 };
 
-// YUV4MPEG2 (C420jpeg) stream of RGB frames, e.g. to standard output for `| ffplay -`.
+// YUV4MPEG2 (C420jpeg: full-range BT.601) stream, e.g. to standard output for `| ffplay -`.
 class Y4mWriter {
 public:
 	Y4mWriter(std::FILE* out, const VideoOptions& options);
-	~Y4mWriter();
 	void write(const Image8& frame);
+	void write(const YuvImage& frame);  // full range (YuvRange::Full)
 
 private:
 	std::FILE* out_;
 	VideoOptions o_;
-	std::vector<std::uint8_t> yuv_;
-	void* sws_ = nullptr;
+	YuvImage yuv_;
 };
 
 }  // namespace talkhead

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "base/error.h"
 #include "base/parallel.h"
@@ -12,11 +13,51 @@
 
 namespace talkhead {
 
+namespace {
+// Luma pixel coordinates → 4:2:0 chroma sample coordinates (a chroma sample is centred on its 2×2 block).
+Points toChroma(const Points& p) { return (p.array() - 0.5) * 0.5; }
+
+// o = a (1 − w) + b w with w = wb / 256 (wb = 0: a exactly; 256: b exactly).
+inline void blendRow(const std::uint8_t* a, const std::uint8_t* b, int wb, std::uint8_t* o, std::size_t n) {
+	if (wb == 0) {
+		std::memcpy(o, a, n);
+		return;
+	}
+	const int wa = 256 - wb;
+	for (std::size_t i = 0; i < n; ++i) o[i] = std::uint8_t((a[i] * wa + b[i] * wb + 128) >> 8);
+}
+}  // namespace
+
 Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_(model), o_(o) {
 	width_ = o.width > 0 ? o.width : model.width;
 	height_ = o.height > 0 ? o.height : model.height;
 	scaleX_ = double(width_) / model.width;
 	scaleY_ = double(height_) / model.height;
+	// The face box: every region pixel, grown by one and with even corners (whole chroma blocks).
+	int x0 = model.width, y0 = model.height, x1 = 0, y1 = 0;
+	for (const auto& r : model.regions)
+		for (std::int32_t idx : r.pixels) {
+			const int x = idx % model.width, y = idx / model.width;
+			x0 = std::min(x0, x);
+			y0 = std::min(y0, y);
+			x1 = std::max(x1, x + 1);
+			y1 = std::max(y1, y + 1);
+		}
+	if (x1 > x0 && y1 > y0) {
+		roiX0_ = std::max(0, x0 - 1) & ~1;
+		roiY0_ = std::max(0, y0 - 1) & ~1;
+		roiX1_ = std::min(model.width, (x1 + 2) & ~1);
+		roiY1_ = std::min(model.height, (y1 + 2) & ~1);
+	}
+	meanSource_ = withFrameBorder(model.meanShape, model.width, model.height);
+	const int cw = (model.width + 1) / 2, ch = (model.height + 1) / 2;
+	meanSourceChroma_ = withFrameBorder(toChroma(model.meanShape), cw, ch);
+	if (o.warpPath == WarpPath::Direct && !model.baseface.empty()) {
+		baseY_.resize(std::size_t(model.width) * model.height);
+		baseUV_.resize(std::size_t(cw) * ch * 2);
+		rgbToYuv420(model.baseface.data.data(), std::size_t(model.width) * 3, model.width, model.height, o.yuvRange, baseY_.data(),
+		            std::size_t(model.width), baseUV_.data(), baseUV_.data() + 1, std::size_t(cw) * 2, 2);
+	}
 }
 
 namespace {
@@ -65,9 +106,83 @@ std::vector<std::string> Synthesizer::substitutions() const {
 	return substitutions_;
 }
 
+std::vector<std::string> Synthesizer::substitutionsFor(const std::vector<Keypose>& keys) const {
+	std::vector<std::string> seen, out;
+	for (const auto& k : keys) {
+		if (std::find(seen.begin(), seen.end(), k.cdv) != seen.end()) continue;
+		seen.push_back(k.cdv);
+		const SampleInfo& s = model_.samples[std::size_t(resolve(k.cdv))];
+		if (s.emotion != o_.emotion || s.cdv != k.cdv) out.push_back(o_.emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv);
+	}
+	return out;
+}
+
+std::vector<Keypose> Synthesizer::keyposesBetween(const std::vector<Keypose>& keys, Ticks from, Ticks to) {
+	if (keys.empty()) return {};
+	std::size_t i0 = 0, i1 = 0;
+	while (i0 + 1 < keys.size() && keys[i0 + 1].time <= from) ++i0;
+	i1 = i0;
+	while (i1 + 1 < keys.size() && keys[i1].time <= to) ++i1;
+	return std::vector<Keypose>(keys.begin() + long(i0), keys.begin() + long(i1) + 1);
+}
+
+KeyposeImage Synthesizer::makeKeypose(long sample, const std::vector<const std::uint8_t*>& cached8,
+                                      const std::vector<Eigen::VectorXf>& synthesized) const {
+	KeyposeImage k;
+	const SampleInfo& s = model_.samples[std::size_t(sample)];
+	k.usedEmotion = s.emotion;
+	k.usedCdv = s.cdv;
+	k.shape = model_.alignedShapes[std::size_t(sample)];
+	const std::size_t nr = model_.regions.size();
+	if (o_.warpPath == WarpPath::Keypose) {
+		std::vector<Eigen::VectorXf> a(nr);
+		for (std::size_t r = 0; r < nr; ++r) {
+			if (cached8[r]) {
+				a[r].resize(model_.regions[r].appearanceSize());
+				for (Eigen::Index j = 0; j < a[r].size(); ++j) a[r](j) = cached8[r][j];
+			} else {
+				a[r] = synthesized[r];
+			}
+		}
+		k.image = warpFromMean(model_, compositeRegions(model_, a), k.shape);
+		return k;
+	}
+	// Spec §5.3 in the face box only (the baseface elsewhere): regions pasted coarse → fine through their
+	// soft masks, in float, then rounded to 8 bits.
+	const int rw = roiX1_ - roiX0_, rh = roiY1_ - roiY0_, W = model_.width;
+	std::vector<float> crop(std::size_t(rw) * rh * 3);
+	for (int y = 0; y < rh; ++y) {
+		const std::uint8_t* b = model_.baseface.row(roiY0_ + y) + std::size_t(roiX0_) * 3;
+		for (int i = 0; i < rw * 3; ++i) crop[std::size_t(y) * rw * 3 + std::size_t(i)] = b[i];
+	}
+	for (std::size_t r = 0; r < nr; ++r) {
+		const RegionModel& reg = model_.regions[r];
+		const std::size_t q = reg.pixels.size();
+		for (std::size_t p = 0; p < q; ++p) {
+			const int idx = reg.pixels[p], x = idx % W - roiX0_, y = idx / W - roiY0_;
+			float* px = &crop[(std::size_t(y) * rw + std::size_t(x)) * 3];
+			const float w = reg.alpha[p];
+			for (std::size_t c = 0; c < 3; ++c) {
+				const float a = cached8[r] ? float(cached8[r][c * q + p]) : synthesized[r](Eigen::Index(c * q + p));
+				px[c] = w * a + (1 - w) * px[c];
+			}
+		}
+	}
+	k.rgb.resize(crop.size());
+	for (std::size_t i = 0; i < crop.size(); ++i) {
+		const float v = crop[i] + 0.5f;
+		k.rgb[i] = std::uint8_t(v <= 0.f ? 0.f : (v >= 255.f ? 255.f : v));
+	}
+	const int cw = (rw + 1) / 2, ch = (rh + 1) / 2;
+	k.y.resize(std::size_t(rw) * rh);
+	k.uv.resize(std::size_t(cw) * ch * 2);
+	if (rw > 0 && rh > 0)
+		rgbToYuv420(k.rgb.data(), std::size_t(rw) * 3, rw, rh, o_.yuvRange, k.y.data(), std::size_t(rw), k.uv.data(), k.uv.data() + 1,
+		            std::size_t(cw) * 2, 2);
+	return k;
+}
+
 void Synthesizer::prepare(const std::vector<Keypose>& keys) {
-	// Every keypose of the timeline: the appearances of all of them in one GEMM per region (the basis is
-	// read once, not once per keypose), then composite and warp each.
 	std::vector<std::string> todo;
 	{
 		std::lock_guard<std::mutex> lock(mutex_);
@@ -77,31 +192,32 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 	if (todo.empty()) return;
 	std::vector<long> samples;
 	for (const auto& cdv : todo) samples.push_back(resolve(cdv));
-	// The model's 8-bit cache of every sample's reconstruction when it has one (format 2), else one GEMM
-	// per region.
-	std::vector<Eigen::MatrixXf> appearances;
-	for (const auto& r : model_.regions) {
-		if (r.hasAppearanceCache()) {
-			Eigen::MatrixXf a(r.appearanceSize(), Eigen::Index(samples.size()));
-			for (std::size_t j = 0; j < samples.size(); ++j) a.col(Eigen::Index(j)) = r.cachedAppearance(std::size_t(samples[j]));
-			appearances.push_back(std::move(a));
-			continue;
-		}
-		Eigen::MatrixXf c(r.pca.components(), Eigen::Index(samples.size()));
-		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(r, std::size_t(samples[j]));
-		appearances.push_back(synthesizeAppearances(r, c));
+	// Appearances: each sample's 8-bit reconstruction from the model's cache (read from disk on demand),
+	// or, for a model without one, one GEMM per region for all the keyposes (the basis is read once).
+	std::vector<Eigen::MatrixXf> synthesized(model_.regions.size());
+	for (std::size_t r = 0; r < model_.regions.size(); ++r) {
+		const RegionModel& reg = model_.regions[r];
+		if (reg.hasAppearanceCache()) continue;
+		Eigen::MatrixXf c(reg.pca.components(), Eigen::Index(samples.size()));
+		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(reg, std::size_t(samples[j]));
+		synthesized[r] = synthesizeAppearances(reg, c);
 	}
 	std::vector<std::unique_ptr<KeyposeImage>> made(todo.size());
 	parallelFor(todo.size(), 0, [&](std::size_t j) {
-		auto k = std::make_unique<KeyposeImage>();
-		const SampleInfo& s = model_.samples[std::size_t(samples[j])];
-		k->usedEmotion = s.emotion;
-		k->usedCdv = s.cdv;
-		std::vector<Eigen::VectorXf> a;
-		for (const auto& m : appearances) a.push_back(m.col(Eigen::Index(j)));
-		k->shape = model_.alignedShapes[std::size_t(samples[j])];
-		k->image = warpFromMean(model_, compositeRegions(model_, a), k->shape);
-		made[j] = std::move(k);
+		std::vector<std::vector<std::uint8_t>> bytes(model_.regions.size());
+		std::vector<const std::uint8_t*> cached8(model_.regions.size(), nullptr);
+		std::vector<Eigen::VectorXf> synth(model_.regions.size());
+		for (std::size_t r = 0; r < model_.regions.size(); ++r) {
+			const RegionModel& reg = model_.regions[r];
+			if (reg.hasAppearanceCache()) {
+				bytes[r].resize(std::size_t(reg.appearanceSize()));
+				reg.readCachedAppearance(std::size_t(samples[j]), bytes[r].data());
+				cached8[r] = bytes[r].data();
+			} else {
+				synth[r] = synthesized[r].col(Eigen::Index(j));
+			}
+		}
+		made[j] = std::make_unique<KeyposeImage>(makeKeypose(samples[j], cached8, synth));
 	});
 	std::lock_guard<std::mutex> lock(mutex_);
 	for (std::size_t j = 0; j < todo.size(); ++j) {
@@ -118,36 +234,98 @@ Points Synthesizer::trajectory(const Points& s, const Points& t, double u, Traje
 	return s + (t - s) * h;
 }
 
-void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points) const {
+void Synthesizer::locate(Ticks tau, const std::vector<Keypose>& keys, const KeyposeImage*& src, const KeyposeImage*& dst, double& u,
+                         Points& p) const {
 	if (keys.empty()) throw std::logic_error("renderFrame: no keyposes");
-	if (out.width != width_ || out.height != height_) out = Image8(width_, height_, 3);
 	// The bracketing keyposes; before the first and after the last the face holds.
 	std::size_t i = 0;
 	while (i + 1 < keys.size() && keys[i + 1].time <= tau) ++i;
-	const KeyposeImage& src = cached(keys[i].cdv);
+	src = &cached(keys[i].cdv);
 	const bool hold = tau <= keys.front().time || i + 1 >= keys.size();
-	const KeyposeImage& dst = hold ? src : cached(keys[i + 1].cdv);
-	double u = 0;
+	dst = hold ? src : &cached(keys[i + 1].cdv);
+	u = 0;
 	if (!hold) u = double((tau - keys[i].time).count()) / double((keys[i + 1].time - keys[i].time).count());
-	if (tau <= keys.front().time) u = 0;
-	const Points p = trajectory(src.shape, dst.shape, u, o_.trajectory);
-	points = p;
+	p = trajectory(src->shape, dst->shape, u, o_.trajectory);
+}
+
+void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points) const {
+	const KeyposeImage *src, *dst;
+	double u;
+	locate(tau, keys, src, dst, u, points);
+	if (out.width != width_ || out.height != height_ || out.channels != 3) out = Image8(width_, height_, 3);
 	points.col(0) *= scaleX_;
 	points.col(1) *= scaleY_;
 	const auto t0 = std::chrono::steady_clock::now();
 	const Points pOut = withFrameBorder(points, width_, height_);
 	if (!ws.warp) ws.warp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, pOut, width_, height_);
 	else ws.warp->setDestination(pOut);
-	if (hold || u <= 0) {
-		ws.warp->setSource(withFrameBorder(src.shape, model_.width, model_.height));
-		ws.warp->apply(src.image, out);
+	// Eq. 5.4's weight: t (thesis) or the Hermite ease.
+	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
+	if (o_.warpPath == WarpPath::Keypose) {
+		if (u <= 0) {
+			ws.warp->setSource(withFrameBorder(src->shape, model_.width, model_.height));
+			ws.warp->apply(src->image, out);
+		} else {  // F = K_f (1 − t) + K_b t, K_f = source warped S → P(t), K_b = target warped T → P(t), in one pass
+			ws.warp->dissolve(src->image, withFrameBorder(src->shape, model_.width, model_.height), dst->image,
+			                  withFrameBorder(dst->shape, model_.width, model_.height), w, out);
+		}
 		ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		return;
 	}
-	// Eq. 5.4 in one pass: F = K_f (1 − t) + K_b t, K_f = source warped S → P(t), K_b = target warped T → P(t).
+	// Direct: dissolve the two composited appearances in the mean-shape frame, then one warp s̄ → P(t).
+	if (ws.meanRgb.empty()) ws.meanRgb = model_.baseface;
+	const int wb = int(std::lround(std::clamp(w, 0.0, 1.0) * 256)), rw = roiX1_ - roiX0_;
+	for (int y = roiY0_; y < roiY1_; ++y) {
+		const std::size_t at = std::size_t(y - roiY0_) * rw * 3;
+		blendRow(src->rgb.data() + at, dst->rgb.data() + at, wb, ws.meanRgb.row(y) + std::size_t(roiX0_) * 3, std::size_t(rw) * 3);
+	}
+	ws.warp->setSource(meanSource_);
+	ws.warp->apply(ws.meanRgb, out);
+	ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, YuvImage& out, Points& points) const {
+	if (o_.warpPath == WarpPath::Keypose) {
+		renderFrame(tau, keys, ws, ws.rgb, points);
+		rgbToYuv420(ws.rgb, out, o_.yuvRange);
+		return;
+	}
+	const KeyposeImage *src, *dst;
+	double u;
+	locate(tau, keys, src, dst, u, points);
+	out.resize(width_, height_);
+	points.col(0) *= scaleX_;
+	points.col(1) *= scaleY_;
+	const auto t0 = std::chrono::steady_clock::now();
+	const int W = model_.width, H = model_.height, cw = (W + 1) / 2, ch = (H + 1) / 2;
+	const int outCw = out.chromaWidth(), outCh = out.chromaHeight();
+	const Points pOut = withFrameBorder(points, width_, height_), cOut = withFrameBorder(toChroma(points), outCw, outCh);
+	if (!ws.warp) ws.warp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, pOut, width_, height_);
+	else ws.warp->setDestination(pOut);
+	if (!ws.chromaWarp) ws.chromaWarp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, cOut, outCw, outCh);
+	else ws.chromaWarp->setDestination(cOut);
+	if (ws.meanY.empty()) {
+		ws.meanY = baseY_;
+		ws.meanUV = baseUV_;
+	}
+	// Eq. 5.4 in the mean-shape frame (luma and chroma), then one warp of each plane s̄ → P(t).
 	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
-	ws.warp->dissolve(src.image, withFrameBorder(src.shape, model_.width, model_.height), dst.image,
-	                  withFrameBorder(dst.shape, model_.width, model_.height), w, out);
+	const int wb = int(std::lround(std::clamp(w, 0.0, 1.0) * 256)), rw = roiX1_ - roiX0_, rcw = (rw + 1) / 2;
+	for (int y = roiY0_; y < roiY1_; ++y) {
+		const std::size_t at = std::size_t(y - roiY0_) * rw;
+		blendRow(src->y.data() + at, dst->y.data() + at, wb, ws.meanY.data() + std::size_t(y) * W + roiX0_, std::size_t(rw));
+	}
+	for (int y = roiY0_ / 2; y < (roiY1_ + 1) / 2; ++y) {
+		const std::size_t at = std::size_t(y - roiY0_ / 2) * rcw * 2;
+		blendRow(src->uv.data() + at, dst->uv.data() + at, wb, ws.meanUV.data() + (std::size_t(y) * cw + std::size_t(roiX0_ / 2)) * 2,
+		         std::size_t(rcw) * 2);
+	}
+	ws.warp->setSource(meanSource_);
+	std::uint8_t* luma[1] = {out.y.data()};
+	ws.warp->applyPlanes(ws.meanY.data(), W, H, std::size_t(W), 1, luma, std::size_t(width_));
+	ws.chromaWarp->setSource(meanSourceChroma_);
+	std::uint8_t* chroma[2] = {out.u.data(), out.v.data()};
+	ws.chromaWarp->applyPlanes(ws.meanUV.data(), cw, ch, std::size_t(cw) * 2, 2, chroma, std::size_t(outCw));
 	ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "image/yuv.h"
 #include "model/face_model.h"
 #include "phonetics/language.h"
 #include "warp/piecewise_affine.h"
@@ -14,16 +15,29 @@ namespace talkhead {
 
 enum class Trajectory { Hermite, Linear };
 
+// How a frame between keyposes is warped. Direct (default): each keypose's composited appearance is kept
+// in the mean-shape frame, the two are cross-dissolved there (they differ only inside the face regions)
+// and the result is warped once, s̄ → P(t). Keypose (the thesis's literal order, Eq. 5.4): each keypose
+// image is first warped s̄ → its shape S, then forward S → P(t) and backward T → P(t), and dissolved. A
+// piecewise-affine warp composed over one mesh is the same map (s̄ → S → P(t) = s̄ → P(t)), so both draw
+// the same frame up to resampling: Direct resamples once (sharper) and costs one warp instead of three.
+enum class WarpPath { Direct, Keypose };
+
 struct SynthOptions {
 	std::string emotion = "neutral";  // canonical label
 	int width = 0, height = 0;        // output size; 0 = the model's frame size
 	Trajectory trajectory = Trajectory::Hermite;  // feature points between keyposes (spec §5.5)
 	Trajectory dissolve = Trajectory::Linear;     // cross-dissolve weight: t (thesis) or the Hermite ease
+	WarpPath warpPath = WarpPath::Direct;
+	YuvRange yuvRange = YuvRange::Limited;         // of renderFrameYuv's output
 };
 
-// A keypose ready to morph: its image (model frame, 8-bit RGB) and its shape (model pixels).
+// A keypose ready to morph: its shape (model pixels) and its appearance: composited in the mean-shape frame
+// over the face's bounding box (Direct), or the whole model frame warped to its shape (Keypose path).
 struct KeyposeImage {
-	Image8 image;
+	Image8 image;                    // WarpPath::Keypose: model frame, warped to `shape`
+	std::vector<std::uint8_t> rgb;   // WarpPath::Direct: mean-frame RGB of the face box
+	std::vector<std::uint8_t> y, uv; // the same as luma and interleaved chroma (4:2:0) in the synthesizer's range
 	Points shape;
 	std::string usedEmotion, usedCdv;  // the model entry it came from (after fallbacks)
 };
@@ -46,13 +60,23 @@ public:
 	// Computes every keypose of a timeline up front (so frames can then be drawn in parallel).
 	void prepare(const std::vector<Keypose>& keys);
 
+	// Per-thread scratch: warps and mean-frame buffers, reused from frame to frame (no allocation).
 	struct Workspace {
-		std::unique_ptr<PiecewiseAffineWarp> warp;
-		double warpSeconds = 0;  // time spent in the warp+dissolve pass, for benchmarks
+		std::unique_ptr<PiecewiseAffineWarp> warp, chromaWarp;
+		Image8 meanRgb, rgb;                     // mean-frame RGB (baseface outside the face box); RGB frame
+		std::vector<std::uint8_t> meanY, meanUV;  // the same in YUV 4:2:0 (chroma interleaved)
+		double warpSeconds = 0;  // time spent in the dissolve and warp passes, for benchmarks
 	};
 	// Draws the frame at time τ (keyposes must be prepared) into `out` (output size) and its feature
 	// points (output pixels) into `points`.
 	void renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points) const;
+	// The same frame as YUV 4:2:0 in options().yuvRange, drawn in YUV (no RGB frame, no conversion pass).
+	void renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, YuvImage& out, Points& points) const;
+	// The keyposes that frames in [from, to] need (the ones bracketing those times).
+	static std::vector<Keypose> keyposesBetween(const std::vector<Keypose>& keys, Ticks from, Ticks to);
+	// The substitutions a timeline will need, without computing any keypose.
+	std::vector<std::string> substitutionsFor(const std::vector<Keypose>& keys) const;
+	const SynthOptions& options() const { return o_; }
 
 	// Spec §5.5: the point-set at normalised time t between S and T.
 	static Points trajectory(const Points& s, const Points& t, double u, Trajectory kind);
@@ -65,8 +89,14 @@ private:
 	mutable std::mutex mutex_;
 	std::map<std::string, std::unique_ptr<KeyposeImage>> cache_;
 	std::vector<std::string> substitutions_;
+	int roiX0_ = 0, roiY0_ = 0, roiX1_ = 0, roiY1_ = 0;  // face box in the model frame (even corners)
+	Points meanSource_, meanSourceChroma_;               // s̄ + frame border, in luma and chroma pixels
+	std::vector<std::uint8_t> baseY_, baseUV_;           // the baseface in YUV 4:2:0
 	const KeyposeImage& cached(const std::string& cdv) const;
 	long resolve(const std::string& cdv) const;  // the model sample used for a CDV
+	// The bracketing keyposes of τ, the morph position u ∈ [0, 1] and the feature points (model pixels).
+	void locate(Ticks tau, const std::vector<Keypose>& keys, const KeyposeImage*& src, const KeyposeImage*& dst, double& u, Points& p) const;
+	KeyposeImage makeKeypose(long sample, const std::vector<const std::uint8_t*>& cached8, const std::vector<Eigen::VectorXf>& synthesized) const;
 };
 
 }  // namespace talkhead

@@ -28,6 +28,12 @@ public:
 	// to this warp's destination shape (8-bit RGB; w quantised to 1/256). Sets the source (to sourceB).
 	void dissolve(const Image8& a, const Points& sourceA, const Image8& b, const Points& sourceB, double w, Image8& dst);
 
+	// 8-bit planes: the source has `channels` (1 or 2) interleaved channels (luma; or chroma as U V pairs),
+	// sw × sh samples, srcStride bytes per row; channel c goes to its own destination plane dst[c]
+	// (width × height, dstStride bytes per row). Same fixed-point bilinear kernel as the RGB warp.
+	void applyPlanes(const std::uint8_t* src, int sw, int sh, std::size_t srcStride, int channels, std::uint8_t* const* dst,
+	                 std::size_t dstStride) const;
+
 	// Restricts the warp to the destination pixels in [x0, x1) × [y0, y1); the others are left alone.
 	void clipSpans(int x0, int y0, int x1, int y1);
 
