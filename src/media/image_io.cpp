@@ -1,78 +1,91 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "media/image_io.h"
 
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
 
-#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <unistd.h>
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "media/image_io_module.h"
+
+namespace fs = std::filesystem;
 
 namespace talkhead {
 
 namespace {
-constexpr long kMaxPixels = 100'000'000;  // refuse absurd sizes before allocating
+constexpr const char* kModuleName = "libtalkhead-oiio.so";
 
-std::string oiioError(const std::string& fallback) {
-	std::string e = OIIO::geterror();
-	return e.empty() ? fallback : e;
+std::vector<std::string> moduleCandidates() {
+	std::vector<std::string> c;
+	if (const char* env = std::getenv("TALKHEAD_MODULE_DIR"); env && *env) c.push_back(fs::path(env) / kModuleName);
+	std::error_code ec;
+	const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+	if (!ec) {
+		c.push_back(exe.parent_path() / "lib" / "talkhead" / kModuleName);  // build tree
+#ifdef TALKHEAD_MODULE_RELATIVE_DIR
+		c.push_back(exe.parent_path().parent_path() / TALKHEAD_MODULE_RELATIVE_DIR / kModuleName);  // installed tree
+#endif
+	}
+#ifdef TALKHEAD_MODULE_INSTALL_DIR
+	c.push_back(fs::path(TALKHEAD_MODULE_INSTALL_DIR) / kModuleName);
+#endif
+#ifdef TALKHEAD_MODULE_BUILD_DIR
+	c.push_back(fs::path(TALKHEAD_MODULE_BUILD_DIR) / kModuleName);
+#endif
+	return c;
+}
+
+const ImageIoModule* loadModule() {
+	std::string why = "not found";
+	for (const auto& path : moduleCandidates()) {
+		std::error_code ec;
+		if (!fs::is_regular_file(path, ec)) continue;
+		void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+		if (!handle) {
+			const char* e = ::dlerror();
+			why = e ? e : "dlopen failed";
+			continue;
+		}
+		auto entry = reinterpret_cast<const ImageIoModule* (*)()>(::dlsym(handle, "talkhead_image_io_module"));
+		const ImageIoModule* m = entry ? entry() : nullptr;
+		if (m && m->abi == kImageIoModuleAbi) return m;  // stays loaded for the life of the process
+		why = path + " is from another talkhead build";
+		::dlclose(handle);
+	}
+	throw Error(std::string("cannot load the image I/O module ") + kModuleName + " (" + why +
+	            "; set TALKHEAD_MODULE_DIR to the folder that holds it)");
+}
+
+const ImageIoModule& module() {
+	static const ImageIoModule* m = loadModule();  // thread-safe; retried after a failure
+	return *m;
 }
 }  // namespace
 
 void imageSize(const std::string& path, int& width, int& height) {
-	auto in = OIIO::ImageInput::open(path);
-	if (!in) throw Error(path, 0, "cannot open image: " + oiioError("unknown format or missing file"));
-	width = in->spec().width;
-	height = in->spec().height;
+	std::string error;
+	if (!module().imageSize(path, width, height, error)) throw Error(path, 0, error);
 }
 
 Image8 readImage(const std::string& path) {
-	if (!std::filesystem::exists(path)) throw Error(path, 0, "image file not found");
-	auto in = OIIO::ImageInput::open(path);
-	if (!in) throw Error(path, 0, "cannot open image: " + oiioError("unknown format"));
-	const OIIO::ImageSpec& spec = in->spec();
-	if (spec.width <= 0 || spec.height <= 0 || long(spec.width) * spec.height > kMaxPixels)
-		throw Error(path, 0, "absurd image size " + std::to_string(spec.width) + "x" + std::to_string(spec.height));
-	const int nc = spec.nchannels;
-	if (nc < 1) throw Error(path, 0, "image has no channels");
-	std::vector<std::uint8_t> buf(std::size_t(spec.width) * spec.height * nc);
-	if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, buf.data()))
-		throw Error(path, 0, "cannot decode image: " + oiioError(in->geterror()));
-	in->close();
-	Image8 out(spec.width, spec.height, 3);
-	const std::size_t n = out.pixelCount();
-	for (std::size_t p = 0; p < n; ++p) {
-		const std::uint8_t* s = &buf[p * nc];
-		std::uint8_t* d = &out.data[p * 3];
-		if (nc >= 3) {
-			d[0] = s[0];
-			d[1] = s[1];
-			d[2] = s[2];
-		} else {
-			d[0] = d[1] = d[2] = s[0];
-		}
-	}
+	Image8 out;
+	std::string error;
+	if (!module().readImage(path, out, error)) throw Error(path, 0, error);
 	return out;
 }
 
 void writeImage(const std::string& path, const Image8& image, int pngCompression) {
-	namespace fs = std::filesystem;
+	const ImageIoModule& m = module();
 	fs::path target(path);
 	fs::path tmp = temporaryNameFor(path);
-	auto out = OIIO::ImageOutput::create(target.filename().string());
-	if (!out) throw Error(path, 0, "cannot write images of this type: " + oiioError("unknown extension"));
-	OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
-	if (pngCompression >= 0) spec.attribute("png:compressionLevel", std::min(9, pngCompression));
-	// The temporary keeps the real extension at the end so the writer picks the same format.
-	if (!out->open(tmp.string(), spec)) throw Error(path, 0, "cannot write image: " + oiioError(out->geterror()));
-	bool ok = out->write_image(OIIO::TypeDesc::UINT8, image.data.data());
-	ok = out->close() && ok;
-	if (!ok) {
+	// The format comes from the real name; the temporary is renamed into place when complete.
+	std::string error;
+	if (!m.writeImage(tmp.string(), target.filename().string(), image, pngCompression, error)) {
 		std::remove(tmp.string().c_str());
-		throw Error(path, 0, "cannot write image: " + oiioError(out->geterror()));
+		throw Error(path, 0, error);
 	}
 	std::error_code ec;
 	fs::rename(tmp, target, ec);

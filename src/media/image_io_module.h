@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The image I/O module: OpenImageIO and the ~260 shared libraries it pulls in cost ~0.35 s of start-up,
+// so they live in a plugin (libtalkhead-oiio.so) that image_io.cpp loads on the first image read or
+// written. Commands that touch no image file (render to MP4, say) never load it. Built from the same
+// tree with the same compiler, so C++ types cross the boundary; errors come back as strings.
+#include <string>
+
+#include "image/image.h"
+
+namespace talkhead {
+
+constexpr int kImageIoModuleAbi = 1;
+
+struct ImageIoModule {
+	int abi;  // kImageIoModuleAbi
+	// Each returns false and sets `error` (the message without the path) on failure; never throws.
+	bool (*imageSize)(const std::string& path, int& width, int& height, std::string& error);
+	bool (*readImage)(const std::string& path, Image8& out, std::string& error);
+	// Writes `path` in the format that `formatName`'s extension names.
+	bool (*writeImage)(const std::string& path, const std::string& formatName, const Image8& image, int pngCompression, std::string& error);
+};
+
+}  // namespace talkhead
+
+extern "C" const talkhead::ImageIoModule* talkhead_image_io_module();
