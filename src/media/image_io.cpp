@@ -1,14 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "media/image_io.h"
 
-#include <dlfcn.h>
-
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/plugin.h"
 #include "media/image_io_module.h"
 
 namespace fs = std::filesystem;
@@ -16,51 +14,8 @@ namespace fs = std::filesystem;
 namespace talkhead {
 
 namespace {
-constexpr const char* kModuleName = "libtalkhead-oiio.so";
-
-std::vector<std::string> moduleCandidates() {
-	std::vector<std::string> c;
-	if (const char* env = std::getenv("TALKHEAD_MODULE_DIR"); env && *env) c.push_back(fs::path(env) / kModuleName);
-	std::error_code ec;
-	const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-	if (!ec) {
-		c.push_back(exe.parent_path() / "lib" / "talkhead" / kModuleName);  // build tree
-#ifdef TALKHEAD_MODULE_RELATIVE_DIR
-		c.push_back(exe.parent_path().parent_path() / TALKHEAD_MODULE_RELATIVE_DIR / kModuleName);  // installed tree
-#endif
-	}
-#ifdef TALKHEAD_MODULE_INSTALL_DIR
-	c.push_back(fs::path(TALKHEAD_MODULE_INSTALL_DIR) / kModuleName);
-#endif
-#ifdef TALKHEAD_MODULE_BUILD_DIR
-	c.push_back(fs::path(TALKHEAD_MODULE_BUILD_DIR) / kModuleName);
-#endif
-	return c;
-}
-
-const ImageIoModule* loadModule() {
-	std::string why = "not found";
-	for (const auto& path : moduleCandidates()) {
-		std::error_code ec;
-		if (!fs::is_regular_file(path, ec)) continue;
-		void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-		if (!handle) {
-			const char* e = ::dlerror();
-			why = e ? e : "dlopen failed";
-			continue;
-		}
-		auto entry = reinterpret_cast<const ImageIoModule* (*)()>(::dlsym(handle, "talkhead_image_io_module"));
-		const ImageIoModule* m = entry ? entry() : nullptr;
-		if (m && m->abi == kImageIoModuleAbi) return m;  // stays loaded for the life of the process
-		why = path + " is from another talkhead build";
-		::dlclose(handle);
-	}
-	throw Error(std::string("cannot load the image I/O module ") + kModuleName + " (" + why +
-	            "; set TALKHEAD_MODULE_DIR to the folder that holds it)");
-}
-
 const ImageIoModule& module() {
-	static const ImageIoModule* m = loadModule();  // thread-safe; retried after a failure
+	static const auto* m = static_cast<const ImageIoModule*>(loadPlugin("libtalkhead-oiio.so", "talkhead_image_io_module", kImageIoModuleAbi));
 	return *m;
 }
 }  // namespace

@@ -23,4 +23,4 @@ struct ImageIoModule {
 
 }  // namespace talkhead
 
-extern "C" const talkhead::ImageIoModule* talkhead_image_io_module();
+extern "C" const void* talkhead_image_io_module();

@@ -102,4 +102,4 @@ const ImageIoModule kModule{kImageIoModuleAbi, imageSizeImpl, readImageImpl, wri
 
 }  // namespace talkhead
 
-extern "C" const talkhead::ImageIoModule* talkhead_image_io_module() { return &talkhead::kModule; }
+extern "C" const void* talkhead_image_io_module() { return &talkhead::kModule; }

@@ -543,7 +543,9 @@ FaceModel readRecords(Reader& r, bool bases) {
 	m.basefaceIndex = std::size_t(count("basefaceIndex", double(samples)));
 	auto base = r.u8("baseface");
 	if (base.size() != std::size_t(m.width) * m.height * 3) r.fail("baseface has the wrong size");
-	m.baseface = Image8(m.width, m.height, 3);
+	m.baseface.width = m.width;  // adopt the buffer (no zero-filled image first)
+	m.baseface.height = m.height;
+	m.baseface.channels = 3;
 	m.baseface.data = std::move(base);
 	std::int64_t regions = count("regions", 64);
 	std::shared_ptr<int> fd;  // shared by the regions' on-disk appearance caches
@@ -555,12 +557,25 @@ FaceModel readRecords(Reader& r, bool bases) {
 			if (p < 0 || std::int64_t(p) >= std::int64_t(m.width) * m.height) r.fail("region pixel index out of range");
 		rm.alpha = r.f32("alpha");
 		const Eigen::Index n = 3 * rm.pixelCount() + 2 * k;
-		auto mean = r.f32("mean");
-		auto sigma = r.f32("sigma");
+		if (rm.alpha.size() != rm.pixels.size()) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
+		// The mean and scale of the combined vectors serve projection and the basis product only: a render
+		// load (which uses the appearance cache) skips them.
+		auto vectorInto = [&](const std::string& name, Eigen::VectorXf& v) {
+			if (!bases) {
+				r.skip(name, Type::F32, 4);
+				return;
+			}
+			r.arrayInto<float>(name, Type::F32, [&](std::size_t count) {
+				if (Eigen::Index(count) != n) r.fail("region '" + rm.name + "' " + name + " has the wrong size");
+				v.resize(n);
+				return v.data();
+			});
+		};
+		vectorInto("mean", rm.pca.mean);
+		vectorInto("sigma", rm.pca.sigma);
 		auto eig = r.f64("eigenvalues");
 		const Eigen::Index l = Eigen::Index(count("components", 1e7));
-		if (rm.alpha.size() != rm.pixels.size() || Eigen::Index(mean.size()) != n || Eigen::Index(sigma.size()) != n || Eigen::Index(eig.size()) < l)
-			r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
+		if (Eigen::Index(eig.size()) < l) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
 		if (!bases) {
 			r.skip("basis", Type::F32, 4);
 			r.skip("coefficients", Type::F32, 4);
@@ -604,8 +619,6 @@ FaceModel readRecords(Reader& r, bool bases) {
 			}
 			rm.appearanceSource = std::make_shared<FileAppearanceSource>(fd, r.path(), cacheOffset, q3, std::move(sums), rm.name);
 		}
-		rm.pca.mean = Eigen::Map<Eigen::VectorXf>(mean.data(), n);
-		rm.pca.sigma = Eigen::Map<Eigen::VectorXf>(sigma.data(), n);
 		rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
 		m.regions.push_back(std::move(rm));
 	}

@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <string>
+#include <vector>
+
+namespace talkhead {
+
+// Heavy libraries (OpenImageIO: ~260 shared libraries; libav: ~130) cost start-up time for every command,
+// so the code that uses them is built as plugins (lib/talkhead/libtalkhead-*.so) and loaded on first use.
+// Searched in order: $TALKHEAD_MODULE_DIR, <executable>/lib/talkhead (build tree), the installed tree
+// relative to the executable, the configured install folder, and the build tree this was compiled in.
+std::vector<std::string> pluginCandidates(const std::string& fileName);
+
+// Loads the plugin (once per process, kept loaded) and returns what its extern "C" `entry` function
+// returns. Throws Error naming the plugin and the folders searched when none loads, or when `abi` (the
+// int at the start of the returned struct) differs from the one this build expects.
+const void* loadPlugin(const std::string& fileName, const char* entry, int abi);
+
+}  // namespace talkhead

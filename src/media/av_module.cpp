@@ -1,0 +1,313 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The libav plugin (libtalkhead-av.so): audio decoding and the H.264 + AAC MP4 writer. See av_module.h.
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/channel_layout.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/log.h>
+#include <libavutil/opt.h>
+#include <libswresample/swresample.h>
+}
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "media/av_module.h"
+#include "media/av_util.h"
+
+namespace talkhead {
+
+namespace {
+
+AudioClip decodeAudioImpl(const std::string& path, int outRate) {
+	if (!std::filesystem::exists(path)) throw Error(path, 0, "audio file not found");
+	av_log_set_level(AV_LOG_FATAL);  // problems are reported through return codes, as one error line
+	AVFormatContext* fmt = nullptr;
+	checkAv(avformat_open_input(&fmt, path.c_str(), nullptr, nullptr), path, "cannot open audio");
+	struct FmtGuard {
+		AVFormatContext*& f;
+		~FmtGuard() { avformat_close_input(&f); }
+	} fg{fmt};
+	checkAv(avformat_find_stream_info(fmt, nullptr), path, "cannot read audio stream info");
+	const AVCodec* dec = nullptr;
+	int stream = av_find_best_stream(fmt, AVMEDIA_TYPE_AUDIO, -1, -1, &dec, 0);
+	if (stream < 0 || !dec) throw Error(path, 0, "no audio stream");
+	AVCodecContext* ctx = avcodec_alloc_context3(dec);
+	struct CtxGuard {
+		AVCodecContext*& c;
+		~CtxGuard() { avcodec_free_context(&c); }
+	} cg{ctx};
+	checkAv(avcodec_parameters_to_context(ctx, fmt->streams[stream]->codecpar), path, "bad audio parameters");
+	checkAv(avcodec_open2(ctx, dec, nullptr), path, "cannot open the audio decoder");
+	if (ctx->ch_layout.nb_channels <= 0) av_channel_layout_default(&ctx->ch_layout, 1);
+	const int outChannels = std::min(2, ctx->ch_layout.nb_channels);
+	AVChannelLayout outLayout;
+	av_channel_layout_default(&outLayout, outChannels);
+	SwrContext* swr = nullptr;
+	checkAv(swr_alloc_set_opts2(&swr, &outLayout, AV_SAMPLE_FMT_FLT, outRate, &ctx->ch_layout, ctx->sample_fmt, ctx->sample_rate, 0, nullptr), path,
+	        "cannot set up resampling");
+	struct SwrGuard {
+		SwrContext*& s;
+		~SwrGuard() { swr_free(&s); }
+	} sg{swr};
+	checkAv(swr_init(swr), path, "cannot set up resampling");
+	AudioClip clip;
+	clip.sampleRate = outRate;
+	clip.channels = outChannels;
+	AVPacket* pkt = av_packet_alloc();
+	AVFrame* frame = av_frame_alloc();
+	struct Guard {
+		AVPacket*& p;
+		AVFrame*& f;
+		~Guard() {
+			av_packet_free(&p);
+			av_frame_free(&f);
+		}
+	} g{pkt, frame};
+	auto drain = [&]() {
+		for (;;) {
+			int r = avcodec_receive_frame(ctx, frame);
+			if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
+			checkAv(r, path, "cannot decode audio");
+			const int maxOut = swr_get_out_samples(swr, frame->nb_samples);
+			const std::size_t old = clip.samples.size();
+			clip.samples.resize(old + std::size_t(maxOut) * outChannels);
+			uint8_t* out[1] = {reinterpret_cast<uint8_t*>(clip.samples.data() + old)};
+			const int got = checkAv(swr_convert(swr, out, maxOut, const_cast<const uint8_t**>(frame->extended_data), frame->nb_samples), path,
+			                        "cannot resample audio");
+			clip.samples.resize(old + std::size_t(got) * outChannels);
+			av_frame_unref(frame);
+			if (clip.samples.size() > std::size_t(outRate) * outChannels * 4 * 3600) throw Error(path, 0, "audio longer than 4 hours");
+		}
+	};
+	while (av_read_frame(fmt, pkt) >= 0) {
+		if (pkt->stream_index == stream) {
+			int r = avcodec_send_packet(ctx, pkt);
+			if (r < 0 && r != AVERROR(EAGAIN) && r != AVERROR_INVALIDDATA) checkAv(r, path, "cannot decode audio");
+			drain();
+		}
+		av_packet_unref(pkt);
+	}
+	avcodec_send_packet(ctx, nullptr);
+	drain();
+	// Flush the resampler.
+	for (;;) {
+		const std::size_t old = clip.samples.size();
+		clip.samples.resize(old + 4096 * std::size_t(outChannels));
+		uint8_t* out[1] = {reinterpret_cast<uint8_t*>(clip.samples.data() + old)};
+		int got = swr_convert(swr, out, 4096, nullptr, 0);
+		clip.samples.resize(old + std::size_t(std::max(got, 0)) * outChannels);
+		if (got <= 0) break;
+	}
+	if (clip.frameCount() == 0) throw Error(path, 0, "the audio has no samples (zero length)");
+	return clip;
+}
+
+struct Mp4Encoder {
+	std::string path;
+	VideoOptions o;
+	const AudioClip* audio = nullptr;
+	AVFormatContext* fmt = nullptr;
+	AVCodecContext* venc = nullptr;
+	AVCodecContext* aenc = nullptr;
+	AVStream* vst = nullptr;
+	AVStream* ast = nullptr;
+	AVFrame* vframe = nullptr;
+	AVFrame* aframe = nullptr;
+	AVPacket* pkt = nullptr;
+	std::int64_t frameIndex = 0;
+	std::int64_t audioPos = 0;  // next audio sample frame to encode
+	bool finished = false;
+
+	void open() {
+		checkAv(avformat_alloc_output_context2(&fmt, nullptr, "mp4", path.c_str()), path, "cannot create the MP4 muxer");
+		const AVCodec* h264 = avcodec_find_encoder_by_name("libx264");
+		if (!h264) throw Error(path, 0, "this libav has no libx264 encoder");
+		vst = avformat_new_stream(fmt, nullptr);
+		venc = avcodec_alloc_context3(h264);
+		venc->width = o.width;
+		venc->height = o.height;
+		venc->pix_fmt = AV_PIX_FMT_YUV420P;
+		venc->time_base = AVRational{o.fpsDen, o.fpsNum};
+		venc->framerate = AVRational{o.fpsNum, o.fpsDen};
+		venc->gop_size = 10 * o.fpsNum / std::max(1, o.fpsDen);
+		venc->thread_count = o.threads;
+		if (fmt->oformat->flags & AVFMT_GLOBALHEADER) venc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+		av_opt_set(venc->priv_data, "preset", o.preset.c_str(), 0);
+		av_opt_set(venc->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
+		checkAv(avcodec_open2(venc, h264, nullptr), path, "cannot open the H.264 encoder");
+		checkAv(avcodec_parameters_from_context(vst->codecpar, venc), path, "H.264 parameters");
+		vst->time_base = venc->time_base;
+		vst->avg_frame_rate = venc->framerate;
+
+		if (audio) {
+			const AVCodec* aac = avcodec_find_encoder(AV_CODEC_ID_AAC);
+			if (!aac) throw Error(path, 0, "this libav has no AAC encoder");
+			ast = avformat_new_stream(fmt, nullptr);
+			aenc = avcodec_alloc_context3(aac);
+			aenc->sample_fmt = AV_SAMPLE_FMT_FLTP;
+			aenc->sample_rate = audio->sampleRate;
+			av_channel_layout_default(&aenc->ch_layout, audio->channels);
+			aenc->bit_rate = 128000;
+			aenc->time_base = AVRational{1, audio->sampleRate};
+			if (fmt->oformat->flags & AVFMT_GLOBALHEADER) aenc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+			checkAv(avcodec_open2(aenc, aac, nullptr), path, "cannot open the AAC encoder");
+			checkAv(avcodec_parameters_from_context(ast->codecpar, aenc), path, "AAC parameters");
+			ast->time_base = aenc->time_base;
+			aframe = av_frame_alloc();
+			aframe->format = AV_SAMPLE_FMT_FLTP;
+			aframe->sample_rate = audio->sampleRate;
+			av_channel_layout_copy(&aframe->ch_layout, &aenc->ch_layout);
+			aframe->nb_samples = aenc->frame_size;
+			checkAv(av_frame_get_buffer(aframe, 0), path, "audio frame");
+		}
+		checkAv(avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot write the video");
+		AVDictionary* opts = nullptr;
+		av_dict_set(&opts, "movflags", "+faststart", 0);
+		fmt->flags |= AVFMT_FLAG_BITEXACT;  // no library version strings: the same input gives the same file
+		const int r = avformat_write_header(fmt, &opts);
+		av_dict_free(&opts);
+		checkAv(r, path, "cannot write the MP4 header");
+		vframe = av_frame_alloc();
+		vframe->format = AV_PIX_FMT_YUV420P;
+		vframe->width = o.width;
+		vframe->height = o.height;
+		checkAv(av_frame_get_buffer(vframe, 0), path, "video frame");
+		pkt = av_packet_alloc();
+	}
+
+	void drain(AVCodecContext* enc, AVStream* st) {
+		for (;;) {
+			int r = avcodec_receive_packet(enc, pkt);
+			if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
+			checkAv(r, path, "encoding failed");
+			av_packet_rescale_ts(pkt, enc->time_base, st->time_base);
+			pkt->stream_index = st->index;
+			checkAv(av_interleaved_write_frame(fmt, pkt), path, "cannot write the video");
+		}
+	}
+
+	// Encodes audio up to sample frame `until` (whole AAC frames; the rest waits), or everything (flush).
+	void encodeAudio(std::int64_t until, bool all) {
+		if (!audio) return;
+		const std::int64_t total = std::int64_t(audio->frameCount());
+		const int n = aenc->frame_size;
+		until = std::min(until, total);
+		while (audioPos < total && (all || audioPos + n <= until)) {
+			checkAv(av_frame_make_writable(aframe), path, "audio frame");
+			const int count = int(std::min<std::int64_t>(n, total - audioPos));
+			for (int c = 0; c < audio->channels; ++c) {
+				float* dst = reinterpret_cast<float*>(aframe->data[c]);
+				for (int k = 0; k < n; ++k)
+					dst[k] = k < count ? audio->samples[std::size_t((audioPos + k) * audio->channels + c)] : 0.f;
+			}
+			aframe->nb_samples = count == n ? n : count;
+			aframe->pts = audioPos;
+			checkAv(avcodec_send_frame(aenc, aframe), path, "AAC encoding failed");
+			drain(aenc, ast);
+			audioPos += count;
+			aframe->nb_samples = n;
+		}
+	}
+
+	void writeYuv(const YuvImage& img) {
+		if (img.width != o.width || img.height != o.height) throw std::logic_error("Mp4Writer: frame size differs");
+		checkAv(av_frame_make_writable(vframe), path, "video frame");
+		const int cw = (o.width + 1) / 2, ch = (o.height + 1) / 2;
+		for (int y = 0; y < o.height; ++y) std::memcpy(vframe->data[0] + std::size_t(y) * vframe->linesize[0], img.y.data() + std::size_t(y) * o.width, std::size_t(o.width));
+		for (int y = 0; y < ch; ++y) {
+			std::memcpy(vframe->data[1] + std::size_t(y) * vframe->linesize[1], img.u.data() + std::size_t(y) * cw, std::size_t(cw));
+			std::memcpy(vframe->data[2] + std::size_t(y) * vframe->linesize[2], img.v.data() + std::size_t(y) * cw, std::size_t(cw));
+		}
+		vframe->pts = frameIndex++;
+		checkAv(avcodec_send_frame(venc, vframe), path, "H.264 encoding failed");
+		drain(venc, vst);
+		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.fpsDen, o.fpsNum}, AVRational{1, audio->sampleRate}), false);
+	}
+
+	void finish() {
+		if (finished) return;
+		finished = true;
+		checkAv(avcodec_send_frame(venc, nullptr), path, "H.264 flush");
+		drain(venc, vst);
+		if (audio) {
+			encodeAudio(0, true);
+			checkAv(avcodec_send_frame(aenc, nullptr), path, "AAC flush");
+			drain(aenc, ast);
+		}
+		checkAv(av_write_trailer(fmt), path, "cannot finish the MP4");
+		checkAv(avio_closep(&fmt->pb), path, "cannot close the video file");
+	}
+
+	~Mp4Encoder() {
+		av_packet_free(&pkt);
+		av_frame_free(&vframe);
+		av_frame_free(&aframe);
+		avcodec_free_context(&venc);
+		avcodec_free_context(&aenc);
+		if (fmt) {
+			if (fmt->pb) avio_closep(&fmt->pb);
+			avformat_free_context(fmt);
+		}
+	}
+};
+
+// The plugin's entry points: exceptions stay inside, messages go out as strings.
+bool decodeAudioEntry(const std::string& path, int sampleRate, AudioClip& out, std::string& error) {
+	try {
+		out = decodeAudioImpl(path, sampleRate);
+		return true;
+	} catch (const std::exception& e) {
+		error = e.what();
+		return false;
+	}
+}
+
+void* openMp4Entry(const std::string& path, const VideoOptions& o, const AudioClip* audio, std::string& error) {
+	auto* enc = new Mp4Encoder;
+	try {
+		enc->path = path;
+		enc->o = o;
+		enc->audio = audio && audio->frameCount() ? audio : nullptr;
+		av_log_set_level(AV_LOG_ERROR);
+		enc->open();
+		return enc;
+	} catch (const std::exception& e) {
+		error = e.what();
+		delete enc;
+		return nullptr;
+	}
+}
+
+bool writeMp4Entry(void* h, const YuvImage& frame, std::string& error) {
+	try {
+		static_cast<Mp4Encoder*>(h)->writeYuv(frame);
+		return true;
+	} catch (const std::exception& e) {
+		error = e.what();
+		return false;
+	}
+}
+
+bool finishMp4Entry(void* h, std::string& error) {
+	try {
+		static_cast<Mp4Encoder*>(h)->finish();
+		return true;
+	} catch (const std::exception& e) {
+		error = e.what();
+		return false;
+	}
+}
+
+void closeMp4Entry(void* h) { delete static_cast<Mp4Encoder*>(h); }
+
+const AvModule kModule{kAvModuleAbi, decodeAudioEntry, openMp4Entry, writeMp4Entry, finishMp4Entry, closeMp4Entry};
+
+}  // namespace
+
+}  // namespace talkhead
+
+extern "C" const void* talkhead_av_module() { return &talkhead::kModule; }

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The libav plugin: libavformat/libavcodec and the ~130 shared libraries they pull in cost ~60 ms of
+// start-up, so decoding audio and writing MP4 live in libtalkhead-av.so, loaded on first use; a y4m
+// stream (say … --format y4m -o -) never loads it. Built from the same tree with the same compiler, so
+// C++ types cross the boundary; errors come back as strings (the full "PATH: what" message).
+#include <string>
+
+#include "image/yuv.h"
+#include "media/audio.h"
+#include "media/video_writer.h"
+
+namespace talkhead {
+
+constexpr int kAvModuleAbi = 1;
+
+struct AvModule {
+	int abi;  // kAvModuleAbi
+	bool (*decodeAudio)(const std::string& path, int sampleRate, AudioClip& out, std::string& error);
+	// An MP4 encoder (opaque), or nullptr with `error` set.
+	void* (*openMp4)(const std::string& path, const VideoOptions& options, const AudioClip* audio, std::string& error);
+	bool (*writeMp4)(void* encoder, const YuvImage& frame, std::string& error);
+	bool (*finishMp4)(void* encoder, std::string& error);
+	void (*closeMp4)(void* encoder);
+};
+
+// The loaded plugin (throws Error when it cannot be loaded).
+const AvModule& avModule();
+
+}  // namespace talkhead
+
+extern "C" const void* talkhead_av_module();
