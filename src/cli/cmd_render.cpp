@@ -98,7 +98,7 @@ void renderVideo(const RenderJob& job) {
 	Synthesizer synth(model, synthOptions);
 	vo.width = synth.width();
 	vo.height = synth.height();
-	double keyposeSeconds = 0, drawSeconds = 0, encodeSeconds = 0;
+	double keyposeSeconds = 0, drawSeconds = 0, encodeSeconds = 0, firstFrameSeconds = 0;
 	const auto subs = synth.substitutionsFor(keys);
 	if (!subs.empty() && !quiet) {
 		std::string s;
@@ -182,6 +182,7 @@ void renderVideo(const RenderJob& job) {
 				}
 			}
 			encodeSeconds += since(tEncode);
+			if (bt.first == 0) firstFrameSeconds = since(t0);
 		} catch (...) {
 			writeError = std::current_exception();
 		}
@@ -247,9 +248,10 @@ void renderVideo(const RenderJob& job) {
 		double warp = 0;
 		for (const auto& w : workspaces) warp += w.warpSeconds;
 		std::fprintf(stderr,
-		             "timing: model load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s thread time); "
-		             "encode+write %.3f s; %lld frames\n",
-		             loadSeconds, keyposeSeconds, keys.size(), drawSeconds, warp, encodeSeconds, (long long)frames);
+		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s thread time); "
+		             "encode+write %.3f s; %lld frames; first frame out after %.3f s\n",
+		             job.timingPrefix.c_str(), loadSeconds, keyposeSeconds, keys.size(), drawSeconds, warp, encodeSeconds, (long long)frames,
+		             firstFrameSeconds);
 	}
 	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	if (jsonProgress) std::fprintf(stderr, "{\"type\": \"done\", \"frames\": %lld, \"seconds\": %.3f}\n", (long long)frames, secs);

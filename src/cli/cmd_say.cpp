@@ -63,6 +63,7 @@ int runSay(const std::vector<std::string>& argv) {
 	const int pitch = int(args.number("--pitch", -1, 0, 100));
 	const auto t0 = std::chrono::steady_clock::now();
 	Speech speech = espeakSpeak(text, args.get("--voice", espeakVoiceFor(lang.tag())), rate, pitch);
+	const double speechSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone.
 	std::vector<PhoneSegment> phones = phoneSegments(speech.phones, lang, UnknownPhone::Nearest);
 	RenderJob job;
@@ -104,6 +105,9 @@ int runSay(const std::vector<std::string>& argv) {
 	job.timing = args.has("--timing");
 	job.threads = unsigned(args.number("--threads", 0, 0, 256));
 	job.started = t0;
+	char prefix[64];
+	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
+	job.timingPrefix = prefix;
 	renderVideo(job);
 	return 0;
 }

@@ -25,6 +25,7 @@ struct RenderJob {
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
 	unsigned threads = 0;
 	std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+	std::string timingPrefix;  // stages before rendering, for --timing (e.g. "speech 0.020 s; ")
 };
 
 // Loads the model, prepares the keyposes, draws every frame (parallel batches) and writes the video,

@@ -3,15 +3,17 @@
 
 #include <algorithm>
 
+#include "base/memory.h"
+
 namespace talkhead {
 
 void YuvImage::resize(int w, int h) {
 	width = w;
 	height = h;
 	const std::size_t c = std::size_t((w + 1) / 2) * std::size_t((h + 1) / 2);
-	y.resize(std::size_t(w) * h);
-	u.resize(c);
-	v.resize(c);
+	resizePrefaulted(y, std::size_t(w) * h);
+	resizePrefaulted(u, c);
+	resizePrefaulted(v, c);
 }
 
 void rgbToYuv420(const std::uint8_t* rgb, std::size_t rgbStride, int w, int h, YuvRange range, std::uint8_t* yp, std::size_t yStride,

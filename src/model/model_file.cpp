@@ -216,7 +216,7 @@ public:
 	std::vector<T> array(const std::string& name, Type t) {
 		std::vector<T> v;
 		arrayInto<T>(name, t, [&](std::size_t n) {
-			v.resize(n);
+			resizePrefaulted(v, n);
 			return v.data();
 		});
 		return v;
@@ -601,7 +601,7 @@ FaceModel readRecords(Reader& r, bool bases) {
 		} else {
 			r.arrayInto<std::uint8_t>("appearances", Type::U8, [&](std::size_t count) {
 				cacheCount = count;
-				rm.sampleAppearances.resize(count);
+				resizePrefaulted(rm.sampleAppearances, count);
 				return rm.sampleAppearances.data();
 			});
 		}

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "base/error.h"
+#include "base/memory.h"
 #include "base/parallel.h"
 #include "phonetics/labels.h"
 #include "warp/piecewise_affine.h"
@@ -150,7 +151,8 @@ KeyposeImage Synthesizer::makeKeypose(long sample, const std::vector<const std::
 	// Spec §5.3 in the face box only (the baseface elsewhere): regions pasted coarse → fine through their
 	// soft masks, in float, then rounded to 8 bits.
 	const int rw = roiX1_ - roiX0_, rh = roiY1_ - roiY0_, W = model_.width;
-	std::vector<float> crop(std::size_t(rw) * rh * 3);
+	thread_local std::vector<float> crop;  // reused: fresh pages cost more than the compositing here
+	crop.resize(std::size_t(rw) * rh * 3);
 	for (int y = 0; y < rh; ++y) {
 		const std::uint8_t* b = model_.baseface.row(roiY0_ + y) + std::size_t(roiX0_) * 3;
 		for (int i = 0; i < rw * 3; ++i) crop[std::size_t(y) * rw * 3 + std::size_t(i)] = b[i];
@@ -305,8 +307,10 @@ void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Wo
 	if (!ws.chromaWarp) ws.chromaWarp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, cOut, outCw, outCh);
 	else ws.chromaWarp->setDestination(cOut);
 	if (ws.meanY.empty()) {
-		ws.meanY = baseY_;
-		ws.meanUV = baseUV_;
+		resizePrefaulted(ws.meanY, baseY_.size());
+		resizePrefaulted(ws.meanUV, baseUV_.size());
+		std::memcpy(ws.meanY.data(), baseY_.data(), baseY_.size());
+		std::memcpy(ws.meanUV.data(), baseUV_.data(), baseUV_.size());
 	}
 	// Eq. 5.4 in the mean-shape frame (luma and chroma), then one warp of each plane s̄ → P(t).
 	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
