@@ -94,7 +94,7 @@ void renderVideo(const RenderJob& job) {
 		}
 	const double loadSeconds = since(tLoad);
 	SynthOptions synthOptions = so;
-	synthOptions.yuvRange = format == "y4m" ? YuvRange::Full : YuvRange::Limited;  // C420jpeg is full range; H.264 limited
+	synthOptions.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
 	Synthesizer synth(model, synthOptions);
 	vo.width = synth.width();
 	vo.height = synth.height();
@@ -278,6 +278,7 @@ int runRender(const std::vector<std::string>& argv) {
 	           {"--preset", "NAME", "x264 preset (default veryfast)"},
 	           {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
 	           {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
+	           {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
 	           {"--transcript-format", "FORMAT", "transcript format if detection fails"},
 	           {"--tier", "NAME", "TextGrid tier"},
 	           {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
@@ -321,6 +322,9 @@ int runRender(const std::vector<std::string>& argv) {
 		throw UsageError("render: --trajectory and --dissolve take hermite or linear");
 	so.trajectory = traj == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
 	so.dissolve = diss == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	const std::string warpPath = args.get("--warp", "direct");
+	if (warpPath != "direct" && warpPath != "keypose") throw UsageError("render: --warp takes direct or keypose");
+	so.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
 	const std::string policy = args.get("--unknown", "error");
 	UnknownPhone unknown = policy == "nearest" ? UnknownPhone::Nearest : policy == "silence" ? UnknownPhone::Silence : UnknownPhone::Error;
 	if (policy != "error" && policy != "nearest" && policy != "silence") throw UsageError("render: --unknown must be error, nearest or silence");

@@ -8,8 +8,7 @@
 
 namespace talkhead {
 
-// BT.601 YUV ranges: limited (16–235 luma; what H.264 players expect) or full ("JPEG", 0–255; YUV4MPEG2's
-// C420jpeg).
+// BT.601 YUV ranges: limited (16–235 luma; what H.264 players and y4m readers assume) or full (0–255).
 enum class YuvRange { Limited, Full };
 
 // A frame in YUV 4:2:0 (BT.601), planes packed: y is width × height, u and v are ⌈w/2⌉ × ⌈h/2⌉. A chroma

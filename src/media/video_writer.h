@@ -37,12 +37,13 @@ private:
 	std::unique_ptr<Impl> impl_;
 };
 
-// YUV4MPEG2 (C420jpeg: full-range BT.601) stream, e.g. to standard output for `| ffplay -`.
+// YUV4MPEG2 stream (C420jpeg: chroma centred on its 2×2 block, as rgbToYuv420 makes it; BT.601 limited
+// range, declared with XCOLORRANGE=LIMITED), e.g. to standard output for `| ffplay -`.
 class Y4mWriter {
 public:
 	Y4mWriter(std::FILE* out, const VideoOptions& options);
 	void write(const Image8& frame);
-	void write(const YuvImage& frame);  // full range (YuvRange::Full)
+	void write(const YuvImage& frame);  // limited range (YuvRange::Limited)
 
 private:
 	std::FILE* out_;

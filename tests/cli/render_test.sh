@@ -32,10 +32,19 @@ cmp "$T/a.mp4" "$T/b.mp4"
 test "$(probe "$T/n.mp4" v:0 nb_read_frames)" = 33   # round(1.3 × 25) = 32.5 → 33
 test -z "$(ffprobe -v error -select_streams a -show_entries stream=index -of csv=p=0 "$T/n.mp4")"
 "$TH" render -q --model "$T/face.thm" --transcript "$TG" --format y4m -o - --size 160x90 >"$T/s.y4m"
-head -c 64 "$T/s.y4m" | head -1 | grep -q '^YUV4MPEG2 W160 H90 F30:1 Ip A1:1 C420jpeg$'
+head -c 64 "$T/s.y4m" | head -1 | grep -q '^YUV4MPEG2 W160 H90 F30:1 Ip A1:1 C420jpeg XCOLORRANGE=LIMITED$'
 test "$(grep -c FRAME "$T/s.y4m")" = 39
 test "$(stat -c %s "$T/s.y4m")" = $(( $(head -1 "$T/s.y4m" | wc -c) + 39 * (6 + 160 * 90 * 3 / 2) ))
 ! grep -q swscaler "$T/o" 2>/dev/null
+# The YUV frames (drawn straight into YUV for y4m and MP4) read back as the RGB frames (--frames), so the
+# range and chroma siting are what readers assume (a range mix-up gives ~27 dB); and the thesis's warp
+# order (--warp keypose) draws the same frames as the direct warp.
+psnr() { ffmpeg -v info -i "$1" -i "$2" -lavfi "[0:v]format=rgb24[a];[1:v]format=rgb24[b];[a][b]psnr" -f null - 2>&1 | grep -o 'average:[0-9.inf]*' | cut -d: -f2; }
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --format y4m -o "$T/d.y4m"
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --format y4m -o "$T/k.y4m" --warp keypose
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --format y4m -o "$T/r.y4m" --frames "$T/rgb"
+awk -v p="$(psnr "$T/d.y4m" "$T/rgb/frame_%06d.png")" 'BEGIN { if (p != "inf" && p < 35) { print "y4m vs PNG frames: " p " dB"; exit 1 } }'
+awk -v p="$(psnr "$T/d.y4m" "$T/k.y4m")" 'BEGIN { if (p != "inf" && p < 40) { print "direct vs keypose warp: " p " dB"; exit 1 } }'
 "$TH" render -q --model "$T/face.thm" --transcript "$TG" -o "$T/f.mp4" --frames "$T/frames" --no-audio --audio "$T/tone.wav"
 test "$(ls "$T/frames" | wc -l)" = 60
 # Real speech in another container: GRID's MPEG-1 clip carries MP2 audio; English words via espeak-ng.
