@@ -10,5 +10,7 @@ cmake -S "$CONSUMER" -B "$T/build" -G Ninja -DCMAKE_PREFIX_PATH="$T/prefix" -DCM
 cmake --build "$T/build" >/dev/null
 "$T/build/consumer" | tee "$T/out"
 grep -q "similarity scale 2" "$T/out"
-# The installed CLI finds its schemes in the installed tree.
+# The installed CLI finds its schemes in the installed tree, and its plugins there too.
 "$T/prefix/bin/talkhead" --version
+LD_DEBUG=files "$T/prefix/bin/talkhead" corpus synth -q -o "$T/c" --size 128x72 --emotions neutral --visemes a,u 2>"$T/s"
+grep -q "file=$T/prefix/.*/talkhead/libtalkhead-oiio.so" "$T/s"

@@ -72,9 +72,11 @@ TEST(Trajectory, hermiteMidpointsAndZeroSpeedAtKeyposes) {
 
 TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 	const SmallFace& f = smallFace();
+	for (const WarpPath path : {WarpPath::Direct, WarpPath::Keypose})
 	for (const std::string emotion : {"joy", "anger"}) {
 		SynthOptions o;
 		o.emotion = emotion;
+		o.warpPath = path;
 		Synthesizer synth(f.model, o);
 		// A timeline through every viseme of the model: 200 ms phones, keyposes at their midpoints.
 		std::vector<PhoneSegment> phones;
@@ -106,7 +108,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 			const std::vector<float> alpha = softRegionMask(boundary, spec.grow, spec.feather * std::sqrt(regionArea(boundary, spec.grow)), 320, 180);
 			std::vector<std::uint8_t> mask(alpha.size());
 			for (std::size_t i = 0; i < alpha.size(); ++i) mask[i] = alpha[i] > 0.99f;
-			EXPECT_GE(psnr(toFloat(frame), toFloat(truth), mask), 30.0) << emotion << " " << k.cdv;
+			EXPECT_GE(psnr(toFloat(frame), toFloat(truth), mask), 30.0) << emotion << " " << k.cdv << (path == WarpPath::Direct ? " direct" : " keypose");
 		}
 		// Halfway between two keyposes the points are the midpoints of their shapes.
 		Image8 frame;
@@ -151,4 +153,69 @@ TEST(Synthesizer, sameInputsGiveTheSameFrames) {
 	EXPECT_EQ(a.width, 640);
 	EXPECT_EQ(a.data, b.data);
 	EXPECT_EQ(pa, pb);
+}
+
+namespace {
+double planePsnr(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+	double se = 0;
+	for (std::size_t i = 0; i < a.size(); ++i) se += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
+	return psnrFromMse(se / double(a.size()));
+}
+}  // namespace
+
+TEST(Synthesizer, yuvFramesAndBothWarpOrdersDrawTheSameFrame) {
+	// renderFrameYuv (drawn in YUV 4:2:0) against the RGB frame converted; the direct warp against the
+	// thesis's keypose order; mid-transition frames at a scaled output size.
+	const SmallFace& f = smallFace();
+	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "p1", 0}, {ms(300), ms(450), "", "", "u", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	SynthOptions o;
+	o.emotion = "joy";
+	o.width = 480;
+	o.height = 270;
+	Synthesizer direct(f.model, o);
+	o.warpPath = WarpPath::Keypose;
+	Synthesizer keypose(f.model, o);
+	direct.prepare(keys);
+	keypose.prepare(keys);
+	Synthesizer::Workspace w1, w2, w3;
+	for (long t : {0L, 110L, 160L, 260L, 400L}) {
+		Image8 rgb, rgbKeypose;
+		YuvImage yuv, converted;
+		Points p1, p2, p3;
+		direct.renderFrame(ms(t), keys, w1, rgb, p1);
+		direct.renderFrameYuv(ms(t), keys, w2, yuv, p2);
+		keypose.renderFrame(ms(t), keys, w3, rgbKeypose, p3);
+		EXPECT_EQ(p1, p2);
+		EXPECT_LT((p1 - p3).cwiseAbs().maxCoeff(), 1e-9);
+		rgbToYuv420(rgb, converted);
+		ASSERT_EQ(yuv.width, 480);
+		EXPECT_GE(planePsnr(yuv.y, converted.y), 45.0) << t;
+		EXPECT_GE(planePsnr(yuv.u, converted.u), 40.0) << t;
+		EXPECT_GE(planePsnr(yuv.v, converted.v), 40.0) << t;
+		EXPECT_GE(psnr(toFloat(rgb), toFloat(rgbKeypose)), 38.0) << t;
+	}
+}
+
+TEST(Synthesizer, keyposesAreMadeOnlyForTheFramesThatNeedThem) {
+	std::vector<Keypose> keys;
+	for (long t : {100L, 300L, 500L, 700L}) keys.push_back(Keypose{ms(t), "a", 0, 0});
+	auto times = [](const std::vector<Keypose>& k) {
+		std::vector<long> v;
+		for (const auto& x : k) v.push_back(long(x.time.count() / (kTicksPerSecond / 1000)));
+		return v;
+	};
+	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(350), ms(450))), (std::vector<long>{300, 500}));
+	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(0), ms(50))), (std::vector<long>{100}));      // hold before the first
+	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(800), ms(900))), (std::vector<long>{700}));   // and after the last
+	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(300), ms(520))), (std::vector<long>{300, 500, 700}));
+	// Substitutions are known before any keypose is made, and agree with the ones prepare() reports.
+	const SmallFace& f = smallFace();
+	SynthOptions o;
+	o.emotion = "fear";
+	Synthesizer synth(f.model, o);
+	std::vector<Keypose> k2 = {Keypose{ms(100), "a", 0, 0}, Keypose{ms(300), "p2", 0, 0}};
+	const auto planned = synth.substitutionsFor(k2);
+	synth.prepare(k2);
+	EXPECT_EQ(planned, synth.substitutions());
 }
