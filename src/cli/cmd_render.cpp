@@ -165,11 +165,6 @@ void renderVideo(const RenderJob& job) {
 				const std::int64_t n = bt.first + std::int64_t(k);
 				if (mp4) mp4->write(bt.yuv[k]);
 				if (y4m) y4m->write(bt.yuv[k]);
-				if (!framesDir.empty()) {
-					char name[64];
-					std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)n);
-					writeImage((fs::path(framesDir) / name).string(), bt.rgb[k], 1);
-				}
 				if (landmarks.is_open()) {
 					char buf[64];
 					std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)n, double(n) * vo.fpsDen / vo.fpsNum);
@@ -204,6 +199,9 @@ void renderVideo(const RenderJob& job) {
 			if (rgbFrames) {
 				synth.renderFrame(tau, keys, workspaces[k], bt.rgb[k], bt.pts[k]);
 				rgbToYuv420(bt.rgb[k], bt.yuv[k], synthOptions.yuvRange);
+				char name[64];  // PNG compression is the slow part: done here, by the workers
+				std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)(bt.first + std::int64_t(k)));
+				writeImage((fs::path(framesDir) / name).string(), bt.rgb[k], 1);
 			} else {
 				synth.renderFrameYuv(tau, keys, workspaces[k], bt.yuv[k], bt.pts[k]);
 			}
