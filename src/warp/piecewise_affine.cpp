@@ -332,6 +332,12 @@ void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, st
 				const __m256i round = _mm256_set1_epi32(1 << 13);
 				const int* base = reinterpret_cast<const int*>(sp);
 				const int* below = reinterpret_cast<const int*>(sp + stride);
+				const bool window = sw >= 16 && stride >= 16;  // 16-byte row loads stay inside the source
+				const __m256i one32 = _mm256_set1_epi32(1);
+				// Gathered dwords → bytes 0 and 1 of each (the pixel and its right neighbour) packed low.
+				const __m256i pairLow = _mm256_setr_epi8(0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1,
+				                                         -1, -1, -1, -1, -1);
+				const __m256i pack2 = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
 				for (; x + 8 <= fb; x += 8) {
 					const __m256 xs = _mm256_add_ps(_mm256_set1_ps(float(x)), lane);
 					const __m256 fu = _mm256_fmadd_ps(a0, xs, rxv), fv = _mm256_fmadd_ps(a3, xs, ryv);
@@ -340,14 +346,35 @@ void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, st
 					const __m256i wy = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fv, _mm256_cvtepi32_ps(iv)), w128));
 					const __m256i lx = _mm256_sub_epi32(k128, wx), ly = _mm256_sub_epi32(k128, wy);
 					if (ch == 1) {
-						const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), iu);
-						const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
-						const __m256i top = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_and_si256(p, byte), lx),
-						                                     _mm256_mullo_epi32(_mm256_and_si256(_mm256_srli_epi32(p, 8), byte), wx));
-						const __m256i bottom = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_and_si256(q, byte), lx),
-						                                        _mm256_mullo_epi32(_mm256_and_si256(_mm256_srli_epi32(q, 8), byte), wx));
-						__m256i r = _mm256_srli_epi32(
-						    _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(top, ly), _mm256_mullo_epi32(bottom, wy)), round), 14);
+						// The 2×2 neighbourhoods of the eight pixels: from one 16-byte window of two rows when
+						// they share a row and span ≤ 15 bytes (a near-identity map, the usual case here), picked
+						// with a byte shuffle; else gathered. Same integer arithmetic either way.
+						__m256i top, bottom;
+						const int iy0 = _mm256_cvtsi256_si32(iv), u0 = _mm256_cvtsi256_si32(iu), u7 = _mm256_extract_epi32(iu, 7);
+						const int umin = std::min(u0, u7), umax = std::max(u0, u7);
+						const __m256i wpair = _mm256_or_si256(_mm256_slli_epi32(wx, 16), lx);  // (128 − wx, wx) as int16 pairs
+						if (window && umax - umin <= 14 && _mm256_movemask_epi8(_mm256_cmpeq_epi32(iv, _mm256_set1_epi32(iy0))) == -1) {
+							const std::uint8_t* p = sp + std::size_t(iy0) * stride + std::size_t(umin);
+							const __m128i row0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+							const __m128i row1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + stride));
+							const __m256i idx = _mm256_sub_epi32(iu, _mm256_set1_epi32(umin));
+							const __m256i pairs = _mm256_or_si256(idx, _mm256_slli_epi32(_mm256_add_epi32(idx, one32), 8));
+							const __m128i m = _mm_packus_epi32(_mm256_castsi256_si128(pairs), _mm256_extracti128_si256(pairs, 1));
+							top = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_shuffle_epi8(row0, m)), wpair);
+							bottom = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_shuffle_epi8(row1, m)), wpair);
+						} else {
+							const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), iu);
+							const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
+							top = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
+							                            _mm256_shuffle_epi8(p, pairLow), pack2))),
+							                        wpair);
+							bottom = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
+							                               _mm256_shuffle_epi8(q, pairLow), pack2))),
+							                           wpair);
+						}
+						const __m256i tb = _mm256_or_si256(top, _mm256_slli_epi32(bottom, 16));  // both < 2¹⁵
+						const __m256i wv = _mm256_or_si256(_mm256_slli_epi32(wy, 16), ly);
+						__m256i r = _mm256_srli_epi32(_mm256_add_epi32(_mm256_madd_epi16(tb, wv), round), 14);
 						r = _mm256_packus_epi32(r, r);                       // 16-bit, per 128-bit lane
 						r = _mm256_permute4x64_epi64(r, 0x08);               // lanes' low halves together
 						r = _mm256_packus_epi16(r, r);
