@@ -107,6 +107,8 @@ TEST(Raster, sharedEdgesAreNeitherDoubledNorDropped) {
 			double d = cv::pointPolygonTest(quad, cv::Point2f(float(x), float(y)), true);
 			int c = count[std::size_t(y) * 24 + x];
 			ASSERT_LE(c, 1);
-			if (d > 1e-3) ASSERT_EQ(c, 1) << x << "," << y;
+			if (d > 1e-3) {
+				ASSERT_EQ(c, 1) << x << "," << y;
+			}
 		}
 }
