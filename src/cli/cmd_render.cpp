@@ -66,7 +66,9 @@ std::int64_t frameCount(Ticks duration, int fpsNum, int fpsDen) {
 	return std::max<std::int64_t>(1, (duration.count() * fpsNum + numer / 2) / numer);
 }
 
-void renderVideo(const RenderJob& job) {
+namespace {
+// The render itself; `temporary` gets the video's temporary name once there is one.
+void renderVideoTo(const RenderJob& job, std::string& temporary) {
 	const std::vector<Keypose>& keys = job.keys;
 	VideoOptions vo = job.video;
 	const SynthOptions& so = job.synth;
@@ -95,6 +97,12 @@ void renderVideo(const RenderJob& job) {
 	const double loadSeconds = since(tLoad);
 	SynthOptions synthOptions = so;
 	synthOptions.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
+	// 4:2:0 video needs even sizes: a model with an odd width or height renders one pixel smaller (the
+	// warps resample to the output size anyway).
+	if (synthOptions.width <= 0 && synthOptions.height <= 0 && (model.width % 2 || model.height % 2)) {
+		synthOptions.width = std::max(2, model.width & ~1);
+		synthOptions.height = std::max(2, model.height & ~1);
+	}
 	Synthesizer synth(model, synthOptions);
 	vo.width = synth.width();
 	vo.height = synth.height();
@@ -113,12 +121,14 @@ void renderVideo(const RenderJob& job) {
 	const bool withAudio = job.audio && !job.audio->samples.empty() && !job.noAudio;
 	if (format == "mp4") {
 		tmpVideo.path = temporaryNameFor(job.output);
+		temporary = tmpVideo.path;
 		mp4 = std::make_unique<Mp4Writer>(tmpVideo.path, vo, withAudio ? job.audio : nullptr);
 	} else if (job.output == "-") {
 		y4mFile = stdout;
 		y4m = std::make_unique<Y4mWriter>(stdout, vo);
 	} else {
 		tmpVideo.path = temporaryNameFor(job.output);
+		temporary = tmpVideo.path;
 		y4mFile = std::fopen(tmpVideo.path.c_str(), "wb");
 		if (!y4mFile) throw Error(job.output, 0, "cannot write");
 		y4m = std::make_unique<Y4mWriter>(y4mFile, vo);
@@ -257,6 +267,19 @@ void renderVideo(const RenderJob& job) {
 		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %d/%d fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
 		             job.output.c_str(), (long long)frames, vo.width, vo.height, vo.fpsNum, vo.fpsDen, toSeconds(duration),
 		             withAudio ? "audio" : "transcript", keys.size(), so.emotion.c_str(), secs, double(frames) / secs, toSeconds(duration) / secs);
+}
+
+}  // namespace
+
+void renderVideo(const RenderJob& job) {
+	std::string temporary;
+	try {
+		renderVideoTo(job, temporary);
+	} catch (const Error& e) {  // errors name the output, not its temporary (which is gone)
+		const std::string m = e.what();
+		if (temporary.empty() || m.rfind(temporary + ": ", 0) != 0) throw;
+		throw Error(job.output + ": " + m.substr(temporary.size() + 2));
+	}
 }
 
 int runRender(const std::vector<std::string>& argv) {

@@ -52,6 +52,11 @@ if [ -f "$SHARED/grid/id2_vcd_swwp2s.mpg" ]; then
 	"$TH" render -q --model "$T/face.thm" --lang en-US --unknown nearest --transcript "$SHARED/grid/swwp2s.align" --audio "$SHARED/grid/id2_vcd_swwp2s.mpg" -o "$T/g.mp4"
 	n=$(probe "$T/g.mp4" v:0 nb_read_frames); [ "$n" -ge 88 ] && [ "$n" -le 91 ]   # the clip's ~3 s of MP2 audio
 fi
+# A model of odd size renders one pixel smaller (4:2:0 video needs even sizes).
+"$TH" corpus synth -q -o "$T/odd" --size 201x113 --emotions neutral --visemes sil,a,u,p1,i1
+"$TH" build -q "$T/odd/corpus.csv" -o "$T/odd.thm"
+"$TH" render -q --model "$T/odd.thm" --transcript "$TG" -o "$T/odd.mp4"
+test "$(ffprobe -v error -select_streams v:0 -show_entries stream=width,height -of csv=p=0 "$T/odd.mp4")" = "200,112"
 # Errors: one line, non-zero exit, no output file.
 err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
 err render --model "$T/face.thm" --transcript "$TG" --emotion grumpy -o "$T/x.mp4" | grep -q "unknown emotion 'grumpy'"
