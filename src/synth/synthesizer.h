@@ -52,8 +52,10 @@ public:
 	int width() const { return width_; }
 	int height() const { return height_; }
 
-	// The keypose image of a CDV for the emotion (computed once). Missing (emotion, CDV) entries fall back
-	// to neutral for that CDV, then to the other CDVs of the same homorganic group.
+	// The keypose of a CDV for the emotion (computed once). Missing (emotion, CDV) entries fall back
+	// to neutral for that CDV, then to the other CDVs of the same homorganic group. On the Direct path it
+	// holds the face box's appearance in the mean-shape frame (no `image`): renderFrame at the keypose's
+	// time draws it.
 	const KeyposeImage& keypose(const std::string& cdv);
 	// Substitutions made so far: "emotion cdv → emotion' cdv'".
 	std::vector<std::string> substitutions() const;
