@@ -2,10 +2,7 @@
 #include "warp/piecewise_affine.h"
 
 #include <emmintrin.h>  // SSE2: part of the x86-64 baseline
-#if defined(__AVX2__) && defined(__FMA__)
-#include <immintrin.h>
-#define TALKHEAD_AVX2 1
-#endif
+#include <immintrin.h>  // AVX2 kernels, compiled with a target attribute and dispatched at run time
 
 #include <algorithm>
 #include <cmath>
@@ -299,6 +296,99 @@ void PiecewiseAffineWarp::apply(const ImageT<In>& src, ImageT<Out>& dst) const {
 	}
 }
 
+namespace {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define TALKHEAD_AVX2 1
+// The plane kernel's vector loop, eight pixels at a time from x while x + 8 ≤ fb: float positions (exact
+// to ~1e-4 px here) and 7-bit weights; returns where it stopped. Compiled for AVX2 + FMA whatever the
+// build's -march, and called only when the CPU has them (portable builds dispatch at run time).
+__attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int sw, std::size_t stride, int ch, const float* a, float rx, float ry,
+                                                    int x, int fb, std::uint8_t* const* dst, std::size_t row) {
+	const __m256 a0 = _mm256_set1_ps(a[0]), a3 = _mm256_set1_ps(a[3]), rxv = _mm256_set1_ps(rx), ryv = _mm256_set1_ps(ry);
+	const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7), w128 = _mm256_set1_ps(128.f);
+	const __m256i strideV = _mm256_set1_epi32(int(stride)), byte = _mm256_set1_epi32(0xFF), k128 = _mm256_set1_epi32(128);
+	const __m256i round = _mm256_set1_epi32(1 << 13);
+	const int* base = reinterpret_cast<const int*>(sp);
+	const int* below = reinterpret_cast<const int*>(sp + stride);
+	const bool window = sw >= 16 && stride >= 16;  // 16-byte row loads stay inside the source
+	const __m256i one32 = _mm256_set1_epi32(1);
+	// Gathered dwords → bytes 0 and 1 of each (the pixel and its right neighbour) packed low.
+	const __m256i pairLow = _mm256_setr_epi8(0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1,
+	                                         -1, -1, -1, -1, -1);
+	const __m256i pack2 = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
+	for (; x + 8 <= fb; x += 8) {
+		const __m256 xs = _mm256_add_ps(_mm256_set1_ps(float(x)), lane);
+		const __m256 fu = _mm256_fmadd_ps(a0, xs, rxv), fv = _mm256_fmadd_ps(a3, xs, ryv);
+		const __m256i iu = _mm256_cvttps_epi32(fu), iv = _mm256_cvttps_epi32(fv);
+		const __m256i wx = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fu, _mm256_cvtepi32_ps(iu)), w128));
+		const __m256i wy = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fv, _mm256_cvtepi32_ps(iv)), w128));
+		const __m256i lx = _mm256_sub_epi32(k128, wx), ly = _mm256_sub_epi32(k128, wy);
+		if (ch == 1) {
+			// The 2×2 neighbourhoods of the eight pixels: from one 16-byte window of two rows when
+			// they share a row and span ≤ 15 bytes (a near-identity map, the usual case here), picked
+			// with a byte shuffle; else gathered. Same integer arithmetic either way.
+			__m256i top, bottom;
+			const int iy0 = _mm256_cvtsi256_si32(iv), u0 = _mm256_cvtsi256_si32(iu), u7 = _mm256_extract_epi32(iu, 7);
+			const int umin = std::min(u0, u7), umax = std::max(u0, u7);
+			const __m256i wpair = _mm256_or_si256(_mm256_slli_epi32(wx, 16), lx);  // (128 − wx, wx) as int16 pairs
+			if (window && umax - umin <= 14 && _mm256_movemask_epi8(_mm256_cmpeq_epi32(iv, _mm256_set1_epi32(iy0))) == -1) {
+				const std::uint8_t* p = sp + std::size_t(iy0) * stride + std::size_t(umin);
+				const __m128i row0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+				const __m128i row1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + stride));
+				const __m256i idx = _mm256_sub_epi32(iu, _mm256_set1_epi32(umin));
+				const __m256i pairs = _mm256_or_si256(idx, _mm256_slli_epi32(_mm256_add_epi32(idx, one32), 8));
+				const __m128i m = _mm_packus_epi32(_mm256_castsi256_si128(pairs), _mm256_extracti128_si256(pairs, 1));
+				top = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_shuffle_epi8(row0, m)), wpair);
+				bottom = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_shuffle_epi8(row1, m)), wpair);
+			} else {
+				const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), iu);
+				const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
+				top = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
+				                            _mm256_shuffle_epi8(p, pairLow), pack2))),
+				                        wpair);
+				bottom = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
+				                               _mm256_shuffle_epi8(q, pairLow), pack2))),
+				                           wpair);
+			}
+			const __m256i tb = _mm256_or_si256(top, _mm256_slli_epi32(bottom, 16));  // both < 2¹⁵
+			const __m256i wv = _mm256_or_si256(_mm256_slli_epi32(wy, 16), ly);
+			__m256i r = _mm256_srli_epi32(_mm256_add_epi32(_mm256_madd_epi16(tb, wv), round), 14);
+			r = _mm256_packus_epi32(r, r);                       // 16-bit, per 128-bit lane
+			r = _mm256_permute4x64_epi64(r, 0x08);               // lanes' low halves together
+			r = _mm256_packus_epi16(r, r);
+			_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[0] + row + std::size_t(x)), _mm256_castsi256_si128(r));
+		} else {
+			const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), _mm256_add_epi32(iu, iu));
+			const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
+			__m256i res[2];
+			for (int c = 0; c < 2; ++c) {
+				const int sh0 = 8 * c, sh1 = 8 * c + 16;
+				const __m256i p0 = _mm256_and_si256(_mm256_srl_epi32(p, _mm_cvtsi32_si128(sh0)), byte);
+				const __m256i p1 = _mm256_and_si256(_mm256_srl_epi32(p, _mm_cvtsi32_si128(sh1)), byte);
+				const __m256i q0 = _mm256_and_si256(_mm256_srl_epi32(q, _mm_cvtsi32_si128(sh0)), byte);
+				const __m256i q1 = _mm256_and_si256(_mm256_srl_epi32(q, _mm_cvtsi32_si128(sh1)), byte);
+				const __m256i top = _mm256_add_epi32(_mm256_mullo_epi32(p0, lx), _mm256_mullo_epi32(p1, wx));
+				const __m256i bottom = _mm256_add_epi32(_mm256_mullo_epi32(q0, lx), _mm256_mullo_epi32(q1, wx));
+				__m256i r = _mm256_srli_epi32(
+				    _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(top, ly), _mm256_mullo_epi32(bottom, wy)), round), 14);
+				r = _mm256_packus_epi32(r, r);
+				r = _mm256_permute4x64_epi64(r, 0x08);
+				res[c] = _mm256_packus_epi16(r, r);
+			}
+			_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[0] + row + std::size_t(x)), _mm256_castsi256_si128(res[0]));
+			_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[1] + row + std::size_t(x)), _mm256_castsi256_si128(res[1]));
+		}
+	}
+	return x;
+}
+
+bool cpuHasAvx2() {
+	static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+	return yes;
+}
+#endif
+}  // namespace
+
 void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, std::size_t stride, int ch, std::uint8_t* const* dst,
                                       std::size_t dstStride) const {
 	if (ch != 1 && ch != 2) throw std::logic_error("PiecewiseAffineWarp::applyPlanes: 1 or 2 channels");
@@ -324,83 +414,8 @@ void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, st
 			const std::int64_t du = std::llround(double(a[0]) * one), dv = std::llround(double(a[3]) * one);
 			int x = fa;
 #ifdef TALKHEAD_AVX2
-			// Eight pixels at a time: float positions (exact to ~1e-4 px here), 7-bit weights, gathered loads.
-			{
-				const __m256 a0 = _mm256_set1_ps(a[0]), a3 = _mm256_set1_ps(a[3]), rxv = _mm256_set1_ps(rx), ryv = _mm256_set1_ps(ry);
-				const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7), w128 = _mm256_set1_ps(128.f);
-				const __m256i strideV = _mm256_set1_epi32(int(stride)), byte = _mm256_set1_epi32(0xFF), k128 = _mm256_set1_epi32(128);
-				const __m256i round = _mm256_set1_epi32(1 << 13);
-				const int* base = reinterpret_cast<const int*>(sp);
-				const int* below = reinterpret_cast<const int*>(sp + stride);
-				const bool window = sw >= 16 && stride >= 16;  // 16-byte row loads stay inside the source
-				const __m256i one32 = _mm256_set1_epi32(1);
-				// Gathered dwords → bytes 0 and 1 of each (the pixel and its right neighbour) packed low.
-				const __m256i pairLow = _mm256_setr_epi8(0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1,
-				                                         -1, -1, -1, -1, -1);
-				const __m256i pack2 = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-				for (; x + 8 <= fb; x += 8) {
-					const __m256 xs = _mm256_add_ps(_mm256_set1_ps(float(x)), lane);
-					const __m256 fu = _mm256_fmadd_ps(a0, xs, rxv), fv = _mm256_fmadd_ps(a3, xs, ryv);
-					const __m256i iu = _mm256_cvttps_epi32(fu), iv = _mm256_cvttps_epi32(fv);
-					const __m256i wx = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fu, _mm256_cvtepi32_ps(iu)), w128));
-					const __m256i wy = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fv, _mm256_cvtepi32_ps(iv)), w128));
-					const __m256i lx = _mm256_sub_epi32(k128, wx), ly = _mm256_sub_epi32(k128, wy);
-					if (ch == 1) {
-						// The 2×2 neighbourhoods of the eight pixels: from one 16-byte window of two rows when
-						// they share a row and span ≤ 15 bytes (a near-identity map, the usual case here), picked
-						// with a byte shuffle; else gathered. Same integer arithmetic either way.
-						__m256i top, bottom;
-						const int iy0 = _mm256_cvtsi256_si32(iv), u0 = _mm256_cvtsi256_si32(iu), u7 = _mm256_extract_epi32(iu, 7);
-						const int umin = std::min(u0, u7), umax = std::max(u0, u7);
-						const __m256i wpair = _mm256_or_si256(_mm256_slli_epi32(wx, 16), lx);  // (128 − wx, wx) as int16 pairs
-						if (window && umax - umin <= 14 && _mm256_movemask_epi8(_mm256_cmpeq_epi32(iv, _mm256_set1_epi32(iy0))) == -1) {
-							const std::uint8_t* p = sp + std::size_t(iy0) * stride + std::size_t(umin);
-							const __m128i row0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
-							const __m128i row1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + stride));
-							const __m256i idx = _mm256_sub_epi32(iu, _mm256_set1_epi32(umin));
-							const __m256i pairs = _mm256_or_si256(idx, _mm256_slli_epi32(_mm256_add_epi32(idx, one32), 8));
-							const __m128i m = _mm_packus_epi32(_mm256_castsi256_si128(pairs), _mm256_extracti128_si256(pairs, 1));
-							top = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_shuffle_epi8(row0, m)), wpair);
-							bottom = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm_shuffle_epi8(row1, m)), wpair);
-						} else {
-							const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), iu);
-							const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
-							top = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
-							                            _mm256_shuffle_epi8(p, pairLow), pack2))),
-							                        wpair);
-							bottom = _mm256_madd_epi16(_mm256_cvtepu8_epi16(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
-							                               _mm256_shuffle_epi8(q, pairLow), pack2))),
-							                           wpair);
-						}
-						const __m256i tb = _mm256_or_si256(top, _mm256_slli_epi32(bottom, 16));  // both < 2¹⁵
-						const __m256i wv = _mm256_or_si256(_mm256_slli_epi32(wy, 16), ly);
-						__m256i r = _mm256_srli_epi32(_mm256_add_epi32(_mm256_madd_epi16(tb, wv), round), 14);
-						r = _mm256_packus_epi32(r, r);                       // 16-bit, per 128-bit lane
-						r = _mm256_permute4x64_epi64(r, 0x08);               // lanes' low halves together
-						r = _mm256_packus_epi16(r, r);
-						_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[0] + row + std::size_t(x)), _mm256_castsi256_si128(r));
-					} else {
-						const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), _mm256_add_epi32(iu, iu));
-						const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
-						__m256i res[2];
-						for (int c = 0; c < 2; ++c) {
-							const int sh0 = 8 * c, sh1 = 8 * c + 16;
-							const __m256i p0 = _mm256_and_si256(_mm256_srl_epi32(p, _mm_cvtsi32_si128(sh0)), byte);
-							const __m256i p1 = _mm256_and_si256(_mm256_srl_epi32(p, _mm_cvtsi32_si128(sh1)), byte);
-							const __m256i q0 = _mm256_and_si256(_mm256_srl_epi32(q, _mm_cvtsi32_si128(sh0)), byte);
-							const __m256i q1 = _mm256_and_si256(_mm256_srl_epi32(q, _mm_cvtsi32_si128(sh1)), byte);
-							const __m256i top = _mm256_add_epi32(_mm256_mullo_epi32(p0, lx), _mm256_mullo_epi32(p1, wx));
-							const __m256i bottom = _mm256_add_epi32(_mm256_mullo_epi32(q0, lx), _mm256_mullo_epi32(q1, wx));
-							__m256i r = _mm256_srli_epi32(
-							    _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(top, ly), _mm256_mullo_epi32(bottom, wy)), round), 14);
-							r = _mm256_packus_epi32(r, r);
-							r = _mm256_permute4x64_epi64(r, 0x08);
-							res[c] = _mm256_packus_epi16(r, r);
-						}
-						_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[0] + row + std::size_t(x)), _mm256_castsi256_si128(res[0]));
-						_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[1] + row + std::size_t(x)), _mm256_castsi256_si128(res[1]));
-					}
-				}
+			if (cpuHasAvx2()) {
+				x = planeRunAvx2(sp, sw, stride, ch, a, rx, ry, x, fb, dst, row);
 				u = std::llround((double(a[0]) * x + rx) * one);
 				v = std::llround((double(a[3]) * x + ry) * one);
 			}
