@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <type_traits>
 #include <stdexcept>
@@ -382,8 +383,9 @@ __attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int
 	return x;
 }
 
+// TALKHEAD_SCALAR_WARP (any value) forces the scalar kernel, so tests cover it on AVX2 machines too.
 bool cpuHasAvx2() {
-	static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+	static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !std::getenv("TALKHEAD_SCALAR_WARP");
 	return yes;
 }
 #endif
