@@ -193,6 +193,12 @@ void renderVideoTo(const RenderJob& job, std::string& temporary) {
 		}
 	};
 	std::thread writer;
+	struct JoinOnExit {  // an error while the writer runs must not destroy a joinable thread
+		std::thread& t;
+		~JoinOnExit() {
+			if (t.joinable()) t.join();
+		}
+	} joinWriter{writer};
 	int cur = 0;
 	auto frameTime = [&](std::int64_t n) { return Ticks(n * frameNumer / vo.fpsNum); };
 	for (std::int64_t first = 0; first < frames;) {

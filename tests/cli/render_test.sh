@@ -66,6 +66,17 @@ err render --model "$T/none.thm" --transcript "$TG" -o "$T/x.mp4" | grep -q "$T/
 err render --model "$T/face.thm" --transcript "$TG" -o "$T/no/such/dir/x.mp4" | grep -q "does not exist"
 /usr/bin/python3 -c "import wave; w=wave.open('$T/empty.wav','wb'); w.setnchannels(1); w.setsampwidth(2); w.setframerate(16000); w.close()"
 err render --model "$T/face.thm" --transcript "$TG" --audio "$T/empty.wav" -o "$T/x.mp4" | grep -q "$T/empty.wav"
+# A damaged cached appearance (read on demand, while the writer thread is busy): one line naming the model.
+/usr/bin/python3 - "$T/face.thm" "$T/bad.thm" <<'PY'
+import sys
+d = bytearray(open(sys.argv[1], "rb").read())
+i = d.find(b"\0\0\0appearances") + len(b"\0\0\0appearances") + 4 + 8 + 5000  # sample 0 of the face region
+d[i] ^= 0x40
+open(sys.argv[2], "wb").write(d)
+PY
+head -1 "$T/c/corpus.csv" | grep -q '^neutral_p1.png,neutral,'
+{ for i in $(seq 0 20); do printf '%d.0\t%d.5\ta\n%d.5\t%d.9\tp\n%d.9\t%d.0\ti\n' $i $i $i $i $i $((i + 1)); done; } >"$T/long.tsv"
+err render --model "$T/bad.thm" --transcript "$T/long.tsv" --emotion neutral -o "$T/x.mp4" | grep -q "$T/bad.thm: corrupt model file: checksum mismatch in the cached appearance of sample 0"
 test ! -e "$T/x.mp4"
 test -z "$(ls -A "$T" | grep '^\.tmp-' || true)"
 echo "render ok"
