@@ -14,6 +14,7 @@ extern "C" {
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 
 #include "media/av_module.h"
 #include "media/av_util.h"
@@ -256,9 +257,10 @@ struct Mp4Encoder {
 };
 
 // The plugin's entry points: exceptions stay inside, messages go out as strings.
-bool decodeAudioEntry(const std::string& path, int sampleRate, AudioClip& out, std::string& error) {
+template <class F>
+bool guarded(std::string& error, F&& f) {
 	try {
-		out = decodeAudioImpl(path, sampleRate);
+		f();
 		return true;
 	} catch (const std::exception& e) {
 		error = e.what();
@@ -266,40 +268,28 @@ bool decodeAudioEntry(const std::string& path, int sampleRate, AudioClip& out, s
 	}
 }
 
+bool decodeAudioEntry(const std::string& path, int sampleRate, AudioClip& out, std::string& error) {
+	return guarded(error, [&] { out = decodeAudioImpl(path, sampleRate); });
+}
+
 void* openMp4Entry(const std::string& path, const VideoOptions& o, const AudioClip* audio, std::string& error) {
-	auto* enc = new Mp4Encoder;
-	try {
+	auto enc = std::make_unique<Mp4Encoder>();
+	const bool ok = guarded(error, [&] {
 		enc->path = path;
 		enc->o = o;
 		enc->audio = audio && audio->frameCount() ? audio : nullptr;
 		av_log_set_level(AV_LOG_ERROR);
 		enc->open();
-		return enc;
-	} catch (const std::exception& e) {
-		error = e.what();
-		delete enc;
-		return nullptr;
-	}
+	});
+	return ok ? enc.release() : nullptr;
 }
 
 bool writeMp4Entry(void* h, const YuvImage& frame, std::string& error) {
-	try {
-		static_cast<Mp4Encoder*>(h)->writeYuv(frame);
-		return true;
-	} catch (const std::exception& e) {
-		error = e.what();
-		return false;
-	}
+	return guarded(error, [&] { static_cast<Mp4Encoder*>(h)->writeYuv(frame); });
 }
 
 bool finishMp4Entry(void* h, std::string& error) {
-	try {
-		static_cast<Mp4Encoder*>(h)->finish();
-		return true;
-	} catch (const std::exception& e) {
-		error = e.what();
-		return false;
-	}
+	return guarded(error, [&] { static_cast<Mp4Encoder*>(h)->finish(); });
 }
 
 void closeMp4Entry(void* h) { delete static_cast<Mp4Encoder*>(h); }

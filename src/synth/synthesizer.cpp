@@ -236,50 +236,54 @@ Points Synthesizer::trajectory(const Points& s, const Points& t, double u, Traje
 	return s + (t - s) * h;
 }
 
-void Synthesizer::locate(Ticks tau, const std::vector<Keypose>& keys, const KeyposeImage*& src, const KeyposeImage*& dst, double& u,
-                         Points& p) const {
+Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const {
 	if (keys.empty()) throw std::logic_error("renderFrame: no keyposes");
 	// The bracketing keyposes; before the first and after the last the face holds.
 	std::size_t i = 0;
 	while (i + 1 < keys.size() && keys[i + 1].time <= tau) ++i;
-	src = &cached(keys[i].cdv);
+	Between f;
+	f.src = &cached(keys[i].cdv);
 	const bool hold = tau <= keys.front().time || i + 1 >= keys.size();
-	dst = hold ? src : &cached(keys[i + 1].cdv);
-	u = 0;
-	if (!hold) u = double((tau - keys[i].time).count()) / double((keys[i + 1].time - keys[i].time).count());
-	p = trajectory(src->shape, dst->shape, u, o_.trajectory);
-}
-
-void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points) const {
-	const KeyposeImage *src, *dst;
-	double u;
-	locate(tau, keys, src, dst, u, points);
-	if (out.width != width_ || out.height != height_ || out.channels != 3) out = Image8(width_, height_, 3);
+	f.dst = hold ? f.src : &cached(keys[i + 1].cdv);
+	f.u = hold ? 0 : double((tau - keys[i].time).count()) / double((keys[i + 1].time - keys[i].time).count());
+	f.w = o_.dissolve == Trajectory::Hermite ? f.u * f.u * (3 - 2 * f.u) : f.u;
+	f.w256 = int(std::lround(std::clamp(f.w, 0.0, 1.0) * 256));
+	points = trajectory(f.src->shape, f.dst->shape, f.u, o_.trajectory);
 	points.col(0) *= scaleX_;
 	points.col(1) *= scaleY_;
+	return f;
+}
+
+namespace {
+// Points a workspace's warp at a new destination shape (made on first use).
+void placeWarp(std::unique_ptr<PiecewiseAffineWarp>& warp, const TriangleMesh& mesh, const Points& destination, int width, int height) {
+	if (!warp) warp = std::make_unique<PiecewiseAffineWarp>(mesh, destination, width, height);
+	else warp->setDestination(destination);
+}
+}  // namespace
+
+void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points) const {
+	const Between f = locate(tau, keys, points);
+	if (out.width != width_ || out.height != height_ || out.channels != 3) out = Image8(width_, height_, 3);
 	const auto t0 = std::chrono::steady_clock::now();
-	const Points pOut = withFrameBorder(points, width_, height_);
-	if (!ws.warp) ws.warp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, pOut, width_, height_);
-	else ws.warp->setDestination(pOut);
-	// Eq. 5.4's weight: t (thesis) or the Hermite ease.
-	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
+	placeWarp(ws.warp, model_.frameMesh, withFrameBorder(points, width_, height_), width_, height_);
 	if (o_.warpPath == WarpPath::Keypose) {
-		if (u <= 0) {
-			ws.warp->setSource(withFrameBorder(src->shape, model_.width, model_.height));
-			ws.warp->apply(src->image, out);
+		if (f.u <= 0) {
+			ws.warp->setSource(withFrameBorder(f.src->shape, model_.width, model_.height));
+			ws.warp->apply(f.src->image, out);
 		} else {  // F = K_f (1 − t) + K_b t, K_f = source warped S → P(t), K_b = target warped T → P(t), in one pass
-			ws.warp->dissolve(src->image, withFrameBorder(src->shape, model_.width, model_.height), dst->image,
-			                  withFrameBorder(dst->shape, model_.width, model_.height), w, out);
+			ws.warp->dissolve(f.src->image, withFrameBorder(f.src->shape, model_.width, model_.height), f.dst->image,
+			                  withFrameBorder(f.dst->shape, model_.width, model_.height), f.w, out);
 		}
 		ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		return;
 	}
 	// Direct: dissolve the two composited appearances in the mean-shape frame, then one warp s̄ → P(t).
 	if (ws.meanRgb.empty()) ws.meanRgb = model_.baseface;
-	const int wb = int(std::lround(std::clamp(w, 0.0, 1.0) * 256)), rw = roiX1_ - roiX0_;
+	const int rw = roiX1_ - roiX0_;
 	for (int y = roiY0_; y < roiY1_; ++y) {
 		const std::size_t at = std::size_t(y - roiY0_) * rw * 3;
-		blendRow(src->rgb.data() + at, dst->rgb.data() + at, wb, ws.meanRgb.row(y) + std::size_t(roiX0_) * 3, std::size_t(rw) * 3);
+		blendRow(f.src->rgb.data() + at, f.dst->rgb.data() + at, f.w256, ws.meanRgb.row(y) + std::size_t(roiX0_) * 3, std::size_t(rw) * 3);
 	}
 	ws.warp->setSource(meanSource_);
 	ws.warp->apply(ws.meanRgb, out);
@@ -292,20 +296,13 @@ void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Wo
 		rgbToYuv420(ws.rgb, out, o_.yuvRange);
 		return;
 	}
-	const KeyposeImage *src, *dst;
-	double u;
-	locate(tau, keys, src, dst, u, points);
+	const Between f = locate(tau, keys, points);
 	out.resize(width_, height_);
-	points.col(0) *= scaleX_;
-	points.col(1) *= scaleY_;
 	const auto t0 = std::chrono::steady_clock::now();
 	const int W = model_.width, H = model_.height, cw = (W + 1) / 2, ch = (H + 1) / 2;
 	const int outCw = out.chromaWidth(), outCh = out.chromaHeight();
-	const Points pOut = withFrameBorder(points, width_, height_), cOut = withFrameBorder(toChroma(points), outCw, outCh);
-	if (!ws.warp) ws.warp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, pOut, width_, height_);
-	else ws.warp->setDestination(pOut);
-	if (!ws.chromaWarp) ws.chromaWarp = std::make_unique<PiecewiseAffineWarp>(model_.frameMesh, cOut, outCw, outCh);
-	else ws.chromaWarp->setDestination(cOut);
+	placeWarp(ws.warp, model_.frameMesh, withFrameBorder(points, width_, height_), width_, height_);
+	placeWarp(ws.chromaWarp, model_.frameMesh, withFrameBorder(toChroma(points), outCw, outCh), outCw, outCh);
 	if (ws.meanY.empty()) {
 		resizePrefaulted(ws.meanY, baseY_.size());
 		resizePrefaulted(ws.meanUV, baseUV_.size());
@@ -313,15 +310,14 @@ void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Wo
 		std::memcpy(ws.meanUV.data(), baseUV_.data(), baseUV_.size());
 	}
 	// Eq. 5.4 in the mean-shape frame (luma and chroma), then one warp of each plane s̄ → P(t).
-	const double w = o_.dissolve == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
-	const int wb = int(std::lround(std::clamp(w, 0.0, 1.0) * 256)), rw = roiX1_ - roiX0_, rcw = (rw + 1) / 2;
+	const int rw = roiX1_ - roiX0_, rcw = (rw + 1) / 2;
 	for (int y = roiY0_; y < roiY1_; ++y) {
 		const std::size_t at = std::size_t(y - roiY0_) * rw;
-		blendRow(src->y.data() + at, dst->y.data() + at, wb, ws.meanY.data() + std::size_t(y) * W + roiX0_, std::size_t(rw));
+		blendRow(f.src->y.data() + at, f.dst->y.data() + at, f.w256, ws.meanY.data() + std::size_t(y) * W + roiX0_, std::size_t(rw));
 	}
 	for (int y = roiY0_ / 2; y < (roiY1_ + 1) / 2; ++y) {
 		const std::size_t at = std::size_t(y - roiY0_ / 2) * rcw * 2;
-		blendRow(src->uv.data() + at, dst->uv.data() + at, wb, ws.meanUV.data() + (std::size_t(y) * cw + std::size_t(roiX0_ / 2)) * 2,
+		blendRow(f.src->uv.data() + at, f.dst->uv.data() + at, f.w256, ws.meanUV.data() + (std::size_t(y) * cw + std::size_t(roiX0_ / 2)) * 2,
 		         std::size_t(rcw) * 2);
 	}
 	ws.warp->setSource(meanSource_);

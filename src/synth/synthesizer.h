@@ -96,8 +96,15 @@ private:
 	std::vector<std::uint8_t> baseY_, baseUV_;           // the baseface in YUV 4:2:0
 	const KeyposeImage& cached(const std::string& cdv) const;
 	long resolve(const std::string& cdv) const;  // the model sample used for a CDV
-	// The bracketing keyposes of τ, the morph position u ∈ [0, 1] and the feature points (model pixels).
-	void locate(Ticks tau, const std::vector<Keypose>& keys, const KeyposeImage*& src, const KeyposeImage*& dst, double& u, Points& p) const;
+	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the
+	// dissolve weight (Eq. 5.4: t or the Hermite ease) as a double and in 1/256.
+	struct Between {
+		const KeyposeImage *src, *dst;
+		double u, w;
+		int w256;
+	};
+	// Also sets `points`: the feature points at τ in output pixels.
+	Between locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const;
 	KeyposeImage makeKeypose(long sample, const std::vector<const std::uint8_t*>& cached8, const std::vector<Eigen::VectorXf>& synthesized) const;
 };
 
