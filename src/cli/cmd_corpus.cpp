@@ -74,11 +74,17 @@ int runSynth(const std::vector<std::string>& argv) {
 
 int runCorpus(const std::vector<std::string>& argv) {
 	if (argv.empty() || argv[0] == "--help" || argv[0] == "-h") {
-		std::printf("usage: talkhead corpus synth -o DIR [options]   (see 'talkhead corpus synth --help')\n");
+		std::printf("usage: talkhead corpus synth -o DIR [options]                        the synthetic corpus\n"
+		            "       talkhead corpus landmarks VIDEO|FOLDER -o DIR [options]         68 face points per frame (dlib)\n"
+		            "       talkhead corpus from-video VIDEO [--text T] -o DIR [options]    a viseme corpus from a video\n"
+		            "(see 'talkhead corpus SUBCOMMAND --help')\n");
 		return argv.empty() ? 2 : 0;
 	}
 	if (argv[0] == "synth") return runSynth(std::vector<std::string>(argv.begin() + 1, argv.end()));
-	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth)");
+	const std::vector<std::string> rest(argv.begin() + 1, argv.end());
+	if (argv[0] == "landmarks") return runCorpusLandmarks(rest);
+	if (argv[0] == "from-video") return runCorpusFromVideo(rest);
+	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth, landmarks or from-video)");
 }
 
 }  // namespace talkhead::cli

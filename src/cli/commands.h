@@ -12,5 +12,9 @@ int runCorpus(const std::vector<std::string>& args);
 int runVisemes(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
 int runSay(const std::vector<std::string>& args);
+int runAlign(const std::vector<std::string>& args);
+int runCompare(const std::vector<std::string>& args);
+int runCorpusLandmarks(const std::vector<std::string>& args);
+int runCorpusFromVideo(const std::vector<std::string>& args);
 
 }  // namespace talkhead::cli

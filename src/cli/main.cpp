@@ -26,9 +26,11 @@ const char* kUsage =
     "commands:\n"
     "  build     build a face model (.thm) from an annotated image corpus\n"
     "  inspect   summarise a face model, draw it (-o DIR), measure reconstruction (--recon)\n"
-    "  corpus    corpus tools: 'corpus synth' writes the synthetic expressive viseme corpus\n"
+    "  corpus    corpus tools: 'synth' (synthetic corpus), 'landmarks' (track a video), 'from-video' (corpus from a video)\n"
     "  render    render a talking-head video from a transcript, audio and an emotion\n"
     "  say       text in, talking-head video with speech out (espeak-ng, in process)\n"
+    "  align     forced alignment: speech audio (or video) + its text -> TextGrid of words and phones\n"
+    "  compare   lip-sync measures of a synthesized video against a real speaker's video\n"
     "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
     "\n"
     "  talkhead <command> --help   options of one command\n"
@@ -62,9 +64,11 @@ int main(int argc, char** argv) {
 		if (command == "visemes") return cli::runVisemes(rest);
 		if (command == "render") return cli::runRender(rest);
 		if (command == "say") return cli::runSay(rest);
+		if (command == "align") return cli::runAlign(rest);
+		if (command == "compare") return cli::runCompare(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

@@ -8,6 +8,7 @@ extern "C" {
 #include <libavutil/log.h>
 #include <libavutil/opt.h>
 #include <libswresample/swresample.h>
+#include <libswscale/swscale.h>
 }
 
 #include <algorithm>
@@ -256,6 +257,116 @@ struct Mp4Encoder {
 	}
 };
 
+struct VideoDecoder {
+	std::string path;
+	AVFormatContext* fmt = nullptr;
+	AVCodecContext* ctx = nullptr;
+	SwsContext* sws = nullptr;
+	AVPacket* pkt = nullptr;
+	AVFrame* frame = nullptr;
+	int stream = -1;
+	int width = 0, height = 0;
+	bool flushed = false, ended = false;
+	double lastTime = -1, frameStep = 0;
+	std::int64_t decoded = 0;
+
+	void open(VideoInfo& info) {
+		if (!std::filesystem::exists(path)) throw Error(path, 0, "video file not found");
+		av_log_set_level(AV_LOG_FATAL);
+		checkAv(avformat_open_input(&fmt, path.c_str(), nullptr, nullptr), path, "cannot open video");
+		checkAv(avformat_find_stream_info(fmt, nullptr), path, "cannot read the stream info");
+		const AVCodec* dec = nullptr;
+		stream = av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, &dec, 0);
+		if (stream < 0 || !dec) throw Error(path, 0, "no video stream");
+		ctx = avcodec_alloc_context3(dec);
+		AVStream* st = fmt->streams[stream];
+		checkAv(avcodec_parameters_to_context(ctx, st->codecpar), path, "bad video parameters");
+		ctx->thread_count = 1;  // frames in order, deterministic; the caller parallelises per frame
+		checkAv(avcodec_open2(ctx, dec, nullptr), path, "cannot open the video decoder");
+		width = ctx->width;
+		height = ctx->height;
+		if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+			throw Error(path, 0, "absurd video size " + std::to_string(width) + "x" + std::to_string(height));
+		info.width = width;
+		info.height = height;
+		AVRational r = st->avg_frame_rate.num > 0 ? st->avg_frame_rate : st->r_frame_rate;
+		info.fpsNum = r.num > 0 ? r.num : 0;
+		info.fpsDen = r.num > 0 ? r.den : 1;
+		frameStep = r.num > 0 ? double(r.den) / r.num : 0;
+		double dur = st->duration > 0 ? double(st->duration) * av_q2d(st->time_base) : (fmt->duration > 0 ? double(fmt->duration) / AV_TIME_BASE : 0);
+		info.duration = Ticks(std::llround(dur * double(kTicksPerSecond)));
+		info.frameCountHint = st->nb_frames > 0 ? st->nb_frames : (r.num > 0 ? std::int64_t(std::llround(dur * av_q2d(r))) : 0);
+		info.hasAudio = av_find_best_stream(fmt, AVMEDIA_TYPE_AUDIO, -1, -1, nullptr, 0) >= 0;
+		pkt = av_packet_alloc();
+		frame = av_frame_alloc();
+	}
+
+	// 1 = a frame in `rgb`, 0 = end.
+	int read(Image8& rgb, double& seconds) {
+		for (;;) {
+			int r = avcodec_receive_frame(ctx, frame);
+			if (r == 0) {
+				convert(rgb);
+				const AVStream* st = fmt->streams[stream];
+				std::int64_t pts = frame->best_effort_timestamp;
+				double t = pts != AV_NOPTS_VALUE ? double(pts - (st->start_time != AV_NOPTS_VALUE ? st->start_time : 0)) * av_q2d(st->time_base) : -1;
+				// Missing or non-increasing timestamps: continue at the nominal frame rate.
+				if (t < 0 || (lastTime >= 0 && t <= lastTime)) t = lastTime < 0 ? 0 : lastTime + (frameStep > 0 ? frameStep : 0.04);
+				// Snap to the frame grid of a constant-rate stream (timestamps are often rounded to ms).
+				if (frameStep > 0) {
+					const double n = std::round(t / frameStep);
+					if (std::abs(n * frameStep - t) < 0.25 * frameStep) t = n * frameStep;
+				}
+				lastTime = t;
+				seconds = t;
+				av_frame_unref(frame);
+				++decoded;
+				return 1;
+			}
+			if (r == AVERROR_EOF) return 0;
+			if (r != AVERROR(EAGAIN)) checkAv(r, path, "cannot decode video");
+			if (flushed) return 0;
+			// Feed the decoder.
+			for (;;) {
+				r = av_read_frame(fmt, pkt);
+				if (r < 0) {
+					avcodec_send_packet(ctx, nullptr);
+					flushed = true;
+					break;
+				}
+				if (pkt->stream_index == stream) {
+					int s = avcodec_send_packet(ctx, pkt);
+					av_packet_unref(pkt);
+					if (s < 0 && s != AVERROR(EAGAIN) && s != AVERROR_INVALIDDATA) checkAv(s, path, "cannot decode video");
+					break;
+				}
+				av_packet_unref(pkt);
+			}
+		}
+	}
+
+	void convert(Image8& rgb) {
+		if (frame->width != width || frame->height != height) {
+			// A size change mid-stream: scale to the first frame's size.
+		}
+		sws = sws_getCachedContext(sws, frame->width, frame->height, AVPixelFormat(frame->format), width, height, AV_PIX_FMT_RGB24,
+		                           SWS_BILINEAR | SWS_ACCURATE_RND | SWS_BITEXACT, nullptr, nullptr, nullptr);
+		if (!sws) throw Error(path, 0, "cannot convert the video's pixel format");
+		if (rgb.width != width || rgb.height != height || rgb.channels != 3) rgb = Image8(width, height, 3);
+		uint8_t* dst[1] = {rgb.data.data()};
+		int stride[1] = {3 * width};
+		sws_scale(sws, frame->data, frame->linesize, 0, frame->height, dst, stride);
+	}
+
+	~VideoDecoder() {
+		sws_freeContext(sws);
+		av_packet_free(&pkt);
+		av_frame_free(&frame);
+		avcodec_free_context(&ctx);
+		if (fmt) avformat_close_input(&fmt);
+	}
+};
+
 // The plugin's entry points: exceptions stay inside, messages go out as strings.
 template <class F>
 bool guarded(std::string& error, F&& f) {
@@ -294,7 +405,25 @@ bool finishMp4Entry(void* h, std::string& error) {
 
 void closeMp4Entry(void* h) { delete static_cast<Mp4Encoder*>(h); }
 
-const AvModule kModule{kAvModuleAbi, decodeAudioEntry, openMp4Entry, writeMp4Entry, finishMp4Entry, closeMp4Entry};
+void* openVideoEntry(const std::string& path, VideoInfo& info, std::string& error) {
+	auto dec = std::make_unique<VideoDecoder>();
+	const bool ok = guarded(error, [&] {
+		dec->path = path;
+		dec->open(info);
+	});
+	return ok ? dec.release() : nullptr;
+}
+
+int readVideoEntry(void* h, Image8& rgb, double& seconds, std::string& error) {
+	int r = -1;
+	guarded(error, [&] { r = static_cast<VideoDecoder*>(h)->read(rgb, seconds); });
+	return r;
+}
+
+void closeVideoEntry(void* h) { delete static_cast<VideoDecoder*>(h); }
+
+const AvModule kModule{kAvModuleAbi, decodeAudioEntry, openMp4Entry, writeMp4Entry, finishMp4Entry, closeMp4Entry,
+                       openVideoEntry, readVideoEntry, closeVideoEntry};
 
 }  // namespace
 

@@ -8,11 +8,12 @@
 
 #include "image/yuv.h"
 #include "media/audio.h"
+#include "media/video_reader.h"
 #include "media/video_writer.h"
 
 namespace talkhead {
 
-constexpr int kAvModuleAbi = 1;
+constexpr int kAvModuleAbi = 2;
 
 struct AvModule {
 	int abi;  // kAvModuleAbi
@@ -22,6 +23,11 @@ struct AvModule {
 	bool (*writeMp4)(void* encoder, const YuvImage& frame, std::string& error);
 	bool (*finishMp4)(void* encoder, std::string& error);
 	void (*closeMp4)(void* encoder);
+	// A video decoder (opaque) with the stream's info, or nullptr with `error` set.
+	void* (*openVideo)(const std::string& path, VideoInfo& info, std::string& error);
+	// The next frame as RGB (resized to info's size) with its time in seconds; 0 at the end, −1 on error.
+	int (*readVideo)(void* decoder, Image8& rgb, double& seconds, std::string& error);
+	void (*closeVideo)(void* decoder);
 };
 
 // The loaded plugin (throws Error when it cannot be loaded).

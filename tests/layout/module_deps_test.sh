@@ -13,8 +13,10 @@ declare -A allowed=(
 	[corpus]="base geometry image media corpus"
 	[phonetics]="base phonetics"
 	[synth]="base geometry image warp model phonetics synth"
+	[align]="base media image geometry phonetics align"
+	[track]="base geometry image media phonetics align corpus track"
 	[viz]="base geometry image warp model viz"
-	[cli]="base geometry image warp model media corpus viz phonetics synth cli"
+	[cli]="base geometry image warp model media corpus viz phonetics synth align track cli"
 )
 fail=0
 for dir in "$SRC"/*/; do

@@ -1,0 +1,432 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "align/align.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <sstream>
+
+#include "align/features.h"
+#include "base/error.h"
+#include "base/text.h"
+#include "phonetics/espeak.h"
+#include "phonetics/language.h"
+
+namespace talkhead {
+
+using align::FeatureMatrix;
+using align::FeatureOptions;
+
+namespace {
+
+const Ticks kMs(kTicksPerSecond / 1000);
+
+std::string fixed(double v, int decimals) {
+	char buf[64];
+	std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+	return buf;
+}
+
+double percentile(std::vector<float> v, double p) {
+	if (v.empty()) return 0;
+	const std::size_t k = std::min(v.size() - 1, std::size_t(p * double(v.size() - 1) + 0.5));
+	std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+	return v[k];
+}
+
+double median(std::vector<double> v) {
+	std::sort(v.begin(), v.end());
+	const std::size_t n = v.size();
+	return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Frame k's centre in seconds, and back.
+double frameCentre(double k, const FeatureOptions& f) { return k * f.hopSeconds + f.windowSeconds / 2; }
+double framePosition(double seconds, const FeatureOptions& f) { return (seconds - f.windowSeconds / 2) / f.hopSeconds; }
+
+// The voice-activity decision over the input's frames.
+struct Activity {
+	std::vector<bool> speech;
+	int first = -1, last = -1;  // first and last speech frame
+};
+
+Activity detectSpeech(const std::vector<float>& levels, const AlignTuning& t) {
+	if (levels.empty()) throw Error("no speech in the audio: it is shorter than one 25 ms frame");
+	const double peak = percentile(levels, 0.99), floor = percentile(levels, 0.05);
+	if (peak < t.silentBelowDb)
+		throw Error("no speech in the audio: it is silent (peak level " + fixed(peak, 0) + " dBFS)");
+	if (peak - floor < t.minRangeDb)
+		throw Error("no speech in the audio: its level hardly varies (" + fixed(peak - floor, 1) + " dB between quiet and loud frames; steady noise or a tone?)");
+	const double threshold = floor + std::max(6.0, t.vadFraction * (peak - floor));
+	Activity a;
+	a.speech.resize(levels.size());
+	for (std::size_t k = 0; k < levels.size(); ++k) a.speech[k] = levels[k] > threshold;
+	// Runs shorter than 50 ms are not speech; gaps shorter than 100 ms inside speech are.
+	const auto fillRuns = [&](bool value, int shorter) {
+		std::size_t k = 0;
+		while (k < a.speech.size()) {
+			if (a.speech[k] != value) {
+				++k;
+				continue;
+			}
+			std::size_t e = k;
+			while (e < a.speech.size() && a.speech[e] == value) ++e;
+			const bool inner = k > 0 && e < a.speech.size();
+			if (int(e - k) < shorter && (value || inner))
+				for (std::size_t i = k; i < e; ++i) a.speech[i] = !value;
+			k = e;
+		}
+	};
+	fillRuns(true, 5);
+	fillRuns(false, 10);
+	for (std::size_t k = 0; k < a.speech.size(); ++k)
+		if (a.speech[k]) {
+			if (a.first < 0) a.first = int(k);
+			a.last = int(k);
+		}
+	if (a.first < 0) throw Error("no speech in the audio: no stretch of 50 ms stands out from the background");
+	return a;
+}
+
+// A reference rendition of the text by espeak-ng.
+struct Rendition {
+	int sampleRate = 0;
+	std::vector<float> samples;
+	Transcript phones;  // contiguous from 0 to the end of samples; word-initial closures belong to the stop
+	struct Word {
+		std::string text;
+		std::size_t firstPhone, lastPhone;  // indices into phones.intervals
+	};
+	std::vector<Word> words;
+	double speechSeconds = 0;  // first phone start to last phone end
+};
+
+// espeak-ng's phoneme event of a word-initial stop comes after its closure; the word event marks the
+// closure's start. Gives that stretch to the word's first phone.
+Transcript attachClosures(const Speech& sp) {
+	std::vector<Interval> ph = sp.phones.intervals;
+	for (const Interval& w : sp.words.intervals) {
+		std::size_t q = 0;
+		while (q < ph.size() && (ph[q].label.empty() || ph[q].start < w.start)) {
+			if (!ph[q].label.empty() && ph[q].start < w.start && ph[q].end > w.start && ph[q].start >= w.start) break;
+			++q;
+		}
+		if (q >= ph.size() || ph[q].start <= w.start || ph[q].start >= w.end) continue;
+		for (std::size_t r = 0; r < q; ++r) ph[r].end = std::min(ph[r].end, w.start);
+		ph[q].start = w.start;
+		for (std::size_t r = 0; r < q; ++r) ph[r].start = std::min(ph[r].start, ph[r].end);
+	}
+	Transcript t = sp.phones;
+	t.intervals.clear();
+	for (Interval& i : ph)
+		if (i.end > i.start) t.intervals.push_back(std::move(i));
+	return t;
+}
+
+Rendition renderText(const std::string& text, const std::string& voice, int rate, const AlignTuning& t) {
+	const Speech sp = espeakSpeak(text, voice, rate, -1, t.wordGap10ms);
+	Rendition r;
+	r.sampleRate = sp.sampleRate;
+	const std::size_t pad = std::size_t(t.padSeconds * sp.sampleRate);
+	const Ticks padTicks(std::int64_t(pad) * (kTicksPerSecond / sp.sampleRate));
+	r.samples.assign(pad, 0.f);
+	for (short v : sp.pcm) r.samples.push_back(float(v) / 32768.f);
+	r.samples.insert(r.samples.end(), pad, 0.f);
+	const Transcript ph = attachClosures(sp);
+	r.phones = ph;
+	r.phones.intervals.clear();
+	r.phones.intervals.push_back({Ticks(0), padTicks, "", 0});
+	for (Interval i : ph.intervals) {
+		i.start += padTicks;
+		i.end += padTicks;
+		r.phones.intervals.push_back(i);
+	}
+	r.phones.intervals.push_back({r.phones.intervals.back().end, r.phones.intervals.back().end + padTicks, "", 0});
+	Ticks first{-1}, last{0};
+	for (const Interval& i : r.phones.intervals)
+		if (!i.label.empty()) {
+			if (first < Ticks(0)) first = i.start;
+			last = i.end;
+		}
+	r.speechSeconds = toSeconds(last - first);
+	for (const Interval& w : sp.words.intervals) {
+		const Ticks a = w.start + padTicks, b = w.end + padTicks;
+		std::size_t f = r.phones.intervals.size(), l = 0;
+		for (std::size_t k = 0; k < r.phones.intervals.size(); ++k) {
+			const Interval& p = r.phones.intervals[k];
+			if (p.label.empty() || p.end <= a || p.start >= b) continue;
+			f = std::min(f, k);
+			l = std::max(l, k);
+		}
+		if (f <= l) r.words.push_back({w.label, f, l});
+	}
+	return r;
+}
+
+std::vector<float> monoOf(const AudioClip& clip) {
+	const std::size_t frames = clip.frameCount();
+	std::vector<float> mono(frames);
+	const int ch = std::max(1, clip.channels);
+	for (std::size_t k = 0; k < frames; ++k) {
+		float s = 0;
+		for (int c = 0; c < ch; ++c) s += clip.samples[k * std::size_t(ch) + std::size_t(c)];
+		mono[k] = s / float(ch);
+	}
+	return mono;
+}
+
+// One rendition aligned with the input: phone boundaries (seconds, input time) and match costs.
+struct RenditionResult {
+	std::vector<double> boundaries;  // phones.intervals.size() + 1
+	double costRatio = 0;            // mean local cost on the path over speech frames / unrelated pairs
+	std::vector<double> wordRatio;   // the same per word
+};
+
+RenditionResult alignRendition(const FeatureMatrix& input, const Activity& activity, const Rendition& r, const FeatureOptions& fo,
+                               const AlignTuning& t) {
+	FeatureMatrix ref = align::mfcc(r.samples, r.sampleRate, fo);
+	const int m = ref.frames, n = input.frames;
+	if (m == 0) throw Error("the text's rendition is too short to align");
+	std::vector<bool> pauseB(std::size_t(m)), speechB(std::size_t(m));
+	std::vector<int> phoneOf(std::size_t(m), -1);
+	{
+		std::size_t p = 0;
+		for (int j = 0; j < m; ++j) {
+			const Ticks c = ticksFromSeconds(frameCentre(j, fo));
+			while (p + 1 < r.phones.intervals.size() && r.phones.intervals[p].end <= c) ++p;
+			pauseB[std::size_t(j)] = r.phones.intervals[p].label.empty();
+			speechB[std::size_t(j)] = !pauseB[std::size_t(j)];
+			phoneOf[std::size_t(j)] = int(p);
+		}
+	}
+	align::normalise(ref, speechB);
+	std::vector<bool> pauseA;
+	if (t.inputPauses) {
+		pauseA.resize(std::size_t(n));
+		for (int i = 0; i < n; ++i) pauseA[std::size_t(i)] = !activity.speech[std::size_t(i)];
+	}
+	align::DtwOptions dopt;
+	dopt.maxSlope = t.maxSlope;
+	if (double(n) * double(m) > 4e6) dopt.band = std::max(150, int(0.3 * std::max(n, m)));
+	const align::DtwResult d = align::dtw(input, ref, pauseA, pauseB, dopt);
+	RenditionResult out;
+	const align::PathMap map(d.path, m);
+	for (std::size_t k = 0; k <= r.phones.intervals.size(); ++k) {
+		const Ticks tb = k < r.phones.intervals.size() ? r.phones.intervals[k].start : r.phones.intervals.back().end;
+		const double x = map(framePosition(toSeconds(tb), fo));
+		out.boundaries.push_back(frameCentre(x, fo));
+	}
+	// Costs: the path's cells on the rendition's speech frames against unrelated speech-frame pairs.
+	double baseline = 0;
+	long pairs = 0;
+	{
+		std::vector<int> ia, jb;
+		for (int i = 0; i < n; ++i)
+			if (activity.speech[std::size_t(i)]) ia.push_back(i);
+		for (int j = 0; j < m; ++j)
+			if (speechB[std::size_t(j)]) jb.push_back(j);
+		const std::size_t si = std::max<std::size_t>(1, ia.size() / 150), sj = std::max<std::size_t>(1, jb.size() / 150);
+		for (std::size_t a = 0; a < ia.size(); a += si)
+			for (std::size_t b = 0; b < jb.size(); b += sj) {
+				baseline += align::frameDistance(input, ia[a], ref, jb[b]);
+				++pairs;
+			}
+		baseline = pairs ? baseline / double(pairs) : 1.0;
+	}
+	std::vector<int> wordOfPhone(r.phones.intervals.size(), -1);
+	for (std::size_t w = 0; w < r.words.size(); ++w)
+		for (std::size_t p = r.words[w].firstPhone; p <= r.words[w].lastPhone; ++p) wordOfPhone[p] = int(w);
+	std::vector<double> wsum(r.words.size(), 0.0);
+	std::vector<long> wcount(r.words.size(), 0);
+	double sum = 0;
+	long count = 0;
+	for (const auto& [i, j] : d.path) {
+		if (pauseB[std::size_t(j)]) continue;
+		const double c = align::frameDistance(input, i, ref, j);
+		sum += c;
+		++count;
+		const int w = wordOfPhone[std::size_t(phoneOf[std::size_t(j)])];
+		if (w >= 0) wsum[std::size_t(w)] += c, ++wcount[std::size_t(w)];
+	}
+	out.costRatio = count ? sum / double(count) / baseline : 1.0;
+	for (std::size_t w = 0; w < r.words.size(); ++w) out.wordRatio.push_back(wcount[w] ? wsum[w] / double(wcount[w]) / baseline : out.costRatio);
+	return out;
+}
+
+double confidenceOf(double ratio, const AlignTuning& t) { return std::clamp((t.ratioMismatch - ratio) / (t.ratioMismatch - t.ratioMatch), 0.0, 1.0); }
+
+std::vector<std::string> defaultVoices(const std::string& tag) {
+	const std::string v = espeakVoiceFor(tag);
+	return {v, v + "+m3", v + "+f2"};
+}
+
+bool samePhones(const Rendition& a, const Rendition& b) {
+	if (a.phones.intervals.size() != b.phones.intervals.size() || a.words.size() != b.words.size()) return false;
+	for (std::size_t k = 0; k < a.phones.intervals.size(); ++k)
+		if (a.phones.intervals[k].label != b.phones.intervals[k].label) return false;
+	for (std::size_t k = 0; k < a.words.size(); ++k)
+		if (a.words[k].firstPhone != b.words[k].firstPhone || a.words[k].lastPhone != b.words[k].lastPhone) return false;
+	return true;
+}
+
+}  // namespace
+
+Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& o) {
+	if (trim(text).empty()) throw Error("the text is empty: nothing to align");
+	if (audio.sampleRate <= 0 || audio.frameCount() == 0) throw Error("no speech in the audio: it is empty");
+	const Language& lang = Language::get(o.languageTag);
+	const AlignTuning& t = o.tuning;
+	FeatureOptions fo;
+	fo.deltaDeltas = t.deltaDeltas;
+	// The input: features, normalised over its speech frames.
+	const std::vector<float> mono = monoOf(audio);
+	const Activity activity = detectSpeech(align::frameLevels(mono, audio.sampleRate, fo), t);
+	FeatureMatrix input = align::mfcc(mono, audio.sampleRate, fo);
+	align::normalise(input, activity.speech);
+	const double inputSpeech = frameCentre(activity.last, fo) - frameCentre(activity.first, fo) + fo.hopSeconds;
+	// The renditions, at the input's speaking rate.
+	const std::vector<std::string> voices = o.voices.empty() ? defaultVoices(lang.tag()) : o.voices;
+	int rate = 175;
+	if (t.matchRate) {
+		for (int it = 0; it <= t.rateIterations; ++it) {
+			const Rendition probe = renderText(text, voices[0], rate, t);
+			const double next = rate * probe.speechSeconds / std::max(inputSpeech, 0.05);
+			const int clamped = int(std::lround(std::clamp(next, 80.0, 450.0)));
+			if (clamped == rate) break;
+			rate = clamped;
+		}
+	}
+	std::vector<Rendition> renditions;
+	std::vector<RenditionResult> results;
+	for (const std::string& v : voices) {
+		Rendition r = renderText(text, v, rate, t);
+		if (!renditions.empty() && !samePhones(renditions[0], r)) continue;  // another phone sequence: not comparable
+		results.push_back(alignRendition(input, activity, r, fo, t));
+		renditions.push_back(std::move(r));
+	}
+	const Rendition& ref = renditions[0];
+	if (ref.words.empty()) throw Error("nothing to align: the text has no speakable words");
+	const double duration = toSeconds(audio.duration());
+	// Median boundaries over the renditions, then order, minimum lengths and the ends.
+	const std::size_t P = ref.phones.intervals.size();
+	std::vector<double> b(P + 1);
+	for (std::size_t k = 0; k <= P; ++k) {
+		std::vector<double> v;
+		for (const auto& r : results) v.push_back(r.boundaries[k]);
+		b[k] = std::clamp(median(v), 0.0, duration);
+	}
+	b[0] = 0;
+	b[P] = duration;
+	const double minPhone = t.minPhoneSeconds;
+	for (std::size_t k = 1; k <= P; ++k) b[k] = std::max(b[k], b[k - 1] + (ref.phones.intervals[k - 1].label.empty() ? 0.0 : minPhone));
+	b[P] = std::max(b[P], duration);
+	for (std::size_t k = P; k-- > 1;) b[k] = std::min(b[k], b[k + 1] - (ref.phones.intervals[k].label.empty() ? 0.0 : minPhone));
+	for (std::size_t k = 1; k < P; ++k) b[k] = std::max(b[k], 0.0);
+	// Short pauses (a rendition's word gap that the speaker did not make) go to their neighbours.
+	std::vector<Ticks> bt(P + 1);
+	for (std::size_t k = 0; k <= P; ++k) bt[k] = ticksFromSeconds(b[k]);
+	bt[P] = audio.duration();
+	for (std::size_t k = 1; k + 1 < P; ++k) {
+		const Interval& p = ref.phones.intervals[k];
+		if (!p.label.empty() || bt[k + 1] - bt[k] >= ticksFromSeconds(t.minPauseSeconds)) continue;
+		const Ticks mid = bt[k] + (bt[k + 1] - bt[k]) / 2;
+		bt[k] = bt[k + 1] = mid;
+	}
+	Transcript espeakPhonesOut;
+	espeakPhonesOut.path = "alignment";
+	for (std::size_t k = 0; k < P; ++k)
+		if (bt[k + 1] > bt[k]) espeakPhonesOut.intervals.push_back({bt[k], bt[k + 1], ref.phones.intervals[k].label, long(k + 1)});
+	// Canonical phones of the language (espeak-ng's IPA names mapped as `talkhead say` maps them).
+	Alignment al;
+	al.phones.path = "alignment";
+	al.phones.format = "textgrid";
+	al.phones.level = LabelLevel::Phone;
+	for (const PhoneSegment& s : phoneSegments(espeakPhonesOut, lang, UnknownPhone::Nearest)) {
+		const std::string label = s.phone == "_" ? "" : s.phone;
+		if (label.empty() && !al.phones.intervals.empty() && al.phones.intervals.back().label.empty()) al.phones.intervals.back().end = s.end;
+		else al.phones.intervals.push_back({s.start, s.end, label, 0});
+	}
+	// Words: between their first phone's start and last phone's end.
+	al.words.path = "alignment";
+	al.words.format = "textgrid";
+	al.words.level = LabelLevel::Word;
+	double ratio = 0;
+	for (const auto& r : results) ratio += r.costRatio;
+	ratio /= double(results.size());
+	al.confidence = confidenceOf(ratio, t);
+	Ticks at{0};
+	for (std::size_t w = 0; w < ref.words.size(); ++w) {
+		const Ticks s = std::max(at, bt[ref.words[w].firstPhone]), e = bt[ref.words[w].lastPhone + 1];
+		if (e <= s) continue;
+		if (s > at) al.words.intervals.push_back({at, s, "", 0});
+		al.words.intervals.push_back({s, e, ref.words[w].text, long(w + 1)});
+		std::vector<double> v;
+		for (const auto& r : results) v.push_back(r.wordRatio[w]);
+		al.wordList.push_back({s, e, ref.words[w].text, confidenceOf(median(v), t)});
+		at = e;
+	}
+	if (at < audio.duration()) al.words.intervals.push_back({at, audio.duration(), "", 0});
+	al.speechStart = ticksFromSeconds(std::max(0.0, frameCentre(activity.first, fo) - fo.hopSeconds / 2));
+	al.speechEnd = ticksFromSeconds(std::min(duration, frameCentre(activity.last, fo) + fo.hopSeconds / 2));
+	al.renditions = int(results.size());
+	if (al.confidence < o.mismatchBelow) throw Error("the text does not match the audio (confidence " + fixed(al.confidence, 2) + ")");
+	if (al.confidence < o.doubtfulBelow)
+		al.warnings.push_back("the text may not match the audio (confidence " + fixed(al.confidence, 2) + "): check the alignment");
+	return al;
+}
+
+Alignment alignSpeechFile(const std::string& path, const std::string& text, const AlignOptions& options) {
+	const AudioClip clip = decodeAudio(path, 16000);
+	try {
+		return alignSpeech(clip, text, options);
+	} catch (const Error& e) {
+		throw Error(path, 0, e.what());
+	}
+}
+
+std::string alignmentTextGrid(const Alignment& al, Ticks duration) {
+	std::ostringstream o;
+	const auto sec = [](Ticks t) { return fixed(toSeconds(t), 6); };
+	const auto quoted = [](const std::string& s) {
+		std::string q = "\"";
+		for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+		return q + "\"";
+	};
+	Ticks end = duration;
+	for (const Transcript* t : {&al.words, &al.phones})
+		if (!t->intervals.empty()) end = std::max(end, t->intervals.back().end);
+	o << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n\nxmin = 0\nxmax = " << sec(end) << "\ntiers? <exists>\nsize = 2\nitem []:\n";
+	int n = 0;
+	for (const auto& [name, tier] : {std::pair<const char*, const Transcript*>{"words", &al.words}, {"phones", &al.phones}}) {
+		// Contiguous from 0 to the end: gaps become empty intervals.
+		std::vector<Interval> iv;
+		Ticks at{0};
+		for (const Interval& i : tier->intervals) {
+			if (i.start > at) iv.push_back({at, i.start, "", 0});
+			if (i.end > std::max(at, i.start)) iv.push_back({std::max(at, i.start), i.end, i.label, 0});
+			at = std::max(at, i.end);
+		}
+		if (at < end) iv.push_back({at, end, "", 0});
+		o << "    item [" << ++n << "]:\n        class = \"IntervalTier\"\n        name = \"" << name << "\"\n        xmin = 0\n        xmax = " << sec(end)
+		  << "\n        intervals: size = " << iv.size() << "\n";
+		for (std::size_t i = 0; i < iv.size(); ++i)
+			o << "        intervals [" << i + 1 << "]:\n            xmin = " << sec(iv[i].start) << "\n            xmax = " << sec(iv[i].end)
+			  << "\n            text = " << quoted(iv[i].label) << "\n";
+	}
+	return o.str();
+}
+
+std::string alignmentSummary(const Alignment& al) {
+	std::size_t phones = 0;
+	for (const Interval& i : al.phones.intervals) phones += !i.label.empty();
+	std::string s = std::to_string(al.wordList.size()) + " words, " + std::to_string(phones) + " phones, speech " + fixed(toSeconds(al.speechStart), 2) +
+	                "–" + fixed(toSeconds(al.speechEnd), 2) + " s, confidence " + fixed(al.confidence, 2);
+	const AlignedWord* low = nullptr;
+	for (const AlignedWord& w : al.wordList)
+		if (!low || w.confidence < low->confidence) low = &w;
+	if (low && al.wordList.size() > 1) s += " (lowest: '" + low->text + "' " + fixed(low->confidence, 2) + ")";
+	return s;
+}
+
+}  // namespace talkhead

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Forced alignment of speech audio to its text (issue 10 §2; docs/decisions.md D30).
+//
+// Method: espeak-ng speaks the same text (in process) in a few voices at the input's speaking rate; the
+// input and each rendition become MFCC + Δ features (25 ms / 10 ms, normalised per utterance over the
+// speech frames); dynamic time warping with slope limits and free pauses matches them; the renditions'
+// phone and word boundaries, known from espeak-ng's events, are carried through the warping paths and the
+// median over the renditions is kept. The mean warping cost, relative to the cost of unrelated frame
+// pairs, gives a confidence in [0, 1].
+#include <string>
+#include <vector>
+
+#include "base/ticks.h"
+#include "media/audio.h"
+#include "phonetics/transcript.h"
+
+namespace talkhead {
+
+struct AlignOptions {
+	std::string languageTag = "pt-BR";  // a language with a viseme table: "pt-BR", "en-US" (Language::get)
+	// espeak-ng voices of the reference renditions; empty = the language's voice plus two variants
+	// (e.g. "en-us", "en-us+m3", "en-us+f2").
+	std::vector<std::string> voices;
+	// Below this confidence alignSpeech throws "the text does not match the audio"; below doubtfulBelow it
+	// adds a warning. Set mismatchBelow to 0 to always get an alignment.
+	double mismatchBelow = 0.25;
+	double doubtfulBelow = 0.5;
+};
+
+// A word of the alignment with its own confidence.
+struct AlignedWord {
+	Ticks start{0}, end{0};
+	std::string text;
+	double confidence = 0;
+};
+
+struct Alignment {
+	// Both cover [0, the audio's duration) without gaps: pauses are intervals with empty labels.
+	Transcript words;   // level Word: the text's words as written
+	Transcript phones;  // level Phone: canonical IPA of the language's inventory (phonetics/<tag>/)
+	std::vector<AlignedWord> wordList;  // the spoken words only, in order, with their confidences
+	double confidence = 0;              // 0 (the text does not fit the audio) … 1 (a close match)
+	Ticks speechStart{0}, speechEnd{0};  // where the voice-activity measure found speech
+	int renditions = 0;                  // reference renditions the result is the median of
+	std::vector<std::string> warnings;   // e.g. a doubtful match; for the caller to print
+};
+
+// Aligns `text` with the speech in `audio` (any sample rate and channel count; channels are averaged).
+// Throws Error for empty text, text with nothing to say, audio without speech (silence or steady noise:
+// "no speech in the audio …"), and text that does not match the audio ("the text does not match the
+// audio (confidence 0.12)") unless options.mismatchBelow is 0.
+Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& options = {});
+
+// Decodes a file (audio, or the audio track of a video: decodeAudio at 16 kHz) and aligns it; errors name
+// the file.
+Alignment alignSpeechFile(const std::string& path, const std::string& text, const AlignOptions& options = {});
+
+// The alignment as a Praat TextGrid (long text format) with interval tiers "words" and "phones" over
+// [0, duration]; `talkhead render --transcript` reads its "phones" tier.
+std::string alignmentTextGrid(const Alignment& alignment, Ticks duration);
+
+// One line for a command's summary: "12 words, 41 phones, speech 0.49–2.21 s, confidence 0.83 (lowest:
+// 'soon' 0.61)".
+std::string alignmentSummary(const Alignment& alignment);
+
+}  // namespace talkhead

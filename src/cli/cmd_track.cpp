@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// talkhead corpus landmarks | corpus from-video | compare: faces from real video (issue 10).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "cli/output_dir.h"
+#include "cli/progress_bar.h"
+#include "media/image_io.h"
+#include "track/landmarks.h"
+
+namespace talkhead::cli {
+
+namespace {
+
+// Keeps evenly spaced thumbnails of a stream of frames whose count is only estimated.
+class ThumbnailPicker {
+public:
+	ThumbnailPicker(std::size_t want, double expectedFrames) : want_(want), step_(std::max(1.0, expectedFrames / double(want))) {}
+	void offer(const FrameLandmarks& f, const Image8& rgb) {
+		if (double(seen_++) + 1e-9 >= next_) {
+			thumbs_.push_back({f, rgb});
+			next_ += step_;
+		}
+	}
+	std::vector<Thumbnail>& thumbs() { return thumbs_; }
+
+private:
+	std::size_t want_;
+	double step_, next_ = 0;
+	std::size_t seen_ = 0;
+	std::vector<Thumbnail> thumbs_;
+};
+
+}  // namespace
+
+int runCorpusLandmarks(const std::vector<std::string>& argv) {
+	Args args("corpus landmarks", "talkhead corpus landmarks VIDEO|IMAGE_FOLDER -o DIR [options]",
+	          {{"--output", "DIR", "folder for the .pts files, landmarks.tsv and contact.png (required)", "-o"},
+	           {"--every", "N", "landmark every Nth frame (default 1)"},
+	           {"--start", "T", "start at T seconds (or m:ss)"},
+	           {"--duration", "T", "landmark T seconds (default: to the end)"},
+	           {"--no-smooth", "", "write the unsmoothed fits (default: one-euro smoothing of every point)"},
+	           {"--min-cutoff", "HZ", "one-euro cutoff at rest (default 1.5 Hz)"},
+	           {"--beta", "B", "one-euro speed coefficient, per eye distance per second (default 4)"},
+	           {"--redetect", "S", "run the face detector every S seconds while tracking (default 2)"},
+	           {"--model", "F.dat", "dlib 68-point predictor (default /usr/share/dlib/shape_predictor_68_face_landmarks.dat)"},
+	           {"--no-pts", "", "do not write one .pts file per frame"},
+	           {"--sheet", "N", "frames on the contact sheet (default 24)"},
+	           {"--quiet", "", "no progress and no summary", "-q"}},
+	          "Finds the face and its 68 iBUG points (dlib) in every frame of a video, or in every image of a folder.\n"
+	          "Video: detect once, then track from frame to frame (re-detecting every few seconds or when a fit\n"
+	          "is inconsistent), with one-euro smoothing that removes jitter without lagging the mouth. Writes\n"
+	          "one iBUG .pts per frame (frame_NNNNNN.pts, or the image's name), landmarks.tsv (frame, time,\n"
+	          "status, confidence, x y per point) and contact.png (points drawn on sampled frames). Frames where\n"
+	          "the face is lost are marked 'lost' in landmarks.tsv, with no .pts.");
+	if (!args.parse(argv)) return 0;
+	if (args.positionals().size() != 1) throw UsageError("corpus landmarks: give one video or image folder");
+	auto out = args.get("--output");
+	if (!out) throw UsageError("corpus landmarks: -o DIR is required");
+	const std::string input = args.positionals()[0];
+	TrackOptions o;
+	o.every = int(args.number("--every", 1, 1, 10000));
+	if (auto s = args.get("--start")) o.start = ticksFromSeconds(parseTimeOption("--start", *s));
+	if (auto d = args.get("--duration")) o.duration = ticksFromSeconds(parseTimeOption("--duration", *d));
+	o.smoothing.enabled = !args.has("--no-smooth");
+	o.smoothing.minCutoffHz = args.number("--min-cutoff", o.smoothing.minCutoffHz, 0.01, 100);
+	o.smoothing.beta = args.number("--beta", o.smoothing.beta, 0, 1000);
+	o.redetectSeconds = args.number("--redetect", o.redetectSeconds, 0, 3600);
+	if (auto m = args.get("--model")) o.modelPath = *m;
+	const int sheetCount = int(args.number("--sheet", 24, 0, 400));
+	const bool quiet = args.has("--quiet");
+	const auto t0 = std::chrono::steady_clock::now();
+
+	OutputDir dir(*out);
+	ProgressBar bar(quiet);
+	std::unique_ptr<ThumbnailPicker> picker;
+	const bool writeEachPts = !args.has("--no-pts");
+	auto onFrame = [&](const FrameLandmarks& f, const Image8& rgb) {
+		if (!picker) {
+			double expected = 0;
+			if (std::filesystem::is_directory(input)) {
+				for (const auto& e : std::filesystem::directory_iterator(input)) expected += e.is_regular_file();
+			} else {
+				VideoReader probe(input);
+				const auto& info = probe.info();
+				double secs = toSeconds(info.duration) - toSeconds(o.start);
+				if (o.duration.count() >= 0) secs = std::min(secs, toSeconds(o.duration));
+				expected = info.fpsNum > 0 ? secs * info.fpsNum / info.fpsDen / o.every : double(info.frameCountHint);
+			}
+			picker = std::make_unique<ThumbnailPicker>(std::size_t(std::max(0, sheetCount)), std::max(1.0, expected));
+		}
+		if (sheetCount > 0) picker->offer(f, rgb);
+		if (writeEachPts && f.found) {
+			char name[64];
+			std::snprintf(name, sizeof name, "frame_%06lld.pts", (long long)f.frame);
+			writePts(dir.path(f.name.empty() ? std::string(name) : std::filesystem::path(f.name).stem().string() + ".pts"), f.points);
+		}
+	};
+	LandmarkTrack track = landmarkInput(input, o, bar, onFrame);
+	bar.finish();
+	writeFileAtomically(dir.path("landmarks.tsv"), landmarksTsv(track));
+	if (sheetCount > 0 && picker) writeImage(dir.path("contact.png"), contactSheet(picker->thumbs()));
+	dir.commit();
+	if (!quiet) {
+		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		const std::size_t lost = track.frames.size() - track.foundCount();
+		std::fprintf(stderr, "wrote %s: %zu frames, face in %zu (%zu lost), in %.1f s (%.0f frames/s)", out->c_str(), track.frames.size(), track.foundCount(), lost,
+		             secs, double(track.frames.size()) / std::max(1e-9, secs));
+		if (track.frames.size() > 2 && std::filesystem::is_regular_file(input))
+			std::fprintf(stderr, "; rigid-point jitter %.4f raw -> %.4f eye distances", rigidJitter(track, true), rigidJitter(track, false));
+		std::fprintf(stderr, "\n");
+	}
+	return 0;
+}
+
+int runCompare(const std::vector<std::string>&) { throw UsageError("compare: not implemented yet"); }
+
+}  // namespace talkhead::cli
