@@ -107,15 +107,14 @@ struct Rendition {
 Transcript attachClosures(const Speech& sp) {
 	std::vector<Interval> ph = sp.phones.intervals;
 	for (const Interval& w : sp.words.intervals) {
-		std::size_t q = 0;
-		while (q < ph.size() && (ph[q].label.empty() || ph[q].start < w.start)) {
-			if (!ph[q].label.empty() && ph[q].start < w.start && ph[q].end > w.start && ph[q].start >= w.start) break;
-			++q;
+		std::size_t q = 0;  // the word's first phone: the first one starting at or after the word event
+		while (q < ph.size() && (ph[q].label.empty() || ph[q].start < w.start)) ++q;
+		if (q >= ph.size() || ph[q].start >= w.end) continue;
+		for (std::size_t r = 0; r < q; ++r) {
+			ph[r].end = std::min(ph[r].end, w.start);
+			ph[r].start = std::min(ph[r].start, ph[r].end);
 		}
-		if (q >= ph.size() || ph[q].start <= w.start || ph[q].start >= w.end) continue;
-		for (std::size_t r = 0; r < q; ++r) ph[r].end = std::min(ph[r].end, w.start);
 		ph[q].start = w.start;
-		for (std::size_t r = 0; r < q; ++r) ph[r].start = std::min(ph[r].start, ph[r].end);
 	}
 	Transcript t = sp.phones;
 	t.intervals.clear();
@@ -188,7 +187,7 @@ RenditionResult alignRendition(const FeatureMatrix& input, const Activity& activ
 	FeatureMatrix ref = align::mfcc(r.samples, r.sampleRate, fo);
 	const int m = ref.frames, n = input.frames;
 	if (m == 0) throw Error("the text's rendition is too short to align");
-	std::vector<bool> pauseB(std::size_t(m)), speechB(std::size_t(m));
+	std::vector<bool> pauseB(static_cast<std::size_t>(m)), speechB(static_cast<std::size_t>(m));
 	std::vector<int> phoneOf(std::size_t(m), -1);
 	{
 		std::size_t p = 0;

@@ -17,6 +17,25 @@
 
 namespace talkhead {
 
+// Method parameters; the defaults are the measured best (docs/decisions.md D30, bench/align.sh).
+struct AlignTuning {
+	int wordGap10ms = 0;          // pause espeak-ng puts between the rendition's words (10 ms units)
+	double padSeconds = 0.15;     // silence added before and after each rendition
+	int maxSlope = 3;             // DTW slope limit on speech frames
+	bool inputPauses = true;      // the input's silent frames (voice activity) may stretch freely
+	bool deltaDeltas = false;     // MFCC + Δ (+ ΔΔ)
+	bool matchRate = true;        // render at the input's speaking rate
+	int rateIterations = 1;       // refinements of that rate
+	double minPhoneSeconds = 0.01;
+	double minPauseSeconds = 0.03;   // shorter pauses of the result go to their neighbours
+	// Voice activity: peak level (99th percentile of 25 ms frames) below which audio is silent, the least
+	// spread between quiet (5th percentile) and loud frames for speech, and the threshold's place between.
+	double silentBelowDb = -55, minRangeDb = 12, vadFraction = 0.25;
+	// Confidence: the mean DTW cost on speech, relative to the mean cost of unrelated frame pairs, maps
+	// linearly from ratioMatch (confidence 1) to ratioMismatch (confidence 0).
+	double ratioMatch = 0.55, ratioMismatch = 0.9;
+};
+
 struct AlignOptions {
 	std::string languageTag = "pt-BR";  // a language with a viseme table: "pt-BR", "en-US" (Language::get)
 	// espeak-ng voices of the reference renditions; empty = the language's voice plus two variants
@@ -26,6 +45,7 @@ struct AlignOptions {
 	// adds a warning. Set mismatchBelow to 0 to always get an alignment.
 	double mismatchBelow = 0.25;
 	double doubtfulBelow = 0.5;
+	AlignTuning tuning;
 };
 
 // A word of the alignment with its own confidence.

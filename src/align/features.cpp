@@ -91,13 +91,13 @@ FeatureMatrix mfcc(const std::vector<float>& samples, int sampleRate, const Feat
 			filters[std::size_t(b)][std::size_t(k)] = w;
 		}
 	}
-	std::vector<double> window(std::size_t(win));
+	std::vector<double> window(static_cast<std::size_t>(win));
 	for (int n = 0; n < win; ++n) window[std::size_t(n)] = 0.54 - 0.46 * std::cos(2 * kPi * n / std::max(1, win - 1));
 	FeatureMatrix f;
 	f.frames = frameCountFor(samples.size(), sampleRate, o);
 	f.dims = o.cepstra;
 	f.data.assign(std::size_t(f.frames) * std::size_t(f.dims), 0.f);
-	std::vector<std::complex<double>> buf(std::size_t(nfft));
+	std::vector<std::complex<double>> buf(static_cast<std::size_t>(nfft));
 	std::vector<double> mel(std::size_t(o.melBands));
 	std::uint32_t seed = 12345;  // deterministic dither (about −90 dBFS)
 	const auto dither = [&seed] {
@@ -139,7 +139,7 @@ FeatureMatrix mfcc(const std::vector<float>& samples, int sampleRate, const Feat
 std::vector<float> frameLevels(const std::vector<float>& samples, int sampleRate, const FeatureOptions& o) {
 	const int win = windowLength(sampleRate, o), hop = hopLength(sampleRate, o);
 	const int frames = frameCountFor(samples.size(), sampleRate, o);
-	std::vector<float> out(std::size_t(frames));
+	std::vector<float> out(static_cast<std::size_t>(frames));
 	for (int k = 0; k < frames; ++k) {
 		const std::size_t s0 = std::size_t(k) * std::size_t(hop);
 		double sum = 0, mean = 0;
@@ -193,7 +193,7 @@ DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<
 	const auto isPauseA = [&](int i) { return std::size_t(i) < pauseA.size() && pauseA[std::size_t(i)]; };
 	const auto isPauseB = [&](int j) { return std::size_t(j) < pauseB.size() && pauseB[std::size_t(j)]; };
 	// Band: row i covers columns [lo[i], hi[i]].
-	std::vector<int> lo(std::size_t(n)), hi(std::size_t(n));
+	std::vector<int> lo(static_cast<std::size_t>(n)), hi(static_cast<std::size_t>(n));
 	std::vector<std::size_t> offset(std::size_t(n) + 1, 0);
 	for (int i = 0; i < n; ++i) {
 		if (o.band > 0) {
@@ -210,7 +210,7 @@ DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<
 	std::vector<std::int8_t> step(offset[std::size_t(n)], 0);
 	constexpr float kInf = std::numeric_limits<float>::infinity();
 	const int ring = K + 1;
-	std::vector<std::vector<float>> D(std::size_t(ring)), C(std::size_t(ring));  // accumulated and local cost, last K+1 rows
+	std::vector<std::vector<float>> D(static_cast<std::size_t>(ring)), C(static_cast<std::size_t>(ring));  // accumulated and local cost, last K+1 rows
 	const auto at = [&](std::vector<std::vector<float>>& r, int i, int j) -> float {
 		if (i < 0 || j < lo[std::size_t(i)] || j > hi[std::size_t(i)]) return kInf;
 		return r[std::size_t(i % ring)][std::size_t(j - lo[std::size_t(i)])];

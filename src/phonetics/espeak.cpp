@@ -4,6 +4,7 @@
 
 #include <espeak-ng/speak_lib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -22,6 +23,10 @@ std::mutex& espeakMutex() {
 
 struct Collector {
 	std::vector<std::pair<std::string, int>> phonemes;  // name, audio position (ms)
+	struct Word {
+		int textPosition, length, audioPosition;  // characters (1-based), characters, ms
+	};
+	std::vector<Word> words;
 	long samples = 0;
 	std::vector<short>* pcm = nullptr;  // where to keep the audio (speak), or nullptr (phonemes only)
 };
@@ -40,6 +45,8 @@ int onSynth(short* wav, int count, espeak_EVENT* events) {
 			char name[9] = {};
 			std::memcpy(name, e->id.string, 8);
 			c->phonemes.emplace_back(name, e->audio_position);
+		} else if (e->type == espeakEVENT_WORD) {
+			c->words.push_back({e->text_position, e->length, e->audio_position});
 		}
 	}
 	return 0;
@@ -80,13 +87,30 @@ void setVoice(const std::string& voice) {
 }
 }  // namespace
 
-Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm, int pitch) {
+namespace {
+// The substring of UTF-8 `text` at 1-based character position `pos`, `length` characters long.
+std::string utf8Substring(const std::string& text, int pos, int length) {
+	std::size_t i = 0, start = std::string::npos;
+	int ch = 0;
+	for (; i <= text.size(); ++i) {
+		if (i < text.size() && (static_cast<unsigned char>(text[i]) & 0xC0) == 0x80) continue;  // continuation byte
+		++ch;
+		if (ch == pos) start = i;
+		if (ch == pos + length) break;
+	}
+	if (start == std::string::npos || start >= text.size()) return "";
+	return text.substr(start, std::min(i, text.size()) - start);
+}
+}  // namespace
+
+Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm, int pitch, int wordGap10ms) {
 	if (trim(text).empty()) throw Error("nothing to say: the text is empty");
 	std::lock_guard<std::mutex> lock(espeakMutex());
 	const int rate = initialise();
 	setVoice(voice);
 	espeak_SetParameter(espeakRATE, rateWpm > 0 ? rateWpm : 175, 0);
 	espeak_SetParameter(espeakPITCH, pitch >= 0 ? pitch : 50, 0);
+	espeak_SetParameter(espeakWORDGAP, std::max(0, wordGap10ms), 0);
 	Speech sp;
 	sp.sampleRate = rate;
 	Collector c;
@@ -98,6 +122,7 @@ Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWp
 	g_current = nullptr;
 	espeak_SetParameter(espeakRATE, 175, 0);
 	espeak_SetParameter(espeakPITCH, 50, 0);
+	espeak_SetParameter(espeakWORDGAP, 0, 0);
 	if (err != EE_OK) throw Error("espeak-ng could not synthesise the text");
 	const std::int64_t ticksPerSample = kTicksPerSecond / rate;
 	const Ticks end(std::int64_t(sp.pcm.size()) * ticksPerSample);
@@ -118,6 +143,22 @@ Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWp
 	}
 	if (t < end) sp.phones.intervals.push_back({t, end, "", 0});
 	if (!speech || sp.pcm.empty()) throw Error("nothing to say: the text has no speakable words");
+	// Words: from each word event to the end of the last phone that starts before the next word event (at
+	// most that event: a stop's closure before its phoneme event belongs to the next word).
+	sp.words.path = "espeak-ng";
+	sp.words.format = "espeak";
+	sp.words.level = LabelLevel::Word;
+	const auto ms = [&](int v) { return std::min(end, Ticks(std::int64_t(v) * (kTicksPerSecond / 1000))); };
+	std::size_t p = 0;
+	for (std::size_t k = 0; k < c.words.size(); ++k) {
+		const Ticks start = std::max(ms(c.words[k].audioPosition), sp.words.intervals.empty() ? Ticks(0) : sp.words.intervals.back().end);
+		const Ticks next = k + 1 < c.words.size() ? ms(c.words[k + 1].audioPosition) : end;
+		Ticks last{-1};
+		for (; p < sp.phones.intervals.size() && sp.phones.intervals[p].start < next; ++p)
+			if (!sp.phones.intervals[p].label.empty() && sp.phones.intervals[p].end > start) last = std::min(sp.phones.intervals[p].end, next);
+		if (last <= start) continue;  // a word that says nothing
+		sp.words.intervals.push_back({start, last, utf8Substring(text, c.words[k].textPosition, c.words[k].length), long(c.words[k].textPosition)});
+	}
 	return sp;
 }
 

@@ -26,10 +26,17 @@ struct Speech {
 	int sampleRate = 0;
 	std::vector<short> pcm;  // mono
 	Transcript phones;       // phone level, path "espeak-ng"
+	// Word level (espeak-ng's word events): one interval per spoken word of the text, labelled with the
+	// word as written (a number such as "42" is one word however many it says); it starts at the word
+	// event (which can precede its first phoneme event by a word-initial stop's closure) and ends where its
+	// last phoneme ends. Gaps between words are not filled. Each interval's `line` is the word's
+	// 1-based character position in the text.
+	Transcript words;
 };
-// rateWpm 0 / pitch −1 = the voice's defaults. Throws Error for an unknown voice (with how to get MBROLA
-// voices for "mb-…" names) and for text with nothing to say.
-Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm = 0, int pitch = -1);
+// rateWpm 0 / pitch −1 = the voice's defaults; wordGap10ms adds a pause of that many 10 ms units between
+// words (espeakWORDGAP). Throws Error for an unknown voice (with how to get MBROLA voices for "mb-…"
+// names) and for text with nothing to say.
+Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm = 0, int pitch = -1, int wordGap10ms = 0);
 
 // Word-level transcript → phone intervals: each word is phonemised and its phones spread over the
 // word's interval in proportion to espeak-ng's own durations; pauses ("", "sil", "sp", "_") stay pauses.
