@@ -12,6 +12,7 @@
 #include "cli/output_dir.h"
 #include "cli/progress_bar.h"
 #include "media/image_io.h"
+#include "track/compare.h"
 #include "track/landmarks.h"
 
 namespace talkhead::cli {
@@ -119,6 +120,28 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	return 0;
 }
 
-int runCompare(const std::vector<std::string>&) { throw UsageError("compare: not implemented yet"); }
+int runCompare(const std::vector<std::string>& argv) {
+	Args args("compare", "talkhead compare SYNTH.mp4 REAL.mp4 [--json]",
+	          {{"--json", "", "print the measures as one JSON object"},
+	           {"--rate", "HZ", "resampling rate (default 100)"},
+	           {"--max-lag", "MS", "search the best lag within ±MS (default 120)"},
+	           {"--model", "F.dat", "dlib 68-point predictor"},
+	           {"--quiet", "", "no progress", "-q"}},
+	          "Tracks the face in both videos (as 'corpus landmarks' does) and measures how well the synthesized\n"
+	          "mouth follows the real one: Pearson r of the inner-lip opening (divided by the eye distance) at lag 0\n"
+	          "and at the best lag, the mouth-landmark distance (LMD) after aligning the mouths, and the coverage\n"
+	          "(frames with a face). Both videos are compared from their start over the shorter one's length.");
+	if (!args.parse(argv)) return 0;
+	if (args.positionals().size() != 2) throw UsageError("compare: give two videos, SYNTH and REAL");
+	TrackOptions o;
+	if (auto m = args.get("--model")) o.modelPath = *m;
+	ProgressBar bar(args.has("--quiet") || args.has("--json"));
+	const LandmarkTrack a = trackVideo(args.positionals()[0], o, bar);
+	const LandmarkTrack b = trackVideo(args.positionals()[1], o, bar);
+	bar.finish();
+	const LipSyncReport r = compareLipSync(a, b, args.number("--rate", 100, 10, 1000), args.number("--max-lag", 120, 0, 2000));
+	std::fputs(args.has("--json") ? (r.json() + "\n").c_str() : r.text().c_str(), stdout);
+	return 0;
+}
 
 }  // namespace talkhead::cli

@@ -69,7 +69,6 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 	const std::string text = readTextFile(path);
 	Corpus corpus;
 	corpus.path = path;
-	corpus.schemeName = schemeForCount(pointCount);
 	const fs::path dir = fs::path(path).parent_path();
 	long lineNo = 0;
 	for (std::string line : split(text, '\n')) {
@@ -77,7 +76,22 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 		if (!line.empty() && line.back() == '\r') line.pop_back();
 		if (lineNo == 1 && startsWith(line, "\xEF\xBB\xBF")) line.erase(0, 3);
 		if (trim(line).empty()) continue;
+		if (trim(line).front() == '#') {
+			std::string_view c = trim(trim(line).substr(1));
+			if (startsWith(std::string(c), "baseface:")) {
+				const std::string image(trim(c.substr(9)));
+				if (image.empty()) throw Error(path, lineNo, "'# baseface:' names no image");
+				corpus.baseface = (fs::path(image).is_absolute() ? fs::path(image) : dir / image).string();
+			}
+			continue;
+		}
 		auto f = csvFields(line);
+		if (pointCount == 0) {
+			const int n = int(f.size()) - 9;
+			if (schemeForCount(n).empty())
+				throw Error(path, lineNo, "expected image, emotion, 5 phones, CDV, word and 56, 68 or 73 points, found " + std::to_string(f.size()) + " columns");
+			pointCount = n;
+		}
 		const std::size_t expected = 9 + std::size_t(pointCount);
 		if (f.size() != expected)
 			throw Error(path, lineNo, "expected " + std::to_string(expected) + " columns (image, emotion, 5 phones, CDV, word, " +
@@ -110,6 +124,10 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 		corpus.entries.push_back(std::move(e));
 	}
 	if (corpus.entries.empty()) throw Error(path, 0, "the corpus file has no rows");
+	corpus.schemeName = schemeForCount(pointCount);
+	if (!corpus.baseface.empty() &&
+	    std::none_of(corpus.entries.begin(), corpus.entries.end(), [&](const CorpusEntry& e) { return e.imagePath == corpus.baseface; }))
+		throw Error(path, 0, "the baseface '" + corpus.baseface + "' is not one of the corpus's images");
 	return corpus;
 }
 

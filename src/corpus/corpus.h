@@ -23,11 +23,14 @@ struct Corpus {
 	std::string path;
 	std::string schemeName;  // inferred from the format and point count (ch-unicamp-56, imm-73, ibug-68)
 	std::vector<CorpusEntry> entries;
+	std::string baseface;    // image chosen as the baseface ("# baseface: IMAGE" in a CSV), resolved; "" = the builder's choice
 };
 
 // CH-Unicamp CSV (Costa 2015 §3.2, spec §1.3): no header; image, emotion, 5 context phones, CDV, word,
-// then `pointCount` points written "(x;y)". Images resolve relative to the CSV's folder.
-Corpus readChUnicampCsv(const std::string& path, int pointCount = 56);
+// then `pointCount` points written "(x;y)". Images resolve relative to the CSV's folder. pointCount 0: from
+// the first row (56 → ch-unicamp-56, 68 → ibug-68, 73 → imm-73). Lines starting with '#' are comments;
+// "# baseface: IMAGE" names the training image to use as the model's baseface.
+Corpus readChUnicampCsv(const std::string& path, int pointCount = 0);
 
 // AAM-API .asf shape file (IMM): relative 0–1 coordinates, host image name at the end. The image's
 // size is needed to turn them into pixels; it is read from the image header.

@@ -89,7 +89,8 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 	model.faceMesh = delaunayTriangulation(model.meanShape);
 	const Points meanWithBorder = withFrameBorder(model.meanShape, width, height);
 	model.frameMesh = delaunayTriangulation(meanWithBorder);
-	model.basefaceIndex = nearestShape(model.alignedShapes, model.meanShape);
+	if (options.baseface >= long(shapes.size())) throw std::logic_error("buildFaceModel: baseface index out of range");
+	model.basefaceIndex = options.baseface >= 0 ? std::size_t(options.baseface) : nearestShape(model.alignedShapes, model.meanShape);
 
 	// Region masks in the mean-shape frame.
 	for (const RegionSpec& spec : scheme.regions) {

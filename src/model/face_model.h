@@ -84,6 +84,7 @@ struct BuildOptions {
 	std::map<std::string, PcaOptions> regionPca;   // per-region overrides
 	unsigned threads = 0;                          // 0 = all cores
 	ProcrustesOptions procrustes;
+	long baseface = -1;                            // training image used as the baseface; −1 = the one nearest s̄
 };
 
 // Provides training image i (8-bit RGB, all the same size) on demand; called from worker threads.

@@ -1,0 +1,435 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "track/from_video.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "base/atomic_file.h"
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/tsv.h"
+#include "media/image_io.h"
+#include "media/video_reader.h"
+#include "phonetics/labels.h"
+
+namespace talkhead {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMeasures = 4;
+
+// Eye-line frame: rotation by −roll, scaled by the eye distance.
+struct EyeFrame {
+	double c = 1, s = 0, iod = 1;
+	explicit EyeFrame(const Points& p) {
+		const double ex = p(45, 0) - p(36, 0), ey = p(45, 1) - p(36, 1);
+		iod = std::max(1e-9, std::hypot(ex, ey));
+		c = ex / iod, s = ey / iod;
+	}
+	// Coordinates of point i relative to the eye line (x along it, y down), in eye distances.
+	double x(const Points& p, int i) const { return (c * p(i, 0) + s * p(i, 1)) / iod; }
+	double y(const Points& p, int i) const { return (-s * p(i, 0) + c * p(i, 1)) / iod; }
+};
+
+double percentile(std::vector<double> v, double q) {
+	if (v.empty()) return 0;
+	std::sort(v.begin(), v.end());
+	const double pos = q * double(v.size() - 1);
+	const std::size_t i = std::size_t(std::floor(pos));
+	const double w = pos - double(i);
+	return i + 1 < v.size() ? (1 - w) * v[i] + w * v[i + 1] : v[i];
+}
+
+// Frames that may be chosen.
+std::vector<std::size_t> candidates(const LandmarkTrack& track, const FromVideoOptions& o) {
+	std::vector<std::size_t> c;
+	const double maxRoll = o.maxRollDegrees * M_PI / 180;
+	for (std::size_t i = 0; i < track.frames.size(); ++i) {
+		const auto& f = track.frames[i];
+		if (!f.found || f.confidence < o.minConfidence) continue;
+		if (std::abs(headRoll(f.points)) > maxRoll || std::abs(headYaw(f.points)) > o.maxYaw) continue;
+		c.push_back(i);
+	}
+	return c;
+}
+
+// Mouth-point speed around frame i (eye distances per second, normalised mouths): 0 at the ends.
+double mouthSpeed(const LandmarkTrack& track, std::size_t i) {
+	if (i == 0 || i + 1 >= track.frames.size()) return 0;
+	const auto &a = track.frames[i - 1], &b = track.frames[i + 1];
+	if (!a.found || !b.found) return 1e9;
+	const double dt = std::max(1e-6, toSeconds(b.time - a.time));
+	return (normalisedMouth(b.points) - normalisedMouth(a.points)).rowwise().norm().mean() / dt;
+}
+
+bool nearDuplicate(const Points& a, const Points& b, double fraction) {
+	const Points ma = normalisedMouth(a), mb = normalisedMouth(b);
+	const double corner = std::hypot(ma(6, 0) - ma(0, 0), ma(6, 1) - ma(0, 1));
+	const double rms = std::sqrt((ma - mb).rowwise().squaredNorm().mean());
+	return rms < fraction * corner;
+}
+
+std::map<std::string, int> cdvOrder() {
+	std::map<std::string, int> order;
+	int k = 0;
+	for (const auto& v : visemeLabels()) order[v.label] = k++;
+	return order;
+}
+
+void sortPlan(VideoCorpusPlan& plan) {
+	const auto order = cdvOrder();
+	auto rank = [&](const std::string& cdv) {
+		auto it = order.find(cdv);
+		return it == order.end() ? 1000 : it->second;
+	};
+	std::stable_sort(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& a, const ChosenFrame& b) {
+		if (rank(a.cdv) != rank(b.cdv)) return rank(a.cdv) < rank(b.cdv);
+		return a.cost < b.cost;
+	});
+}
+
+ChosenFrame chosen(const LandmarkTrack& track, std::size_t i, const std::string& emotion, const std::string& cdv, double cost) {
+	ChosenFrame c;
+	c.frame = track.frames[i].frame;
+	c.time = track.frames[i].time;
+	c.emotion = emotion;
+	c.cdv = cdv;
+	c.word = "-";
+	c.points = track.frames[i].points;
+	c.cost = cost;
+	return c;
+}
+
+std::string frameName(std::int64_t frame) {
+	char b[48];
+	std::snprintf(b, sizeof b, "frames/frame_%06lld.png", (long long)frame);
+	return b;
+}
+
+}  // namespace
+
+double headRoll(const Points& p) { return std::atan2(p(45, 1) - p(36, 1), p(45, 0) - p(36, 0)); }
+
+double headYaw(const Points& p) {
+	const EyeFrame e(p);
+	return e.x(p, 30) - 0.5 * (e.x(p, 36) + e.x(p, 45));
+}
+
+Points normalisedMouth(const Points& p) {
+	const EyeFrame e(p);
+	Points m(20, 2);
+	for (int i = 0; i < 20; ++i) m(i, 0) = e.x(p, 48 + i), m(i, 1) = e.y(p, 48 + i);
+	const double cx = m.col(0).mean(), cy = m.col(1).mean();
+	m.col(0).array() -= cx;
+	m.col(1).array() -= cy;
+	return m;
+}
+
+MouthMeasures mouthMeasures(const Points& p) {
+	if (p.rows() != kIbugPoints) throw std::logic_error("mouthMeasures: 68 points expected");
+	const EyeFrame e(p);
+	MouthMeasures m;
+	m.opening = (std::max(0.0, e.y(p, 67) - e.y(p, 61)) + std::max(0.0, e.y(p, 66) - e.y(p, 62)) + std::max(0.0, e.y(p, 65) - e.y(p, 63))) / 3;
+	m.width = std::hypot(e.x(p, 54) - e.x(p, 48), e.y(p, 54) - e.y(p, 48));
+	m.height = e.y(p, 57) - e.y(p, 51);
+	m.jaw = e.y(p, 8) - e.y(p, 33);
+	return m;
+}
+
+std::vector<CdvMouthTarget> loadCdvMouthTargets(const std::string& pathIn) {
+	std::string path = pathIn;
+	if (path.empty()) {
+		auto f = findDataFile("phonetics/cdv-mouth-targets.tsv");
+		if (!f) throw Error("phonetics/cdv-mouth-targets.tsv: not found in the data folders (set TALKHEAD_DATA_DIR)");
+		path = *f;
+	}
+	const TsvTable t = readTsv(path);
+	const std::size_t cc = t.column("cdv");
+	const std::size_t cols[kMeasures] = {t.column("opening"), t.column("width"), t.column("height"), t.column("jaw")};
+	std::vector<CdvMouthTarget> out;
+	for (const auto& row : t.rows) {
+		CdvMouthTarget c;
+		auto canon = canonicalViseme(row.fields[cc]);
+		if (!canon) throw Error(path, row.line, "unknown CDV '" + row.fields[cc] + "'");
+		c.cdv = *canon;
+		for (int k = 0; k < kMeasures; ++k) c.delta[k] = t.number(row, cols[k], -1, 1);
+		out.push_back(c);
+	}
+	if (out.empty()) throw Error(path, 0, "no CDV targets");
+	return out;
+}
+
+std::int64_t mostNeutralFrame(const LandmarkTrack& track, const FromVideoOptions& o) {
+	const auto cand = candidates(track, o);
+	if (cand.empty()) throw Error(track.source, 0, "no frame with a confidently tracked, frontal face");
+	std::vector<double> v[kMeasures];
+	for (std::size_t i : cand) {
+		const MouthMeasures m = mouthMeasures(track.frames[i].points);
+		for (int k = 0; k < kMeasures; ++k) v[k].push_back(m[k]);
+	}
+	double spread[kMeasures], ref[kMeasures];
+	for (int k = 0; k < kMeasures; ++k) spread[k] = std::max(1e-4, percentile(v[k], 0.95) - percentile(v[k], 0.05));
+	ref[0] = percentile(v[0], 0.05);  // lips closed
+	ref[1] = percentile(v[1], 0.5);   // relaxed width
+	ref[2] = percentile(v[2], 0.5);
+	ref[3] = percentile(v[3], 0.2);   // jaw up
+	double best = 1e300;
+	std::int64_t bestFrame = -1;
+	for (std::size_t i : cand) {
+		const auto& f = track.frames[i];
+		const MouthMeasures m = mouthMeasures(f.points);
+		double cost = 0;
+		for (int k = 0; k < kMeasures; ++k) cost += std::pow((m[k] - ref[k]) / spread[k], 2);
+		cost += std::pow(headRoll(f.points) / (5 * M_PI / 180), 2) + std::pow(headYaw(f.points) / 0.04, 2);
+		cost += std::pow(mouthSpeed(track, i) / 0.5, 2) + 4 * (1 - f.confidence);
+		if (cost < best) best = cost, bestFrame = std::int64_t(i);
+	}
+	return track.frames[std::size_t(bestFrame)].frame;
+}
+
+VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvMouthTarget>& targets, const FromVideoOptions& o) {
+	VideoCorpusPlan plan;
+	plan.method = "shape";
+	const auto cand = candidates(track, o);
+	if (cand.size() < 10)
+		throw Error(track.source, 0, "only " + std::to_string(cand.size()) + " frames with a confidently tracked, frontal face: too few to choose visemes from");
+	std::vector<MouthMeasures> m(track.frames.size());
+	std::vector<double> v[kMeasures];
+	for (std::size_t i : cand) {
+		m[i] = mouthMeasures(track.frames[i].points);
+		for (int k = 0; k < kMeasures; ++k) v[k].push_back(m[i][k]);
+	}
+	// The baseface (rest shape).
+	plan.basefaceFrame = o.baseface >= 0 ? o.baseface : mostNeutralFrame(track, o);
+	std::size_t baseIndex = track.frames.size();
+	for (std::size_t i = 0; i < track.frames.size(); ++i)
+		if (track.frames[i].frame == plan.basefaceFrame) baseIndex = i;
+	if (baseIndex == track.frames.size() || !track.frames[baseIndex].found)
+		throw Error(track.source, 0, "--baseface " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
+	plan.rest = mouthMeasures(track.frames[baseIndex].points);
+	// Scale each measure's target offsets to this speaker's range.
+	double spread[kMeasures];
+	for (int k = 0; k < kMeasures; ++k) {
+		double lo = 0, hi = 0;
+		for (const auto& t : targets) lo = std::min(lo, t.delta[k]), hi = std::max(hi, t.delta[k]);
+		spread[k] = std::max(1e-4, percentile(v[k], 0.98) - percentile(v[k], 0.02));
+		plan.scale[k] = hi - lo > 1e-6 ? spread[k] / (hi - lo) : 1;
+	}
+	const double weight[kMeasures] = {1.0, 1.0, 0.5, 0.5};
+	for (const auto& t : targets) {
+		MouthMeasures goal;
+		for (int k = 0; k < kMeasures; ++k) goal[k] = plan.rest[k] + plan.scale[k] * t.delta[k];
+		std::vector<std::pair<double, std::size_t>> ranked;
+		for (std::size_t i : cand) {
+			double cost = 0;
+			for (int k = 0; k < kMeasures; ++k) cost += weight[k] * std::pow((m[i][k] - goal[k]) / spread[k], 2);
+			// Prefer still, confident frames (a frame mid-transition is blurred).
+			cost += 0.05 * std::pow(mouthSpeed(track, i) / 0.5, 2) + 0.2 * (1 - track.frames[i].confidence);
+			ranked.emplace_back(cost, i);
+		}
+		std::sort(ranked.begin(), ranked.end());
+		std::vector<std::size_t> kept;
+		if (t.cdv == "sil") kept.push_back(baseIndex);
+		for (const auto& [cost, i] : ranked) {
+			if (int(kept.size()) >= o.perCdv) break;
+			bool dup = false;
+			for (std::size_t j : kept) dup = dup || nearDuplicate(track.frames[i].points, track.frames[j].points, o.duplicateFraction);
+			if (!dup) kept.push_back(i);
+		}
+		for (std::size_t i : kept) {
+			double cost = 0;
+			for (const auto& r : ranked)
+				if (r.second == i) cost = r.first;
+			plan.entries.push_back(chosen(track, i, o.emotion, t.cdv, cost));
+		}
+	}
+	if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
+		plan.entries.push_back(chosen(track, baseIndex, o.emotion, "sil", 0));
+	sortPlan(plan);
+	return plan;
+}
+
+VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<PhoneSegment>& phones, const std::vector<Interval>& words,
+                               const FromVideoOptions& o) {
+	VideoCorpusPlan plan;
+	plan.method = "phones";
+	if (phones.empty()) throw Error(track.source, 0, "the transcript has no phones");
+	const auto cand = candidates(track, o);
+	std::vector<char> ok(track.frames.size(), 0);
+	for (std::size_t i : cand) ok[i] = 1;
+	struct Pick {
+		std::size_t frame;
+		std::size_t phone;
+	};
+	std::map<std::string, std::vector<Pick>> byCdv;
+	for (std::size_t p = 0; p < phones.size(); ++p) {
+		const auto& ph = phones[p];
+		std::vector<std::size_t> in;
+		for (std::size_t i = 0; i < track.frames.size(); ++i)
+			if (ok[i] && track.frames[i].time >= ph.start && track.frames[i].time < ph.end) in.push_back(i);
+		if (in.empty()) continue;
+		// Inflection point: the interior extremum of the opening (else of the width) that departs most
+		// from the interval's mean; the midpoint frame when the signal is monotonic.
+		auto extremum = [&](int measure) -> long {
+			if (in.size() < 3) return -1;
+			double mean = 0;
+			for (std::size_t i : in) mean += mouthMeasures(track.frames[i].points)[measure];
+			mean /= double(in.size());
+			long best = -1;
+			double bestDev = -1;
+			for (std::size_t k = 1; k + 1 < in.size(); ++k) {
+				const double a = mouthMeasures(track.frames[in[k - 1]].points)[measure], b = mouthMeasures(track.frames[in[k]].points)[measure],
+				             c = mouthMeasures(track.frames[in[k + 1]].points)[measure];
+				if ((b - a) * (c - b) <= 0 && std::abs(b - a) + std::abs(c - b) > 1e-4 && std::abs(b - mean) > bestDev)
+					bestDev = std::abs(b - mean), best = long(in[k]);
+			}
+			return best;
+		};
+		long pick = extremum(0);
+		if (pick < 0) pick = extremum(1);
+		if (pick < 0) {
+			const Ticks mid = ph.start + (ph.end - ph.start) / 2;
+			pick = long(in.front());
+			for (std::size_t i : in)
+				if (std::abs((track.frames[i].time - mid).count()) < std::abs((track.frames[std::size_t(pick)].time - mid).count())) pick = long(i);
+		}
+		byCdv[ph.cdv].push_back({std::size_t(pick), p});
+	}
+	if (byCdv.empty()) throw Error(track.source, 0, "no phone of the transcript falls on a frame with a tracked face");
+	for (auto& [cdv, picks] : byCdv) {
+		// Most typical first: nearest the CDV's median measures.
+		MouthMeasures med;
+		for (int k = 0; k < kMeasures; ++k) {
+			std::vector<double> v;
+			for (const auto& pk : picks) v.push_back(mouthMeasures(track.frames[pk.frame].points)[k]);
+			med[k] = percentile(v, 0.5);
+		}
+		std::vector<std::pair<double, Pick>> ranked;
+		for (const auto& pk : picks) {
+			const MouthMeasures m = mouthMeasures(track.frames[pk.frame].points);
+			double d = 0;
+			for (int k = 0; k < kMeasures; ++k) d += std::pow(m[k] - med[k], 2);
+			ranked.push_back({std::sqrt(d), pk});
+		}
+		std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+		std::vector<std::size_t> kept;
+		for (const auto& [d, pk] : ranked) {
+			if (int(kept.size()) >= o.perCdv) break;
+			bool dup = false;
+			for (std::size_t j : kept) dup = dup || j == pk.frame || nearDuplicate(track.frames[pk.frame].points, track.frames[j].points, o.duplicateFraction);
+			if (dup) continue;
+			kept.push_back(pk.frame);
+			ChosenFrame c = chosen(track, pk.frame, o.emotion, cdv, d);
+			c.phone = phones[pk.phone].phone;
+			for (int k = -2; k <= 2; ++k) {
+				const long q = long(pk.phone) + k;
+				c.context[std::size_t(k + 2)] = q < 0 || q >= long(phones.size()) || phones[std::size_t(q)].phone.empty() ? "_" : phones[std::size_t(q)].phone;
+			}
+			const Ticks mid = phones[pk.phone].start + (phones[pk.phone].end - phones[pk.phone].start) / 2;
+			for (const auto& w : words)
+				if (mid >= w.start && mid < w.end && !w.label.empty()) c.word = w.label;
+			plan.entries.push_back(c);
+		}
+	}
+	for (const auto& v : visemeLabels())
+		if (!byCdv.count(v.label)) plan.missing.push_back(v.label);
+	plan.basefaceFrame = o.baseface >= 0 ? o.baseface : mostNeutralFrame(track, o);
+	if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; })) {
+		for (std::size_t i = 0; i < track.frames.size(); ++i)
+			if (track.frames[i].frame == plan.basefaceFrame && track.frames[i].found) plan.entries.push_back(chosen(track, i, o.emotion, "sil", 0));
+		if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
+			throw Error(track.source, 0, "--baseface " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
+	}
+	sortPlan(plan);
+	return plan;
+}
+
+void writeVideoCorpus(const std::string& video, const LandmarkTrack& track, const VideoCorpusPlan& plan, const std::string& dir) {
+	(void)track;
+	fs::create_directories(fs::path(dir) / "frames");
+	std::set<std::int64_t> wanted;
+	for (const auto& e : plan.entries) wanted.insert(e.frame);
+	// Decode the video once more and keep the chosen frames.
+	std::map<std::int64_t, Image8> frames;
+	{
+		VideoReader reader(video);
+		Image8 rgb;
+		Ticks t{0};
+		std::int64_t index = 0;
+		const std::int64_t last = wanted.empty() ? -1 : *wanted.rbegin();
+		while (index < last && reader.read(rgb, t, index)) {
+			if (wanted.count(index)) {
+				writeImage((fs::path(dir) / frameName(index)).string(), rgb, 6);
+				frames[index] = rgb;
+			}
+		}
+	}
+	for (std::int64_t f : wanted)
+		if (!frames.count(f)) throw Error(video, 0, "frame " + std::to_string(f) + " could not be decoded again");
+	// corpus.csv
+	std::ostringstream csv;
+	csv << "# talkhead corpus from-video: " << fs::path(video).filename().string() << ", " << plan.entries.size() << " frames chosen by "
+	    << (plan.method == "shape" ? "mouth shape" : "phone alignment") << ", ibug-68 points (dlib)\n";
+	csv << "# baseface: " << frameName(plan.basefaceFrame) << "\n";
+	char buf[64];
+	auto field = [](std::string s) {
+		if (s.find_first_of(",\"") != std::string::npos) {
+			std::string q = "\"";
+			for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+			return q + "\"";
+		}
+		return s.empty() ? std::string("-") : s;
+	};
+	for (const auto& e : plan.entries) {
+		csv << frameName(e.frame) << "," << field(e.emotion);
+		for (const auto& c : e.context) csv << "," << field(c);
+		csv << "," << field(e.cdv) << "," << field(e.word);
+		for (int i = 0; i < kIbugPoints; ++i) {
+			std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", e.points(i, 0), e.points(i, 1));
+			csv << buf;
+		}
+		csv << "\n";
+	}
+	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), csv.str());
+	// Contact sheet: the face of each chosen frame (CDV label), baseface first.
+	const int cell = 160, labelH = 16, cols = 8;
+	std::vector<const ChosenFrame*> order;
+	for (const auto& e : plan.entries)
+		if (e.frame == plan.basefaceFrame) order.insert(order.begin(), &e);
+		else order.push_back(&e);
+	const int rows = (int(order.size()) + cols - 1) / cols;
+	Image8 sheet(cols * cell, rows * (cell + labelH), 3, 30);
+	cv::Mat sm(sheet.height, sheet.width, CV_8UC3, sheet.data.data());
+	for (std::size_t k = 0; k < order.size(); ++k) {
+		const ChosenFrame& e = *order[k];
+		Image8 img = frames[e.frame];
+		drawLandmarks(img, e.points, true);
+		// A square around the lower face.
+		const double iod = eyeDistance(e.points);
+		const double cx = e.points.col(0).mean(), cy = 0.5 * (e.points(33, 1) + e.points(8, 1));
+		const double half = 0.9 * iod;
+		cv::Mat src(img.height, img.width, CV_8UC3, img.data.data()), crop;
+		const cv::Matx23d m(2 * half / cell, 0, cx - half, 0, 2 * half / cell, cy - half);
+		cv::warpAffine(src, crop, m, cv::Size(cell, cell), cv::INTER_AREA | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(30, 30, 30));
+		const int x = int(k % cols) * cell, y = int(k / cols) * (cell + labelH);
+		crop.copyTo(sm(cv::Rect(x, y, cell, cell)));
+		std::string label = e.cdv;  // OpenCV's font is ASCII: the CDV's ASCII alias
+		for (const auto& v : visemeLabels())
+			if (v.label == e.cdv && !v.ascii.empty()) label = v.ascii;
+		std::snprintf(buf, sizeof buf, "%s%s #%lld", e.frame == plan.basefaceFrame ? "BASE " : "", label.c_str(), (long long)e.frame);
+		cv::putText(sm, buf, cv::Point(x + 3, y + cell + 12), cv::FONT_HERSHEY_SIMPLEX, 0.38, cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
+	}
+	writeImage((fs::path(dir) / "contact.png").string(), sheet);
+}
+
+}  // namespace talkhead

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// A viseme corpus from a video (issue 10 §3): for each phone, or for each CDV by mouth shape, the frame
+// that represents it, with its tracked 68 points, written in the project's CSV format (ibug-68).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "phonetics/language.h"
+#include "track/landmarks.h"
+
+namespace talkhead {
+
+// Four articulatory measures of a mouth in eye distances (outer eye corners), the eye line horizontal:
+// inner-lip gap (mean of the three inner pairs), mouth-corner distance, outer lip height at the midline,
+// and jaw opening (subnasale to chin).
+struct MouthMeasures {
+	double opening = 0, width = 0, height = 0, jaw = 0;
+	double operator[](int i) const { return i == 0 ? opening : i == 1 ? width : i == 2 ? height : jaw; }
+	double& operator[](int i) { return i == 0 ? opening : i == 1 ? width : i == 2 ? height : jaw; }
+};
+MouthMeasures mouthMeasures(const Points& ibug68);
+
+// Head pose proxies of a 68-point shape: roll (radians, the eye line's angle) and yaw (nose tip's horizontal
+// offset from the eyes' midpoint, in eye distances).
+double headRoll(const Points& ibug68);
+double headYaw(const Points& ibug68);
+
+// The mouth points (48–67) centred, derotated by the eye line and scaled by the eye distance.
+Points normalisedMouth(const Points& ibug68);
+
+// Each CDV's mouth target relative to the rest shape (phonetics/cdv-mouth-targets.tsv: the synthetic face's
+// neutral CDV shapes, in eye distances).
+struct CdvMouthTarget {
+	std::string cdv;
+	MouthMeasures delta;
+};
+std::vector<CdvMouthTarget> loadCdvMouthTargets(const std::string& path = "");
+
+struct FromVideoOptions {
+	std::string emotion = "neutral";   // CH-Unicamp label of every entry
+	int perCdv = 1;                     // frames kept per (emotion, CDV)
+	std::int64_t baseface = -1;         // frame index of the baseface; −1 = the most neutral frame found
+	double minConfidence = 0.6;         // tracked frames less consistent than this are not chosen
+	double maxRollDegrees = 12;         // nor frames with the head this tilted
+	double maxYaw = 0.12;               // or turned (nose offset in eye distances)
+	double duplicateFraction = 0.05;    // Braun: mouths closer than this × the mouth-corner distance are redundant
+};
+
+// A chosen frame and its labels.
+struct ChosenFrame {
+	std::int64_t frame = 0;
+	Ticks time{0};
+	std::string emotion, cdv, word;
+	std::array<std::string, 5> context{"_", "_", "_", "_", "_"};
+	Points points;        // 68 × 2, pixels
+	double cost = 0;      // how far from the target (select by shape) or 0
+	std::string phone;    // select by phones: the phone (IPA)
+};
+
+struct VideoCorpusPlan {
+	std::vector<ChosenFrame> entries;     // sorted by CDV order of phonetics/visemes.tsv, then cost
+	std::int64_t basefaceFrame = -1;      // also one of the entries (labelled sil when chosen by shape)
+	std::string method;                   // "shape" or "phones"
+	std::vector<std::string> missing;     // CDVs with no frame (phones: CDVs the speech never used)
+	MouthMeasures rest, scale;            // select by shape: the speaker's rest measures and target scale
+};
+
+// The most neutral frame: lips closed and relaxed (opening near its 5th percentile, width and jaw near
+// their medians), the head frontal and still.
+std::int64_t mostNeutralFrame(const LandmarkTrack& track, const FromVideoOptions& options);
+
+// Without audio: for each CDV of phonetics/cdv-mouth-targets.tsv the frames whose mouth measures best match
+// the target, scaled to this speaker (rest = the baseface's measures; each measure's target offsets scaled
+// by the ratio of the speaker's 2–98 % range to the targets' range). Near-duplicates are dropped.
+VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvMouthTarget>& targets, const FromVideoOptions& options);
+
+// With timed phones (and optionally words): for each phone the frame at the articulators' inflection
+// point — the extremum of the lip opening (or, when the opening is flat, of the width) inside the phone's
+// interval; the frame nearest the midpoint when there is none. Up to perCdv per (emotion, CDV), the most
+// typical of each CDV first. Pauses give `sil` frames.
+VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<PhoneSegment>& phones, const std::vector<Interval>& words,
+                               const FromVideoOptions& options);
+
+// Writes the corpus: frames/frame_NNNNNN.png (decoded again from the video), corpus.csv (CH-Unicamp CSV with
+// 68 points, "# baseface:" naming the baseface's image) and contact.png (the chosen mouths per CDV).
+void writeVideoCorpus(const std::string& video, const LandmarkTrack& track, const VideoCorpusPlan& plan, const std::string& dir);
+
+}  // namespace talkhead
