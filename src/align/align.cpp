@@ -102,27 +102,6 @@ struct Rendition {
 	double speechSeconds = 0;  // first phone start to last phone end
 };
 
-// espeak-ng's phoneme event of a word-initial stop comes after its closure; the word event marks the
-// closure's start. Gives that stretch to the word's first phone.
-Transcript attachClosures(const Speech& sp) {
-	std::vector<Interval> ph = sp.phones.intervals;
-	for (const Interval& w : sp.words.intervals) {
-		std::size_t q = 0;  // the word's first phone: the first one starting at or after the word event
-		while (q < ph.size() && (ph[q].label.empty() || ph[q].start < w.start)) ++q;
-		if (q >= ph.size() || ph[q].start >= w.end) continue;
-		for (std::size_t r = 0; r < q; ++r) {
-			ph[r].end = std::min(ph[r].end, w.start);
-			ph[r].start = std::min(ph[r].start, ph[r].end);
-		}
-		ph[q].start = w.start;
-	}
-	Transcript t = sp.phones;
-	t.intervals.clear();
-	for (Interval& i : ph)
-		if (i.end > i.start) t.intervals.push_back(std::move(i));
-	return t;
-}
-
 Rendition renderText(const std::string& text, const std::string& voice, int rate, const AlignTuning& t) {
 	const Speech sp = espeakSpeak(text, voice, rate, -1, t.wordGap10ms);
 	Rendition r;
@@ -132,7 +111,7 @@ Rendition renderText(const std::string& text, const std::string& voice, int rate
 	r.samples.assign(pad, 0.f);
 	for (short v : sp.pcm) r.samples.push_back(float(v) / 32768.f);
 	r.samples.insert(r.samples.end(), pad, 0.f);
-	const Transcript ph = attachClosures(sp);
+	const Transcript ph = phonesWithClosures(sp);
 	r.phones = ph;
 	r.phones.intervals.clear();
 	r.phones.intervals.push_back({Ticks(0), padTicks, "", 0});
@@ -173,6 +152,59 @@ std::vector<float> monoOf(const AudioClip& clip) {
 		mono[k] = s / float(ch);
 	}
 	return mono;
+}
+
+// The input's background, to give the renditions the same: its level and non-speech samples.
+struct Channel {
+	double speechLevel = 0;    // dBFS, 90th percentile of the speech frames' levels
+	int sampleRate = 0;
+	std::vector<float> noise;  // the non-speech stretches, joined
+};
+
+Channel channelOf(const std::vector<float>& mono, int sampleRate, const std::vector<float>& levels, const Activity& a, const FeatureOptions& fo) {
+	Channel c;
+	c.sampleRate = sampleRate;
+	std::vector<float> sl;
+	for (std::size_t k = 0; k < levels.size(); ++k)
+		if (a.speech[k]) sl.push_back(levels[k]);
+	c.speechLevel = percentile(sl, 0.9);
+	const std::size_t hop = std::size_t(std::lround(fo.hopSeconds * sampleRate));
+	// Non-speech frames at least 3 frames from speech (no speech edges in the noise).
+	for (std::size_t k = 0; k < levels.size(); ++k) {
+		bool quiet = true;
+		for (std::size_t d = k >= 3 ? k - 3 : 0; d <= k + 3 && d < levels.size(); ++d) quiet = quiet && !a.speech[d];
+		if (!quiet) continue;
+		const std::size_t s0 = k * hop;
+		for (std::size_t i = s0; i < s0 + hop && i < mono.size(); ++i) c.noise.push_back(mono[i]);
+	}
+	return c;
+}
+
+// Scales the rendition to the input's speech level and adds the input's background (resampled linearly to
+// the rendition's rate, looped), so that pauses look alike on both sides and the signal-to-noise ratios
+// agree.
+void matchChannel(Rendition& r, const Channel& c, const FeatureOptions& fo) {
+	const std::vector<float> levels = align::frameLevels(r.samples, r.sampleRate, fo);
+	std::vector<float> sl;
+	for (std::size_t k = 0, p = 0; k < levels.size(); ++k) {
+		const Ticks centre = ticksFromSeconds(frameCentre(double(k), fo));
+		while (p + 1 < r.phones.intervals.size() && r.phones.intervals[p].end <= centre) ++p;
+		if (!r.phones.intervals[p].label.empty()) sl.push_back(levels[k]);
+	}
+	const float gain = float(std::pow(10.0, (c.speechLevel - percentile(sl, 0.9)) / 20.0));
+	for (float& v : r.samples) v *= gain;
+	const double minNoise = 0.2;  // seconds of background needed
+	if (double(c.noise.size()) < minNoise * c.sampleRate) return;
+	const double step = double(c.sampleRate) / double(r.sampleRate);
+	const double len = double(c.noise.size() - 1);
+	double pos = 0;
+	for (float& v : r.samples) {
+		const std::size_t i = std::size_t(pos);
+		const double f = pos - double(i);
+		v += float(c.noise[i] + f * (c.noise[i + 1] - c.noise[i]));
+		pos += step;
+		if (pos >= len) pos -= len;
+	}
 }
 
 // One rendition aligned with the input: phone boundaries (seconds, input time) and match costs.
@@ -280,12 +312,18 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	fo.deltaDeltas = t.deltaDeltas;
 	// The input: features, normalised over its speech frames.
 	const std::vector<float> mono = monoOf(audio);
-	const Activity activity = detectSpeech(align::frameLevels(mono, audio.sampleRate, fo), t);
+	const std::vector<float> levels = align::frameLevels(mono, audio.sampleRate, fo);
+	const Activity activity = detectSpeech(levels, t);
+	const Channel channel = channelOf(mono, audio.sampleRate, levels, activity, fo);
 	FeatureMatrix input = align::mfcc(mono, audio.sampleRate, fo);
 	align::normalise(input, activity.speech);
 	const double inputSpeech = frameCentre(activity.last, fo) - frameCentre(activity.first, fo) + fo.hopSeconds;
 	// The renditions, at the input's speaking rate.
-	const std::vector<std::string> voices = o.voices.empty() ? defaultVoices(lang.tag()) : o.voices;
+	std::vector<std::string> voices = o.voices;
+	if (voices.empty()) {
+		voices = defaultVoices(lang.tag());
+		voices.resize(std::size_t(std::clamp(t.renditions, 1, int(voices.size()))));
+	}
 	int rate = 175;
 	if (t.matchRate) {
 		for (int it = 0; it <= t.rateIterations; ++it) {
@@ -300,6 +338,7 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	std::vector<RenditionResult> results;
 	for (const std::string& v : voices) {
 		Rendition r = renderText(text, v, rate, t);
+		if (t.matchChannel) matchChannel(r, channel, fo);
 		if (!renditions.empty() && !samePhones(renditions[0], r)) continue;  // another phone sequence: not comparable
 		results.push_back(alignRendition(input, activity, r, fo, t));
 		renditions.push_back(std::move(r));
@@ -317,6 +356,18 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	}
 	b[0] = 0;
 	b[P] = duration;
+	const double vadStart = frameCentre(activity.first, fo), vadEnd = frameCentre(activity.last, fo);
+	if (t.snapEdgesSeconds > 0) {
+		// The utterance's edges: where the voice-activity measure puts them, unless the warping disagrees by
+		// more than snapEdgesSeconds (e.g. a noise burst before the speech).
+		std::size_t f = 0, l = P;
+		while (f < P && ref.phones.intervals[f].label.empty()) ++f;
+		while (l > 0 && ref.phones.intervals[l - 1].label.empty()) --l;
+		if (f < l) {
+			if (std::abs(b[f] - vadStart) <= t.snapEdgesSeconds) b[f] = vadStart;
+			if (std::abs(b[l] - vadEnd) <= t.snapEdgesSeconds) b[l] = vadEnd;
+		}
+	}
 	const double minPhone = t.minPhoneSeconds;
 	for (std::size_t k = 1; k <= P; ++k) b[k] = std::max(b[k], b[k - 1] + (ref.phones.intervals[k - 1].label.empty() ? 0.0 : minPhone));
 	b[P] = std::max(b[P], duration);
@@ -366,8 +417,8 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 		at = e;
 	}
 	if (at < audio.duration()) al.words.intervals.push_back({at, audio.duration(), "", 0});
-	al.speechStart = ticksFromSeconds(std::max(0.0, frameCentre(activity.first, fo) - fo.hopSeconds / 2));
-	al.speechEnd = ticksFromSeconds(std::min(duration, frameCentre(activity.last, fo) + fo.hopSeconds / 2));
+	al.speechStart = ticksFromSeconds(std::max(0.0, vadStart));
+	al.speechEnd = ticksFromSeconds(std::min(duration, vadEnd));
 	al.renditions = int(results.size());
 	if (al.confidence < o.mismatchBelow) throw Error("the text does not match the audio (confidence " + fixed(al.confidence, 2) + ")");
 	if (al.confidence < o.doubtfulBelow)

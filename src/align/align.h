@@ -19,9 +19,12 @@ namespace talkhead {
 
 // Method parameters; the defaults are the measured best (docs/decisions.md D30, bench/align.sh).
 struct AlignTuning {
+	int renditions = 3;           // how many of the default voices (when AlignOptions::voices is empty)
 	int wordGap10ms = 0;          // pause espeak-ng puts between the rendition's words (10 ms units)
 	double padSeconds = 0.15;     // silence added before and after each rendition
 	int maxSlope = 3;             // DTW slope limit on speech frames
+	bool matchChannel = true;     // give the renditions the input's speech level and background noise
+	double snapEdgesSeconds = 0.3;  // the utterance's first and last boundaries go to the voice-activity edges
 	bool inputPauses = true;      // the input's silent frames (voice activity) may stretch freely
 	bool deltaDeltas = false;     // MFCC + Δ (+ ΔΔ)
 	bool matchRate = true;        // render at the input's speaking rate

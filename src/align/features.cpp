@@ -253,7 +253,7 @@ DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<
 					if (v < best) best = v, code = 100;
 				}
 				if (isPauseB(j) || (j > 0 && isPauseB(j - 1))) {
-					const float v = at(D, i, j - 1) + d;
+					const float v = at(D, i, j - 1) + (isPauseB(j) ? 0.f : d);  // skipping a pause frame is free
 					if (v < best) best = v, code = 101;
 				}
 			}

@@ -62,9 +62,9 @@ struct DtwResult {
 // Aligns sequence a (n frames, e.g. the speech to align) with b (m frames, e.g. the reference).
 // Symmetric step weights (every path weighs n + m): a step (k,1) or (1,k) costs 2·d at its first cell
 // and d at each further cell. Where pauseB[j] (b's frame j is a pause) the path may also move
-// (1,0) into (i,j) or (0,1) into or out of j at cost d, so a pause of any length in a lines up with a
-// pause of b and a pause of b that a lacks costs nothing extra; pauseA[i] likewise lets a's pauses
-// run (1,0) freely. Either vector may be empty (no pauses). Throws std::invalid_argument for empty input
+// (1,0) into (i,j) at cost d, (0,1) into j at no cost and (0,1) out of it at cost d, so a pause of any
+// length in a lines up with a pause of b and a pause of b that a lacks costs nothing; pauseA[i] likewise
+// lets a's pauses run (1,0) without the slope limit. Either vector may be empty (no pauses). Throws std::invalid_argument for empty input
 // or when the band cannot hold a path.
 DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<bool>& pauseA, const std::vector<bool>& pauseB,
               const DtwOptions& options = {});

@@ -162,6 +162,26 @@ Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWp
 	return sp;
 }
 
+Transcript phonesWithClosures(const Speech& sp) {
+	std::vector<Interval> ph = sp.phones.intervals;
+	for (const Interval& w : sp.words.intervals) {
+		std::size_t q = 0;  // the word's first phone: the first one starting at or after the word event
+		const Ticks slack(kTicksPerSecond / 200);  // 5 ms of rounding between the two events
+		while (q < ph.size() && (ph[q].label.empty() || ph[q].start + slack < w.start)) ++q;
+		if (q >= ph.size() || ph[q].start >= w.end || ph[q].start <= w.start) continue;
+		for (std::size_t r = 0; r < q; ++r) {
+			ph[r].end = std::min(ph[r].end, w.start);
+			ph[r].start = std::min(ph[r].start, ph[r].end);
+		}
+		ph[q].start = w.start;
+	}
+	Transcript t = sp.phones;
+	t.intervals.clear();
+	for (Interval& i : ph)
+		if (i.end > i.start) t.intervals.push_back(std::move(i));
+	return t;
+}
+
 std::vector<SpokenPhone> espeakPhones(const std::string& text, const std::string& voice) {
 	std::lock_guard<std::mutex> lock(espeakMutex());
 	const int rate = initialise();

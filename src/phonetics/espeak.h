@@ -38,6 +38,12 @@ struct Speech {
 // names) and for text with nothing to say.
 Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm = 0, int pitch = -1, int wordGap10ms = 0);
 
+// The phones of `speech` with each word-initial stop's closure given to the stop: espeak-ng's phoneme
+// event of a word-initial stop comes after its closure while the word event marks the closure's start, so
+// the first phone of each word is made to start at its word event (the phone or pause before it ends
+// there). What forced alignment (align/align.h) reports and is measured against.
+Transcript phonesWithClosures(const Speech& speech);
+
 // Word-level transcript → phone intervals: each word is phonemised and its phones spread over the
 // word's interval in proportion to espeak-ng's own durations; pauses ("", "sil", "sp", "_") stay pauses.
 std::vector<Interval> expandWords(const Transcript& words, const std::string& languageTag);
