@@ -80,6 +80,32 @@ Activity detectSpeech(const std::vector<float>& levels, const AlignTuning& t) {
 	};
 	fillRuns(true, 5);
 	fillRuns(false, 10);
+	// An isolated blip under 100 ms before or after everything else (a click, a breath) is not the
+	// utterance's edge.
+	for (int pass = 0; pass < 2; ++pass) {
+		std::vector<std::pair<std::size_t, std::size_t>> runs;
+		for (std::size_t k = 0; k < a.speech.size(); ++k)
+			if (a.speech[k] && (k == 0 || !a.speech[k - 1])) runs.emplace_back(k, k);
+			else if (a.speech[k]) runs.back().second = k;
+		if (runs.size() < 2) break;
+		for (const auto& r : {runs.front(), runs.back()})
+			if (r.second - r.first + 1 < 10)
+				for (std::size_t k = r.first; k <= r.second; ++k) a.speech[k] = false;
+	}
+	// Hysteresis: each stretch of speech grows outwards over frames above a lower threshold (weak onsets
+	// and fading ends), by at most 150 ms.
+	const double low = floor + std::max(6.0, t.vadLowFraction * (peak - floor));
+	{
+		std::vector<bool> grown = a.speech;
+		for (std::size_t k = 0; k < a.speech.size(); ++k) {
+			if (!a.speech[k]) continue;
+			if (k == 0 || !a.speech[k - 1])
+				for (std::size_t d = 1; d <= 15 && d <= k && levels[k - d] > low; ++d) grown[k - d] = true;
+			if (k + 1 == a.speech.size() || !a.speech[k + 1])
+				for (std::size_t d = 1; d <= 15 && k + d < a.speech.size() && levels[k + d] > low; ++d) grown[k + d] = true;
+		}
+		a.speech = std::move(grown);
+	}
 	for (std::size_t k = 0; k < a.speech.size(); ++k)
 		if (a.speech[k]) {
 			if (a.first < 0) a.first = int(k);
@@ -210,8 +236,8 @@ void matchChannel(Rendition& r, const Channel& c, const FeatureOptions& fo) {
 // One rendition aligned with the input: phone boundaries (seconds, input time) and match costs.
 struct RenditionResult {
 	std::vector<double> boundaries;  // phones.intervals.size() + 1
-	double costRatio = 0;            // mean local cost on the path over speech frames / unrelated pairs
-	std::vector<double> wordRatio;   // the same per word
+	double rank = 0;                 // mean rank of the path's frame among the rendition's (see below)
+	std::vector<double> wordRank;    // the same per word
 };
 
 RenditionResult alignRendition(const FeatureMatrix& input, const Activity& activity, const Rendition& r, const FeatureOptions& fo,
@@ -248,23 +274,22 @@ RenditionResult alignRendition(const FeatureMatrix& input, const Activity& activ
 		const double x = map(framePosition(toSeconds(tb), fo));
 		out.boundaries.push_back(frameCentre(x, fo));
 	}
-	// Costs: the path's cells on the rendition's speech frames against unrelated speech-frame pairs.
-	double baseline = 0;
-	long pairs = 0;
-	{
-		std::vector<int> ia, jb;
-		for (int i = 0; i < n; ++i)
-			if (activity.speech[std::size_t(i)]) ia.push_back(i);
-		for (int j = 0; j < m; ++j)
-			if (speechB[std::size_t(j)]) jb.push_back(j);
-		const std::size_t si = std::max<std::size_t>(1, ia.size() / 150), sj = std::max<std::size_t>(1, jb.size() / 150);
-		for (std::size_t a = 0; a < ia.size(); a += si)
-			for (std::size_t b = 0; b < jb.size(); b += sj) {
-				baseline += align::frameDistance(input, ia[a], ref, jb[b]);
-				++pairs;
-			}
-		baseline = pairs ? baseline / double(pairs) : 1.0;
-	}
+	// Match quality: for each path cell on speech (both sides), the fraction of the rendition's speech
+	// frames that lie closer to the input frame than the one the path chose (static cepstra only: deltas
+	// are noisy across speakers). Near 0 when the text fits; towards 0.5 when the path is arbitrary.
+	std::vector<int> jb;
+	for (int j = 0; j < m; ++j)
+		if (speechB[std::size_t(j)]) jb.push_back(j);
+	const std::size_t stride = std::max<std::size_t>(1, jb.size() / 100);
+	const int dims = std::min(input.dims, fo.cepstra);
+	const auto dist = [&](int i, int j) {
+		float q = 0;
+		for (int k = 0; k < dims; ++k) {
+			const float e = input.row(i)[k] - ref.row(j)[k];
+			q += e * e;
+		}
+		return q;
+	};
 	std::vector<int> wordOfPhone(r.phones.intervals.size(), -1);
 	for (std::size_t w = 0; w < r.words.size(); ++w)
 		for (std::size_t p = r.words[w].firstPhone; p <= r.words[w].lastPhone; ++p) wordOfPhone[p] = int(w);
@@ -273,19 +298,22 @@ RenditionResult alignRendition(const FeatureMatrix& input, const Activity& activ
 	double sum = 0;
 	long count = 0;
 	for (const auto& [i, j] : d.path) {
-		if (pauseB[std::size_t(j)]) continue;
-		const double c = align::frameDistance(input, i, ref, j);
-		sum += c;
+		if (pauseB[std::size_t(j)] || !activity.speech[std::size_t(i)]) continue;
+		const float c = dist(i, j);
+		long closer = 0, all = 0;
+		for (std::size_t k = 0; k < jb.size(); k += stride, ++all) closer += dist(i, jb[k]) < c;
+		const double rank = double(closer) / double(std::max(1L, all));
+		sum += rank;
 		++count;
 		const int w = wordOfPhone[std::size_t(phoneOf[std::size_t(j)])];
-		if (w >= 0) wsum[std::size_t(w)] += c, ++wcount[std::size_t(w)];
+		if (w >= 0) wsum[std::size_t(w)] += rank, ++wcount[std::size_t(w)];
 	}
-	out.costRatio = count ? sum / double(count) / baseline : 1.0;
-	for (std::size_t w = 0; w < r.words.size(); ++w) out.wordRatio.push_back(wcount[w] ? wsum[w] / double(wcount[w]) / baseline : out.costRatio);
+	out.rank = count ? sum / double(count) : 0.5;
+	for (std::size_t w = 0; w < r.words.size(); ++w) out.wordRank.push_back(wcount[w] ? wsum[w] / double(wcount[w]) : out.rank);
 	return out;
 }
 
-double confidenceOf(double ratio, const AlignTuning& t) { return std::clamp((t.ratioMismatch - ratio) / (t.ratioMismatch - t.ratioMatch), 0.0, 1.0); }
+double confidenceOf(double rank, const AlignTuning& t) { return std::clamp((t.rankMismatch - rank) / (t.rankMismatch - t.rankMatch), 0.0, 1.0); }
 
 std::vector<std::string> defaultVoices(const std::string& tag) {
 	const std::string v = espeakVoiceFor(tag);
@@ -401,10 +429,9 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	al.words.path = "alignment";
 	al.words.format = "textgrid";
 	al.words.level = LabelLevel::Word;
-	double ratio = 0;
-	for (const auto& r : results) ratio += r.costRatio;
-	ratio /= double(results.size());
-	al.confidence = confidenceOf(ratio, t);
+	double rank = 0;
+	for (const auto& r : results) rank += r.rank;
+	al.confidence = confidenceOf(rank / double(results.size()), t);
 	Ticks at{0};
 	for (std::size_t w = 0; w < ref.words.size(); ++w) {
 		const Ticks s = std::max(at, bt[ref.words[w].firstPhone]), e = bt[ref.words[w].lastPhone + 1];
@@ -412,7 +439,7 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 		if (s > at) al.words.intervals.push_back({at, s, "", 0});
 		al.words.intervals.push_back({s, e, ref.words[w].text, long(w + 1)});
 		std::vector<double> v;
-		for (const auto& r : results) v.push_back(r.wordRatio[w]);
+		for (const auto& r : results) v.push_back(r.wordRank[w]);
 		al.wordList.push_back({s, e, ref.words[w].text, confidenceOf(median(v), t)});
 		at = e;
 	}

@@ -25,18 +25,20 @@ struct AlignTuning {
 	int maxSlope = 3;             // DTW slope limit on speech frames
 	bool matchChannel = true;     // give the renditions the input's speech level and background noise
 	double snapEdgesSeconds = 0.3;  // the utterance's first and last boundaries go to the voice-activity edges
-	bool inputPauses = true;      // the input's silent frames (voice activity) may stretch freely
+	bool inputPauses = false;     // the input's silent frames (voice activity) may stretch freely
 	bool deltaDeltas = false;     // MFCC + Δ (+ ΔΔ)
 	bool matchRate = true;        // render at the input's speaking rate
 	int rateIterations = 1;       // refinements of that rate
 	double minPhoneSeconds = 0.01;
 	double minPauseSeconds = 0.03;   // shorter pauses of the result go to their neighbours
 	// Voice activity: peak level (99th percentile of 25 ms frames) below which audio is silent, the least
-	// spread between quiet (5th percentile) and loud frames for speech, and the threshold's place between.
-	double silentBelowDb = -55, minRangeDb = 12, vadFraction = 0.25;
-	// Confidence: the mean DTW cost on speech, relative to the mean cost of unrelated frame pairs, maps
-	// linearly from ratioMatch (confidence 1) to ratioMismatch (confidence 0).
-	double ratioMatch = 0.55, ratioMismatch = 0.9;
+	// spread between quiet (5th percentile) and loud frames for speech, and the thresholds' places between
+	// (speech above vadFraction, grown over frames above vadLowFraction).
+	double silentBelowDb = -55, minRangeDb = 12, vadFraction = 0.35, vadLowFraction = 0.25;
+	// Confidence: along the warping path on speech, the fraction of the rendition's speech frames closer
+	// (static MFCCs) to the input frame than the frame the path matched, averaged; it maps linearly from
+	// rankMatch (confidence 1) to rankMismatch (confidence 0).
+	double rankMatch = 0.10, rankMismatch = 0.30;
 };
 
 struct AlignOptions {
@@ -46,8 +48,8 @@ struct AlignOptions {
 	std::vector<std::string> voices;
 	// Below this confidence alignSpeech throws "the text does not match the audio"; below doubtfulBelow it
 	// adds a warning. Set mismatchBelow to 0 to always get an alignment.
-	double mismatchBelow = 0.25;
-	double doubtfulBelow = 0.5;
+	double mismatchBelow = 0.15;
+	double doubtfulBelow = 0.4;
 	AlignTuning tuning;
 };
 

@@ -51,6 +51,8 @@ AlignOptions optionsFor(const std::string& tag) {
 			else if (k == "maxSlope") t.maxSlope = int(v);
 			else if (k == "inputPauses") t.inputPauses = v != 0;
 			else if (k == "channel") t.matchChannel = v != 0;
+			else if (k == "vad") t.vadFraction = v;
+			else if (k == "vadLow") t.vadLowFraction = v;
 			else if (k == "snap") t.snapEdgesSeconds = v;
 			else if (k == "dd") t.deltaDeltas = v != 0;
 			else if (k == "matchRate") t.matchRate = v != 0;
@@ -74,22 +76,42 @@ AudioClip clipOf(const Speech& sp, double noiseDb) {
 	return c;
 }
 
-// The spoken phones' labels, and their boundaries: each phone's start, and its end where a pause or the
-// end follows (seconds).
-std::vector<std::string> spokenLabels(const Transcript& t) {
-	std::vector<std::string> l;
-	for (const Interval& i : t.intervals)
-		if (!i.label.empty()) l.push_back(i.label);
-	return l;
-}
-std::vector<double> boundaries(const Transcript& t) {
-	std::vector<double> b;
-	for (std::size_t k = 0; k < t.intervals.size(); ++k) {
-		if (t.intervals[k].label.empty()) continue;
-		b.push_back(toSeconds(t.intervals[k].start));
-		if (k + 1 == t.intervals.size() || t.intervals[k + 1].label.empty()) b.push_back(toSeconds(t.intervals[k].end));
+// Boundary errors between two phone transcripts of the same text: the spoken phones are paired by a
+// longest common subsequence of labels (espeak-ng drops a zero-length phone now and then, e.g. a linking
+// [ɹ]); each paired phone's start, and its end where a pause or the end follows, is compared.
+std::vector<double> boundaryErrors(const Transcript& got, const Transcript& truth, std::size_t& unpaired) {
+	struct P {
+		std::string label;
+		double start, end;
+		bool endsBeforePause;
+	};
+	const auto spoken = [](const Transcript& t) {
+		std::vector<P> v;
+		for (std::size_t k = 0; k < t.intervals.size(); ++k)
+			if (!t.intervals[k].label.empty())
+				v.push_back({t.intervals[k].label, toSeconds(t.intervals[k].start), toSeconds(t.intervals[k].end),
+				             k + 1 == t.intervals.size() || t.intervals[k + 1].label.empty()});
+		return v;
+	};
+	const auto a = spoken(got), b = spoken(truth);
+	std::vector<std::vector<int>> L(a.size() + 1, std::vector<int>(b.size() + 1, 0));
+	for (std::size_t i = a.size(); i-- > 0;)
+		for (std::size_t j = b.size(); j-- > 0;) L[i][j] = a[i].label == b[j].label ? L[i + 1][j + 1] + 1 : std::max(L[i + 1][j], L[i][j + 1]);
+	std::vector<double> e;
+	std::size_t i = 0, j = 0;
+	while (i < a.size() && j < b.size()) {
+		if (a[i].label == b[j].label) {
+			e.push_back(std::abs(a[i].start - b[j].start));
+			if (a[i].endsBeforePause && b[j].endsBeforePause) e.push_back(std::abs(a[i].end - b[j].end));
+			++i, ++j;
+		} else if (L[i + 1][j] >= L[i][j + 1]) {
+			++i;
+		} else {
+			++j;
+		}
 	}
-	return b;
+	unpaired = a.size() + b.size() - 2 * std::size_t(L[0][0]);
+	return e;
 }
 
 Transcript canonical(const Transcript& espeakPhones, const Language& lang, Ticks end) {
@@ -105,7 +127,8 @@ Transcript canonical(const Transcript& espeakPhones, const Language& lang, Ticks
 
 struct SelfResult {
 	std::vector<double> errors;  // seconds
-	int utterances = 0, skipped = 0;
+	int utterances = 0;
+	std::size_t unpaired = 0, phones = 0;
 	double audioSeconds = 0, alignSeconds = 0;
 };
 
@@ -140,18 +163,18 @@ const std::vector<std::string> kPortuguese = {
 
 struct TestVoice {
 	const char* variant;
-	int rate, pitch;
+	int rate, pitch, wordGap;  // wordGap: pauses between words (10 ms units), as a hesitant speaker makes
 };
 // Reference renditions use the language's voice, +m3 and +f2 at the input's rate and pitch 50.
-const std::vector<TestVoice> kTestVoices = {{"+m1", 130, 35}, {"+f4", 210, 75}, {"+klatt", 160, 60}, {"+m6", 240, 45}};
+const std::vector<TestVoice> kTestVoices = {{"+m1", 130, 35, 0}, {"+f4", 210, 75, 0}, {"+klatt", 160, 60, 0}, {"+m6", 240, 45, 0}, {"+f1", 180, 55, 20}};
 
 SelfResult selfAligned(const std::string& tag, const std::vector<std::string>& sentences) {
 	SelfResult r;
 	const Language& lang = Language::get(tag);
 	for (std::size_t s = 0; s < sentences.size(); ++s) {
 		for (std::size_t v = 0; v < 2; ++v) {
-			const TestVoice& tv = kTestVoices[(s + v * 2) % kTestVoices.size()];
-			const Speech sp = espeakSpeak(sentences[s], espeakVoiceFor(tag) + tv.variant, tv.rate, tv.pitch);
+			const TestVoice& tv = kTestVoices[(s + v * 7) % kTestVoices.size()];
+			const Speech sp = espeakSpeak(sentences[s], espeakVoiceFor(tag) + tv.variant, tv.rate, tv.pitch, tv.wordGap);
 			const AudioClip clip = clipOf(sp, -50);
 			const Transcript truth = canonical(phonesWithClosures(sp), lang, clip.duration());
 			const auto t0 = std::chrono::steady_clock::now();
@@ -159,12 +182,11 @@ SelfResult selfAligned(const std::string& tag, const std::vector<std::string>& s
 			r.alignSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 			r.audioSeconds += toSeconds(clip.duration());
 			++r.utterances;
-			const auto a = boundaries(al.phones), b = boundaries(truth);
-			if (spokenLabels(al.phones) != spokenLabels(truth) || a.size() != b.size()) {
-				++r.skipped;
-				continue;
-			}
-			for (std::size_t k = 0; k < a.size(); ++k) r.errors.push_back(std::abs(a[k] - b[k]));
+			std::size_t unpaired = 0;
+			const auto e = boundaryErrors(al.phones, truth, unpaired);
+			r.errors.insert(r.errors.end(), e.begin(), e.end());
+			r.unpaired += unpaired;
+
 		}
 	}
 	return r;
@@ -190,11 +212,14 @@ std::vector<double> gridWordBoundaries(const std::string& path) {
 	return b;
 }
 
+// The boundary between two words is the middle of any pause the alignment put between them.
 std::vector<double> alignedWordBoundaries(const Alignment& al) {
 	std::vector<double> b;
-	for (const AlignedWord& w : al.wordList) {
-		if (b.empty() || std::abs(b.back() - toSeconds(w.start)) > 1e-9) b.push_back(toSeconds(w.start));
-		b.push_back(toSeconds(w.end));
+	for (std::size_t k = 0; k < al.wordList.size(); ++k) {
+		const double s = toSeconds(al.wordList[k].start), e = toSeconds(al.wordList[k].end);
+		if (k == 0) b.push_back(s);
+		else b.back() = 0.5 * (b.back() + s);  // b.back() is the previous word's end
+		b.push_back(e);
 	}
 	return b;
 }
@@ -307,12 +332,12 @@ TEST(AlignEspeak, otherVoicesRatesAndPitchesAlignWithinBounds) {
 	for (const auto& [tag, sentences] : {std::pair<std::string, const std::vector<std::string>*>{"en-US", &kEnglish}, {"pt-BR", &kPortuguese}}) {
 		const SelfResult r = selfAligned(tag, *sentences);
 		const double med = percentileOf(r.errors, 0.5) * 1000, p90 = percentileOf(r.errors, 0.9) * 1000;
-		std::printf("[ espeak %s ] %d utterances (%d with another phone sequence), %zu phone boundaries: median %.1f ms, p90 %.1f ms, "
+		std::printf("[ espeak %s ] %d utterances (%zu phones unpaired), %zu phone boundaries: median %.1f ms, p90 %.1f ms, "
 		            "within 20 ms %.0f %%, speed %.3f x audio\n",
-		            tag.c_str(), r.utterances, r.skipped, r.errors.size(), med, p90,
+		            tag.c_str(), r.utterances, r.unpaired, r.errors.size(), med, p90,
 		            100.0 * double(std::count_if(r.errors.begin(), r.errors.end(), [](double e) { return e <= 0.02; })) / double(std::max<std::size_t>(1, r.errors.size())),
 		            r.alignSeconds / r.audioSeconds);
-		EXPECT_LE(r.skipped, r.utterances / 4) << tag;
+		EXPECT_LE(r.unpaired, r.errors.size() / 20) << tag;
 		EXPECT_GE(r.errors.size(), 200u) << tag;
 		EXPECT_LE(med, 25.0) << tag;
 		EXPECT_LE(p90, 60.0) << tag;
