@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "align/align.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "cli/args.h"
@@ -38,8 +39,10 @@ void checkWritableFolder(const std::string& path) {
 }  // namespace
 
 int runRender(const std::vector<std::string>& argv) {
-	Args args("render", "talkhead render --transcript T [--audio A] [--emotion LABEL] -o OUT.mp4 [options]",
+	Args args("render", "talkhead render (--transcript T [--audio A] | --audio A --text \"…\") [--emotion LABEL] -o OUT.mp4 [options]",
 	          {{"--transcript", "FILE", "timed transcript (TextGrid, .pho, HTK, GRID, speech marks, TSV, Rhubarb; - = stdin)"},
+	           {"--text", "TEXT", "instead of --transcript: what --audio says, aligned to it (as 'talkhead align' does)"},
+	           {"--text-file", "F", "the same, read from a file"},
 	           {"--audio", "FILE", "speech audio (any format libav reads); the video lasts as long as it"},
 	           {"--emotion", "LABEL", "one of the 23 emotion labels or an alias (default neutral)"},
 	           {"--model", "M.thm", "face model (default: the embedded default face)"},
@@ -70,7 +73,14 @@ int runRender(const std::vector<std::string>& argv) {
 	if (!args.parse(argv)) return 0;
 	if (!args.positionals().empty()) throw UsageError("render: unexpected argument '" + args.positionals()[0] + "'");
 	auto transcriptPath = args.get("--transcript");
-	if (!transcriptPath) throw UsageError("render: --transcript FILE is required");
+	std::optional<std::string> text = args.get("--text");
+	if (auto f = args.get("--text-file")) {
+		if (text) throw UsageError("render: give --text or --text-file, not both");
+		text = readTextFile(*f);
+	}
+	if (transcriptPath && text) throw UsageError("render: give --transcript or --text, not both");
+	if (!transcriptPath && !text) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
+	if (text && !args.get("--audio")) throw UsageError("render: --text needs --audio (the speech to align the text to)");
 	auto output = args.get("--output");
 	if (!output) throw UsageError("render: -o OUT is required");
 	const std::string format = args.get("--format", "mp4");
@@ -115,16 +125,34 @@ int runRender(const std::vector<std::string>& argv) {
 	ReadOptions ro;
 	ro.format = args.get("--transcript-format", "");
 	ro.tier = args.get("--tier", "");
-	Transcript tr = readTranscript(*transcriptPath, ro);
+	AudioClip audio;
+	Transcript tr;
+	if (text) {
+		// Forced alignment of the text to the audio (align/align.h), as `talkhead align` does.
+		audio = decodeAudio(*args.get("--audio"));
+		AlignOptions ao;
+		ao.languageTag = lang.tag();
+		Alignment al;
+		try {
+			al = alignSpeech(audio, *text, ao);
+		} catch (const Error& e) {
+			throw Error(*args.get("--audio"), 0, e.what());
+		}
+		for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s: %s\n", args.get("--audio")->c_str(), w.c_str());
+		if (!quiet) std::fprintf(stderr, "aligned: %s\n", alignmentSummary(al).c_str());
+		tr = al.phones;
+		transcriptPath = *args.get("--audio");
+	} else {
+		tr = readTranscript(*transcriptPath, ro);
+	}
 	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
 	const std::int64_t frameNumer = kTicksPerSecond * vo.fpsDen;  // frame n at n · frameNumer / fpsNum ticks
 	const Ticks frameTicks(frameNumer / vo.fpsNum);
 	std::vector<Keypose> keys = keyposes(phones, frameTicks);
 	// Duration: the audio's, or the transcript's.
-	AudioClip audio;
 	Ticks duration = phones.back().end;
 	if (auto a = args.get("--audio")) {
-		audio = decodeAudio(*a);
+		if (audio.samples.empty()) audio = decodeAudio(*a);
 		const Ticks audioDur = audio.duration();
 		const Ticks tolerance(kTicksPerSecond / 10);
 		if (duration > audioDur + tolerance) {
