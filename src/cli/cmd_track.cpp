@@ -49,6 +49,8 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	           {"--no-smooth", "", "write the unsmoothed fits (default: one-euro smoothing of every point)"},
 	           {"--min-cutoff", "HZ", "one-euro cutoff at rest (default 1.5 Hz)"},
 	           {"--beta", "B", "one-euro speed coefficient, per eye distance per second (default 4)"},
+	           {"--mouth-min-cutoff", "HZ", "the same for the lips (default 3 Hz)"},
+	           {"--mouth-beta", "B", "the same for the lips (default 40)"},
 	           {"--redetect", "S", "run the face detector every S seconds while tracking (default 2)"},
 	           {"--model", "F.dat", "dlib 68-point predictor (default /usr/share/dlib/shape_predictor_68_face_landmarks.dat)"},
 	           {"--no-pts", "", "do not write one .pts file per frame"},
@@ -72,6 +74,8 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	o.smoothing.enabled = !args.has("--no-smooth");
 	o.smoothing.minCutoffHz = args.number("--min-cutoff", o.smoothing.minCutoffHz, 0.01, 100);
 	o.smoothing.beta = args.number("--beta", o.smoothing.beta, 0, 1000);
+	o.smoothing.mouthMinCutoffHz = args.number("--mouth-min-cutoff", o.smoothing.mouthMinCutoffHz, 0.01, 100);
+	o.smoothing.mouthBeta = args.number("--mouth-beta", o.smoothing.mouthBeta, 0, 10000);
 	o.redetectSeconds = args.number("--redetect", o.redetectSeconds, 0, 3600);
 	if (auto m = args.get("--model")) o.modelPath = *m;
 	const int sheetCount = int(args.number("--sheet", 24, 0, 400));

@@ -173,7 +173,11 @@ public:
 	Points apply(const Points& raw, Ticks time) {
 		if (!o_.enabled) return raw;
 		if (!started_) {
-			filters_.assign(std::size_t(raw.size()), OneEuroFilter(o_.minCutoffHz, o_.beta, o_.derivativeCutoffHz));
+			filters_.clear();
+			for (Eigen::Index i = 0; i < raw.rows(); ++i)
+				for (int c = 0; c < 2; ++c)
+					filters_.push_back(i >= 48 && i < 68 ? OneEuroFilter(o_.mouthMinCutoffHz, o_.mouthBeta, o_.derivativeCutoffHz)
+					                                     : OneEuroFilter(o_.minCutoffHz, o_.beta, o_.derivativeCutoffHz));
 			scale_ = std::max(1.0, eyeDistance(raw));
 			started_ = true;
 			last_ = time;
