@@ -363,3 +363,39 @@ TEST(AlignGrid, wordBoundariesOfTheHandAlignedClip) {
 	EXPECT_LE(p90, 80.0);
 	EXPECT_GE(al.confidence, 0.5);
 }
+
+TEST(AlignErrors, emptyTextSilenceNoiseAndAnotherText) {
+	AudioClip silence;
+	silence.sampleRate = 16000;
+	silence.channels = 1;
+	silence.samples.assign(32000, 0.f);
+	EXPECT_NE(test::errorOf([&] { alignSpeech(silence, "  ", optionsFor("en-US")); }).find("the text is empty"), std::string::npos);
+	EXPECT_NE(test::errorOf([&] { alignSpeech(silence, "hello", optionsFor("en-US")); }).find("no speech in the audio: it is silent"), std::string::npos);
+	AudioClip noise = silence;
+	std::uint32_t seed = 5;
+	for (float& v : noise.samples) {
+		seed = seed * 1664525u + 1013904223u;
+		v = 0.2f * (float(seed >> 8) / float(1u << 24) - 0.5f);
+	}
+	EXPECT_NE(test::errorOf([&] { alignSpeech(noise, "hello", optionsFor("en-US")); }).find("no speech in the audio"), std::string::npos);
+	// Stereo speech (channels are averaged) aligns; another sentence does not.
+	const Speech sp = espeakSpeak("Please call Stella and ask her to bring these things.", "en-us+f4", 190, 70);
+	const AudioClip mono = clipOf(sp, -50);
+	AudioClip stereo = mono;
+	stereo.channels = 2;
+	stereo.samples.clear();
+	for (float v : mono.samples) stereo.samples.insert(stereo.samples.end(), {v, v});
+	const Alignment al = alignSpeech(stereo, "Please call Stella and ask her to bring these things.", optionsFor("en-US"));
+	EXPECT_GE(al.confidence, 0.6);
+	EXPECT_EQ(al.wordList.size(), 10u);
+	EXPECT_EQ(al.words.intervals.back().end, stereo.duration());
+	EXPECT_EQ(al.phones.intervals.back().end, stereo.duration());
+	const std::string e = test::errorOf([&] { alignSpeech(mono, "My grandmother baked fresh bread every Sunday morning.", optionsFor("en-US")); });
+	EXPECT_NE(e.find("the text does not match the audio (confidence"), std::string::npos) << e;
+	// The TextGrid: two interval tiers, words first; the reader picks "phones".
+	const std::string grid = alignmentTextGrid(al, stereo.duration());
+	EXPECT_NE(grid.find("name = \"words\""), std::string::npos);
+	const Transcript back = parseTranscript(grid, "a.TextGrid");
+	ASSERT_EQ(back.intervals.size(), al.phones.intervals.size());
+	for (std::size_t k = 0; k < back.intervals.size(); ++k) EXPECT_EQ(back.intervals[k].label, al.phones.intervals[k].label);
+}
