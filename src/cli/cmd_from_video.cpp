@@ -76,10 +76,8 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 		VideoReader probe(video);
 		info = probe.info();
 	}
-	if (!byShape && !textSources) {
-		byShape = true;
-		if (!quiet) std::fprintf(stderr, "no transcript or text: choosing frames by mouth shape (--select-by-shape)\n");
-	}
+	const bool autoShape = !byShape && !textSources;  // said in the summary, so that an error stays one line
+	if (autoShape) byShape = true;
 	std::vector<PhoneSegment> phones;
 	std::vector<Interval> words;
 	if (!byShape) {
@@ -121,7 +119,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	if (!quiet) {
 		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		std::fprintf(stderr, "wrote %s/corpus.csv: %zu frames by %s for %zu CDVs, baseface frame %lld; face in %zu of %zu frames; %.1f s\n", out->c_str(),
-		             plan.entries.size(), plan.method == "shape" ? "mouth shape" : "phones",
+		             plan.entries.size(), plan.method == "shape" ? (autoShape ? "mouth shape (no transcript or text given)" : "mouth shape") : "phones",
 		             std::size_t(visemeLabels().size() - plan.missing.size()), (long long)plan.basefaceFrame, track.foundCount(), track.frames.size(), secs);
 		if (!plan.missing.empty()) {
 			std::string m;

@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Faces from real video (issue 10): one-euro filter, .pts round trip, mouth measures, lip-sync measures,
+// and dlib on the franck stills (skipped without ../shared/data).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "base/error.h"
+#include "corpus/corpus.h"
+#include "media/image_io.h"
+#include "test_support.h"
+#include "track/compare.h"
+#include "track/from_video.h"
+#include "track/landmarks.h"
+
+using namespace talkhead;
+
+namespace {
+
+// A plausible frontal 68-point face: eye corners 100 px apart, a mouth whose inner gap is `gap` px.
+Points face(double gap, double dx = 0, double dy = 0) {
+	Points p(68, 2);
+	for (int i = 0; i < 68; ++i) p(i, 0) = 200 + 3 * i, p(i, 1) = 200;  // filler
+	for (int i = 0; i <= 16; ++i) p(i, 0) = 120 + 10 * i, p(i, 1) = 200 + 60 * std::sin(M_PI * i / 16);
+	p(36, 0) = 150, p(36, 1) = 180, p(45, 0) = 250, p(45, 1) = 180, p(39, 0) = 180, p(39, 1) = 180, p(42, 0) = 220, p(42, 1) = 180;
+	p(30, 0) = 200, p(30, 1) = 220, p(33, 0) = 200, p(33, 1) = 230;
+	p(8, 0) = 200, p(8, 1) = 300;
+	// Outer lip 48–59, inner 60–67 around (200, 255).
+	for (int k = 0; k < 12; ++k) {
+		const double a = M_PI - 2 * M_PI * k / 12;
+		p(48 + k, 0) = 200 + 30 * std::cos(a), p(48 + k, 1) = 255 - (10 + gap / 2) * std::sin(a);
+	}
+	for (int k = 0; k < 8; ++k) {
+		const double a = M_PI - 2 * M_PI * k / 8;
+		p(60 + k, 0) = 200 + 22 * std::cos(a), p(60 + k, 1) = 255 - (gap / 2) * std::sin(a);
+	}
+	p.col(0).array() += dx;
+	p.col(1).array() += dy;
+	return p;
+}
+
+LandmarkTrack trackOf(const std::vector<double>& gaps, double fps = 25) {
+	LandmarkTrack t;
+	t.info.fpsNum = int(fps), t.info.fpsDen = 1;
+	for (std::size_t i = 0; i < gaps.size(); ++i) {
+		FrameLandmarks f;
+		f.frame = std::int64_t(i);
+		f.time = ticksFromSeconds(double(i) / fps);
+		f.found = true;
+		f.confidence = 1;
+		f.points = f.raw = face(gaps[i]);
+		t.frames.push_back(f);
+	}
+	return t;
+}
+
+}  // namespace
+
+TEST(OneEuroFilter, passesAConstantAndFollowsAStepWithLittleLagWhenFast) {
+	OneEuroFilter f(1.0, 0.0, 1.0);
+	for (int i = 0; i < 10; ++i) EXPECT_DOUBLE_EQ(f(3.0, 0.04), 3.0);
+	// beta = 0: a first-order low-pass at 1 Hz; after 1 s of a unit step the output is 1 − (1 − α)^25.
+	OneEuroFilter lp(1.0, 0.0, 1.0);
+	lp(0.0, 0.04);
+	double y = 0;
+	for (int i = 0; i < 25; ++i) y = lp(1.0, 0.04);
+	const double alpha = 1.0 / (1.0 + 1.0 / (2 * M_PI * 1.0) / 0.04);
+	EXPECT_NEAR(y, 1 - std::pow(1 - alpha, 25), 1e-12);
+	// A large beta lets a fast step through almost at once.
+	OneEuroFilter fast(1.0, 100.0, 1.0);
+	fast(0.0, 0.04);
+	fast(1.0, 0.04);
+	EXPECT_GT(fast(1.0, 0.04), 0.9);
+}
+
+TEST(OneEuroFilter, removesJitterFromANoisyConstant) {
+	std::mt19937 rng(3);
+	std::normal_distribution<double> noise(0, 1);
+	OneEuroFilter f(1.0, 0.0, 1.0);
+	double rawVar = 0, outVar = 0;
+	for (int i = 0; i < 2000; ++i) {
+		const double x = 10 + noise(rng), y = f(x, 0.04);
+		if (i > 100) rawVar += (x - 10) * (x - 10), outVar += (y - 10) * (y - 10);
+	}
+	EXPECT_LT(outVar, 0.3 * rawVar);
+}
+
+TEST(PtsWriter, roundTripsExactly) {
+	Points p = face(7.25, 0.125, -3.5);
+	p(5, 0) = 0.001;
+	const std::string dir = test::tempDir("pts");
+	writePts(dir + "/a.pts", p);
+	writeImage(dir + "/a.png", test::testPattern(400, 400));  // readPts wants the image beside
+	std::ifstream in(dir + "/a.pts");
+	const std::string first((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+	EXPECT_EQ(first.substr(0, 26), "version: 1\nn_points: 68\n{\n");
+	const CorpusEntry e = readPts(dir + "/a.pts");
+	ASSERT_EQ(e.points.rows(), 68);
+	EXPECT_EQ(ptsText(e.points), first);
+	EXPECT_NEAR(e.points(5, 0), 0.001, 1e-9);
+}
+
+TEST(MouthMeasures, areInEyeDistancesAndIgnoreRollAndPosition) {
+	const MouthMeasures m = mouthMeasures(face(10));
+	EXPECT_NEAR(m.width, 60.0 / 100, 1e-9);
+	EXPECT_NEAR(m.jaw, (300.0 - 230) / 100, 1e-9);
+	EXPECT_GT(m.opening, 0.05);
+	EXPECT_LT(mouthMeasures(face(0)).opening, 1e-9);
+	// Rotated by 10° and moved: the same measures.
+	Points r = face(10, 40, -20);
+	const double c = std::cos(0.17), s = std::sin(0.17);
+	for (Eigen::Index i = 0; i < r.rows(); ++i) {
+		const double x = r(i, 0), y = r(i, 1);
+		r(i, 0) = c * x - s * y, r(i, 1) = s * x + c * y;
+	}
+	const MouthMeasures q = mouthMeasures(r);
+	for (int k = 0; k < 4; ++k) EXPECT_NEAR(q[k], m[k], 1e-9);
+	EXPECT_NEAR(headRoll(r), 0.17, 1e-9);
+}
+
+TEST(LipSync, aTrackAgainstItselfCorrelatesFullyAndAShiftedOneAtItsLag) {
+	std::vector<double> gaps;
+	for (int i = 0; i < 100; ++i) gaps.push_back(10 + 8 * std::sin(i * 0.4) + 3 * std::sin(i * 1.3));
+	const LandmarkTrack a = trackOf(gaps);
+	LipSyncReport r = compareLipSync(a, a);
+	EXPECT_NEAR(r.r0, 1.0, 1e-9);
+	EXPECT_NEAR(r.lmd, 0.0, 1e-9);
+	EXPECT_DOUBLE_EQ(r.coverageSynth, 1.0);
+	EXPECT_EQ(r.samples, std::size_t(400));  // 4 s at 100 Hz
+	// The synthesized mouth 2 frames (80 ms) late: r at lag 0 drops, the best lag is +80 ms.
+	std::vector<double> late(gaps);
+	late.insert(late.begin(), 2, gaps.front());
+	late.resize(gaps.size());
+	r = compareLipSync(trackOf(late), a);
+	EXPECT_LT(r.r0, 0.9);
+	EXPECT_NEAR(r.bestLagMs, 80, 10);
+	EXPECT_GT(r.bestR, 0.97);
+}
+
+TEST(LipSync, lostFramesAreLeftOutNotInvented) {
+	std::vector<double> gaps;
+	for (int i = 0; i < 50; ++i) gaps.push_back(10 + 8 * std::sin(i * 0.5));
+	LandmarkTrack a = trackOf(gaps);
+	for (int i = 20; i < 30; ++i) a.frames[std::size_t(i)].found = false, a.frames[std::size_t(i)].points.resize(0, 2);
+	const LipSyncReport r = compareLipSync(a, trackOf(gaps));
+	EXPECT_NEAR(r.coverageSynth, 0.8, 1e-12);
+	EXPECT_LT(r.samples, std::size_t(200 - 35));
+	EXPECT_NEAR(r.r0, 1.0, 1e-9);
+}
+
+TEST(Pearson, knownValues) {
+	EXPECT_NEAR(pearson({1, 2, 3, 4}, {2, 4, 6, 8}), 1.0, 1e-12);
+	EXPECT_NEAR(pearson({1, 2, 3, 4}, {8, 6, 4, 2}), -1.0, 1e-12);
+	EXPECT_NEAR(pearson({1, 2, 3, 4, 5}, {1, 3, 2, 5, 4}), 0.8, 1e-12);
+	EXPECT_TRUE(std::isnan(pearson({1, 1, 1}, {1, 2, 3})));
+}
+
+TEST(DlibLandmarks, findsAFaceAnd68PointsInEveryFranckStill) {
+	const std::string dir = test::sharedData() + "/franck";
+	if (!std::filesystem::exists(dir)) GTEST_SKIP() << "franck stills not found in " << dir;
+	NullProgress quiet;
+	const LandmarkTrack t = landmarkImages(dir, TrackOptions{}, quiet);
+	ASSERT_EQ(t.frames.size(), 11u);
+	FaceLandmarker lm;
+	for (const auto& f : t.frames) {
+		ASSERT_TRUE(f.found) << f.name;
+		ASSERT_EQ(f.points.rows(), 68);
+		EXPECT_GT(f.confidence, 0.5) << f.name;
+		// The mouth lies inside the face box the detector finds, below the eyes.
+		const auto boxes = lm.detect(toGrey(readImage(dir + "/" + f.name)), 0);
+		ASSERT_FALSE(boxes.empty()) << f.name;
+		const FaceBox& b = boxes.front();
+		for (int i = 48; i < 68; ++i) {
+			EXPECT_GT(f.points(i, 0), b.left) << f.name << " point " << i;
+			EXPECT_LT(f.points(i, 0), b.right) << f.name << " point " << i;
+			EXPECT_GT(f.points(i, 1), 0.5 * (f.points(36, 1) + f.points(45, 1))) << f.name;
+			EXPECT_LT(f.points(i, 1), b.bottom + 0.1 * b.height()) << f.name;
+		}
+	}
+}
+
+TEST(DlibLandmarks, aMissingModelIsOneClearError) {
+	TrackOptions o;
+	o.modelPath = "/nonexistent/shape_predictor_68_face_landmarks.dat";
+	const std::string e = test::errorOf([&] { FaceLandmarker lm(o.modelPath); });
+	EXPECT_NE(e.find("/nonexistent/shape_predictor_68_face_landmarks.dat"), std::string::npos) << e;
+	EXPECT_NE(e.find("libdlib-data"), std::string::npos) << e;
+}
