@@ -22,7 +22,7 @@ check "missing corpus" 1 "$T/nope: corpus not found" -- "$TH" build "$T/nope" -o
 check "bad --evr" 2 "--evr values must be in" -- "$TH" build "$T" -o "$T/m.thm" --evr 1.5
 check "empty folder" 1 "no .asf or .pts shape files" -- "$TH" build "$T" -o "$T/m.thm"
 printf 'a.png,joy,k,i,n,o,t,<t1>,word,(1;2)\n' >"$T/short.csv"
-check "malformed csv" 1 "$T/short.csv:1: expected 65 columns" -- "$TH" build "$T/short.csv" -o "$T/m.thm"
+check "malformed csv" 1 "$T/short.csv:1: expected image, emotion, 5 phones, CDV, word and 56, 68 or 73 points, found 10 columns" -- "$TH" build "$T/short.csv" -o "$T/m.thm"
 check "missing model" 1 "$T/none.thm: cannot open model" -- "$TH" inspect "$T/none.thm"
 printf 'TALKHEAD garbage' >"$T/bad.thm"
 check "corrupt model" 1 "$T/bad.thm" -- "$TH" inspect "$T/bad.thm"
