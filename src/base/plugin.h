@@ -16,4 +16,17 @@ std::vector<std::string> pluginCandidates(const std::string& fileName);
 // int at the start of the returned struct) differs from the one this build expects.
 const void* loadPlugin(const std::string& fileName, const char* entry, int abi);
 
+// For a plugin's entry points: runs f and returns true, or returns false with `error` set to the message of
+// the exception f threw, so that no exception crosses the plugin boundary.
+template <class F>
+bool guarded(std::string& error, F&& f) {
+	try {
+		f();
+		return true;
+	} catch (const std::exception& e) {
+		error = e.what();
+		return false;
+	}
+}
+
 }  // namespace talkhead

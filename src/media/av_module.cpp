@@ -18,6 +18,7 @@ extern "C" {
 #include <memory>
 
 #include "media/av_module.h"
+#include "base/plugin.h"
 #include "media/av_util.h"
 
 namespace talkhead {
@@ -367,18 +368,7 @@ struct VideoDecoder {
 	}
 };
 
-// The plugin's entry points: exceptions stay inside, messages go out as strings.
-template <class F>
-bool guarded(std::string& error, F&& f) {
-	try {
-		f();
-		return true;
-	} catch (const std::exception& e) {
-		error = e.what();
-		return false;
-	}
-}
-
+// The plugin's entry points: exceptions stay inside (guarded, base/plugin.h), messages go out as strings.
 bool decodeAudioEntry(const std::string& path, int sampleRate, AudioClip& out, std::string& error) {
 	return guarded(error, [&] { out = decodeAudioImpl(path, sampleRate); });
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "base/plugin.h"
 #include "track/dlib_module.h"
 
 namespace talkhead {
@@ -20,16 +21,6 @@ struct Handle {
 	dlib::array2d<unsigned char> image;  // reused between calls on the same frame size
 };
 
-template <class F>
-bool guarded(std::string& error, F&& f) {
-	try {
-		f();
-		return true;
-	} catch (const std::exception& e) {
-		error = e.what();
-		return false;
-	}
-}
 
 // Copies the grey image into dlib's array.
 const dlib::array2d<unsigned char>& toDlib(Handle& h, const Image8& grey) {
