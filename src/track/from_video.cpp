@@ -72,6 +72,16 @@ double mouthSpeed(const LandmarkTrack& track, std::size_t i) {
 	return (normalisedMouth(b.points) - normalisedMouth(a.points)).rowwise().norm().mean() / dt;
 }
 
+// Mouth measures and mouth speed of every found frame, computed once per track.
+struct TrackMeasures {
+	std::vector<MouthMeasures> m;
+	std::vector<double> speed;
+	explicit TrackMeasures(const LandmarkTrack& track) : m(track.frames.size()), speed(track.frames.size(), 0) {
+		for (std::size_t i = 0; i < track.frames.size(); ++i)
+			if (track.frames[i].found) m[i] = mouthMeasures(track.frames[i].points), speed[i] = mouthSpeed(track, i);
+	}
+};
+
 bool nearDuplicate(const Points& a, const Points& b, double fraction) {
 	const Points ma = normalisedMouth(a), mb = normalisedMouth(b);
 	const double corner = std::hypot(ma(6, 0) - ma(0, 0), ma(6, 1) - ma(0, 1));
@@ -169,14 +179,14 @@ std::vector<CdvMouthTarget> loadCdvMouthTargets(const std::string& pathIn) {
 	return out;
 }
 
-std::int64_t mostNeutralFrame(const LandmarkTrack& track, const FromVideoOptions& o) {
+namespace {
+
+std::int64_t mostNeutralFrame(const LandmarkTrack& track, const TrackMeasures& tm, const FromVideoOptions& o) {
 	const auto cand = candidates(track, o);
 	if (cand.empty()) throw Error(track.source, 0, "no frame with a confidently tracked, frontal face");
 	std::vector<double> v[kMeasures];
-	for (std::size_t i : cand) {
-		const MouthMeasures m = mouthMeasures(track.frames[i].points);
-		for (int k = 0; k < kMeasures; ++k) v[k].push_back(m[k]);
-	}
+	for (std::size_t i : cand)
+		for (int k = 0; k < kMeasures; ++k) v[k].push_back(tm.m[i][k]);
 	double spread[kMeasures], ref[kMeasures];
 	for (int k = 0; k < kMeasures; ++k) spread[k] = std::max(1e-4, percentile(v[k], 0.95) - percentile(v[k], 0.05));
 	ref[0] = percentile(v[0], 0.05);  // lips closed
@@ -187,15 +197,18 @@ std::int64_t mostNeutralFrame(const LandmarkTrack& track, const FromVideoOptions
 	std::int64_t bestFrame = -1;
 	for (std::size_t i : cand) {
 		const auto& f = track.frames[i];
-		const MouthMeasures m = mouthMeasures(f.points);
 		double cost = 0;
-		for (int k = 0; k < kMeasures; ++k) cost += std::pow((m[k] - ref[k]) / spread[k], 2);
+		for (int k = 0; k < kMeasures; ++k) cost += std::pow((tm.m[i][k] - ref[k]) / spread[k], 2);
 		cost += std::pow(headRoll(f.points) / (5 * M_PI / 180), 2) + std::pow(headYaw(f.points) / 0.04, 2);
-		cost += std::pow(mouthSpeed(track, i) / 0.5, 2) + 4 * (1 - f.confidence);
+		cost += std::pow(tm.speed[i] / 0.5, 2) + 4 * (1 - f.confidence);
 		if (cost < best) best = cost, bestFrame = std::int64_t(i);
 	}
 	return track.frames[std::size_t(bestFrame)].frame;
 }
+
+}  // namespace
+
+std::int64_t mostNeutralFrame(const LandmarkTrack& track, const FromVideoOptions& o) { return mostNeutralFrame(track, TrackMeasures(track), o); }
 
 VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvMouthTarget>& targets, const FromVideoOptions& o) {
 	VideoCorpusPlan plan;
@@ -203,14 +216,13 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 	const auto cand = candidates(track, o);
 	if (cand.size() < 10)
 		throw Error(track.source, 0, "only " + std::to_string(cand.size()) + " frames with a confidently tracked, frontal face: too few to choose visemes from");
-	std::vector<MouthMeasures> m(track.frames.size());
+	const TrackMeasures tm(track);
+	const std::vector<MouthMeasures>& m = tm.m;
 	std::vector<double> v[kMeasures];
-	for (std::size_t i : cand) {
-		m[i] = mouthMeasures(track.frames[i].points);
+	for (std::size_t i : cand)
 		for (int k = 0; k < kMeasures; ++k) v[k].push_back(m[i][k]);
-	}
 	// The baseface (rest shape).
-	plan.basefaceFrame = o.baseface >= 0 ? o.baseface : mostNeutralFrame(track, o);
+	plan.basefaceFrame = o.baseface >= 0 ? o.baseface : mostNeutralFrame(track, tm, o);
 	std::size_t baseIndex = track.frames.size();
 	for (std::size_t i = 0; i < track.frames.size(); ++i)
 		if (track.frames[i].frame == plan.basefaceFrame) baseIndex = i;
@@ -234,24 +246,19 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 			double cost = 0;
 			for (int k = 0; k < kMeasures; ++k) cost += weight[k] * std::pow((m[i][k] - goal[k]) / spread[k], 2);
 			// Prefer still, confident frames (a frame mid-transition is blurred).
-			cost += 0.05 * std::pow(mouthSpeed(track, i) / 0.5, 2) + 0.2 * (1 - track.frames[i].confidence);
+			cost += 0.05 * std::pow(tm.speed[i] / 0.5, 2) + 0.2 * (1 - track.frames[i].confidence);
 			ranked.emplace_back(cost, i);
 		}
 		std::sort(ranked.begin(), ranked.end());
-		std::vector<std::size_t> kept;
-		if (t.cdv == "sil") kept.push_back(baseIndex);
+		std::vector<std::pair<double, std::size_t>> kept;
+		if (t.cdv == "sil") kept.emplace_back(0.0, baseIndex);
 		for (const auto& [cost, i] : ranked) {
 			if (int(kept.size()) >= o.perCdv) break;
 			bool dup = false;
-			for (std::size_t j : kept) dup = dup || nearDuplicate(track.frames[i].points, track.frames[j].points, o.duplicateFraction);
-			if (!dup) kept.push_back(i);
+			for (const auto& k : kept) dup = dup || nearDuplicate(track.frames[i].points, track.frames[k.second].points, o.duplicateFraction);
+			if (!dup) kept.emplace_back(cost, i);
 		}
-		for (std::size_t i : kept) {
-			double cost = 0;
-			for (const auto& r : ranked)
-				if (r.second == i) cost = r.first;
-			plan.entries.push_back(chosen(track, i, o.emotion, t.cdv, cost));
-		}
+		for (const auto& [cost, i] : kept) plan.entries.push_back(chosen(track, i, o.emotion, t.cdv, cost));
 	}
 	if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
 		plan.entries.push_back(chosen(track, baseIndex, o.emotion, "sil", 0));
@@ -265,6 +272,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 	plan.method = "phones";
 	if (phones.empty()) throw Error(track.source, 0, "the transcript has no phones");
 	const auto cand = candidates(track, o);
+	const TrackMeasures tm(track);
 	std::vector<char> ok(track.frames.size(), 0);
 	for (std::size_t i : cand) ok[i] = 1;
 	struct Pick {
@@ -274,22 +282,22 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 	std::map<std::string, std::vector<Pick>> byCdv;
 	for (std::size_t p = 0; p < phones.size(); ++p) {
 		const auto& ph = phones[p];
-		std::vector<std::size_t> in;
-		for (std::size_t i = 0; i < track.frames.size(); ++i)
-			if (ok[i] && track.frames[i].time >= ph.start && track.frames[i].time < ph.end) in.push_back(i);
+		std::vector<std::size_t> in;  // frames are in time order
+		auto first = std::lower_bound(track.frames.begin(), track.frames.end(), ph.start, [](const FrameLandmarks& f, Ticks t) { return f.time < t; });
+		for (std::size_t i = std::size_t(first - track.frames.begin()); i < track.frames.size() && track.frames[i].time < ph.end; ++i)
+			if (ok[i]) in.push_back(i);
 		if (in.empty()) continue;
 		// Inflection point: the interior extremum of the opening (else of the width) that departs most
 		// from the interval's mean; the midpoint frame when the signal is monotonic.
 		auto extremum = [&](int measure) -> long {
 			if (in.size() < 3) return -1;
 			double mean = 0;
-			for (std::size_t i : in) mean += mouthMeasures(track.frames[i].points)[measure];
+			for (std::size_t i : in) mean += tm.m[i][measure];
 			mean /= double(in.size());
 			long best = -1;
 			double bestDev = -1;
 			for (std::size_t k = 1; k + 1 < in.size(); ++k) {
-				const double a = mouthMeasures(track.frames[in[k - 1]].points)[measure], b = mouthMeasures(track.frames[in[k]].points)[measure],
-				             c = mouthMeasures(track.frames[in[k + 1]].points)[measure];
+				const double a = tm.m[in[k - 1]][measure], b = tm.m[in[k]][measure], c = tm.m[in[k + 1]][measure];
 				if ((b - a) * (c - b) <= 0 && std::abs(b - a) + std::abs(c - b) > 1e-4 && std::abs(b - mean) > bestDev)
 					bestDev = std::abs(b - mean), best = long(in[k]);
 			}
@@ -311,12 +319,12 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 		MouthMeasures med;
 		for (int k = 0; k < kMeasures; ++k) {
 			std::vector<double> v;
-			for (const auto& pk : picks) v.push_back(mouthMeasures(track.frames[pk.frame].points)[k]);
+			for (const auto& pk : picks) v.push_back(tm.m[pk.frame][k]);
 			med[k] = percentile(v, 0.5);
 		}
 		std::vector<std::pair<double, Pick>> ranked;
 		for (const auto& pk : picks) {
-			const MouthMeasures m = mouthMeasures(track.frames[pk.frame].points);
+			const MouthMeasures& m = tm.m[pk.frame];
 			double d = 0;
 			for (int k = 0; k < kMeasures; ++k) d += std::pow(m[k] - med[k], 2);
 			ranked.push_back({std::sqrt(d), pk});
@@ -343,7 +351,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 	}
 	for (const auto& v : visemeLabels())
 		if (!byCdv.count(v.label)) plan.missing.push_back(v.label);
-	plan.basefaceFrame = o.baseface >= 0 ? o.baseface : mostNeutralFrame(track, o);
+	plan.basefaceFrame = o.baseface >= 0 ? o.baseface : mostNeutralFrame(track, tm, o);
 	if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; })) {
 		for (std::size_t i = 0; i < track.frames.size(); ++i)
 			if (track.frames[i].frame == plan.basefaceFrame && track.frames[i].found) plan.entries.push_back(chosen(track, i, o.emotion, "sil", 0));

@@ -19,6 +19,7 @@
 #include "base/plugin.h"
 #include "base/text.h"
 #include "media/image_io.h"
+#include "track/from_video.h"
 
 namespace talkhead {
 
@@ -80,8 +81,9 @@ public:
 
 	// A fit and its consistency: a second fit from the box the first one implies; the points are the mean
 	// of the two, the confidence falls linearly to 0 at a disagreement of 8 % of the eye distance.
-	bool fitChecked(const Image8& grey, const FaceBox& box, Points& out, double& confidence) {
-		const Points a = lm_.fit(grey, box);
+	// `first`: the fit from `box`, when the caller has it already.
+	bool fitChecked(const Image8& grey, const FaceBox& box, Points& out, double& confidence, const Points* first = nullptr) {
+		const Points a = first ? *first : lm_.fit(grey, box);
 		const Points b = lm_.fit(grey, boxFrom(a, rel_));
 		const double iod = eyeDistance(a);
 		if (!(iod > 2)) return false;
@@ -134,7 +136,7 @@ public:
 				const BoxRelation r = relationOf(box, first);
 				if (!learnt_) rel_ = r, learnt_ = true;
 				else rel_ = {0.8 * rel_.left + 0.2 * r.left, 0.8 * rel_.top + 0.2 * r.top, 0.8 * rel_.right + 0.2 * r.right, 0.8 * rel_.bottom + 0.2 * r.bottom};
-				ok = fitChecked(grey, box, pts, conf);
+				ok = fitChecked(grey, box, pts, conf, &first);
 				f.detected = ok;
 				if (ok && havePrev_ && !due) ok = conf >= 0.5 * o_.minConfidence;
 			} else if (havePrev_ && due && !forceDetect) {
@@ -450,10 +452,7 @@ std::vector<double> innerLipOpening(const LandmarkTrack& track, bool raw) {
 			v.push_back(std::numeric_limits<double>::quiet_NaN());
 			continue;
 		}
-		const Points& p = raw ? f.raw : f.points;
-		const double gap = (std::hypot(p(61, 0) - p(67, 0), p(61, 1) - p(67, 1)) + std::hypot(p(62, 0) - p(66, 0), p(62, 1) - p(66, 1)) +
-		                    std::hypot(p(63, 0) - p(65, 0), p(63, 1) - p(65, 1))) / 3;
-		v.push_back(gap / eyeDistance(p));
+		v.push_back(mouthMeasures(raw ? f.raw : f.points).opening);
 	}
 	return v;
 }

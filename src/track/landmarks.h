@@ -125,7 +125,8 @@ std::string landmarksTsv(const LandmarkTrack& track);
 LandmarkTrack readLandmarksTsv(const std::string& path);
 
 // Measures of a track (issue 10 §1's report): mean frame-to-frame acceleration of the rigid points (eye
-// corners, nose) in eye distances, and the inner-lip opening per frame (eye distances; NaN when lost).
+// corners, nose) in eye distances, and the inner-lip opening per frame (MouthMeasures::opening, in eye
+// distances; NaN when lost).
 double rigidJitter(const LandmarkTrack& track, bool raw);
 std::vector<double> innerLipOpening(const LandmarkTrack& track, bool raw);
 // Outer eye-corner distance (points 36, 45).
