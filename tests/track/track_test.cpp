@@ -189,3 +189,31 @@ TEST(DlibLandmarks, aMissingModelIsOneClearError) {
 	EXPECT_NE(e.find("/nonexistent/shape_predictor_68_face_landmarks.dat"), std::string::npos) << e;
 	EXPECT_NE(e.find("libdlib-data"), std::string::npos) << e;
 }
+
+TEST(LandmarksTsv, roundTripsAndNamesFileAndLineOfBadRows) {
+	LandmarkTrack t;
+	for (int i = 0; i < 3; ++i) {
+		FrameLandmarks f;
+		f.frame = 10 + i;
+		f.time = ticksFromSeconds(0.04 * (10 + i));
+		f.found = i != 1;
+		f.detected = i == 0;
+		f.confidence = f.found ? 0.875 : 0;
+		if (f.found) f.points = f.raw = face(4 + i);
+		t.frames.push_back(f);
+	}
+	const std::string dir = test::tempDir("lmtsv");
+	const std::string text = landmarksTsv(t);
+	std::ofstream(dir + "/a.tsv") << text;
+	const LandmarkTrack back = readLandmarksTsv(dir + "/a.tsv");
+	ASSERT_EQ(back.frames.size(), 3u);
+	EXPECT_FALSE(back.frames[1].found);
+	EXPECT_TRUE(back.frames[0].detected);
+	EXPECT_EQ(landmarksTsv(back), text);
+	std::ofstream(dir + "/b.tsv") << "frame\ttime\n";
+	EXPECT_NE(test::errorOf([&] { readLandmarksTsv(dir + "/b.tsv"); }).find(dir + "/b.tsv:1: not a talkhead landmarks.tsv"), std::string::npos);
+	std::ofstream(dir + "/c.tsv") << text.substr(0, text.find('\n') + 1) << "1\t0.04\ttracked\t0.9\t1\t2\n";
+	EXPECT_NE(test::errorOf([&] { readLandmarksTsv(dir + "/c.tsv"); }).find(dir + "/c.tsv:2: expected 140 columns, found 6"), std::string::npos);
+	std::ofstream(dir + "/d.tsv") << text.substr(0, text.find('\n') + 1) << "x\t0.04\tlost\t0" << std::string(136, '\t') << "\n";
+	EXPECT_NE(test::errorOf([&] { readLandmarksTsv(dir + "/d.tsv"); }).find(dir + "/d.tsv:2: malformed number"), std::string::npos);
+}
