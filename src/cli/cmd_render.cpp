@@ -55,6 +55,7 @@ int runRender(const std::vector<std::string>& argv) {
 	           {"--no-audio", "", "no audio track even when --audio is given (its length still sets the duration)"},
 	           {"--crf", "N", "H.264 quality, 0–51 (default 20)"},
 	           {"--preset", "NAME", "x264 preset (default veryfast)"},
+	           {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
 	           {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
 	           {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	           {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
@@ -66,7 +67,8 @@ int runRender(const std::vector<std::string>& argv) {
 	           {"--timing", "", "print the time of each stage (load, keyposes, warps, blend, encode) on stderr"},
 	           {"--quiet", "", "no progress and no summary", "-q"},
 	           {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}},
-	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint, its appearance\n"
+	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint (pauses: rest, then\n"
+	          "a breath before speech; --pauses thesis for the thesis rule), its appearance\n"
 	          "from the face model for (emotion, context-dependent viseme), feature points moving on zero-tangent\n"
 	          "Hermite curves between keyposes, forward and backward piecewise-affine warps and a cross-dissolve;\n"
 	          "H.264 + AAC MP4 muxed in process.");
@@ -108,6 +110,8 @@ int runRender(const std::vector<std::string>& argv) {
 		throw UsageError("render: --trajectory and --dissolve take hermite or linear");
 	so.trajectory = traj == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
 	so.dissolve = diss == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
+	if (!pauses) throw UsageError("render: --pauses takes natural or thesis");
 	const std::string warpPath = args.get("--warp", "direct");
 	if (warpPath != "direct" && warpPath != "keypose") throw UsageError("render: --warp takes direct or keypose");
 	so.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
@@ -148,7 +152,7 @@ int runRender(const std::vector<std::string>& argv) {
 	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
 	const std::int64_t frameNumer = kTicksPerSecond * vo.fpsDen;  // frame n at n · frameNumer / fpsNum ticks
 	const Ticks frameTicks(frameNumer / vo.fpsNum);
-	std::vector<Keypose> keys = keyposes(phones, frameTicks);
+	std::vector<Keypose> keys = keyposes(phones, frameTicks, *pauses);
 	// Duration: the audio's, or the transcript's.
 	Ticks duration = phones.back().end;
 	if (auto a = args.get("--audio")) {

@@ -28,6 +28,7 @@ int runSay(const std::vector<std::string>& argv) {
 	           {"--emotion", "LABEL", "one of the 23 emotion labels or an alias (default neutral)"},
 	           {"--model", "M.thm", "face model (default: the embedded default face)"},
 	           {"--fps", "N", "frame rate (default 30)"},
+	           {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
 	           {"--size", "WxH", "output size (default: the model's frame size)"},
 	           {"--format", "FORMAT", "mp4 (default) or y4m (e.g. -o - | ffplay -)"},
 	           {"--crf", "N", "H.264 quality 0–51 (default 20)"},
@@ -53,6 +54,8 @@ int runSay(const std::vector<std::string>& argv) {
 		for (const auto& p : args.positionals()) text += (text.empty() ? "" : " ") + p;
 	}
 	const bool dryRun = args.has("--dry-run");
+	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
+	if (!pauses) throw UsageError("say: --pauses takes natural or thesis");
 	auto output = args.get("--output");
 	if (!output && !dryRun) throw UsageError("say: -o OUT is required (or --dry-run)");
 	const std::string langTag = args.get("--lang", "pt-BR");
@@ -74,7 +77,7 @@ int runSay(const std::vector<std::string>& argv) {
 		job.video.fpsNum = int(n);
 	}
 	const Ticks frame(kTicksPerSecond / job.video.fpsNum);
-	job.keys = keyposes(phones, frame);
+	job.keys = keyposes(phones, frame, *pauses);
 	if (dryRun) {
 		std::cout << formatVisemes(phones, job.keys, "tsv", lang.tag(), "espeak-ng");
 		return 0;

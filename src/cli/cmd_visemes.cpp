@@ -45,6 +45,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	           {"--utterance", "NAME|N", "HTK MLF utterance (name or 1-based index; default the first)"},
 	           {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
 	           {"--fps", "N", "output frame rate for keypose spacing (default 30)"},
+	           {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
 	           {"--out-format", "FORMAT", "tsv (default), json, textgrid, rhubarb-tsv, rhubarb-json"},
 	           {"--output", "OUT", "write here instead of standard output", "-o"}},
 	          "Maps a timed transcript to context-dependent visemes (Costa 2015) and keyposes: one row per phone\n"
@@ -71,12 +72,14 @@ int runVisemes(const std::vector<std::string>& argv) {
 	else if (policy == "silence") unknown = UnknownPhone::Silence;
 	else if (policy != "error") throw UsageError("visemes: --unknown must be error, nearest or silence");
 	const double fps = args.number("--fps", 30, 1, 240);
+	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
+	if (!pauses) throw UsageError("visemes: --pauses takes natural or thesis");
 	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
 	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
-	std::vector<Keypose> keys = keyposes(phones, Ticks(std::llround(double(kTicksPerSecond) / fps)));
+	std::vector<Keypose> keys = keyposes(phones, Ticks(std::llround(double(kTicksPerSecond) / fps)), *pauses);
 	writeOutput(args.get("--output", "-"), formatVisemes(phones, keys, outFormat, lang.tag(), path));
 	return 0;
 }

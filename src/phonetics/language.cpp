@@ -291,21 +291,47 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 	return out;
 }
 
-std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame) {
+std::optional<PauseStyle> parsePauseStyle(const std::string& name) {
+	if (name == "natural") return PauseStyle::Natural;
+	if (name == "thesis") return PauseStyle::Thesis;
+	return std::nullopt;
+}
+
+std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, PauseStyle pauses) {
 	std::vector<Keypose> out;
+	// Appends k unless it is less than a frame after the previous keypose (then the one whose phones
+	// last longer stays; a pause's extra keyposes never displace a phone's).
+	auto add = [&](const Keypose& k, bool canReplace) {
+		if (!out.empty() && k.time - out.back().time < frame) {
+			const Keypose& prev = out.back();
+			const Ticks prevLen = ph[prev.last].end - ph[prev.first].start, len = ph[k.last].end - ph[k.first].start;
+			if (canReplace && len > prevLen) out.back() = k;
+		} else {
+			out.push_back(k);
+		}
+	};
 	std::size_t i = 0;
 	while (i < ph.size()) {
 		// A run of phones with the same CDV makes one keypose at the run's midpoint.
 		std::size_t j = i;
 		while (j + 1 < ph.size() && ph[j + 1].cdv == ph[i].cdv) ++j;
-		Keypose k{Ticks((ph[i].start.count() + ph[j].end.count()) / 2), ph[i].cdv, i, j};
-		if (!out.empty() && k.time - out.back().time < frame) {
-			// Too close to the previous keypose to be seen: keep the one whose phones last longer.
-			const Keypose& prev = out.back();
-			const Ticks prevLen = ph[prev.last].end - ph[prev.first].start, len = ph[j].end - ph[i].start;
-			if (len > prevLen) out.back() = k;
+		const Keypose k{Ticks((ph[i].start.count() + ph[j].end.count()) / 2), ph[i].cdv, i, j};
+		const Ticks a = ph[i].start, b = ph[j].end, len = b - a;
+		const bool leading = i == 0, trailing = j + 1 == ph.size();
+		if (pauses == PauseStyle::Natural && ph[i].phone == "_" && len > kPauseShort && !(leading && trailing)) {
+			// D34: rest soon after speech stops, held; before the next speech an in-breath, or rest.
+			if (!leading) add({a + kRestAfter, k.cdv, i, j}, false);
+			if (!trailing) {
+				const Ticks restFrom = leading ? a : a + kRestAfter;
+				if (b - restFrom >= kBreathPause) {
+					add({b - kBreathPause, k.cdv, i, j}, false);
+					add({b - kBreathLead, kBreathCdv, i, j, true}, false);
+				} else {
+					add({b - kRestBefore, k.cdv, i, j}, false);
+				}
+			}
 		} else {
-			out.push_back(k);
+			add(k, true);
 		}
 		i = j + 1;
 	}

@@ -68,11 +68,30 @@ struct Keypose {
 	Ticks time{0};
 	std::string cdv;
 	std::size_t first = 0, last = 0;  // the phone segments it stands for
+	bool breath = false;              // the in-breath before speech (PauseStyle::Natural), not a phone's viseme
 };
+
+// How pauses move the mouth (docs/decisions.md D34).
+//  Thesis: one silence keypose at the pause's midpoint, like any phone (Eq. 5.1).
+//  Natural (default): in a pause longer than kPauseShort the mouth reaches rest kRestAfter after the
+//  speech stops and holds it; before speech that follows a pause of at least kBreathPause it breathes in
+//  (lips parted, the central-vowel CDV kBreathCdv, kBreathLead before the first phone, after rest until
+//  kBreathLead + kBreathRise); a shorter pause leaves rest kRestBefore before the next phone.
+enum class PauseStyle { Natural, Thesis };
+inline constexpr Ticks kRestAfter{kTicksPerSecond * 12 / 100};    // 0.12 s
+inline constexpr Ticks kRestBefore{kTicksPerSecond * 30 / 100};   // 0.30 s
+inline constexpr Ticks kPauseShort = kRestAfter + kRestBefore;    // 0.42 s
+inline constexpr Ticks kBreathLead{kTicksPerSecond * 30 / 100};   // 0.30 s
+inline constexpr Ticks kBreathRise{kTicksPerSecond * 15 / 100};   // 0.15 s
+inline constexpr Ticks kBreathPause = kBreathLead + kBreathRise;  // 0.45 s
+inline constexpr const char* kBreathCdv = "ɐ";
+
+// "natural" / "thesis" → PauseStyle; nullopt for anything else.
+std::optional<PauseStyle> parsePauseStyle(const std::string& name);
 
 // One keypose per phone at its midpoint, with the project's edge rules (docs/decisions.md): runs of the
 // same CDV merge into one keypose at the run's midpoint; a keypose less than one frame after the previous
-// one is dropped unless its phone is longer (then it replaces the previous one).
-std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& phones, Ticks frame);
+// one is dropped unless its phone is longer (then it replaces the previous one); pauses as `pauses` says.
+std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& phones, Ticks frame, PauseStyle pauses = PauseStyle::Natural);
 
 }  // namespace talkhead

@@ -39,11 +39,13 @@ std::string sec(Ticks t) {
 	return buf;
 }
 
-// Keypose time of each phone ("" when its keypose was dropped as too close to a neighbour).
+// Keypose time of each phone: its first keypose of its own CDV ("" when it was dropped as too close to a
+// neighbour). A pause may have several (rest, in-breath; D34).
 std::vector<std::string> keyTimes(const std::vector<PhoneSegment>& ph, const std::vector<Keypose>& keys) {
 	std::vector<std::string> t(ph.size());
 	for (const auto& k : keys)
-		for (std::size_t i = k.first; i <= k.last && i < ph.size(); ++i) t[i] = sec(k.time);
+		for (std::size_t i = k.first; i <= k.last && i < ph.size(); ++i)
+			if (t[i].empty() && !k.breath) t[i] = sec(k.time);
 	return t;
 }
 

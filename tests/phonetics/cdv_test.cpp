@@ -153,6 +153,37 @@ TEST(Keyposes, oneAtEachPhoneMidpointWithMergesAndDrops) {
 	EXPECT_EQ(k[1].last, 2u);
 }
 
+TEST(Keyposes, naturalPausesRestSoonAndBreatheInBeforeSpeech) {
+	const Ticks frame(kTicksPerSecond / 25);
+	auto ms = [](long v) { return Ticks(v * (kTicksPerSecond / 1000)); };
+	// 600 ms leading pause, "a", 300 ms pause (short), "a" → "p", 1 s pause, "u", 800 ms trailing pause.
+	std::vector<PhoneSegment> p = {{ms(0), ms(600), "", "_", "sil", 1},      {ms(600), ms(700), "a", "a", "a", 2},
+	                               {ms(700), ms(1000), "", "_", "sil", 3},   {ms(1000), ms(1100), "a", "a", "a", 4},
+	                               {ms(1100), ms(1200), "p", "p", "p1", 5},  {ms(1200), ms(2200), "", "_", "sil", 6},
+	                               {ms(2200), ms(2300), "u", "u", "u", 7},   {ms(2300), ms(3100), "", "_", "sil", 8}};
+	auto thesis = keyposes(p, frame, PauseStyle::Thesis);
+	ASSERT_EQ(thesis.size(), 8u);  // one per phone, pauses at their midpoints
+	EXPECT_EQ(thesis[0].time, ms(300));
+	EXPECT_EQ(thesis[5].time, ms(1700));
+	EXPECT_EQ(thesis[7].time, ms(2700));
+
+	auto k = keyposes(p, frame);  // natural (D34)
+	std::vector<std::pair<long, std::string>> got;
+	for (const auto& x : k) got.push_back({long(x.time / ms(1)), x.cdv + (x.breath ? "*" : "")});
+	const std::vector<std::pair<long, std::string>> want = {
+	    {150, "sil"}, {300, "ɐ*"},                // leading: rest until 450 ms before speech, in-breath 300 ms before
+	    {650, "a"},   {850, "sil"},  {1050, "a"},  // a 300-ms pause is short: one keypose at its midpoint (thesis)
+	    {1150, "p1"}, {1320, "sil"}, {1750, "sil"}, {1900, "ɐ*"},  // rest 120 ms after speech, held, then breath
+	    {2250, "u"},  {2420, "sil"}};             // trailing: rest 120 ms after the last phone, held to the end
+	EXPECT_EQ(got, want);
+	// The per-phone keypose column names a pause's rest keypose, never the breath.
+	const std::string tsv = formatVisemes(p, k, "tsv", "pt-BR", "x");
+	EXPECT_NE(tsv.find("0.000000\t0.600000\t_\tsil\t0.150000\n"), std::string::npos) << tsv;
+	EXPECT_NE(tsv.find("1.200000\t2.200000\t_\tsil\t1.320000\n"), std::string::npos) << tsv;
+	EXPECT_EQ(parsePauseStyle("thesis"), PauseStyle::Thesis);
+	EXPECT_EQ(parsePauseStyle("Natural"), std::nullopt);
+}
+
 TEST(Writers, textGridRoundTripIsIdentical) {
 	const Language& pt = Language::get("pt-BR");
 	auto phones = phoneSegments(readTranscript(kDir + "que_noticia.TextGrid"), pt);
@@ -195,7 +226,9 @@ TEST(Espeak, gridWordsExpandToPhonesInsideEachWord) {
 			++inside;
 		}
 		EXPECT_GE(inside, 1) << w.label;
-		if (w.label == "white") EXPECT_GE(inside, 3);  // w aɪ t
+		if (w.label == "white") {
+			EXPECT_GE(inside, 3);  // w aɪ t
+		}
 	}
 	for (std::size_t i = 1; i < phones.size(); ++i) EXPECT_EQ(phones[i].start, phones[i - 1].end);
 	EXPECT_EQ(phones.front().start, words.intervals.front().start);
