@@ -14,10 +14,18 @@
 
 namespace talkhead {
 
-long FaceModel::findSample(const std::string& emotion, const std::string& cdv) const {
-	for (std::size_t i = 0; i < samples.size(); ++i)
-		if (samples[i].emotion == emotion && samples[i].cdv == cdv) return long(i);
-	return -1;
+long FaceModel::findSample(const std::string& emotion, const std::string& cdv, const std::array<std::string, 5>* context) const {
+	static constexpr int kWeight[5] = {1, 4, 2, 4, 1};
+	long best = -1;
+	int bestScore = -1;
+	for (std::size_t i = 0; i < samples.size(); ++i) {
+		if (samples[i].emotion != emotion || samples[i].cdv != cdv) continue;
+		if (!context) return long(i);
+		int score = 0;
+		for (int k = 0; k < 5; ++k) score += samples[i].context[std::size_t(k)] == (*context)[std::size_t(k)] ? kWeight[k] : 0;
+		if (score > bestScore) best = long(i), bestScore = score;
+	}
+	return best;
 }
 
 int FaceModel::regionIndex(const std::string& name) const {

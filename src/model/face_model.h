@@ -73,8 +73,11 @@ struct FaceModel {
 
 	int pointCount() const { return int(meanShape.rows()); }
 	std::size_t sampleCount() const { return samples.size(); }
-	// Index of the training sample with these labels, or −1.
-	long findSample(const std::string& emotion, const std::string& cdv) const;
+	// Index of the training sample with these labels, or −1. Where several samples share them (a corpus
+	// from video keeps --per-cdv N), the one whose phone context (two before, own, two after) best matches
+	// `context`: the adjacent phones weigh 4, the outer ones 1, the own phone 2; ties (and no context)
+	// keep the corpus's order, which lists the most typical frame first.
+	long findSample(const std::string& emotion, const std::string& cdv, const std::array<std::string, 5>* context = nullptr) const;
 	// The region with this name, or −1.
 	int regionIndex(const std::string& name) const;
 };

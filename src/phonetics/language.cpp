@@ -310,24 +310,31 @@ std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, 
 			out.push_back(k);
 		}
 	};
+	auto phoneAt = [&](long q) { return q < 0 || q >= long(ph.size()) || ph[std::size_t(q)].phone.empty() ? std::string("_") : ph[std::size_t(q)].phone; };
 	std::size_t i = 0;
 	while (i < ph.size()) {
 		// A run of phones with the same CDV makes one keypose at the run's midpoint.
 		std::size_t j = i;
 		while (j + 1 < ph.size() && ph[j + 1].cdv == ph[i].cdv) ++j;
-		const Keypose k{Ticks((ph[i].start.count() + ph[j].end.count()) / 2), ph[i].cdv, i, j};
+		Keypose k{Ticks((ph[i].start.count() + ph[j].end.count()) / 2), ph[i].cdv, i, j};
+		k.context = {phoneAt(long(i) - 2), phoneAt(long(i) - 1), phoneAt(long(i)), phoneAt(long(j) + 1), phoneAt(long(j) + 2)};
+		auto at = [&](Ticks t, const std::string& cdv, bool breath = false) {
+			Keypose x = k;
+			x.time = t, x.cdv = cdv, x.breath = breath;
+			return x;
+		};
 		const Ticks a = ph[i].start, b = ph[j].end, len = b - a;
 		const bool leading = i == 0, trailing = j + 1 == ph.size();
 		if (pauses == PauseStyle::Natural && ph[i].phone == "_" && len > kPauseShort && !(leading && trailing)) {
 			// D34: rest soon after speech stops, held; before the next speech an in-breath, or rest.
-			if (!leading) add({a + kRestAfter, k.cdv, i, j}, false);
+			if (!leading) add(at(a + kRestAfter, k.cdv), false);
 			if (!trailing) {
 				const Ticks restFrom = leading ? a : a + kRestAfter;
 				if (b - restFrom >= kBreathPause) {
-					add({b - kBreathPause, k.cdv, i, j}, false);
-					add({b - kBreathLead, kBreathCdv, i, j, true}, false);
+					add(at(b - kBreathPause, k.cdv), false);
+					add(at(b - kBreathLead, kBreathCdv, true), false);
 				} else {
-					add({b - kRestBefore, k.cdv, i, j}, false);
+					add(at(b - kRestBefore, k.cdv), false);
 				}
 			}
 		} else {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -69,6 +70,10 @@ struct Keypose {
 	std::string cdv;
 	std::size_t first = 0, last = 0;  // the phone segments it stands for
 	bool breath = false;              // the in-breath before speech (PauseStyle::Natural), not a phone's viseme
+	// Phones around it, as a corpus row writes them (spec §1.2): two before, its own (the run's first),
+	// two after; "_" for a pause or the utterance's edge. A model with several samples of the CDV uses the
+	// one whose context matches best (FaceModel::findSample).
+	std::array<std::string, 5> context{"_", "_", "_", "_", "_"};
 };
 
 // How pauses move the mouth (docs/decisions.md D34).

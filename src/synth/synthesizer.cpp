@@ -70,15 +70,18 @@ std::string groupOf(const std::string& cdv) {
 }
 }  // namespace
 
-long Synthesizer::resolve(const std::string& cdv) const {
-	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs.
-	long sample = model_.findSample(o_.emotion, cdv);
-	if (sample < 0) sample = model_.findSample("neutral", cdv);
+long Synthesizer::resolve(const Keypose& key) const {
+	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs;
+	// among several samples of one entry, the best phone context (FaceModel::findSample).
+	const std::string& cdv = key.cdv;
+	const auto* context = &key.context;
+	long sample = model_.findSample(o_.emotion, cdv, context);
+	if (sample < 0) sample = model_.findSample("neutral", cdv, context);
 	if (sample < 0)
 		for (const auto& v : visemeLabels())
 			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) {
-				sample = model_.findSample(o_.emotion, v.label);
-				if (sample < 0) sample = model_.findSample("neutral", v.label);
+				sample = model_.findSample(o_.emotion, v.label, context);
+				if (sample < 0) sample = model_.findSample("neutral", v.label, context);
 			}
 	if (sample < 0) {
 		// Last resort: the emotion's silence, then anything of the emotion, then the first sample.
@@ -91,15 +94,20 @@ long Synthesizer::resolve(const std::string& cdv) const {
 }
 
 const KeyposeImage& Synthesizer::keypose(const std::string& cdv) {
-	prepare({Keypose{Ticks(0), cdv, 0, 0}});
-	return cached(cdv);
+	Keypose k{Ticks(0), cdv, 0, 0};
+	k.context = {"", "", "", "", ""};  // no context: the corpus's first sample of the CDV
+	prepare({k});
+	return cached(k);
 }
 
-const KeyposeImage& Synthesizer::cached(const std::string& cdv) const {
+const KeyposeImage& Synthesizer::cached(const Keypose& key) const {
 	std::lock_guard<std::mutex> lock(mutex_);
-	auto it = cache_.find(cdv);
-	if (it == cache_.end()) throw std::logic_error("Synthesizer: keypose not prepared: " + cdv);
-	return *it->second;
+	auto it = index_.find(key.cdv);
+	if (it != index_.end()) {
+		auto jt = it->second.find(key.context);
+		if (jt != it->second.end()) return *jt->second;
+	}
+	throw std::logic_error("Synthesizer: keypose not prepared: " + key.cdv);
 }
 
 std::vector<std::string> Synthesizer::substitutions() const {
@@ -108,12 +116,11 @@ std::vector<std::string> Synthesizer::substitutions() const {
 }
 
 std::vector<std::string> Synthesizer::substitutionsFor(const std::vector<Keypose>& keys) const {
-	std::vector<std::string> seen, out;
+	std::vector<std::string> out;
 	for (const auto& k : keys) {
-		if (std::find(seen.begin(), seen.end(), k.cdv) != seen.end()) continue;
-		seen.push_back(k.cdv);
-		const SampleInfo& s = model_.samples[std::size_t(resolve(k.cdv))];
-		if (s.emotion != o_.emotion || s.cdv != k.cdv) out.push_back(o_.emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv);
+		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
+		const std::string line = o_.emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
+		if ((s.emotion != o_.emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 	}
 	return out;
 }
@@ -185,15 +192,22 @@ KeyposeImage Synthesizer::makeKeypose(long sample, const std::vector<const std::
 }
 
 void Synthesizer::prepare(const std::vector<Keypose>& keys) {
-	std::vector<std::string> todo;
+	// The (CDV, context) pairs not seen yet, their samples, and the samples without an image yet.
+	std::vector<std::pair<const Keypose*, long>> fresh;
+	std::vector<long> samples;
 	{
 		std::lock_guard<std::mutex> lock(mutex_);
-		for (const auto& k : keys)
-			if (!cache_.count(k.cdv) && std::find(todo.begin(), todo.end(), k.cdv) == todo.end()) todo.push_back(k.cdv);
+		for (const auto& k : keys) {
+			auto it = index_.find(k.cdv);
+			if (it != index_.end() && it->second.count(k.context)) continue;
+			if (std::any_of(fresh.begin(), fresh.end(), [&](const auto& f) { return f.first->cdv == k.cdv && f.first->context == k.context; }))
+				continue;
+			const long sample = resolve(k);
+			fresh.push_back({&k, sample});
+			if (!images_.count(sample) && std::find(samples.begin(), samples.end(), sample) == samples.end()) samples.push_back(sample);
+		}
 	}
-	if (todo.empty()) return;
-	std::vector<long> samples;
-	for (const auto& cdv : todo) samples.push_back(resolve(cdv));
+	if (fresh.empty()) return;
 	// Appearances: each sample's 8-bit reconstruction from the model's cache (read from disk on demand),
 	// or, for a model without one, one GEMM per region for all the keyposes (the basis is read once).
 	std::vector<Eigen::MatrixXf> synthesized(model_.regions.size());
@@ -204,8 +218,8 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(reg, std::size_t(samples[j]));
 		synthesized[r] = synthesizeAppearances(reg, c);
 	}
-	std::vector<std::unique_ptr<KeyposeImage>> made(todo.size());
-	parallelFor(todo.size(), 0, [&](std::size_t j) {
+	std::vector<std::unique_ptr<KeyposeImage>> made(samples.size());
+	parallelFor(samples.size(), 0, [&](std::size_t j) {
 		std::vector<std::vector<std::uint8_t>> bytes(model_.regions.size());
 		std::vector<const std::uint8_t*> cached8(model_.regions.size(), nullptr);
 		std::vector<Eigen::VectorXf> synth(model_.regions.size());
@@ -222,10 +236,14 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 		made[j] = std::make_unique<KeyposeImage>(makeKeypose(samples[j], cached8, synth));
 	});
 	std::lock_guard<std::mutex> lock(mutex_);
-	for (std::size_t j = 0; j < todo.size(); ++j) {
-		if (made[j]->usedEmotion != o_.emotion || made[j]->usedCdv != todo[j])
-			substitutions_.push_back(o_.emotion + " " + todo[j] + " -> " + made[j]->usedEmotion + " " + made[j]->usedCdv);
-		cache_.emplace(todo[j], std::move(made[j]));
+	for (std::size_t j = 0; j < samples.size(); ++j) images_.emplace(samples[j], std::move(made[j]));
+	for (const auto& [k, sample] : fresh) {
+		const KeyposeImage* image = images_.at(sample).get();
+		index_[k->cdv][k->context] = image;
+		const std::string line = o_.emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
+		if ((image->usedEmotion != o_.emotion || image->usedCdv != k->cdv) &&
+		    std::find(substitutions_.begin(), substitutions_.end(), line) == substitutions_.end())
+			substitutions_.push_back(line);
 	}
 }
 
@@ -242,9 +260,9 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 	std::size_t i = 0;
 	while (i + 1 < keys.size() && keys[i + 1].time <= tau) ++i;
 	Between f;
-	f.src = &cached(keys[i].cdv);
+	f.src = &cached(keys[i]);
 	const bool hold = tau <= keys.front().time || i + 1 >= keys.size();
-	f.dst = hold ? f.src : &cached(keys[i + 1].cdv);
+	f.dst = hold ? f.src : &cached(keys[i + 1]);
 	f.u = hold ? 0 : double((tau - keys[i].time).count()) / double((keys[i + 1].time - keys[i].time).count());
 	f.w = o_.dissolve == Trajectory::Hermite ? f.u * f.u * (3 - 2 * f.u) : f.u;
 	f.w256 = int(std::lround(std::clamp(f.w, 0.0, 1.0) * 256));

@@ -52,7 +52,8 @@ public:
 	int width() const { return width_; }
 	int height() const { return height_; }
 
-	// The keypose of a CDV for the emotion (computed once). Missing (emotion, CDV) entries fall back
+	// The keypose of a CDV for the emotion (computed once; the corpus's first sample of it when it has
+	// several: a timeline's keyposes pick theirs by phone context). Missing (emotion, CDV) entries fall back
 	// to neutral for that CDV, then to the other CDVs of the same homorganic group. On the Direct path it
 	// holds the face box's appearance in the mean-shape frame (no `image`): renderFrame at the keypose's
 	// time draws it.
@@ -89,13 +90,15 @@ private:
 	int width_, height_;
 	double scaleX_, scaleY_;
 	mutable std::mutex mutex_;
-	std::map<std::string, std::unique_ptr<KeyposeImage>> cache_;
+	// Keypose images per model sample, and which one each (CDV, phone context) uses.
+	std::map<long, std::unique_ptr<KeyposeImage>> images_;
+	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;
 	int roiX0_ = 0, roiY0_ = 0, roiX1_ = 0, roiY1_ = 0;  // face box in the model frame (even corners)
 	Points meanSource_, meanSourceChroma_;               // s̄ + frame border, in luma and chroma pixels
 	std::vector<std::uint8_t> baseY_, baseUV_;           // the baseface in YUV 4:2:0
-	const KeyposeImage& cached(const std::string& cdv) const;
-	long resolve(const std::string& cdv) const;  // the model sample used for a CDV
+	const KeyposeImage& cached(const Keypose& key) const;
+	long resolve(const Keypose& key) const;  // the model sample used for a keypose (CDV, context)
 	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the
 	// dissolve weight (Eq. 5.4: t or the Hermite ease) as a double and in 1/256.
 	struct Between {

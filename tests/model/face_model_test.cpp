@@ -152,3 +152,22 @@ TEST(FaceModel, badTrainingInputIsReported) {
 	// Too few images.
 	EXPECT_THROW(buildFaceModel(scheme, {shapes[0]}, {samples[0]}, 800, 600, images, BuildOptions{}, quiet), Error);
 }
+
+TEST(FaceModel, findSamplePicksTheNearestPhoneContextAmongSeveral) {
+	FaceModel m;
+	auto sample = [](std::string emotion, std::string cdv, std::array<std::string, 5> ctx) {
+		SampleInfo s;
+		s.emotion = std::move(emotion), s.cdv = std::move(cdv), s.context = std::move(ctx);
+		return s;
+	};
+	m.samples = {sample("neutral", "p1", {"_", "a", "p", "i", "_"}), sample("neutral", "t1", {"_", "_", "t", "i", "_"}),
+	             sample("neutral", "p1", {"_", "u", "m", "u", "_"}), sample("joy", "p1", {"_", "u", "m", "u", "_"}),
+	             sample("neutral", "p1", {"_", "_", "b", "a", "s"})};
+	const std::array<std::string, 5> afterU{"s", "u", "p", "u", "_"}, startBa{"_", "_", "b", "a", "_"}, other{"k", "e", "m", "e", "k"};
+	EXPECT_EQ(m.findSample("neutral", "p1"), 0);             // no context: the corpus's first (most typical)
+	EXPECT_EQ(m.findSample("neutral", "p1", &afterU), 2);     // both neighbours [u]
+	EXPECT_EQ(m.findSample("neutral", "p1", &startBa), 4);    // utterance start, then [a]
+	EXPECT_EQ(m.findSample("neutral", "p1", &other), 2);      // own phone [m] matches the second; ties keep order
+	EXPECT_EQ(m.findSample("joy", "p1", &startBa), 3);        // the emotion's only sample
+	EXPECT_EQ(m.findSample("anger", "p1", &afterU), -1);
+}

@@ -176,6 +176,9 @@ TEST(Keyposes, naturalPausesRestSoonAndBreatheInBeforeSpeech) {
 	    {1150, "p1"}, {1320, "sil"}, {1750, "sil"}, {1900, "ɐ*"},  // rest 120 ms after speech, held, then breath
 	    {2250, "u"},  {2420, "sil"}};             // trailing: rest 120 ms after the last phone, held to the end
 	EXPECT_EQ(got, want);
+	// Each keypose carries its phone context as corpus rows write it (two before, own, two after).
+	const std::array<std::string, 5> pContext{"_", "a", "p", "_", "u"};
+	EXPECT_EQ(k[5].context, pContext);
 	// The per-phone keypose column names a pause's rest keypose, never the breath.
 	const std::string tsv = formatVisemes(p, k, "tsv", "pt-BR", "x");
 	EXPECT_NE(tsv.find("0.000000\t0.600000\t_\tsil\t0.150000\n"), std::string::npos) << tsv;
