@@ -89,7 +89,8 @@ std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector
 			  << ", \"keypose\": " << (kt[i].empty() ? "null" : kt[i]) << "}" << (i + 1 < ph.size() ? "," : "") << "\n";
 		o << "  ],\n  \"keyposes\": [\n";
 		for (std::size_t i = 0; i < keys.size(); ++i)
-			o << "    {\"time\": " << sec(keys[i].time) << ", \"cdv\": " << jsonQuote(keys[i].cdv) << "}" << (i + 1 < keys.size() ? "," : "") << "\n";
+			o << "    {\"time\": " << sec(keys[i].time) << ", \"cdv\": " << jsonQuote(keys[i].cdv) << (keys[i].breath ? ", \"breath\": true" : "") << "}"
+			  << (i + 1 < keys.size() ? "," : "") << "\n";
 		o << "  ]\n}\n";
 	} else if (format == "textgrid") {
 		o << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n\nxmin = 0\nxmax = " << sec(end) << "\ntiers? <exists>\nsize = 3\nitem []:\n";

@@ -27,7 +27,7 @@ grep -q $'^0.100000\t0.180000\tk\tk1\t0.140000$' "$T/out.tsv"
 # Pauses (D34): a leading pause of 0.6 s rests, then breathes in 0.3 s before speech (keyposes tier, JSON);
 # --pauses thesis puts one silence keypose at its midpoint.
 printf '0\t0.6\t_\n0.6\t0.7\ta\n0.7\t1.5\t_\n' >"$T/pause.tsv"
-"$TH" visemes "$T/pause.tsv" --fps 25 --out-format json | /usr/bin/python3 -c "import json,sys; k=[(x['time'],x['cdv']) for x in json.load(sys.stdin)['keyposes']]; assert k==[(0.15,'sil'),(0.3,'ɐ'),(0.65,'a'),(0.82,'sil')], k"
+"$TH" visemes "$T/pause.tsv" --fps 25 --out-format json | /usr/bin/python3 -c "import json,sys; k=[(x['time'],x['cdv'],x.get('breath',False)) for x in json.load(sys.stdin)['keyposes']]; assert k==[(0.15,'sil',False),(0.3,'ɐ',True),(0.65,'a',False),(0.82,'sil',False)], k"
 "$TH" visemes "$T/pause.tsv" --fps 25 --out-format json --pauses thesis | /usr/bin/python3 -c "import json,sys; k=[(x['time'],x['cdv']) for x in json.load(sys.stdin)['keyposes']]; assert k==[(0.3,'sil'),(0.65,'a'),(1.1,'sil')], k"
 # Errors: one line, the file named, no output file.
 err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
