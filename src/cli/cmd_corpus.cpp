@@ -7,7 +7,7 @@
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
-#include "cli/progress_bar.h"
+#include "base/progress.h"
 #include "phonetics/labels.h"
 #include "synth_corpus.h"
 

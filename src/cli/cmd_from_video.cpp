@@ -11,7 +11,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/output_dir.h"
-#include "cli/progress_bar.h"
+#include "base/progress.h"
 #include "media/video_reader.h"
 #include "phonetics/labels.h"
 #include "phonetics/language.h"

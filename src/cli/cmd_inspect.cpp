@@ -11,7 +11,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/corpus_filter.h"
-#include "cli/progress_bar.h"
+#include "base/progress.h"
 #include "media/image_io.h"
 #include "model/face_model.h"
 #include "model/model_file.h"

@@ -10,7 +10,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/output_dir.h"
-#include "cli/progress_bar.h"
+#include "base/progress.h"
 #include "media/image_io.h"
 #include "track/compare.h"
 #include "track/landmarks.h"

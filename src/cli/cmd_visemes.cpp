@@ -9,6 +9,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/frame_rate.h"
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
@@ -71,7 +72,8 @@ int runVisemes(const std::vector<std::string>& argv) {
 	if (policy == "nearest") unknown = UnknownPhone::Nearest;
 	else if (policy == "silence") unknown = UnknownPhone::Silence;
 	else if (policy != "error") throw UsageError("visemes: --unknown must be error, nearest or silence");
-	const double fps = args.number("--fps", 30, 1, 240);
+	const auto rate = FrameRate::parse(args.get("--fps", "30"));
+	if (!rate) throw UsageError("visemes: --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
 	if (!pauses) throw UsageError("visemes: --pauses takes natural or thesis");
 	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
@@ -79,7 +81,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
 	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
-	std::vector<Keypose> keys = keyposes(phones, Ticks(std::llround(double(kTicksPerSecond) / fps)), *pauses);
+	std::vector<Keypose> keys = keyposes(phones, rate->frameLength(), *pauses);
 	writeOutput(args.get("--output", "-"), formatVisemes(phones, keys, outFormat, lang.tag(), path));
 	return 0;
 }

@@ -134,9 +134,9 @@ struct Mp4Encoder {
 		venc->width = o.width;
 		venc->height = o.height;
 		venc->pix_fmt = AV_PIX_FMT_YUV420P;
-		venc->time_base = AVRational{o.fpsDen, o.fpsNum};
-		venc->framerate = AVRational{o.fpsNum, o.fpsDen};
-		venc->gop_size = 10 * o.fpsNum / std::max(1, o.fpsDen);
+		venc->time_base = AVRational{o.rate.den, o.rate.num};
+		venc->framerate = AVRational{o.rate.num, o.rate.den};
+		venc->gop_size = 10 * o.rate.num / std::max(1, o.rate.den);
 		venc->thread_count = o.threads;
 		if (fmt->oformat->flags & AVFMT_GLOBALHEADER) venc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
 		av_opt_set(venc->priv_data, "preset", o.preset.c_str(), 0);
@@ -228,7 +228,7 @@ struct Mp4Encoder {
 		vframe->pts = frameIndex++;
 		checkAv(avcodec_send_frame(venc, vframe), path, "H.264 encoding failed");
 		drain(venc, vst);
-		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.fpsDen, o.fpsNum}, AVRational{1, audio->sampleRate}), false);
+		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.rate.den, o.rate.num}, AVRational{1, audio->sampleRate}), false);
 	}
 
 	void finish() {

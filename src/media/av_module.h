@@ -13,7 +13,7 @@
 
 namespace talkhead {
 
-constexpr int kAvModuleAbi = 2;
+constexpr int kAvModuleAbi = 3;  // 3: VideoOptions carries a FrameRate
 
 struct AvModule {
 	int abi;  // kAvModuleAbi

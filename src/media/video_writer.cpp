@@ -49,7 +49,7 @@ void Mp4Writer::finish() {
 }
 
 Y4mWriter::Y4mWriter(std::FILE* out, const VideoOptions& o) : out_(out), o_(o) {
-	std::fprintf(out_, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 C420jpeg XCOLORRANGE=LIMITED\n", o.width, o.height, o.fpsNum, o.fpsDen);
+	std::fprintf(out_, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 C420jpeg XCOLORRANGE=LIMITED\n", o.width, o.height, o.rate.num, o.rate.den);
 }
 
 void Y4mWriter::write(const Image8& img) {

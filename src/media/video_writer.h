@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "base/frame_rate.h"
 #include "image/image.h"
 #include "image/yuv.h"
 #include "media/audio.h"
@@ -13,7 +14,7 @@ namespace talkhead {
 
 struct VideoOptions {
 	int width = 1280, height = 720;
-	int fpsNum = 30, fpsDen = 1;  // frame rate as a fraction (30000/1001 allowed)
+	FrameRate rate;               // frames per second, exact (30000/1001 allowed)
 	int crf = 23;                 // libx264 constant rate factor
 	std::string preset = "veryfast";
 	int threads = 0;              // encoder threads (0 = all cores)

@@ -10,13 +10,14 @@ declare -A allowed=(
 	[warp]="base geometry image warp"
 	[model]="base geometry image warp model"
 	[media]="base geometry image media"
-	[corpus]="base geometry image media corpus"
+	[corpus]="base geometry image media phonetics corpus"
 	[phonetics]="base phonetics"
 	[synth]="base geometry image warp model phonetics synth"
 	[align]="base media image geometry phonetics align"
 	[track]="base geometry image media phonetics align corpus track"
+	[render]="base geometry image warp model media phonetics synth render"
 	[viz]="base geometry image warp model viz"
-	[cli]="base geometry image warp model media corpus viz phonetics synth align track cli"
+	[cli]="base geometry image warp model media corpus viz phonetics synth align track render cli"
 )
 fail=0
 for dir in "$SRC"/*/; do

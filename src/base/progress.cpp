@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "cli/progress_bar.h"
+#include "base/progress.h"
 
 #include <unistd.h>
 
 #include <cstdio>
 
-namespace talkhead::cli {
+namespace talkhead {
 
 ProgressBar::ProgressBar(bool quiet) : enabled_(!quiet && ::isatty(2)), start_(std::chrono::steady_clock::now()) {}
 
@@ -34,4 +34,4 @@ void ProgressBar::finish() {
 	}
 }
 
-}  // namespace talkhead::cli
+}  // namespace talkhead

@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The options `render` and `say` share, checked in one order before any work, and the call into the
+// render library (src/render) with its sinks and progress.
+#include "cli/video_options.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "base/error.h"
+#include "phonetics/labels.h"
+
+namespace fs = std::filesystem;
+
+namespace talkhead::cli {
+
+namespace {
+
+std::string emotionList() {
+	std::string s;
+	for (const auto& e : emotionLabels()) s += (s.empty() ? "" : ", ") + e.label;
+	return s;
+}
+
+void checkWritableFolder(const std::string& path) {
+	fs::path parent = fs::path(path).parent_path();
+	if (parent.empty()) parent = ".";
+	std::error_code ec;
+	if (!fs::is_directory(parent, ec)) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' does not exist");
+	if (::access(parent.c_str(), W_OK) != 0) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' is not writable");
+}
+
+// The summary and the substitution warning on stderr around the library's progress (bar or JSON lines).
+class CliProgress final : public RenderProgress {
+public:
+	CliProgress(const VideoCommand& cmd) : cmd_(cmd) {
+		if (cmd.jsonProgress) inner_ = makeJsonProgress(stderr);
+		else if (!cmd.quiet) inner_ = makeTerminalProgress();
+	}
+	void started(const StreamInfo& info, const std::vector<std::string>& subs) override {
+		if (!subs.empty() && !cmd_.quiet) {
+			std::string s;
+			for (const auto& x : subs) s += (s.empty() ? "" : "; ") + x;
+			std::fprintf(stderr, "talkhead: the model lacks some (emotion, viseme) entries; substituted: %s\n", s.c_str());
+		}
+		if (inner_) inner_->started(info, subs);
+	}
+	void frames(std::int64_t done, std::int64_t total) override {
+		if (inner_) inner_->frames(done, total);
+	}
+	void finished(const RenderStats& st) override {
+		if (inner_) inner_->finished(st);
+	}
+
+private:
+	const VideoCommand& cmd_;
+	std::unique_ptr<RenderProgress> inner_;
+};
+
+}  // namespace
+
+std::vector<OptionSpec> videoOptionSpecs() {
+	return {{"--emotion", "LABEL", "one of the 23 emotion labels or an alias (default neutral)"},
+	        {"--model", "M.thm", "face model (default: the embedded default face)"},
+	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
+	        {"--size", "WxH", "output size (default: the model's frame size)"},
+	        {"--format", "FORMAT", "mp4 (default) or y4m (raw frames, e.g. -o - | ffplay -)"},
+	        {"--frames", "DIR", "also write every frame as DIR/frame_NNNNNN.png"},
+	        {"--landmarks-out", "F.tsv", "write every frame's feature points (frame, time, x y per point)"},
+	        {"--no-audio", "", "no audio track (the audio's length still sets the duration)"},
+	        {"--crf", "N", "H.264 quality, 0–51 (default 20)"},
+	        {"--preset", "NAME", "x264 preset (default veryfast)"},
+	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
+	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
+	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
+	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
+	        {"--threads", "N", "worker threads (default: all cores)"},
+	        {"--json-progress", "", "machine-readable progress lines on stderr"},
+	        {"--timing", "", "print the time of each stage (load, keyposes, warps, blend, encode) on stderr"},
+	        {"--quiet", "", "no progress and no summary", "-q"},
+	        {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}};
+}
+
+VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired) {
+	VideoCommand c;
+	c.command = command;
+	// Output first, then how it looks, then how it moves, then how it runs: the same order for every command.
+	if (auto o = args.get("--output")) c.output = *o;
+	else if (outputRequired) throw UsageError(command + ": -o OUT is required");
+	c.format = args.get("--format", "mp4");
+	if (c.format != "mp4" && c.format != "y4m") throw UsageError(command + ": --format must be mp4 or y4m");
+	if (c.output == "-" && c.format != "y4m") throw UsageError(command + ": -o - needs --format y4m");
+	c.framesDir = args.get("--frames");
+	c.landmarksOut = args.get("--landmarks-out");
+	const auto rate = FrameRate::parse(args.get("--fps", "30"));
+	if (!rate) throw UsageError(command + ": --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
+	c.rate = *rate;
+	if (auto s = args.get("--size")) parseSize(command + ": --size", *s, c.render.synth.width, c.render.synth.height);
+	c.mp4.crf = int(args.number("--crf", 20, 0, 51));
+	c.mp4.preset = args.get("--preset", "veryfast");
+	c.noAudio = args.has("--no-audio");
+	const auto emotion = canonicalEmotion(args.get("--emotion", "neutral"));
+	if (!emotion) throw Error("unknown emotion '" + args.get("--emotion", "") + "' (known: " + emotionList() + "; aliases such as sadness, disgust)");
+	c.emotion = *emotion;
+	c.modelPath = args.get("--model", "");
+	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
+	if (!pauses) throw UsageError(command + ": --pauses takes natural or thesis");
+	c.pauses = *pauses;
+	const std::string traj = args.get("--trajectory", "hermite"), diss = args.get("--dissolve", "linear");
+	if ((traj != "hermite" && traj != "linear") || (diss != "hermite" && diss != "linear"))
+		throw UsageError(command + ": --trajectory and --dissolve take hermite or linear");
+	c.render.synth.trajectory = traj == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	c.render.synth.dissolve = diss == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	const std::string warpPath = args.get("--warp", "direct");
+	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");
+	c.render.synth.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
+	c.render.threads = unsigned(args.number("--threads", 0, 0, 256));
+	c.quiet = args.has("--quiet");
+	c.jsonProgress = args.has("--json-progress");
+	c.timing = args.has("--timing");
+	if (!c.modelPath.empty() && ::access(c.modelPath.c_str(), R_OK) != 0) throw Error(c.modelPath, 0, std::string("cannot open model: ") + std::strerror(errno));
+	if (!c.output.empty() && c.output != "-") checkWritableFolder(c.output);
+	if (c.landmarksOut) checkWritableFolder(*c.landmarksOut);
+	if (c.framesDir) checkWritableFolder(fs::path(*c.framesDir).lexically_normal().string());
+	return c;
+}
+
+void runVideoCommand(const VideoCommand& cmd, const Performance& perf, const AudioClip* audio, std::chrono::steady_clock::time_point started,
+                     const std::string& timingPrefix) {
+	using Clock = std::chrono::steady_clock;
+	const auto tLoad = Clock::now();
+	const FaceModel model = loadRenderModel(cmd.modelPath);
+	const double loadSeconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
+	const bool withAudio = audio && !audio->samples.empty() && !cmd.noAudio;
+	std::vector<std::unique_ptr<FrameSink>> owned;
+	if (cmd.format == "mp4") owned.push_back(makeMp4Sink(cmd.output, cmd.mp4, withAudio ? audio : nullptr));
+	else owned.push_back(makeY4mSink(cmd.output));
+	if (cmd.landmarksOut) owned.push_back(makeLandmarksSink(*cmd.landmarksOut));
+	if (cmd.framesDir) owned.push_back(makePngFramesSink(*cmd.framesDir));
+	std::vector<FrameSink*> sinks;
+	for (auto& s : owned) sinks.push_back(s.get());
+	CliProgress progress(cmd);
+	const double beforeRender = std::chrono::duration<double>(Clock::now() - started).count();
+	const RenderStats st = renderPerformance(model, perf, cmd.render, sinks, &progress);
+	if (cmd.timing)
+		std::fprintf(stderr,
+		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s thread time); "
+		             "encode+write %.3f s; %lld frames; first frame out after %.3f s\n",
+		             timingPrefix.c_str(), loadSeconds, st.keyposeSeconds, st.keyposes, st.drawSeconds, st.warpSeconds, st.writeSeconds, (long long)st.frames,
+		             beforeRender + st.firstFrameSeconds);
+	const double secs = std::chrono::duration<double>(Clock::now() - started).count();
+	if (!cmd.quiet && !cmd.jsonProgress)
+		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %s fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
+		             cmd.output.c_str(), (long long)st.frames, st.width, st.height, perf.rate.str().c_str(), toSeconds(perf.duration),
+		             withAudio ? "audio" : "transcript", st.keyposes, perf.emotion.c_str(), secs, double(st.frames) / secs, toSeconds(perf.duration) / secs);
+}
+
+}  // namespace talkhead::cli

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/args.h"
+#include "media/audio.h"
+#include "phonetics/language.h"
+#include "render/render.h"
+
+namespace talkhead::cli {
+
+// The options `render` and `say` share, with the same names, defaults and checks.
+std::vector<OptionSpec> videoOptionSpecs();
+
+struct VideoCommand {
+	std::string command;                 // "render" or "say", for messages
+	std::string output, format = "mp4";  // -o (- = standard output, y4m only); mp4 | y4m
+	std::optional<std::string> framesDir, landmarksOut;
+	std::string modelPath;               // empty = the default face
+	std::string emotion = "neutral";     // canonical
+	FrameRate rate;
+	PauseStyle pauses = PauseStyle::Natural;
+	Mp4Settings mp4;
+	RenderOptions render;
+	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
+};
+
+// Reads and checks every shared option (and that the output folders exist and are writable) before any
+// work is done; throws UsageError / Error. `outputRequired`: -o must be given.
+VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired = true);
+
+// Loads the model, renders the performance to the command's outputs and prints the summary (and, with
+// --timing, the stages; `timingPrefix` names the stages before rendering, e.g. "speech 0.020 s; ").
+// `started`: when the command began, for the first-frame time.
+void runVideoCommand(const VideoCommand& cmd, const Performance& performance, const AudioClip* audio, std::chrono::steady_clock::time_point started,
+                     const std::string& timingPrefix = "");
+
+}  // namespace talkhead::cli

@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The frame sinks: MP4, y4m, PNG frames, landmarks TSV and a callback. File outputs go to temporary names
+// and appear under their own names only on commit; errors name the output, never its temporary.
+#include <filesystem>
+#include <fstream>
+
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "media/image_io.h"
+#include "media/video_writer.h"
+#include "render/frame_sink.h"
+
+namespace fs = std::filesystem;
+
+namespace talkhead {
+
+namespace {
+
+// A file written under a temporary name: removed unless renamed to `path` by commit().
+struct TempOutput {
+	std::string path, temp;
+	bool committed = false;
+	explicit TempOutput(std::string p) : path(std::move(p)), temp(temporaryNameFor(path)) {}
+	~TempOutput() {
+		if (!committed) {
+			std::error_code ec;
+			fs::remove(temp, ec);
+		}
+	}
+	void commit() {
+		std::error_code ec;
+		fs::rename(temp, path, ec);
+		if (ec) throw Error(path, 0, "cannot write: " + ec.message());
+		committed = true;
+	}
+	// Runs f; an Error naming the temporary is re-thrown naming the output.
+	template <class F>
+	void guard(F&& f) {
+		try {
+			f();
+		} catch (const Error& e) {
+			const std::string m = e.what();
+			if (m.rfind(temp + ": ", 0) == 0) throw Error(path + ": " + m.substr(temp.size() + 2));
+			throw;
+		}
+	}
+};
+
+class Mp4Sink final : public FrameSink {
+public:
+	Mp4Sink(const std::string& path, const Mp4Settings& s, const AudioClip* audio) : out_(path), settings_(s), audio_(audio) {}
+	void begin(const StreamInfo& info) override {
+		VideoOptions vo;
+		vo.width = info.width, vo.height = info.height, vo.rate = info.rate;
+		vo.crf = settings_.crf, vo.preset = settings_.preset;
+		out_.guard([&] { writer_ = std::make_unique<Mp4Writer>(out_.temp, vo, audio_ && !audio_->samples.empty() ? audio_ : nullptr); });
+	}
+	void frame(const RenderedFrame& f) override {
+		out_.guard([&] { writer_->write(*f.yuv); });
+	}
+	void finish() override {
+		out_.guard([&] {
+			writer_->finish();
+			writer_.reset();
+		});
+	}
+	void commit() override { out_.commit(); }
+
+private:
+	TempOutput out_;
+	Mp4Settings settings_;
+	const AudioClip* audio_;
+	std::unique_ptr<Mp4Writer> writer_;
+};
+
+class Y4mSink final : public FrameSink {
+public:
+	explicit Y4mSink(const std::string& path) {
+		if (path != "-") out_ = std::make_unique<TempOutput>(path);
+	}
+	~Y4mSink() override {
+		if (file_ && file_ != stdout) std::fclose(file_);
+	}
+	void begin(const StreamInfo& info) override {
+		VideoOptions vo;
+		vo.width = info.width, vo.height = info.height, vo.rate = info.rate;
+		if (out_) {
+			file_ = std::fopen(out_->temp.c_str(), "wb");
+			if (!file_) throw Error(out_->path, 0, "cannot write");
+		} else {
+			file_ = stdout;
+		}
+		writer_ = std::make_unique<Y4mWriter>(file_, vo);
+	}
+	void frame(const RenderedFrame& f) override { writer_->write(*f.yuv); }
+	void finish() override {
+		writer_.reset();
+		if (file_ == stdout) {
+			std::fflush(stdout);
+		} else if (file_) {
+			const bool bad = std::fclose(file_) != 0;
+			file_ = nullptr;
+			if (bad) throw Error(out_->path, 0, "cannot write");
+		}
+	}
+	void commit() override {
+		if (out_) out_->commit();
+	}
+
+private:
+	std::unique_ptr<TempOutput> out_;
+	std::FILE* file_ = nullptr;
+	std::unique_ptr<Y4mWriter> writer_;
+};
+
+class PngFramesSink final : public FrameSink {
+public:
+	explicit PngFramesSink(std::string dir) : dir_(std::move(dir)) {}
+	~PngFramesSink() override {
+		if (committed_ || !created_) return;
+		std::error_code ec;  // a failed render leaves no frames behind
+		fs::remove_all(dir_, ec);
+	}
+	void begin(const StreamInfo&) override {
+		std::error_code ec;
+		created_ = !fs::exists(dir_, ec);
+		fs::create_directories(dir_, ec);
+		if (ec) throw Error(dir_, 0, "cannot create folder: " + ec.message());
+	}
+	bool needsRgb() const override { return true; }
+	bool anyThread() const override { return true; }
+	void frame(const RenderedFrame& f) override {
+		char name[64];  // PNG compression is the slow part: done by the drawing threads
+		std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)f.index);
+		writeImage((fs::path(dir_) / name).string(), *f.rgb, 1);
+	}
+	void commit() override { committed_ = true; }
+
+private:
+	std::string dir_;
+	bool created_ = false, committed_ = false;
+};
+
+class LandmarksSink final : public FrameSink {
+public:
+	explicit LandmarksSink(const std::string& path) : out_(path) {}
+	void begin(const StreamInfo& info) override {
+		rate_ = info.rate;
+		file_.open(out_.temp);
+		if (!file_) throw Error(out_.path, 0, "cannot write");
+		file_ << "frame\ttime";
+		for (const auto& n : info.pointNames) file_ << '\t' << n << "_x\t" << n << "_y";
+		file_ << '\n';
+	}
+	void frame(const RenderedFrame& f) override {
+		char buf[64];
+		std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)f.index, toSeconds(f.time));
+		file_ << buf;
+		const Points& p = *f.points;
+		for (Eigen::Index i = 0; i < p.rows(); ++i) {
+			std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", p(i, 0), p(i, 1));
+			file_ << buf;
+		}
+		file_ << '\n';
+	}
+	void finish() override {
+		file_.close();
+		if (!file_) throw Error(out_.path, 0, "cannot write");
+	}
+	void commit() override { out_.commit(); }
+
+private:
+	TempOutput out_;
+	FrameRate rate_;
+	std::ofstream file_;
+};
+
+class CallbackSink final : public FrameSink {
+public:
+	explicit CallbackSink(std::function<void(const StreamInfo&, const RenderedFrame&)> fn) : fn_(std::move(fn)) {}
+	void begin(const StreamInfo& info) override { info_ = info; }
+	void frame(const RenderedFrame& f) override { fn_(info_, f); }
+
+private:
+	std::function<void(const StreamInfo&, const RenderedFrame&)> fn_;
+	StreamInfo info_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, const AudioClip* audio) {
+	return std::make_unique<Mp4Sink>(path, settings, audio);
+}
+std::unique_ptr<FrameSink> makeY4mSink(const std::string& path) { return std::make_unique<Y4mSink>(path); }
+std::unique_ptr<FrameSink> makePngFramesSink(const std::string& dir) { return std::make_unique<PngFramesSink>(dir); }
+std::unique_ptr<FrameSink> makeLandmarksSink(const std::string& path) { return std::make_unique<LandmarksSink>(path); }
+std::unique_ptr<FrameSink> makeCallbackSink(std::function<void(const StreamInfo&, const RenderedFrame&)> fn) {
+	return std::make_unique<CallbackSink>(std::move(fn));
+}
+
+}  // namespace talkhead

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "model/face_model.h"
+#include "render/frame_sink.h"
+#include "render/performance.h"
+#include "synth/synthesizer.h"
+
+namespace talkhead {
+
+// How to draw (everything but what: that is the Performance).
+struct RenderOptions {
+	SynthOptions synth;    // output size (0 = the model's), trajectory, dissolve, warp path; the emotion
+	                       // comes from the Performance
+	unsigned threads = 0;  // drawing threads (0 = all cores)
+};
+
+// What a render did, for summaries and benchmarks (seconds are wall time unless said otherwise).
+struct RenderStats {
+	std::int64_t frames = 0;
+	int width = 0, height = 0;
+	std::size_t keyposes = 0;
+	std::vector<std::string> substitutions;  // "emotion cdv -> emotion' cdv'" the model lacked
+	double keyposeSeconds = 0;   // keypose appearances (all batches)
+	double drawSeconds = 0;      // drawing frames (wall)
+	double warpSeconds = 0;      // warps and dissolves (summed over threads)
+	double writeSeconds = 0;     // sinks on the writer thread (encoding, writing)
+	double firstFrameSeconds = 0;  // from the start of renderPerformance to the first frame handed to the sinks
+	double totalSeconds = 0;
+};
+
+// Progress of a render. All calls come from the thread that called renderPerformance.
+class RenderProgress {
+public:
+	virtual ~RenderProgress() = default;
+	// Before the first frame: the stream and the (emotion, viseme) entries the model lacks.
+	virtual void started(const StreamInfo& info, const std::vector<std::string>& substitutions) {
+		(void)info, (void)substitutions;
+	}
+	virtual void frames(std::int64_t done, std::int64_t total) { (void)done, (void)total; }
+	virtual void finished(const RenderStats& stats) { (void)stats; }
+};
+// A one-line bar on stderr when it is a terminal.
+std::unique_ptr<RenderProgress> makeTerminalProgress();
+// JSON lines on `out`: {"type": "progress", "frame": N, "frames": T, "value": F} at each whole percent,
+// {"type": "done", "frames": T, "seconds": S} at the end.
+std::unique_ptr<RenderProgress> makeJsonProgress(std::FILE* out);
+
+// The face model for rendering: `path`, or the default face when empty (throws Error when none is found).
+// Loads only what rendering needs when the model has an appearance cache.
+FaceModel loadRenderModel(const std::string& path);
+
+// Renders every frame of the performance and hands it to the sinks: keyposes made batch by batch as the
+// timeline needs them (the first batch is small, so a stream starts after a frame or two), frames drawn in
+// parallel straight into YUV (and RGB only when a sink needs it), an in-order writer thread feeding the
+// sinks, then finish() and commit() on every sink. On any error nothing is committed (the sinks remove
+// their temporaries) and the error propagates. The same inputs give byte-identical frames.
+RenderStats renderPerformance(const FaceModel& model, const Performance& performance, const RenderOptions& options,
+                              const std::vector<FrameSink*>& sinks, RenderProgress* progress = nullptr);
+
+}  // namespace talkhead
