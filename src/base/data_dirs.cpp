@@ -14,6 +14,9 @@ std::vector<std::string> dataDirs() {
 	std::error_code ec;
 	fs::path exe = fs::read_symlink("/proc/self/exe", ec);
 	if (!ec) dirs.push_back((exe.parent_path().parent_path() / "share" / "talkhead").string());
+#ifdef TALKHEAD_DATA_INSTALL_DIR
+	dirs.emplace_back(TALKHEAD_DATA_INSTALL_DIR);  // a program linking the installed library, anywhere
+#endif
 #ifdef TALKHEAD_SOURCE_DIR
 	dirs.emplace_back(TALKHEAD_SOURCE_DIR "/models");
 	dirs.emplace_back(TALKHEAD_SOURCE_DIR);
@@ -43,6 +46,9 @@ std::vector<std::string> defaultModelCandidates() {
 		c.push_back((exe.parent_path() / "models" / "default.thm").string());
 		c.push_back((exe.parent_path().parent_path() / "share" / "talkhead" / "models" / "default.thm").string());
 	}
+#ifdef TALKHEAD_DATA_INSTALL_DIR
+	c.emplace_back(TALKHEAD_DATA_INSTALL_DIR "/models/default.thm");
+#endif
 #ifdef TALKHEAD_BINARY_DIR
 	c.emplace_back(TALKHEAD_BINARY_DIR "/models/default.thm");
 #endif

@@ -7,8 +7,9 @@
 namespace talkhead {
 
 // Folders searched, in order, for the project's data files (schemes, later phonetics tables and the
-// default model): $TALKHEAD_DATA_DIR, <executable>/../share/talkhead (installed tree), and the source
-// tree's own folders (compiled in, for running from the build directory).
+// default model): $TALKHEAD_DATA_DIR, <executable>/../share/talkhead (installed tree), the install
+// prefix's share/talkhead (compiled in: a program linking the installed library), and the source tree's
+// own folders (compiled in, for running from the build directory).
 std::vector<std::string> dataDirs();
 
 // First existing "<dir>/<relative>" over dataDirs(), or nullopt.

@@ -21,6 +21,13 @@ test "$(probe "$T/a.mp4" a:0 codec_name)" = "aac"
 vd=$(probe "$T/a.mp4" v:0 duration); ad=$(probe "$T/a.mp4" a:0 duration)
 awk -v v="$vd" -v a="$ad" 'BEGIN { d = v - a; if (d < 0) d = -d; if (d > 1 / 30 || a < 1.99 || a > 2.05) { print "durations " v " " a; exit 1 } }'
 test -z "$(ffmpeg -v warning -i "$T/a.mp4" -f null - 2>&1)"   # decodes with no warnings
+# --fps 29.97 is 30000/1001 exactly: round(2.0 × 30000/1001) = 60 frames, frame 59 at 59 × 1001/30000 s;
+# 30.0 is 30; say takes the same options.
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --audio "$T/tone.wav" --fps 29.97 -o "$T/ntsc.mp4" --landmarks-out "$T/ntsc.tsv"
+test "$(probe "$T/ntsc.mp4" v:0 nb_read_frames,r_frame_rate)" = "30000/1001,60"
+test "$(tail -1 "$T/ntsc.tsv" | cut -f1,2)" = "59	1.968633"
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --fps 30.0 --format y4m -o "$T/thirty.y4m"
+head -c 40 "$T/thirty.y4m" | grep -q " F30:1 "
 # Landmarks: a header and one row per frame with 2 + 2 × 56 columns.
 test "$(wc -l <"$T/a.tsv")" = 61
 awk -F'\t' 'NR > 1 && NF != 114 { print "bad landmark row " NR; exit 1 }' "$T/a.tsv"

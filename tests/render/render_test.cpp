@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "base/error.h"
+#include "base/frame_rate.h"
+#include "geometry/scheme.h"
+#include "synth_corpus.h"
+#include "synth_face.h"
+#include "render/render.h"
+#include "test_support.h"
+
+using namespace talkhead;
+namespace fs = std::filesystem;
+
+TEST(FrameRate, parsesIntegersDecimalsNtscAndFractions) {
+	auto is = [](const char* text, int num, int den) {
+		const auto r = FrameRate::parse(text);
+		return r && r->num == num && r->den == den;
+	};
+	EXPECT_TRUE(is("30", 30, 1));
+	EXPECT_TRUE(is("30.0", 30, 1));
+	EXPECT_TRUE(is("25.000", 25, 1));
+	EXPECT_TRUE(is("29.97", 30000, 1001));  // the NTSC spelling means 30000/1001 exactly
+	EXPECT_TRUE(is("23.976", 24000, 1001));
+	EXPECT_TRUE(is("59.94", 60000, 1001));
+	EXPECT_TRUE(is("30000/1001", 30000, 1001));
+	EXPECT_TRUE(is("2997/100", 2997, 100));  // a fraction is taken as written
+	EXPECT_TRUE(is("12.5", 25, 2));
+	EXPECT_TRUE(is("60/2", 30, 1));
+	for (const char* bad : {"", "0", "241", "-30", "30fps", "1/0", "30/", "/2", "1/2", "29.97.1", "1e2", " 30", "30.1234567"})
+		EXPECT_FALSE(FrameRate::parse(bad)) << bad;
+}
+
+TEST(FrameRate, ownsFrameTimesAndCounts) {
+	const FrameRate ntsc{30000, 1001};
+	EXPECT_EQ(ntsc.time(0), Ticks(0));
+	EXPECT_EQ(ntsc.time(30000), Ticks(1001 * kTicksPerSecond));  // exact: 30000 frames last 1001 s
+	EXPECT_EQ(ntsc.time(1).count(), kTicksPerSecond * 1001 / 30000);
+	EXPECT_EQ(ntsc.frameCount(Ticks(1001 * kTicksPerSecond)), 30000);
+	const FrameRate r25{25, 1};
+	EXPECT_EQ(r25.frameCount(ticksFromSeconds(1.0)), 25);
+	EXPECT_EQ(r25.frameCount(ticksFromSeconds(1.019)), 25);  // round(25.475) = 25
+	EXPECT_EQ(r25.frameCount(ticksFromSeconds(1.021)), 26);  // round(25.525) = 26
+	EXPECT_EQ(r25.frameCount(Ticks(0)), 1);                  // at least one frame
+	EXPECT_EQ(r25.frameAt(ticksFromSeconds(0.079)), 1);
+	EXPECT_EQ(r25.frameAt(r25.time(7)), 7);
+	EXPECT_GT(r25.frameCount(Ticks(std::numeric_limits<std::int64_t>::max())), 0);  // no overflow
+	EXPECT_EQ(ntsc.str(), "30000/1001");
+	EXPECT_EQ(r25.str(), "25");
+}
+
+namespace {
+// A tiny model built in memory from the synthetic corpus (neutral and joy, four visemes, 160×90).
+const FaceModel& tinyModel() {
+	static const FaceModel model = [] {
+		SynthCorpusOptions o;
+		o.width = 160, o.height = 90;
+		o.emotions = {"neutral", "joy"};
+		o.visemes = {"sil", "a", "p1", "u"};
+		const auto items = synthCorpusItems(o);
+		FaceRenderer r(o.width, o.height);
+		std::vector<SynthFace> faces;
+		std::vector<Points> shapes;
+		std::vector<SampleInfo> samples;
+		for (const auto& it : items) {
+			faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
+			shapes.push_back(faces.back().points);
+			samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
+		}
+		NullProgress quiet;
+		return buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return faces[i].image; },
+		                      BuildOptions{}, quiet);
+	}();
+	return model;
+}
+
+Performance threeSyllables() {
+	std::vector<PhoneSegment> p;
+	auto ms = [](long v) { return Ticks(v * (kTicksPerSecond / 1000)); };
+	p = {{ms(0), ms(100), "", "_", "sil", 1}, {ms(100), ms(200), "p", "p", "p1", 2}, {ms(200), ms(400), "a", "a", "a", 3},
+	     {ms(400), ms(500), "", "_", "sil", 4}};
+	Performance perf;
+	perf.rate = FrameRate{25, 1};
+	perf.keys = keyposes(p, perf.rate.frameLength());
+	perf.duration = ms(500);
+	perf.emotion = "joy";
+	return perf;
+}
+}  // namespace
+
+TEST(Render, callbackSinkGetsEveryFrameInOrderWithItsTime) {
+	const Performance perf = threeSyllables();
+	std::vector<std::int64_t> seen;
+	std::vector<Ticks> times;
+	int width = 0;
+	auto sink = makeCallbackSink([&](const StreamInfo& info, const RenderedFrame& f) {
+		seen.push_back(f.index);
+		times.push_back(f.time);
+		width = info.width;
+		ASSERT_NE(f.yuv, nullptr);
+		ASSERT_NE(f.points, nullptr);
+		EXPECT_EQ(f.points->rows(), std::int64_t(info.pointNames.size()));
+		EXPECT_EQ(f.rgb, nullptr);  // no sink asked for RGB
+	});
+	const RenderStats st = renderPerformance(tinyModel(), perf, RenderOptions{}, {sink.get()});
+	ASSERT_EQ(st.frames, 13);  // round(0.5 s × 25)
+	ASSERT_EQ(seen.size(), 13u);
+	for (std::size_t i = 0; i < seen.size(); ++i) {
+		EXPECT_EQ(seen[i], std::int64_t(i));
+		EXPECT_EQ(times[i], perf.rate.time(std::int64_t(i)));
+	}
+	EXPECT_EQ(width, 160);
+	EXPECT_TRUE(st.substitutions.empty());
+}
+
+TEST(Render, sameInputsGiveIdenticalFramesAnyThreadCount) {
+	const Performance perf = threeSyllables();
+	auto collect = [&](unsigned threads) {
+		std::vector<std::uint8_t> all;
+		auto sink = makeCallbackSink([&](const StreamInfo&, const RenderedFrame& f) { all.insert(all.end(), f.yuv->y.begin(), f.yuv->y.end()); });
+		RenderOptions o;
+		o.threads = threads;
+		renderPerformance(tinyModel(), perf, o, {sink.get()});
+		return all;
+	};
+	EXPECT_EQ(collect(1), collect(2));
+}
+
+TEST(Render, aFailingSinkLeavesNoOutputBehind) {
+	const Performance perf = threeSyllables();
+	const std::string dir = test::tempDir("render-fail");
+	const std::string mp4 = dir + "/out.mp4", tsv = dir + "/out.tsv";
+	auto video = makeMp4Sink(mp4, Mp4Settings{}, nullptr);
+	auto points = makeLandmarksSink(tsv);
+	auto failing = makeCallbackSink([](const StreamInfo&, const RenderedFrame& f) {
+		if (f.index == 5) throw Error("disk full (simulated)");
+	});
+	EXPECT_EQ(test::errorOf([&] { renderPerformance(tinyModel(), perf, RenderOptions{}, {video.get(), points.get(), failing.get()}); }),
+	          "disk full (simulated)");
+	video.reset(), points.reset();
+	EXPECT_TRUE(fs::is_empty(dir)) << "a failed render left files in " << dir;
+	// Without the failure, both appear.
+	auto video2 = makeMp4Sink(mp4, Mp4Settings{}, nullptr);
+	auto points2 = makeLandmarksSink(tsv);
+	renderPerformance(tinyModel(), perf, RenderOptions{}, {video2.get(), points2.get()});
+	EXPECT_TRUE(fs::is_regular_file(mp4));
+	std::ifstream in(tsv);
+	std::string line;
+	int lines = 0;
+	while (std::getline(in, line)) ++lines;
+	EXPECT_EQ(lines, 14);  // header + 13 frames
+}
