@@ -7,6 +7,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "media/image_io.h"
+#include "phonetics/labels.h"
 
 namespace fs = std::filesystem;
 
@@ -63,6 +64,27 @@ std::string resolveImage(const fs::path& shapeFile, const std::string& name) {
 	throw Error(shapeFile.string(), 0, "image '" + name + "' not found beside the shape file or one folder up");
 }
 
+// D36: a row labelled with an emotion gets canonical emotion and CDV labels (phonetics/emotions.tsv,
+// visemes.tsv: aliases, "<p1>" for p1), or an error naming the row; emotion "-" marks an unlabelled row,
+// whose CDV (an image stem, D11) is kept as written.
+void canonicaliseLabels(CorpusEntry& e, const std::string& path, long lineNo) {
+	if (e.emotion == "-") return;
+	auto emotion = canonicalEmotion(e.emotion);
+	if (!emotion) {
+		std::string known;
+		for (const auto& l : emotionLabels()) known += (known.empty() ? "" : ", ") + l.label;
+		throw Error(path, lineNo, "unknown emotion '" + e.emotion + "' (known: " + known + "; '-' for an unlabelled row)");
+	}
+	auto cdv = canonicalViseme(e.cdv);
+	if (!cdv) {
+		std::string known;
+		for (const auto& l : visemeLabels()) known += (known.empty() ? "" : " ") + l.label;
+		throw Error(path, lineNo, "unknown viseme '" + e.cdv + "' (known: " + known + ", their ASCII aliases, with or without <>)");
+	}
+	e.emotion = *emotion;
+	e.cdv = *cdv;
+}
+
 }  // namespace
 
 Corpus readChUnicampCsv(const std::string& path, int pointCount) {
@@ -107,6 +129,7 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 		e.word = std::string(trim(f[8]));
 		if (e.emotion.empty()) throw Error(path, lineNo, "empty emotion label");
 		if (e.cdv.empty()) throw Error(path, lineNo, "empty CDV label");
+		canonicaliseLabels(e, path, lineNo);
 		e.points.resize(pointCount, 2);
 		for (int k = 0; k < pointCount; ++k) {
 			std::string_view cell = trim(f[9 + k]);

@@ -11,9 +11,9 @@ namespace talkhead {
 // One annotated training image: (image, emotion, CDV, phone context, points).
 struct CorpusEntry {
 	std::string imagePath;              // resolved path
-	std::string emotion;                // CH-Unicamp label; "-" where the corpus has none
+	std::string emotion;                // canonical label (phonetics/emotions.tsv); "-" where the corpus has none
 	std::array<std::string, 5> context; // 2nd left, 1st left, centre, 1st right, 2nd right phone
-	std::string cdv;                    // context-dependent viseme; the image stem where there is none
+	std::string cdv;                    // canonical CDV (phonetics/visemes.tsv); the image stem where there is none
 	std::string word;
 	Points points;                      // #points × 2, pixels, in the scheme's order
 	std::string source;                 // "file:line" the entry came from, for error messages
@@ -29,7 +29,9 @@ struct Corpus {
 // CH-Unicamp CSV (Costa 2015 §3.2, spec §1.3): no header; image, emotion, 5 context phones, CDV, word,
 // then `pointCount` points written "(x;y)". Images resolve relative to the CSV's folder. pointCount 0: from
 // the first row (56 → ch-unicamp-56, 68 → ibug-68, 73 → imm-73). Lines starting with '#' are comments;
-// "# baseface: IMAGE" names the training image to use as the model's baseface.
+// "# baseface: IMAGE" names the training image to use as the model's baseface. Labels come out canonical
+// (D36): emotion and CDV through the phonetics tables (aliases, "<p1>"), an unknown one is an error naming
+// the row; emotion "-" marks an unlabelled row, whose CDV is kept as written.
 Corpus readChUnicampCsv(const std::string& path, int pointCount = 0);
 
 // AAM-API .asf shape file (IMM): relative 0–1 coordinates, host image name at the end. The image's

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <utility>
+#include <vector>
 
 #include "base/error.h"
 #include "corpus/corpus.h"
@@ -36,12 +38,13 @@ TEST(ChUnicampCsv, readsRowsExactly) {
 	EXPECT_EQ(a.emotion, "joy");
 	EXPECT_EQ(a.context[0], "\\ep");
 	EXPECT_EQ(a.context[2], "i");
-	EXPECT_EQ(a.cdv, "<i1>");
+	EXPECT_EQ(a.cdv, "i1");  // written <i1>: labels come out canonical (D36)
 	EXPECT_EQ(a.word, "que");
 	ASSERT_EQ(a.points.rows(), 56);
 	EXPECT_DOUBLE_EQ(a.points(0, 0), 100.0);
 	EXPECT_DOUBLE_EQ(a.points(55, 0), 100 + 55 * 3.5);
 	EXPECT_DOUBLE_EQ(a.points(55, 1), 200 + 55 * 1.25);
+	EXPECT_EQ(c.entries[1].cdv, "o");
 	EXPECT_EQ(c.entries[1].word, "notícia, não");
 	EXPECT_DOUBLE_EQ(c.entries[1].points(0, 1), 202.0);
 	EXPECT_EQ(c.entries[1].source, kData + "/corpus/mini.csv:2");
@@ -60,6 +63,69 @@ TEST(ChUnicampCsv, malformedRowsNameFileAndLine) {
 	p = writeFile("empty.csv", "\n\n");
 	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }), p + ": the corpus file has no rows");
 	EXPECT_NE(errorOf([&] { readChUnicampCsv("/nonexistent/x.csv"); }).find("/nonexistent/x.csv: cannot read file"), std::string::npos);
+}
+
+namespace {
+// The same rows with the labels spelled three ways: as the thesis's CSV writes them (<k1>), canonical, and
+// through the aliases of phonetics/emotions.tsv and visemes.tsv (case-insensitive emotions, case-sensitive
+// ASCII visemes: E is ɛ, e is e).
+std::string labelledCorpus(const std::string& name, const std::vector<std::pair<std::string, std::string>>& labels) {
+	std::string text = "# " + name + "\n";
+	for (std::size_t i = 0; i < labels.size(); ++i) {
+		std::string r = "img" + std::to_string(i) + ".png," + labels[i].first + ",_,_,k,i,_," + labels[i].second + ",-";
+		for (int k = 0; k < 56; ++k) r += ",(" + std::to_string(k) + ";2)";
+		text += r + "\n";
+	}
+	const std::string p = test::tempDir("labels-" + name) + "/" + name;  // its own folder: tempDir empties it
+	std::ofstream(p, std::ios::binary) << text;
+	return p;
+}
+
+std::vector<std::string> labelsOf(const Corpus& c) {
+	std::vector<std::string> out;
+	for (const auto& e : c.entries) out.push_back(e.emotion + " " + e.cdv);
+	return out;
+}
+}  // namespace
+
+TEST(ChUnicampCsv, labelsAreCanonicalWhateverTheSpelling) {
+	const std::vector<std::string> canonical = {"joy k1", "joy ʃ1", "neutral ɛ", "neutral e", "distress ʎ3", "hate ɐ", "fear sil", "happy-for r1"};
+	const auto bracketed = labelledCorpus(
+	    "bracketed.csv", {{"joy", "<k1>"}, {"joy", "<ʃ1>"}, {"neutral", "<ɛ>"}, {"neutral", "<e>"}, {"distress", "<ʎ3>"}, {"hate", "<ɐ>"}, {"fear", "<sil>"}, {"happy-for", "<r1>"}});
+	const auto plain = labelledCorpus(
+	    "plain.csv", {{"joy", "k1"}, {"joy", "ʃ1"}, {"neutral", "ɛ"}, {"neutral", "e"}, {"distress", "ʎ3"}, {"hate", "ɐ"}, {"fear", "sil"}, {"happy-for", "r1"}});
+	const auto aliases = labelledCorpus(
+	    "aliases.csv", {{"Happiness", "k1"}, {"happy", "sh1"}, {"NEUTRAL", "E"}, {"Neutral", "<e>"}, {"sadness", "<lh3>"}, {"disgust", "6"}, {"Fear", "sil"}, {"happy_for", "r1"}});
+	EXPECT_EQ(labelsOf(readChUnicampCsv(bracketed)), canonical);
+	EXPECT_EQ(labelsOf(readChUnicampCsv(plain)), canonical);
+	EXPECT_EQ(labelsOf(readChUnicampCsv(aliases)), canonical);
+	// Context phones and the word are not labels of the model's keys: kept as written.
+	EXPECT_EQ(readChUnicampCsv(bracketed).entries[0].context[2], "k");
+}
+
+TEST(ChUnicampCsv, unknownLabelsNameFileAndRow) {
+	// Line 1 is a comment, so the rows are lines 2, 3, …: the error names the file's line.
+	auto p = labelledCorpus("badcdv.csv", {{"joy", "<k1>"}, {"joy", "<x9>"}});
+	std::string err = errorOf([&] { readChUnicampCsv(p); });
+	EXPECT_EQ(err.rfind(p + ":3: unknown viseme '<x9>' (known: p1 p2 f1 ", 0), 0u) << err;
+	EXPECT_NE(err.find(" sil, their ASCII aliases, with or without <>)"), std::string::npos) << err;
+	EXPECT_EQ(err.find('\n'), std::string::npos);
+	p = labelledCorpus("badcase.csv", {{"joy", "SH1"}});  // ASCII aliases are case-sensitive
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }).rfind(p + ":2: unknown viseme 'SH1' (known: ", 0), 0u);
+	p = labelledCorpus("bademotion.csv", {{"joy", "k1"}, {"neutral", "a"}, {"grumpy", "k1"}});
+	err = errorOf([&] { readChUnicampCsv(p); });
+	EXPECT_EQ(err.rfind(p + ":4: unknown emotion 'grumpy' (known: neutral, joy, distress, ", 0), 0u) << err;
+	EXPECT_NE(err.find("; '-' for an unlabelled row)"), std::string::npos) << err;
+	// A labelled row needs a CDV from the table even when it looks like an image stem.
+	p = labelledCorpus("stem.csv", {{"joy", "01_01"}});
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }).rfind(p + ":2: unknown viseme '01_01'", 0), 0u);
+}
+
+TEST(ChUnicampCsv, unlabelledRowsKeepTheirCdvAsWritten) {
+	// Emotion "-": no labels (IMM and iBUG shapes written as CSV, D11); the CDV is an image stem.
+	auto p = labelledCorpus("unlabelled.csv", {{"-", "01_01"}, {"-", "<anything>"}, {"-", "E"}});
+	const std::vector<std::string> expected = {"- 01_01", "- <anything>", "- E"};
+	EXPECT_EQ(labelsOf(readChUnicampCsv(p)), expected);
 }
 
 TEST(Pts, readsOneBasedCoordinatesAndFindsTheImage) {
