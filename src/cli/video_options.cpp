@@ -67,6 +67,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
+	        {"--fit", "MODE", "when --size has another aspect than the model: crop (default: fill, cut the overflow), pad (fit inside, extend the edges) or stretch"},
 	        {"--format", "FORMAT", "mp4 (default) or y4m (raw frames, e.g. -o - | ffplay -)"},
 	        {"--frames", "DIR", "also write every frame as DIR/frame_NNNNNN.png"},
 	        {"--landmarks-out", "F.tsv", "write every frame's feature points (frame, time, x y per point)"},
@@ -99,6 +100,9 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	if (!rate) throw UsageError(command + ": --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
 	c.rate = *rate;
 	if (auto s = args.get("--size")) parseSize(command + ": --size", *s, c.render.synth.width, c.render.synth.height);
+	const std::string fit = args.get("--fit", "crop");
+	if (fit != "crop" && fit != "pad" && fit != "stretch") throw UsageError(command + ": --fit takes crop, pad or stretch");
+	c.render.fit = fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
 	c.mp4.crf = int(args.number("--crf", 20, 0, 51));
 	c.mp4.preset = args.get("--preset", "veryfast");
 	c.noAudio = args.has("--no-audio");

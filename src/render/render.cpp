@@ -68,6 +68,57 @@ FaceModel loadRenderModel(const std::string& path) {
 	return model;
 }
 
+FitBox fitBox(int mw, int mh, int w, int h, Fit fit) {
+	FitBox b{w, h, 0, 0};
+	// The same aspect (within a pixel), stretch, or no model size: draw straight at the output size.
+	if (fit == Fit::Stretch || mw <= 0 || mh <= 0 || std::abs(std::int64_t(w) * mh - std::int64_t(h) * mw) < std::max(mw, mh)) return b;
+	const double s = fit == Fit::Crop ? std::max(double(w) / mw, double(h) / mh) : std::min(double(w) / mw, double(h) / mh);
+	auto even = [](double v) { return std::max(2, int(std::lround(v / 2)) * 2); };
+	b.innerWidth = even(mw * s), b.innerHeight = even(mh * s);
+	if (fit == Fit::Crop) b.innerWidth = std::max(b.innerWidth, w), b.innerHeight = std::max(b.innerHeight, h);
+	else b.innerWidth = std::min(b.innerWidth, w), b.innerHeight = std::min(b.innerHeight, h);
+	b.x = (w - b.innerWidth) / 2 / 2 * 2;
+	b.y = (h - b.innerHeight) / 2 / 2 * 2;
+	return b;
+}
+
+namespace {
+
+// Copies one plane of `inner` (iw × ih) into `out` (w × h) at (x, y), cropping what overflows and filling
+// what is left by repeating the nearest edge pixel.
+void placePlane(const std::uint8_t* inner, int iw, int ih, std::uint8_t* out, int w, int h, int x, int y) {
+	for (int r = 0; r < h; ++r) {
+		const int sr = std::clamp(r - y, 0, ih - 1);
+		const std::uint8_t* src = inner + std::size_t(sr) * std::size_t(iw);
+		std::uint8_t* dst = out + std::size_t(r) * std::size_t(w);
+		const int c0 = std::clamp(x, 0, w), c1 = std::clamp(x + iw, 0, w);  // output columns that come from the inner frame
+		if (c0 > 0) std::fill(dst, dst + c0, src[0]);
+		if (c1 > c0) std::copy(src + (c0 - x), src + (c1 - x), dst + c0);
+		if (c1 < w) std::fill(dst + std::max(c1, 0), dst + w, src[iw - 1]);
+	}
+}
+
+void placeYuv(const YuvImage& inner, YuvImage& out, int w, int h, int x, int y) {
+	out.resize(w, h);
+	placePlane(inner.y.data(), inner.width, inner.height, out.y.data(), w, h, x, y);
+	placePlane(inner.u.data(), inner.chromaWidth(), inner.chromaHeight(), out.u.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
+	placePlane(inner.v.data(), inner.chromaWidth(), inner.chromaHeight(), out.v.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
+}
+
+void placeRgb(const Image8& inner, Image8& out, int w, int h, int x, int y) {
+	if (out.width != w || out.height != h || out.channels != 3) out = Image8(w, h, 3);
+	for (int r = 0; r < h; ++r) {
+		const std::uint8_t* src = inner.row(std::clamp(r - y, 0, inner.height - 1));
+		std::uint8_t* dst = out.row(r);
+		for (int c = 0; c < w; ++c) {
+			const int sc = std::clamp(c - x, 0, inner.width - 1);
+			dst[3 * c] = src[3 * sc], dst[3 * c + 1] = src[3 * sc + 1], dst[3 * c + 2] = src[3 * sc + 2];
+		}
+	}
+}
+
+}  // namespace
+
 RenderStats renderPerformance(const FaceModel& model, const Performance& perf, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
                               RenderProgress* progress) {
 	const auto t0 = Clock::now();
@@ -86,11 +137,19 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		so.width = std::max(2, model.width & ~1);
 		so.height = std::max(2, model.height & ~1);
 	}
+	// Another aspect than the model's frame: draw at the fitted size, then crop or pad (FitBox).
+	FitBox box{0, 0, 0, 0};
+	const int outWidth = so.width, outHeight = so.height;
+	if (so.width > 0 && so.height > 0) {
+		box = fitBox(model.width, model.height, so.width, so.height, options.fit);
+		so.width = box.innerWidth, so.height = box.innerHeight;
+	}
 	Synthesizer synth(model, so);
+	const bool place = box.innerWidth > 0 && (box.innerWidth != outWidth || box.innerHeight != outHeight);
 	RenderStats st;
 	st.frames = frames;
-	st.width = synth.width();
-	st.height = synth.height();
+	st.width = place ? outWidth : synth.width();
+	st.height = place ? outHeight : synth.height();
 	st.keyposes = keys.size();
 	st.substitutions = synth.substitutionsFor(keys);
 	StreamInfo info;
@@ -111,14 +170,17 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 	const unsigned nThreads = resolveThreads(options.threads);
 	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
 	struct Batch {
-		std::vector<Image8> rgb;
-		std::vector<YuvImage> yuv;
+		std::vector<Image8> rgb, innerRgb;
+		std::vector<YuvImage> yuv, innerYuv;
 		std::vector<Points> pts;
 		std::int64_t first = 0;
 		std::size_t count = 0;
 	};
 	Batch batches[2];
-	for (auto& b : batches) b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch);
+	for (auto& b : batches) {
+		b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch);
+		if (place) b.innerRgb.resize(batch), b.innerYuv.resize(batch);
+	}
 	std::vector<Synthesizer::Workspace> workspaces(batch);
 	std::exception_ptr writeError;
 	auto frameOf = [&](const Batch& bt, std::size_t k) {
@@ -164,11 +226,19 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		const auto tDraw = Clock::now();
 		parallelFor(bt.count, nThreads, [&](std::size_t k) {
 			const Ticks tau = perf.frameTime(bt.first + std::int64_t(k));
+			Image8& rgb = place ? bt.innerRgb[k] : bt.rgb[k];
+			YuvImage& yuv = place ? bt.innerYuv[k] : bt.yuv[k];
 			if (rgbFrames) {
-				synth.renderFrame(tau, keys, workspaces[k], bt.rgb[k], bt.pts[k]);
-				rgbToYuv420(bt.rgb[k], bt.yuv[k], so.yuvRange);
+				synth.renderFrame(tau, keys, workspaces[k], rgb, bt.pts[k]);
+				rgbToYuv420(rgb, yuv, so.yuvRange);
 			} else {
-				synth.renderFrameYuv(tau, keys, workspaces[k], bt.yuv[k], bt.pts[k]);
+				synth.renderFrameYuv(tau, keys, workspaces[k], yuv, bt.pts[k]);
+			}
+			if (place) {  // into the output frame: crop or pad, points moved with it
+				placeYuv(yuv, bt.yuv[k], st.width, st.height, box.x, box.y);
+				if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, box.x, box.y);
+				bt.pts[k].col(0).array() += box.x;
+				bt.pts[k].col(1).array() += box.y;
 			}
 			if (anyThread.empty()) return;
 			try {

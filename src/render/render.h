@@ -12,12 +12,26 @@
 
 namespace talkhead {
 
+// An output size whose aspect differs from the model's frame: the face keeps its proportions.
+//  Crop: scaled to cover the output, the overflow cut evenly (the face is larger).
+//  Pad: scaled to fit inside, the rest filled by extending the frame's edge pixels outward.
+//  Stretch: scaled separately in x and y (distorts the face).
+enum class Fit { Crop, Pad, Stretch };
+
 // How to draw (everything but what: that is the Performance).
 struct RenderOptions {
 	SynthOptions synth;    // output size (0 = the model's), trajectory, dissolve, warp path; the emotion
 	                       // comes from the Performance
+	Fit fit = Fit::Crop;   // when synth.width × height has another aspect than the model's frame
 	unsigned threads = 0;  // drawing threads (0 = all cores)
 };
+
+// Where the model's frame lands in an output of `width` × `height` (crop or pad): drawn at inner size,
+// its top-left corner at (x, y) in the output (negative when cropped). All even (4:2:0).
+struct FitBox {
+	int innerWidth = 0, innerHeight = 0, x = 0, y = 0;
+};
+FitBox fitBox(int modelWidth, int modelHeight, int width, int height, Fit fit);
 
 // What a render did, for summaries and benchmarks (seconds are wall time unless said otherwise).
 struct RenderStats {

@@ -28,6 +28,30 @@ test "$(probe "$T/ntsc.mp4" v:0 nb_read_frames,r_frame_rate)" = "30000/1001,60"
 test "$(tail -1 "$T/ntsc.tsv" | cut -f1,2)" = "59	1.968633"
 "$TH" render -q --model "$T/face.thm" --transcript "$TG" --fps 30.0 --format y4m -o "$T/thirty.y4m"
 head -c 40 "$T/thirty.y4m" | grep -q " F30:1 "
+# Another aspect (square, portrait) keeps the face's proportions: the eye distance over the eyes-to-mouth
+# distance of the output landmarks equals the 16:9 render's within 1 % (crop and pad); stretch does not.
+ratio() { /usr/bin/python3 - "$1" <<'PY'
+import sys
+rows = [l.rstrip('\n').split('\t') for l in open(sys.argv[1])]
+h, r = rows[0], [float(x) for x in rows[20]]
+P = lambda n: (r[h.index(n + '_x')], r[h.index(n + '_y')])
+mid = lambda a, b: ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+d = lambda a, b: ((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2) ** .5
+re, le, m = mid(P('REYE1'), P('REYE3')), mid(P('LEYE1'), P('LEYE3')), mid(P('RM2'), P('LM2'))
+print(d(re, le) / d(mid(re, le), m))
+PY
+}
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --size 640x360 -o "$T/wide.mp4" --landmarks-out "$T/wide.tsv"
+wide=$(ratio "$T/wide.tsv")
+for case in 480x480:crop 480x480:pad 360x640:crop 360x640:pad 360x640:stretch; do
+	size=${case%:*}; fit=${case#*:}
+	"$TH" render -q --model "$T/face.thm" --transcript "$TG" --size "$size" --fit "$fit" -o "$T/$fit.mp4" --landmarks-out "$T/$fit.tsv"
+	test "$(probe "$T/$fit.mp4" v:0 width,height | tr , x)" = "$size"
+	r=$(ratio "$T/$fit.tsv")
+	if [ "$fit" = stretch ]; then want=far; else want=near; fi
+	awk -v a="$r" -v b="$wide" -v w="$want" -v c="$case" 'BEGIN { e = a / b - 1; if (e < 0) e = -e
+		if ((w == "near" && e > 0.01) || (w == "far" && e < 0.1)) { print c ": ratio " a " vs 16:9 " b; exit 1 } }'
+done
 # Landmarks: a header and one row per frame with 2 + 2 × 56 columns.
 test "$(wc -l <"$T/a.tsv")" = 61
 awk -F'\t' 'NR > 1 && NF != 114 { print "bad landmark row " NR; exit 1 }' "$T/a.tsv"
