@@ -77,11 +77,13 @@ int runRender(const std::vector<std::string>& argv) {
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;
 	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
-	// Duration: the audio's, or the transcript's.
+	// Duration: the audio's (decoded once without keeping it, unless aligned), or the transcript's.
 	perf.duration = phones.back().end;
+	std::unique_ptr<AudioSource> sound;
 	if (auto a = args.get("--audio")) {
-		if (audio.samples.empty()) audio = decodeAudio(*a);
-		const Ticks audioDur = audio.duration();
+		// (At the file's own sample rate: no resampling, and an MP4 index a third of 48 kHz's for 16 kHz speech.)
+		const Ticks audioDur = audio.samples.empty() ? audioFileDuration(*a, 0) : audio.duration();
+		sound = audio.samples.empty() ? openAudioFile(*a, 0) : clipSource(audio);
 		const Ticks tolerance(kTicksPerSecond / 10);
 		if (perf.duration > audioDur + tolerance) {
 			char buf[200];
@@ -89,9 +91,14 @@ int runRender(const std::vector<std::string>& argv) {
 			              toSeconds(audioDur), toSeconds(perf.duration - audioDur));
 			throw Error(*transcriptPath, 0, buf);
 		}
+		// A transcript covering a small part of a long audio: the face holds still for the rest. Say so.
+		const Ticks uncovered = audioDur - perf.duration;
+		if (uncovered > Ticks(10 * kTicksPerSecond) && perf.duration * 2 < audioDur)
+			std::fprintf(stderr, "talkhead: warning: %s: the transcript covers %.1f s of %.1f s of audio; the face holds its last keypose, silent, for the other %.1f s\n",
+			             a->c_str(), toSeconds(perf.duration), toSeconds(audioDur), toSeconds(uncovered));
 		perf.duration = audioDur;
 	}
-	runVideoCommand(cmd, perf, audio.samples.empty() ? nullptr : &audio, t0);
+	runVideoCommand(cmd, perf, std::move(sound), t0);
 	return 0;
 }
 

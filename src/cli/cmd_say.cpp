@@ -75,7 +75,7 @@ int runSay(const std::vector<std::string>& argv) {
 	perf.duration = audio.duration();
 	char prefix[64];
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
-	runVideoCommand(cmd, perf, &audio, t0, prefix);
+	runVideoCommand(cmd, perf, clipSource(audio), t0, prefix);
 	return 0;
 }
 

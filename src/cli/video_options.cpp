@@ -132,15 +132,15 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	return c;
 }
 
-void runVideoCommand(const VideoCommand& cmd, const Performance& perf, const AudioClip* audio, std::chrono::steady_clock::time_point started,
+void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::unique_ptr<AudioSource> audio, std::chrono::steady_clock::time_point started,
                      const std::string& timingPrefix) {
 	using Clock = std::chrono::steady_clock;
 	const auto tLoad = Clock::now();
 	const FaceModel model = loadRenderModel(cmd.modelPath);
 	const double loadSeconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
-	const bool withAudio = audio && !audio->samples.empty() && !cmd.noAudio;
+	const bool withAudio = audio && !cmd.noAudio;
 	std::vector<std::unique_ptr<FrameSink>> owned;
-	if (cmd.format == "mp4") owned.push_back(makeMp4Sink(cmd.output, cmd.mp4, withAudio ? audio : nullptr));
+	if (cmd.format == "mp4") owned.push_back(makeMp4Sink(cmd.output, cmd.mp4, withAudio ? std::move(audio) : nullptr));
 	else owned.push_back(makeY4mSink(cmd.output));
 	if (cmd.landmarksOut) owned.push_back(makeLandmarksSink(*cmd.landmarksOut));
 	if (cmd.framesDir) owned.push_back(makePngFramesSink(*cmd.framesDir));

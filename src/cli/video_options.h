@@ -35,7 +35,8 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 // Loads the model, renders the performance to the command's outputs and prints the summary (and, with
 // --timing, the stages; `timingPrefix` names the stages before rendering, e.g. "speech 0.020 s; ").
 // `started`: when the command began, for the first-frame time.
-void runVideoCommand(const VideoCommand& cmd, const Performance& performance, const AudioClip* audio, std::chrono::steady_clock::time_point started,
+// `audio` (optional) becomes the MP4's sound track, pulled as the video advances.
+void runVideoCommand(const VideoCommand& cmd, const Performance& performance, std::unique_ptr<AudioSource> audio, std::chrono::steady_clock::time_point started,
                      const std::string& timingPrefix = "");
 
 }  // namespace talkhead::cli

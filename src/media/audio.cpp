@@ -2,6 +2,7 @@
 #include "media/audio.h"
 
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -19,6 +20,62 @@ AudioClip decodeAudio(const std::string& path, int sampleRate) {
 	std::string error;
 	if (!avModule().decodeAudio(path, sampleRate, clip, error)) throw Error(error);
 	return clip;
+}
+
+namespace {
+
+class ClipSource final : public AudioSource {
+public:
+	explicit ClipSource(const AudioClip& c) : clip_(c) {}
+	int sampleRate() const override { return clip_.sampleRate; }
+	int channels() const override { return clip_.channels; }
+	std::size_t read(float* out, std::size_t frames) override {
+		const std::size_t n = std::min(frames, clip_.frameCount() - pos_);
+		std::memcpy(out, clip_.samples.data() + pos_ * std::size_t(clip_.channels), n * std::size_t(clip_.channels) * sizeof(float));
+		pos_ += n;
+		return n;
+	}
+
+private:
+	const AudioClip& clip_;
+	std::size_t pos_ = 0;
+};
+
+class FileSource final : public AudioSource {
+public:
+	FileSource(const std::string& path, int rate) : av_(avModule()) {
+		std::string error;
+		handle_ = av_.openAudio(path, rate, rate_, channels_, error);
+		if (!handle_) throw Error(error);
+	}
+	~FileSource() override { av_.closeAudio(handle_); }
+	int sampleRate() const override { return rate_; }
+	int channels() const override { return channels_; }
+	std::size_t read(float* out, std::size_t frames) override {
+		std::string error;
+		const long n = av_.readAudio(handle_, out, frames, error);
+		if (n < 0) throw Error(error);
+		return std::size_t(n);
+	}
+
+private:
+	const AvModule& av_;
+	void* handle_ = nullptr;
+	int rate_ = 0, channels_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<AudioSource> clipSource(const AudioClip& clip) { return std::make_unique<ClipSource>(clip); }
+std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRate) { return std::make_unique<FileSource>(path, sampleRate); }
+
+Ticks audioFileDuration(const std::string& path, int sampleRate) {
+	auto src = openAudioFile(path, sampleRate);
+	std::vector<float> block(std::size_t(8192) * std::size_t(src->channels()));
+	std::int64_t frames = 0;
+	for (std::size_t n; (n = src->read(block.data(), 8192)) > 0;) frames += std::int64_t(n);
+	if (frames == 0) throw Error(path, 0, "the audio has no samples (zero length)");
+	return Ticks(frames * (kTicksPerSecond / src->sampleRate()));
 }
 
 const AvModule& avModule() {

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,25 @@ struct AudioClip {
 // Decodes any audio libav reads (WAV, MP3, MP2 in MPEG, AAC, …): the first audio stream, resampled to
 // `sampleRate` with at most 2 channels. Throws Error naming the file; zero-length audio is an error.
 AudioClip decodeAudio(const std::string& path, int sampleRate = 48000);
+
+// Audio read in order a block at a time: a clip in memory, or a file decoded as it is read (so a render's
+// memory does not grow with the audio's length).
+class AudioSource {
+public:
+	virtual ~AudioSource() = default;
+	virtual int sampleRate() const = 0;
+	virtual int channels() const = 0;
+	// Up to `frames` sample frames (interleaved) into `out`; fewer only at the end, 0 after it.
+	virtual std::size_t read(float* out, std::size_t frames) = 0;
+};
+// A source over a clip (which must outlive it).
+std::unique_ptr<AudioSource> clipSource(const AudioClip& clip);
+// A source decoding `path` as it is read (same decoding as decodeAudio; sampleRate 0 keeps the file's own
+// rate). Throws Error naming the file.
+std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRate = 48000);
+// The exact duration of an audio file, decoded once without keeping the samples (memory stays flat).
+// Zero-length audio is an error, as for decodeAudio.
+Ticks audioFileDuration(const std::string& path, int sampleRate = 48000);
 
 // Writes a 16-bit PCM WAV through a temporary name (renamed when complete).
 void writeWav(const std::string& path, const AudioClip& clip);

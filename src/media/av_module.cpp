@@ -25,85 +25,134 @@ namespace talkhead {
 
 namespace {
 
+// The first audio stream of a file, decoded and resampled (float, at most 2 channels) as it is read.
+class AudioDecoder {
+public:
+	AudioDecoder(const std::string& path, int outRate) : path_(path), rate_(outRate) {
+		if (!std::filesystem::exists(path)) throw Error(path, 0, "audio file not found");
+		av_log_set_level(AV_LOG_FATAL);  // problems are reported through return codes, as one error line
+		checkAv(avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr), path, "cannot open audio");
+		checkAv(avformat_find_stream_info(fmt_, nullptr), path, "cannot read audio stream info");
+		const AVCodec* dec = nullptr;
+		stream_ = av_find_best_stream(fmt_, AVMEDIA_TYPE_AUDIO, -1, -1, &dec, 0);
+		if (stream_ < 0 || !dec) throw Error(path, 0, "no audio stream");
+		ctx_ = avcodec_alloc_context3(dec);
+		checkAv(avcodec_parameters_to_context(ctx_, fmt_->streams[stream_]->codecpar), path, "bad audio parameters");
+		checkAv(avcodec_open2(ctx_, dec, nullptr), path, "cannot open the audio decoder");
+		if (ctx_->ch_layout.nb_channels <= 0) av_channel_layout_default(&ctx_->ch_layout, 1);
+		channels_ = std::min(2, ctx_->ch_layout.nb_channels);
+		if (rate_ <= 0) rate_ = outRate = ctx_->sample_rate > 0 ? ctx_->sample_rate : 48000;  // 0: keep the file's rate
+		AVChannelLayout outLayout;
+		av_channel_layout_default(&outLayout, channels_);
+		checkAv(swr_alloc_set_opts2(&swr_, &outLayout, AV_SAMPLE_FMT_FLT, outRate, &ctx_->ch_layout, ctx_->sample_fmt, ctx_->sample_rate, 0, nullptr),
+		        path, "cannot set up resampling");
+		checkAv(swr_init(swr_), path, "cannot set up resampling");
+		pkt_ = av_packet_alloc();
+		frame_ = av_frame_alloc();
+	}
+	~AudioDecoder() {
+		av_packet_free(&pkt_);
+		av_frame_free(&frame_);
+		swr_free(&swr_);
+		avcodec_free_context(&ctx_);
+		avformat_close_input(&fmt_);
+	}
+	int channels() const { return channels_; }
+	int rate() const { return rate_; }
+
+	// Up to `frames` sample frames into out; fewer only at the end.
+	std::size_t read(float* out, std::size_t frames) {
+		const std::size_t ch = std::size_t(channels_);
+		std::size_t done = 0;
+		while (done < frames) {
+			if (pos_ < pending_.size() / ch) {
+				const std::size_t n = std::min(frames - done, pending_.size() / ch - pos_);
+				std::memcpy(out + done * ch, pending_.data() + pos_ * ch, n * ch * sizeof(float));
+				pos_ += n, done += n;
+				continue;
+			}
+			pending_.clear(), pos_ = 0;
+			if (!refill()) break;
+		}
+		total_ += std::int64_t(done);
+		if (total_ > std::int64_t(rate_) * 4 * 3600) throw Error(path_, 0, "audio longer than 4 hours");
+		return done;
+	}
+
+private:
+	// Decodes the next packet(s) into pending_; false at the end.
+	bool refill() {
+		if (flushed_) return false;
+		while (pending_.empty()) {
+			if (!eof_) {
+				if (av_read_frame(fmt_, pkt_) >= 0) {
+					if (pkt_->stream_index == stream_) {
+						const int r = avcodec_send_packet(ctx_, pkt_);
+						if (r < 0 && r != AVERROR(EAGAIN) && r != AVERROR_INVALIDDATA) checkAv(r, path_, "cannot decode audio");
+					}
+					av_packet_unref(pkt_);
+				} else {
+					eof_ = true;
+					avcodec_send_packet(ctx_, nullptr);
+				}
+				drainDecoder();
+				continue;
+			}
+			drainDecoder();
+			if (!pending_.empty()) break;
+			// Flush the resampler.
+			pending_.resize(4096 * std::size_t(channels_));
+			uint8_t* o[1] = {reinterpret_cast<uint8_t*>(pending_.data())};
+			const int got = swr_convert(swr_, o, 4096, nullptr, 0);
+			pending_.resize(std::size_t(std::max(got, 0)) * std::size_t(channels_));
+			if (got <= 0) {
+				flushed_ = true;
+				return false;
+			}
+		}
+		return true;
+	}
+	void drainDecoder() {
+		for (;;) {
+			const int r = avcodec_receive_frame(ctx_, frame_);
+			if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
+			checkAv(r, path_, "cannot decode audio");
+			const int maxOut = swr_get_out_samples(swr_, frame_->nb_samples);
+			const std::size_t old = pending_.size();
+			pending_.resize(old + std::size_t(maxOut) * std::size_t(channels_));
+			uint8_t* o[1] = {reinterpret_cast<uint8_t*>(pending_.data() + old)};
+			const int got = checkAv(swr_convert(swr_, o, maxOut, const_cast<const uint8_t**>(frame_->extended_data), frame_->nb_samples), path_,
+			                        "cannot resample audio");
+			pending_.resize(old + std::size_t(got) * std::size_t(channels_));
+			av_frame_unref(frame_);
+		}
+	}
+
+	std::string path_;
+	int rate_ = 0, channels_ = 0, stream_ = -1;
+	AVFormatContext* fmt_ = nullptr;
+	AVCodecContext* ctx_ = nullptr;
+	SwrContext* swr_ = nullptr;
+	AVPacket* pkt_ = nullptr;
+	AVFrame* frame_ = nullptr;
+	std::vector<float> pending_;
+	std::size_t pos_ = 0;
+	std::int64_t total_ = 0;
+	bool eof_ = false, flushed_ = false;
+};
+
 AudioClip decodeAudioImpl(const std::string& path, int outRate) {
-	if (!std::filesystem::exists(path)) throw Error(path, 0, "audio file not found");
-	av_log_set_level(AV_LOG_FATAL);  // problems are reported through return codes, as one error line
-	AVFormatContext* fmt = nullptr;
-	checkAv(avformat_open_input(&fmt, path.c_str(), nullptr, nullptr), path, "cannot open audio");
-	struct FmtGuard {
-		AVFormatContext*& f;
-		~FmtGuard() { avformat_close_input(&f); }
-	} fg{fmt};
-	checkAv(avformat_find_stream_info(fmt, nullptr), path, "cannot read audio stream info");
-	const AVCodec* dec = nullptr;
-	int stream = av_find_best_stream(fmt, AVMEDIA_TYPE_AUDIO, -1, -1, &dec, 0);
-	if (stream < 0 || !dec) throw Error(path, 0, "no audio stream");
-	AVCodecContext* ctx = avcodec_alloc_context3(dec);
-	struct CtxGuard {
-		AVCodecContext*& c;
-		~CtxGuard() { avcodec_free_context(&c); }
-	} cg{ctx};
-	checkAv(avcodec_parameters_to_context(ctx, fmt->streams[stream]->codecpar), path, "bad audio parameters");
-	checkAv(avcodec_open2(ctx, dec, nullptr), path, "cannot open the audio decoder");
-	if (ctx->ch_layout.nb_channels <= 0) av_channel_layout_default(&ctx->ch_layout, 1);
-	const int outChannels = std::min(2, ctx->ch_layout.nb_channels);
-	AVChannelLayout outLayout;
-	av_channel_layout_default(&outLayout, outChannels);
-	SwrContext* swr = nullptr;
-	checkAv(swr_alloc_set_opts2(&swr, &outLayout, AV_SAMPLE_FMT_FLT, outRate, &ctx->ch_layout, ctx->sample_fmt, ctx->sample_rate, 0, nullptr), path,
-	        "cannot set up resampling");
-	struct SwrGuard {
-		SwrContext*& s;
-		~SwrGuard() { swr_free(&s); }
-	} sg{swr};
-	checkAv(swr_init(swr), path, "cannot set up resampling");
+	AudioDecoder dec(path, outRate);
 	AudioClip clip;
 	clip.sampleRate = outRate;
-	clip.channels = outChannels;
-	AVPacket* pkt = av_packet_alloc();
-	AVFrame* frame = av_frame_alloc();
-	struct Guard {
-		AVPacket*& p;
-		AVFrame*& f;
-		~Guard() {
-			av_packet_free(&p);
-			av_frame_free(&f);
-		}
-	} g{pkt, frame};
-	auto drain = [&]() {
-		for (;;) {
-			int r = avcodec_receive_frame(ctx, frame);
-			if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
-			checkAv(r, path, "cannot decode audio");
-			const int maxOut = swr_get_out_samples(swr, frame->nb_samples);
-			const std::size_t old = clip.samples.size();
-			clip.samples.resize(old + std::size_t(maxOut) * outChannels);
-			uint8_t* out[1] = {reinterpret_cast<uint8_t*>(clip.samples.data() + old)};
-			const int got = checkAv(swr_convert(swr, out, maxOut, const_cast<const uint8_t**>(frame->extended_data), frame->nb_samples), path,
-			                        "cannot resample audio");
-			clip.samples.resize(old + std::size_t(got) * outChannels);
-			av_frame_unref(frame);
-			if (clip.samples.size() > std::size_t(outRate) * outChannels * 4 * 3600) throw Error(path, 0, "audio longer than 4 hours");
-		}
-	};
-	while (av_read_frame(fmt, pkt) >= 0) {
-		if (pkt->stream_index == stream) {
-			int r = avcodec_send_packet(ctx, pkt);
-			if (r < 0 && r != AVERROR(EAGAIN) && r != AVERROR_INVALIDDATA) checkAv(r, path, "cannot decode audio");
-			drain();
-		}
-		av_packet_unref(pkt);
-	}
-	avcodec_send_packet(ctx, nullptr);
-	drain();
-	// Flush the resampler.
+	clip.channels = dec.channels();
+	const std::size_t block = 16384;
 	for (;;) {
 		const std::size_t old = clip.samples.size();
-		clip.samples.resize(old + 4096 * std::size_t(outChannels));
-		uint8_t* out[1] = {reinterpret_cast<uint8_t*>(clip.samples.data() + old)};
-		int got = swr_convert(swr, out, 4096, nullptr, 0);
-		clip.samples.resize(old + std::size_t(std::max(got, 0)) * outChannels);
-		if (got <= 0) break;
+		clip.samples.resize(old + block * std::size_t(clip.channels));
+		const std::size_t n = dec.read(clip.samples.data() + old, block);
+		clip.samples.resize(old + n * std::size_t(clip.channels));
+		if (n < block) break;
 	}
 	if (clip.frameCount() == 0) throw Error(path, 0, "the audio has no samples (zero length)");
 	return clip;
@@ -112,7 +161,9 @@ AudioClip decodeAudioImpl(const std::string& path, int outRate) {
 struct Mp4Encoder {
 	std::string path;
 	VideoOptions o;
-	const AudioClip* audio = nullptr;
+	AudioSource* audio = nullptr;       // pulled as the video advances
+	std::vector<float> audioBlock;      // one AAC frame, interleaved
+	bool audioEnded = false;
 	AVFormatContext* fmt = nullptr;
 	AVCodecContext* venc = nullptr;
 	AVCodecContext* aenc = nullptr;
@@ -152,17 +203,17 @@ struct Mp4Encoder {
 			ast = avformat_new_stream(fmt, nullptr);
 			aenc = avcodec_alloc_context3(aac);
 			aenc->sample_fmt = AV_SAMPLE_FMT_FLTP;
-			aenc->sample_rate = audio->sampleRate;
-			av_channel_layout_default(&aenc->ch_layout, audio->channels);
+			aenc->sample_rate = audio->sampleRate();
+			av_channel_layout_default(&aenc->ch_layout, audio->channels());
 			aenc->bit_rate = 128000;
-			aenc->time_base = AVRational{1, audio->sampleRate};
+			aenc->time_base = AVRational{1, audio->sampleRate()};
 			if (fmt->oformat->flags & AVFMT_GLOBALHEADER) aenc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
 			checkAv(avcodec_open2(aenc, aac, nullptr), path, "cannot open the AAC encoder");
 			checkAv(avcodec_parameters_from_context(ast->codecpar, aenc), path, "AAC parameters");
 			ast->time_base = aenc->time_base;
 			aframe = av_frame_alloc();
 			aframe->format = AV_SAMPLE_FMT_FLTP;
-			aframe->sample_rate = audio->sampleRate;
+			aframe->sample_rate = audio->sampleRate();
 			av_channel_layout_copy(&aframe->ch_layout, &aenc->ch_layout);
 			aframe->nb_samples = aenc->frame_size;
 			checkAv(av_frame_get_buffer(aframe, 0), path, "audio frame");
@@ -193,21 +244,22 @@ struct Mp4Encoder {
 		}
 	}
 
-	// Encodes audio up to sample frame `until` (whole AAC frames; the rest waits), or everything (flush).
+	// Encodes audio up to sample frame `until` (whole AAC frames; the rest waits), or everything (flush),
+	// reading it from the source one AAC frame at a time.
 	void encodeAudio(std::int64_t until, bool all) {
 		if (!audio) return;
-		const std::int64_t total = std::int64_t(audio->frameCount());
-		const int n = aenc->frame_size;
-		until = std::min(until, total);
-		while (audioPos < total && (all || audioPos + n <= until)) {
+		const int n = aenc->frame_size, ch = audio->channels();
+		audioBlock.resize(std::size_t(n) * std::size_t(ch));
+		while (!audioEnded && (all || audioPos + n <= until)) {
+			const int count = int(audio->read(audioBlock.data(), std::size_t(n)));
+			if (count < n) audioEnded = true;
+			if (count == 0) break;
 			checkAv(av_frame_make_writable(aframe), path, "audio frame");
-			const int count = int(std::min<std::int64_t>(n, total - audioPos));
-			for (int c = 0; c < audio->channels; ++c) {
+			for (int c = 0; c < ch; ++c) {
 				float* dst = reinterpret_cast<float*>(aframe->data[c]);
-				for (int k = 0; k < n; ++k)
-					dst[k] = k < count ? audio->samples[std::size_t((audioPos + k) * audio->channels + c)] : 0.f;
+				for (int k = 0; k < n; ++k) dst[k] = k < count ? audioBlock[std::size_t(k) * std::size_t(ch) + std::size_t(c)] : 0.f;
 			}
-			aframe->nb_samples = count == n ? n : count;
+			aframe->nb_samples = count;
 			aframe->pts = audioPos;
 			checkAv(avcodec_send_frame(aenc, aframe), path, "AAC encoding failed");
 			drain(aenc, ast);
@@ -228,7 +280,7 @@ struct Mp4Encoder {
 		vframe->pts = frameIndex++;
 		checkAv(avcodec_send_frame(venc, vframe), path, "H.264 encoding failed");
 		drain(venc, vst);
-		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.rate.den, o.rate.num}, AVRational{1, audio->sampleRate}), false);
+		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.rate.den, o.rate.num}, AVRational{1, audio->sampleRate()}), false);
 	}
 
 	void finish() {
@@ -373,12 +425,29 @@ bool decodeAudioEntry(const std::string& path, int sampleRate, AudioClip& out, s
 	return guarded(error, [&] { out = decodeAudioImpl(path, sampleRate); });
 }
 
-void* openMp4Entry(const std::string& path, const VideoOptions& o, const AudioClip* audio, std::string& error) {
+void* openAudioEntry(const std::string& path, int sampleRate, int& rate, int& channels, std::string& error) {
+	AudioDecoder* d = nullptr;
+	guarded(error, [&] {
+		d = new AudioDecoder(path, sampleRate);
+		rate = d->rate(), channels = d->channels();
+	});
+	return d;
+}
+
+long readAudioEntry(void* h, float* out, std::size_t frames, std::string& error) {
+	long n = -1;
+	guarded(error, [&] { n = long(static_cast<AudioDecoder*>(h)->read(out, frames)); });
+	return n;
+}
+
+void closeAudioEntry(void* h) { delete static_cast<AudioDecoder*>(h); }
+
+void* openMp4Entry(const std::string& path, const VideoOptions& o, AudioSource* audio, std::string& error) {
 	auto enc = std::make_unique<Mp4Encoder>();
 	const bool ok = guarded(error, [&] {
 		enc->path = path;
 		enc->o = o;
-		enc->audio = audio && audio->frameCount() ? audio : nullptr;
+		enc->audio = audio;
 		av_log_set_level(AV_LOG_ERROR);
 		enc->open();
 	});
@@ -412,7 +481,7 @@ int readVideoEntry(void* h, Image8& rgb, double& seconds, std::string& error) {
 
 void closeVideoEntry(void* h) { delete static_cast<VideoDecoder*>(h); }
 
-const AvModule kModule{kAvModuleAbi, decodeAudioEntry, openMp4Entry, writeMp4Entry, finishMp4Entry, closeMp4Entry,
+const AvModule kModule{kAvModuleAbi, decodeAudioEntry, openAudioEntry, readAudioEntry, closeAudioEntry, openMp4Entry, writeMp4Entry, finishMp4Entry, closeMp4Entry,
                        openVideoEntry, readVideoEntry, closeVideoEntry};
 
 }  // namespace

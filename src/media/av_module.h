@@ -13,13 +13,19 @@
 
 namespace talkhead {
 
-constexpr int kAvModuleAbi = 3;  // 3: VideoOptions carries a FrameRate
+constexpr int kAvModuleAbi = 4;  // 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource)
 
 struct AvModule {
 	int abi;  // kAvModuleAbi
 	bool (*decodeAudio)(const std::string& path, int sampleRate, AudioClip& out, std::string& error);
 	// An MP4 encoder (opaque), or nullptr with `error` set.
-	void* (*openMp4)(const std::string& path, const VideoOptions& options, const AudioClip* audio, std::string& error);
+	// An audio decoder (opaque) that resamples to `sampleRate` (at most 2 channels), or nullptr with `error`.
+	void* (*openAudio)(const std::string& path, int sampleRate, int& rate, int& channels, std::string& error);
+	// Up to `frames` interleaved sample frames; 0 at the end, −1 on error.
+	long (*readAudio)(void* decoder, float* out, std::size_t frames, std::string& error);
+	void (*closeAudio)(void* decoder);
+	// The audio (optional) is pulled from `audio` as the video advances.
+	void* (*openMp4)(const std::string& path, const VideoOptions& options, AudioSource* audio, std::string& error);
 	bool (*writeMp4)(void* encoder, const YuvImage& frame, std::string& error);
 	bool (*finishMp4)(void* encoder, std::string& error);
 	void (*closeMp4)(void* encoder);

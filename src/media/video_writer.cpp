@@ -20,9 +20,25 @@ struct Mp4Writer::Impl {
 	}
 };
 
-Mp4Writer::Mp4Writer(const std::string& path, const VideoOptions& o, const AudioClip* audio) : impl_(std::make_unique<Impl>()) {
+namespace {
+void checkSize(const std::string& path, const VideoOptions& o) {
 	if (o.width < 16 || o.height < 16 || o.width > 7680 || o.height > 4320 || o.width % 2 || o.height % 2)
 		throw Error(path, 0, "unsupported video size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " (even, 16–7680 x 16–4320)");
+}
+}  // namespace
+
+Mp4Writer::Mp4Writer(const std::string& path, const VideoOptions& o, const AudioClip* audio) : impl_(std::make_unique<Impl>()) {
+	checkSize(path, o);
+	if (audio && audio->frameCount() > 0) ownSource_ = clipSource(*audio);
+	open(path, o, ownSource_.get());
+}
+
+Mp4Writer::Mp4Writer(const std::string& path, const VideoOptions& o, AudioSource* audio) : impl_(std::make_unique<Impl>()) {
+	checkSize(path, o);
+	open(path, o, audio);
+}
+
+void Mp4Writer::open(const std::string& path, const VideoOptions& o, AudioSource* audio) {
 	impl_->av = &avModule();
 	impl_->width = o.width;
 	impl_->height = o.height;

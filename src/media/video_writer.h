@@ -26,6 +26,8 @@ struct VideoOptions {
 class Mp4Writer {
 public:
 	Mp4Writer(const std::string& path, const VideoOptions& options, const AudioClip* audio);
+	// The audio pulled from a source as the video advances (the source must outlive the writer).
+	Mp4Writer(const std::string& path, const VideoOptions& options, AudioSource* audio);
 	~Mp4Writer();
 	Mp4Writer(const Mp4Writer&) = delete;
 	Mp4Writer& operator=(const Mp4Writer&) = delete;
@@ -35,7 +37,9 @@ public:
 
 private:
 	struct Impl;
+	std::unique_ptr<AudioSource> ownSource_;  // a clip's source (declared first: outlives the encoder)
 	std::unique_ptr<Impl> impl_;
+	void open(const std::string& path, const VideoOptions& options, AudioSource* audio);
 };
 
 // YUV4MPEG2 stream (C420jpeg: chroma centred on its 2×2 block, as rgbToYuv420 makes it; BT.601 limited

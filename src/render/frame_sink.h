@@ -54,7 +54,11 @@ struct Mp4Settings {
 	int crf = 20;                          // x264 constant rate factor, 0–51
 	std::string preset = "veryfast";       // x264 preset
 };
+// `audio` (optional, must outlive the sink) becomes the AAC track.
 std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, const AudioClip* audio);
+// The same with the audio pulled from a source as the video advances (e.g. openAudioFile: an hour of
+// audio costs no more memory than a second).
+std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, std::unique_ptr<AudioSource> audio);
 // YUV4MPEG2 to a file (temporary name, renamed on commit) or, for "-", to standard output as frames come.
 std::unique_ptr<FrameSink> makeY4mSink(const std::string& path);
 // Every frame as DIR/frame_NNNNNN.png (RGB), compressed on the drawing threads. The folder is created;

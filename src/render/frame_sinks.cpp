@@ -48,12 +48,12 @@ struct TempOutput {
 
 class Mp4Sink final : public FrameSink {
 public:
-	Mp4Sink(const std::string& path, const Mp4Settings& s, const AudioClip* audio) : out_(path), settings_(s), audio_(audio) {}
+	Mp4Sink(const std::string& path, const Mp4Settings& s, std::unique_ptr<AudioSource> audio) : out_(path), settings_(s), audio_(std::move(audio)) {}
 	void begin(const StreamInfo& info) override {
 		VideoOptions vo;
 		vo.width = info.width, vo.height = info.height, vo.rate = info.rate;
 		vo.crf = settings_.crf, vo.preset = settings_.preset;
-		out_.guard([&] { writer_ = std::make_unique<Mp4Writer>(out_.temp, vo, audio_ && !audio_->samples.empty() ? audio_ : nullptr); });
+		out_.guard([&] { writer_ = std::make_unique<Mp4Writer>(out_.temp, vo, audio_.get()); });
 	}
 	void frame(const RenderedFrame& f) override {
 		out_.guard([&] { writer_->write(*f.yuv); });
@@ -69,7 +69,7 @@ public:
 private:
 	TempOutput out_;
 	Mp4Settings settings_;
-	const AudioClip* audio_;
+	std::unique_ptr<AudioSource> audio_;
 	std::unique_ptr<Mp4Writer> writer_;
 };
 
@@ -189,7 +189,10 @@ private:
 }  // namespace
 
 std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, const AudioClip* audio) {
-	return std::make_unique<Mp4Sink>(path, settings, audio);
+	return std::make_unique<Mp4Sink>(path, settings, audio && audio->frameCount() > 0 ? clipSource(*audio) : nullptr);
+}
+std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, std::unique_ptr<AudioSource> audio) {
+	return std::make_unique<Mp4Sink>(path, settings, std::move(audio));
 }
 std::unique_ptr<FrameSink> makeY4mSink(const std::string& path) { return std::make_unique<Y4mSink>(path); }
 std::unique_ptr<FrameSink> makePngFramesSink(const std::string& dir) { return std::make_unique<PngFramesSink>(dir); }
