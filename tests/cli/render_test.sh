@@ -52,6 +52,11 @@ for case in 480x480:crop 480x480:pad 360x640:crop 360x640:pad 360x640:stretch; d
 	awk -v a="$r" -v b="$wide" -v w="$want" -v c="$case" 'BEGIN { e = a / b - 1; if (e < 0) e = -e
 		if ((w == "near" && e > 0.01) || (w == "far" && e < 0.1)) { print c ": ratio " a " vs 16:9 " b; exit 1 } }'
 done
+# A transcript covering a small part of a long audio renders the whole audio and says how much is silent face.
+/usr/bin/python3 -c "import wave; w = wave.open('$T/long.wav', 'wb'); w.setnchannels(1); w.setsampwidth(2); w.setframerate(16000); w.writeframes(bytes(2 * 16000 * 30)); w.close()"
+"$TH" render --model "$T/face.thm" --transcript "$TG" --audio "$T/long.wav" --fps 5 -o "$T/long.mp4" 2>"$T/long.err"
+grep -q "warning: $T/long.wav: the transcript covers 1.3 s of 30.0 s of audio; the face holds its last keypose, silent, for the other 28.7 s" "$T/long.err"
+test "$(probe "$T/long.mp4" v:0 nb_read_frames)" = 150
 # Landmarks: a header and one row per frame with 2 + 2 × 56 columns.
 test "$(wc -l <"$T/a.tsv")" = 61
 awk -F'\t' 'NR > 1 && NF != 114 { print "bad landmark row " NR; exit 1 }' "$T/a.tsv"
