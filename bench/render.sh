@@ -25,3 +25,16 @@ if [ "${2:-}" = "--long" ]; then
 	/usr/bin/python3 "$root/bench/make_utterance.py" 600 "$tmp/u600.tsv"
 	run "10 min at 1280x720" 1280x720 "$tmp/u600.tsv"
 fi
+# The encoder is the limit: x264 alone (ffmpeg, libx264 veryfast, CRF 20, the same frames as y4m) against
+# the whole render to MP4, alternating, median of 5. Ratio = render throughput / x264-alone throughput.
+"$build/talkhead" render --transcript "$tmp/u10.tsv" --emotion joy --size 1280x720 --format y4m -o "$tmp/frames.y4m" -q
+if command -v ffmpeg >/dev/null; then
+	for i in 1 2 3 4 5; do
+		/usr/bin/time -f "%e" -o "$tmp/t" ffmpeg -v error -y -i "$tmp/frames.y4m" -c:v libx264 -preset veryfast -crf 20 -pix_fmt yuv420p "$tmp/x.mp4"
+		cat "$tmp/t" >>"$tmp/x264"
+		/usr/bin/time -f "%e" -o "$tmp/t" "$build/talkhead" render --transcript "$tmp/u10.tsv" --emotion joy --size 1280x720 -o "$tmp/out.mp4" -q
+		cat "$tmp/t" >>"$tmp/ours"
+	done
+	x=$(sort -n "$tmp/x264" | sed -n 3p); o=$(sort -n "$tmp/ours" | sed -n 3p)
+	awk -v x="$x" -v o="$o" 'BEGIN { printf "720p, 324 frames: x264 alone %.2f s, whole render %.2f s: %.2fx the encoder'"'"'s throughput (goal >= 0.9)\n", x, o, x / o }'
+fi
