@@ -20,7 +20,7 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--text", "TEXT", "instead of --transcript: what --audio says, aligned to it (as 'talkhead align' does)"},
 	    {"--text-file", "F", "the same, read from a file"},
 	    {"--audio", "FILE", "speech audio (any format libav reads); the video lasts as long as it"},
-	    {"--lang", "LANG", "language of the transcript: pt-BR (default) or en-US"},
+	    {"--lang", "LANG", languageOptionHelp("language of the transcript")},
 	    {"--transcript-format", "FORMAT", "transcript format if detection fails"},
 	    {"--tier", "NAME", "TextGrid tier"},
 	    {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"}};
@@ -45,7 +45,7 @@ int runRender(const std::vector<std::string>& argv) {
 	if (policy != "error" && policy != "nearest" && policy != "silence") throw UsageError("render: --unknown must be error, nearest or silence");
 	const UnknownPhone unknown = policy == "nearest" ? UnknownPhone::Nearest : policy == "silence" ? UnknownPhone::Silence : UnknownPhone::Error;
 	const VideoCommand cmd = parseVideoCommand(args, "render");
-	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
+	const Language& lang = languageOption(args);
 	if (auto f = args.get("--text-file")) text = readTextFile(*f);
 
 	// Timeline.

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // talkhead say: text → speech (libespeak-ng) and talking-head video, in one process.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <iterator>
+#include <map>
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -17,11 +19,55 @@
 
 namespace talkhead::cli {
 
+namespace {
+
+std::string primaryLanguage(const std::string& tag) { return toLower(tag.substr(0, tag.find('-'))); }
+
+// The voice must speak --lang's language (item 11): `--voice fr` with the default pt-BR table would give
+// French speech Portuguese visemes. Regions may differ (pt voice, pt-BR table). A voice espeak-ng does not
+// have is left to espeakSpeak's error.
+void checkVoiceSpeaks(const std::string& voice, const Language& lang) {
+	const auto v = espeakVoiceLanguage(voice);
+	if (!v || primaryLanguage(v->language) == primaryLanguage(lang.tag())) return;
+	static const std::map<std::string, std::string> names = {{"pt", "Portuguese"}, {"en", "English"}, {"es", "Spanish"}, {"fr", "French"},
+	                                                         {"de", "German"},     {"it", "Italian"}, {"nl", "Dutch"}};
+	const std::string primary = primaryLanguage(v->language);
+	const auto n = names.find(primary);
+	const std::string name = n != names.end() ? n->second : !v->name.empty() ? v->name : v->language;
+	std::string table;
+	for (const auto& a : Language::available())
+		if (toLower(a) == v->language) table = a;
+	for (const auto& a : Language::available())
+		if (table.empty() && primaryLanguage(a) == primary) table = a;
+	throw UsageError("say: voice '" + voice + "' speaks " + name + " (" + v->language + ") but --lang is " + lang.tag() + "; add --lang " +
+	                 (table.empty() ? primary + " --generic-visemes" : table));
+}
+
+// One line naming the espeak-ng phoneme names the table lacks (they take the nearest known phone).
+void warnUnknownPhones(const Transcript& phones, const Language& lang) {
+	std::vector<std::string> unknown;
+	for (const auto& iv : phones.intervals)
+		if (!iv.label.empty() && !lang.normalize(iv.label) && std::find(unknown.begin(), unknown.end(), iv.label) == unknown.end())
+			unknown.push_back(iv.label);
+	if (unknown.empty()) return;
+	std::string list;
+	for (const auto& u : unknown) {
+		const auto near = lang.nearest(u);
+		std::string to;
+		if (near)
+			for (const auto& p : *near) to += (to.empty() ? "" : " ") + p;
+		list += (list.empty() ? "" : ", ") + u + " -> " + (near ? to : "silence");
+	}
+	std::fprintf(stderr, "talkhead: warning: espeak-ng phones unknown to the %s table, substituted: %s\n", lang.tag().c_str(), list.c_str());
+}
+
+}  // namespace
+
 int runSay(const std::vector<std::string>& argv) {
 	std::vector<OptionSpec> options = {
 	    {"--text-file", "F", "read the text from a file"},
-	    {"--lang", "LANG", "pt-BR (default) or en-US (the languages with a viseme table)"},
-	    {"--voice", "NAME", "espeak-ng voice (default: the language, e.g. pt-br; mb-br1 etc. need MBROLA)"},
+	    {"--lang", "LANG", languageOptionHelp("the text's language")},
+	    {"--voice", "NAME", "espeak-ng voice (default: the language's, e.g. pt-br, fr; it must speak --lang; mb-br1 etc. need MBROLA)"},
 	    {"--rate", "WPM", "speaking rate in words per minute (80–450; default 175)"},
 	    {"--pitch", "N", "pitch 0–100 (default 50)"},
 	    {"--save-audio", "F.wav", "also write the synthesised speech"},
@@ -38,10 +84,11 @@ int runSay(const std::vector<std::string>& argv) {
 	const bool dryRun = args.has("--dry-run");
 	if (!args.get("--output") && !dryRun) throw UsageError("say: -o OUT is required (or --dry-run)");
 	const VideoCommand cmd = parseVideoCommand(args, "say", !dryRun);
-	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
+	const Language& lang = languageOption(args);
 	const int rate = int(args.number("--rate", 0, 80, 450));
 	const int pitch = int(args.number("--pitch", -1, 0, 100));
 	const std::string voice = args.get("--voice", espeakVoiceFor(lang.tag()));
+	if (args.get("--voice")) checkVoiceSpeaks(voice, lang);
 	const auto saveAudio = args.get("--save-audio"), saveTranscript = args.get("--save-transcript");
 
 	std::string text;
@@ -55,7 +102,9 @@ int runSay(const std::vector<std::string>& argv) {
 	const auto tSpeech = std::chrono::steady_clock::now();
 	Speech speech = espeakSpeak(text, voice, rate, pitch);
 	const double speechSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tSpeech).count();
-	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone.
+	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone (said
+	// once on stderr: the tables are meant to know every name their voice uses).
+	warnUnknownPhones(speech.phones, lang);
 	const std::vector<PhoneSegment> phones = phoneSegments(speech.phones, lang, UnknownPhone::Nearest);
 	Performance perf;
 	perf.rate = cmd.rate;

@@ -13,6 +13,7 @@
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/video_options.h"
 #include "phonetics/language.h"
 #include "phonetics/writers.h"
 
@@ -40,7 +41,8 @@ void writeOutput(const std::string& path, const std::string& text) {
 
 int runVisemes(const std::vector<std::string>& argv) {
 	Args args("visemes", "talkhead visemes TRANSCRIPT|- [options]",
-	          {{"--lang", "LANG", "language of the phones: pt-BR (default) or en-US"},
+	          {{"--lang", "LANG", languageOptionHelp("language of the phones")},
+	           genericVisemesOption(),
 	           {"--format", "FORMAT", "input format (default: detected): " + joined(transcriptFormats())},
 	           {"--tier", "NAME", "TextGrid tier (default: the first interval tier named like phones, else the first)"},
 	           {"--utterance", "NAME|N", "HTK MLF utterance (name or 1-based index; default the first)"},
@@ -76,7 +78,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	if (!rate) throw UsageError("visemes: --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
 	if (!pauses) throw UsageError("visemes: --pauses takes natural or thesis");
-	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
+	const Language& lang = languageOption(args);
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);

@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "base/error.h"
+#include "base/text.h"
 #include "phonetics/labels.h"
 
 namespace fs = std::filesystem;
@@ -62,8 +63,31 @@ private:
 
 }  // namespace
 
+OptionSpec genericVisemesOption() {
+	return {"--generic-visemes", "", "a --lang without a viseme table maps its IPA phones through a generic table (phonetics/generic; approximate, with a warning)"};
+}
+
+std::string languageOptionHelp(const std::string& what) {
+	std::string known;
+	for (const auto& a : Language::available()) known += (known.empty() ? "" : ", ") + a;
+	return what + ": pt-BR (default) or another language with a viseme table (" + known + "; others with --generic-visemes)";
+}
+
+const Language& languageOption(const Args& args) {
+	const std::string tag = args.get("--lang", "pt-BR");
+	if (!args.has("--generic-visemes")) return Language::get(tag);
+	const std::string lower = toLower(tag), primary = lower.substr(0, lower.find('-'));
+	for (const auto& a : Language::available())
+		if (toLower(a) == lower || toLower(a) == primary) return Language::get(tag);
+	const Language& lang = Language::generic(tag);
+	std::fprintf(stderr, "talkhead: warning: no viseme table for language '%s': its IPA phones are mapped through the generic table (approximate)\n",
+	             tag.c_str());
+	return lang;
+}
+
 std::vector<OptionSpec> videoOptionSpecs() {
-	return {{"--emotion", "LABEL", "one of the 23 emotion labels or an alias (default neutral)"},
+	return {genericVisemesOption(),
+	        {"--emotion", "LABEL", "one of the 23 emotion labels or an alias (default neutral)"},
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},

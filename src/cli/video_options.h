@@ -28,6 +28,15 @@ struct VideoCommand {
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
 };
 
+// The language of --lang (default pt-BR), for the commands that take it: its viseme table; with
+// --generic-visemes, a language without a table maps IPA through phonetics/generic, with one warning line
+// on stderr. Throws Error ("no viseme table for language …") otherwise.
+const Language& languageOption(const Args& args);
+// The --lang help, naming the languages with a table.
+std::string languageOptionHelp(const std::string& what);
+// --generic-visemes (also in videoOptionSpecs).
+OptionSpec genericVisemesOption();
+
 // Reads and checks every shared option (and that the output folders exist and are writable) before any
 // work is done; throws UsageError / Error. `outputRequired`: -o must be given.
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired = true);

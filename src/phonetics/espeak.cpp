@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 
 #include "base/error.h"
@@ -44,6 +45,9 @@ int onSynth(short* wav, int count, espeak_EVENT* events) {
 		if (e->type == espeakEVENT_PHONEME) {
 			char name[9] = {};
 			std::memcpy(name, e->id.string, 8);
+			// "(en)" … "(fr)": espeak-ng switching language for a word it reads as foreign, not a phone;
+			// dropped, so that the phone before it lasts until the next one (no silence inside a word).
+			if (name[0] == '(') continue;
 			c->phonemes.emplace_back(name, e->audio_position);
 		} else if (e->type == espeakEVENT_WORD) {
 			c->words.push_back({e->text_position, e->length, e->audio_position});
@@ -67,6 +71,30 @@ bool isPause(const std::string& ipa) { return ipa.empty() || ipa == "_" || ipa =
 }  // namespace
 
 std::string espeakVoiceFor(const std::string& tag) { return toLower(tag); }
+
+std::optional<VoiceLanguage> espeakVoiceLanguage(const std::string& voice) {
+	const std::string name = voice.substr(0, voice.find('+'));  // without a variant (en-us+f3)
+	if (name.empty()) return std::nullopt;
+	std::lock_guard<std::mutex> lock(espeakMutex());
+	initialise();
+	if (startsWith(name, "mb-")) {
+		// MBROLA voices: espeak-ng's voice file says the language; loading the voice would need MBROLA.
+		const char* data = nullptr;
+		espeak_Info(&data);
+		if (!data) return std::nullopt;
+		std::ifstream in(std::string(data) + "/voices/mb/" + name);
+		for (std::string line; std::getline(in, line);) {
+			const auto w = splitWhitespace(line);
+			if (w.size() >= 2 && w[0] == "language") return VoiceLanguage{toLower(w[1]), ""};
+		}
+		return std::nullopt;
+	}
+	if (espeak_SetVoiceByName(name.c_str()) != EE_OK) return std::nullopt;
+	const espeak_VOICE* v = espeak_GetCurrentVoice();
+	// languages: a priority byte, then the language name, NUL-terminated (the first is the main one).
+	if (!v || !v->languages || !v->languages[0] || !v->languages[1]) return std::nullopt;
+	return VoiceLanguage{toLower(std::string(v->languages + 1)), v->name ? std::string(v->name) : ""};
+}
 
 namespace {
 void setVoice(const std::string& voice) {

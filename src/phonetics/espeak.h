@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,8 +14,16 @@ struct SpokenPhone {
 	Ticks duration{0};
 };
 
-// espeak-ng voice for a language tag ("pt-BR" → "pt-br", "en-US" → "en-us").
+// espeak-ng voice for a language tag ("pt-BR" → "pt-br", "en-US" → "en-us", "fr" → "fr").
 std::string espeakVoiceFor(const std::string& languageTag);
+
+// The language an espeak-ng voice speaks, as espeak-ng lists it, lower case ("fr" → "fr-fr", "en-us+f3" →
+// "en-us", "mb-br1" → "pt-br" from its voice file, without MBROLA), and the voice's name ("French (France)";
+// empty for MBROLA voices). nullopt when espeak-ng has no such voice.
+struct VoiceLanguage {
+	std::string language, name;
+};
+std::optional<VoiceLanguage> espeakVoiceLanguage(const std::string& voice);
 
 // Phonemises `text` with libespeak-ng (in process, synchronous, phoneme events with IPA names) and
 // returns the phones with the durations espeak-ng gives them; pauses are dropped. Throws Error.

@@ -100,26 +100,57 @@ Language::Language(const std::string& tag, const std::string& dir) : tag_(tag) {
 	for (const auto& p : order_) symbols_.emplace(p, std::vector<std::string>{p});
 }
 
-const Language& Language::get(const std::string& tag) {
+namespace {
+std::mutex& languagesMutex() {
 	static std::mutex m;
+	return m;
+}
+// Languages loaded so far: the tables by tag, and the languages mapped through the generic table
+// (Language::generic) by lower-case tag.
+std::map<std::string, std::unique_ptr<Language>>& languageCache() {
 	static std::map<std::string, std::unique_ptr<Language>> cache;
-	std::lock_guard<std::mutex> lock(m);
+	return cache;
+}
+std::map<std::string, std::unique_ptr<Language>>& genericCache() {
+	static std::map<std::string, std::unique_ptr<Language>> cache;
+	return cache;
+}
+}  // namespace
+
+const Language& Language::get(const std::string& tag) {
+	std::lock_guard<std::mutex> lock(languagesMutex());
 	std::string canon;
 	for (const auto& a : available())
 		if (toLower(a) == toLower(tag)) canon = a;
+	// A region the tables do not split (fr-FR, de-AT, es-MX) reads as its language's table.
+	if (canon.empty() && tag.find('-') != std::string::npos)
+		for (const auto& a : available())
+			if (toLower(a) == toLower(tag.substr(0, tag.find('-')))) canon = a;
 	if (canon.empty()) {
+		if (auto it = genericCache().find(toLower(tag)); it != genericCache().end()) return *it->second;
 		std::string known;
 		for (const auto& a : available()) known += (known.empty() ? "" : ", ") + a;
-		throw Error("no viseme table for language '" + tag + "' (languages: " + known + ")");
+		throw Error("no viseme table for language '" + tag + "' (languages: " + known + "; --generic-visemes maps IPA through a generic table)");
 	}
-	auto& slot = cache[canon];
+	auto& slot = languageCache()[canon];
 	if (!slot) slot = std::make_unique<Language>(canon, dataDirFor(canon));
+	return *slot;
+}
+
+const Language& Language::generic(const std::string& tag) {
+	std::lock_guard<std::mutex> lock(languagesMutex());
+	auto& slot = genericCache()[toLower(tag)];
+	if (!slot) {
+		const std::string dir = dataDirFor("generic");
+		if (dir.empty()) throw Error("data file 'phonetics/generic/inventory.tsv' not found");
+		slot = std::make_unique<Language>(tag, dir);
+	}
 	return *slot;
 }
 
 std::vector<std::string> Language::available() {
 	std::vector<std::string> out;
-	for (const char* t : {"pt-BR", "en-US"})
+	for (const char* t : {"pt-BR", "en-US", "de", "es", "fr", "it"})
 		if (!dataDirFor(t).empty()) out.emplace_back(t);
 	return out;
 }

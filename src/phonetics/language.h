@@ -23,7 +23,12 @@ struct PhoneInfo {
 // mnemonics, Praat trigraphs, ARPAbet …) → canonical IPA phones. Loaded from phonetics/<tag>/.
 class Language {
 public:
-	static const Language& get(const std::string& tag);  // "pt-BR", "en-US" (case-insensitive); throws Error
+	// A language's table: "pt-BR", "en-US", "de", "es", "fr", "it" (case-insensitive; a region the tables do
+	// not split, e.g. "fr-CA", reads as its language), or a language generic() has mapped; throws Error.
+	static const Language& get(const std::string& tag);
+	// `tag` mapped through phonetics/generic (the union of the tables' IPA spellings) — for a language
+	// without a table (--generic-visemes); later get(tag) calls return it too. Throws Error.
+	static const Language& generic(const std::string& tag);
 	static std::vector<std::string> available();
 	Language(const std::string& tag, const std::string& dir);
 

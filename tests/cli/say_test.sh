@@ -36,7 +36,7 @@ test "$(grep -c FRAME "$T/s.y4m")" -ge 10
 err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
 err say "" -o "$T/x.mp4" | grep -q "the text is empty"
 err say "?! ..." -o "$T/x.mp4" | grep -q "no speakable words"
-err say "bonjour" --lang fr -o "$T/x.mp4" | grep -q "no viseme table for language 'fr'"
+err say "goedemorgen" --lang nl -o "$T/x.mp4" | grep -q "no viseme table for language 'nl'"
 err say "oi" --voice zz-qq -o "$T/x.mp4" | grep -q "no voice 'zz-qq'"
 if [ ! -x /usr/bin/mbrola ]; then err say "oi" --voice mb-br1 -o "$T/x.mp4" | grep -q "apt-get install mbrola mbrola-br1"; fi
 test ! -e "$T/x.mp4"
