@@ -420,7 +420,7 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	al.phones.path = "alignment";
 	al.phones.format = "textgrid";
 	al.phones.level = LabelLevel::Phone;
-	for (const PhoneSegment& s : phoneSegments(espeakPhonesOut, lang, UnknownPhone::Nearest)) {
+	for (const PhoneSegment& s : phoneSegments(espeakPhonesOut, lang, UnknownPhone::Nearest, Notation::Espeak)) {
 		const std::string label = s.phone == "_" ? "" : s.phone;
 		if (label.empty() && !al.phones.intervals.empty() && al.phones.intervals.back().label.empty()) al.phones.intervals.back().end = s.end;
 		else al.phones.intervals.push_back({s.start, s.end, label, 0});

@@ -98,7 +98,8 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 			words = a.words.intervals;
 		}
 		if (phoneTranscript.level == LabelLevel::Word) words = phoneTranscript.intervals;
-		phones = phoneSegments(phoneTranscript, lang);
+		// An alignment's phones are canonical IPA; a transcript's notation is decided from its labels.
+		phones = phoneSegments(phoneTranscript, lang, UnknownPhone::Error, args.get("--transcript") ? Notation::Auto : Notation::Ipa);
 		// Times in the transcript are relative to the audio, which starts with the video.
 	}
 

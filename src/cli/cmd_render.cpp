@@ -23,7 +23,8 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--lang", "LANG", languageOptionHelp("language of the transcript")},
 	    {"--transcript-format", "FORMAT", "transcript format if detection fails"},
 	    {"--tier", "NAME", "TextGrid tier"},
-	    {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"}};
+	    {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
+	    {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa, espeak, praat, br1"}};
 	for (auto& o : videoOptionSpecs()) options.push_back(o);
 	Args args("render", "talkhead render (--transcript T [--audio A] | --audio A --text \"…\") [--emotion LABEL] -o OUT.mp4 [options]", options,
 	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint (pauses: rest, then\n"
@@ -44,6 +45,8 @@ int runRender(const std::vector<std::string>& argv) {
 	const std::string policy = args.get("--unknown", "error");
 	if (policy != "error" && policy != "nearest" && policy != "silence") throw UsageError("render: --unknown must be error, nearest or silence");
 	const UnknownPhone unknown = policy == "nearest" ? UnknownPhone::Nearest : policy == "silence" ? UnknownPhone::Silence : UnknownPhone::Error;
+	const auto notation = parseNotation(args.get("--notation", "auto"));
+	if (!notation) throw UsageError("render: --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
 	const VideoCommand cmd = parseVideoCommand(args, "render");
 	const Language& lang = languageOption(args);
 	if (auto f = args.get("--text-file")) text = readTextFile(*f);
@@ -72,7 +75,7 @@ int runRender(const std::vector<std::string>& argv) {
 	} else {
 		tr = readTranscript(*transcriptPath, ro);
 	}
-	const std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
+	const std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, text ? Notation::Ipa : *notation);  // an alignment's phones are canonical IPA
 	Performance perf;
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;

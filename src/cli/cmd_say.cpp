@@ -105,7 +105,7 @@ int runSay(const std::vector<std::string>& argv) {
 	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone (said
 	// once on stderr: the tables are meant to know every name their voice uses).
 	warnUnknownPhones(speech.phones, lang);
-	const std::vector<PhoneSegment> phones = phoneSegments(speech.phones, lang, UnknownPhone::Nearest);
+	const std::vector<PhoneSegment> phones = phoneSegments(speech.phones, lang, UnknownPhone::Nearest, Notation::Espeak);
 	Performance perf;
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;

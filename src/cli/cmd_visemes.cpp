@@ -47,6 +47,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	           {"--tier", "NAME", "TextGrid tier (default: the first interval tier named like phones, else the first)"},
 	           {"--utterance", "NAME|N", "HTK MLF utterance (name or 1-based index; default the first)"},
 	           {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
+	           {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa (= xsampa), espeak, praat, br1 (MBROLA pt-BR)"},
 	           {"--fps", "N", "output frame rate for keypose spacing (default 30)"},
 	           {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
 	           {"--out-format", "FORMAT", "tsv (default), json, textgrid, rhubarb-tsv, rhubarb-json"},
@@ -78,13 +79,23 @@ int runVisemes(const std::vector<std::string>& argv) {
 	if (!rate) throw UsageError("visemes: --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
 	if (!pauses) throw UsageError("visemes: --pauses takes natural or thesis");
+	const auto notation = parseNotation(args.get("--notation", "auto"));
+	if (!notation) throw UsageError("visemes: --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
 	const Language& lang = languageOption(args);
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
-	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown);
+	Notation used = *notation;
+	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, *notation, &used);
 	std::vector<Keypose> keys = keyposes(phones, rate->frameLength(), *pauses);
-	writeOutput(args.get("--output", "-"), formatVisemes(phones, keys, outFormat, lang.tag(), path));
+	// Which notation the phones were read in (stderr, so the TSV stays clean; JSON also carries it).
+	if (tr.level == LabelLevel::Phone && used != Notation::Auto) {
+		std::string evidence;
+		if (*notation == Notation::Auto) detectNotation(tr, lang, &evidence);
+		std::fprintf(stderr, "talkhead: %s: phones read as %s%s\n", path.c_str(), notationName(used).c_str(),
+		             *notation != Notation::Auto ? " (--notation)" : evidence.empty() ? " (detected)" : (" (detected from " + evidence + ")").c_str());
+	}
+	writeOutput(args.get("--output", "-"), formatVisemes(phones, keys, outFormat, lang.tag(), path, tr.level == LabelLevel::Phone ? notationName(used) : ""));
 	return 0;
 }
 

@@ -19,6 +19,25 @@ namespace {
 
 std::string folded(const std::string& s) { return toLower(s); }
 
+std::string spaced(const std::vector<std::string>& v) {
+	std::string out;
+	for (const auto& x : v) out += (out.empty() ? "" : " ") + x;
+	return out;
+}
+
+// "SAMPA/X-SAMPA" → "sampa" (the --notation value).
+std::string optionName(Notation n) {
+	switch (n) {
+		case Notation::Ipa: return "ipa";
+		case Notation::Arpabet: return "arpabet";
+		case Notation::Xsampa: return "sampa";
+		case Notation::Espeak: return "espeak";
+		case Notation::Praat: return "praat";
+		case Notation::Br1: return "br1";
+		default: return "auto";
+	}
+}
+
 // Removes stress and length marks (ˈ ˌ ː ˑ and ASCII ':'), and ARPAbet stress digits at the end.
 std::string stripMarks(const std::string& in) {
 	// Praat's stress and length trigraphs first (\'1 \'2 \:f), before the apostrophe goes.
@@ -46,6 +65,15 @@ std::string stripMarks(const std::string& in) {
 		for (std::size_t k = letters; k < out.size(); ++k) digits &= bool(std::isdigit((unsigned char)out[k]));
 		if (digits) out.resize(letters);
 	}
+	return out;
+}
+
+// X-SAMPA and br1 spell length with ':' and stress with '"' and '%': removed; digits and case stay
+// (they carry meaning: s2, r2, 3, E/e).
+std::string stripLength(const std::string& in) {
+	std::string out;
+	for (char c : in)
+		if (c != ':' && c != '"' && c != '%' && c != '\'') out += c;
 	return out;
 }
 
@@ -88,16 +116,26 @@ Language::Language(const std::string& tag, const std::string& dir) : tag_(tag) {
 		inventory_[p.phone] = p;
 	}
 	TsvTable sym = readTsv(dir + "/symbols.tsv");
-	const auto cs = sym.column("symbol"), cph = sym.column("phones");
+	const auto cs = sym.column("symbol"), cph = sym.column("phones"), cn = sym.column("notation");
 	for (const auto& r : sym.rows) {
 		auto phones = splitWhitespace(r.fields[cph]);
 		if (phones.empty()) throw Error(sym.path, r.line, "no phones");
 		for (const auto& p : phones)
 			if (!inventory_.count(p)) throw Error(sym.path, r.line, "phone '" + p + "' is not in the inventory");
-		symbols_[r.fields[cs]] = phones;
+		const std::string& nn = r.fields[cn];
+		const auto n = nn == "pause" ? std::optional<Notation>(Notation::Ipa) : parseNotation(nn);
+		if (!n || *n == Notation::Auto) throw Error(sym.path, r.line, "unknown notation '" + nn + "' (ipa, arpabet, xsampa, sampa, espeak, praat, br1, pause)");
+		if (byNotation_[*n].count(r.fields[cs])) throw Error(sym.path, r.line, "symbol '" + r.fields[cs] + "' listed twice for " + notationName(*n));
+		byNotation_[*n][r.fields[cs]] = phones;
+		byNotationFolded_[*n].emplace(folded(r.fields[cs]), phones);
+		// Without a notation, the first row of a spelling wins (file order: ARPAbet before X-SAMPA in en-US).
+		symbols_.emplace(r.fields[cs], phones);
 		symbolsFolded_.emplace(folded(r.fields[cs]), phones);
 	}
-	for (const auto& p : order_) symbols_.emplace(p, std::vector<std::string>{p});
+	for (const auto& p : order_) {
+		symbols_.emplace(p, std::vector<std::string>{p});
+		byNotation_[Notation::Ipa].emplace(p, std::vector<std::string>{p});
+	}
 }
 
 namespace {
@@ -155,14 +193,112 @@ std::vector<std::string> Language::available() {
 	return out;
 }
 
-std::optional<std::vector<std::string>> Language::normalize(const std::string& label) const {
+std::optional<std::vector<std::string>> Language::normalize(const std::string& label, Notation notation) const {
 	const std::string l(trim(label));
 	if (l.empty() || l == "#") return std::vector<std::string>{"_"};  // '#' cannot be a table row (comment)
-	if (auto it = symbols_.find(l); it != symbols_.end()) return it->second;
-	const std::string s = stripMarks(l);
-	if (auto it = symbols_.find(s); it != symbols_.end()) return it->second;
-	if (auto it = symbolsFolded_.find(folded(s)); it != symbolsFolded_.end()) return it->second;
+	if (notation == Notation::Auto) {
+		if (auto it = symbols_.find(l); it != symbols_.end()) return it->second;
+		const std::string s = stripMarks(l);
+		if (auto it = symbols_.find(s); it != symbols_.end()) return it->second;
+		if (auto it = symbolsFolded_.find(folded(s)); it != symbolsFolded_.end()) return it->second;
+		return std::nullopt;
+	}
+	// The notation's own spellings, then IPA (and pauses), exactly; case-insensitive notations also folded.
+	const bool caseless = notation == Notation::Arpabet || notation == Notation::Espeak || notation == Notation::Praat;
+	const std::string s = notation == Notation::Xsampa || notation == Notation::Br1 ? stripLength(l) : stripMarks(l);
+	for (Notation n : {notation, Notation::Ipa}) {
+		auto t = byNotation_.find(n);
+		if (t == byNotation_.end()) continue;
+		if (auto it = t->second.find(l); it != t->second.end()) return it->second;
+		if (auto it = t->second.find(s); it != t->second.end()) return it->second;
+		if (caseless && n == notation) {
+			const auto& f = byNotationFolded_.at(n);
+			if (auto it = f.find(folded(s)); it != f.end()) return it->second;
+		}
+	}
 	return std::nullopt;
+}
+
+std::vector<Notation> Language::notations() const {
+	std::vector<Notation> out;
+	for (const auto& [n, table] : byNotation_) out.push_back(n);
+	return out;
+}
+
+std::optional<Notation> parseNotation(const std::string& name) {
+	const std::string n = toLower(name);
+	if (n == "auto") return Notation::Auto;
+	if (n == "ipa") return Notation::Ipa;
+	if (n == "arpabet") return Notation::Arpabet;
+	if (n == "xsampa" || n == "x-sampa" || n == "sampa") return Notation::Xsampa;
+	if (n == "espeak") return Notation::Espeak;
+	if (n == "praat") return Notation::Praat;
+	if (n == "br1" || n == "mbrola-br1") return Notation::Br1;
+	return std::nullopt;
+}
+
+std::string notationName(Notation n) {
+	switch (n) {
+		case Notation::Auto: return "auto";
+		case Notation::Ipa: return "IPA";
+		case Notation::Arpabet: return "ARPAbet";
+		case Notation::Xsampa: return "SAMPA/X-SAMPA";
+		case Notation::Espeak: return "espeak-ng mnemonics";
+		case Notation::Praat: return "Praat trigraphs";
+		case Notation::Br1: return "MBROLA br1";
+	}
+	return "?";
+}
+
+Notation detectNotation(const Transcript& tr, const Language& lang, std::string* evidence) {
+	std::vector<std::string> labels;
+	for (const auto& iv : tr.intervals) {
+		const std::string l(trim(iv.label));
+		if (!l.empty() && std::find(labels.begin(), labels.end(), l) == labels.end()) labels.push_back(l);
+	}
+	std::vector<Notation> cands;
+	for (Notation n : lang.notations())
+		if (tr.format != "pho" || n == Notation::Xsampa || n == Notation::Br1) cands.push_back(n);
+	// How many distinct labels each notation knows; the most wins.
+	std::map<Notation, std::size_t> known;
+	std::size_t best = 0;
+	for (Notation n : cands) {
+		for (const auto& l : labels) known[n] += lang.normalize(l, n) ? 1 : 0;
+		best = std::max(best, known[n]);
+	}
+	if (best == 0) return Notation::Auto;
+	std::vector<Notation> top;
+	for (Notation n : cands)
+		if (known[n] == best) top.push_back(n);
+	// Several equally good: fine when they read every label alike (then the first: IPA, ARPAbet, …). Every
+	// notation falls back to the IPA spellings, so IPA never has labels of its own; it wins a tie when the
+	// labels show IPA's own characters (anything outside ASCII), which no other notation uses.
+	const bool nonAscii = std::any_of(labels.begin(), labels.end(), [](const std::string& l) {
+		return std::any_of(l.begin(), l.end(), [](char c) { return (unsigned char)c >= 0x80; });
+	});
+	if (top.size() > 1 && top[0] == Notation::Ipa && nonAscii) top.resize(1);
+	for (std::size_t k = 1; k < top.size(); ++k)
+		for (const auto& l : labels) {
+			const auto a = lang.normalize(l, top[0]), b = lang.normalize(l, top[k]);
+			if (a && b && *a != *b)
+				throw Error(tr.path, 0, "the phone labels can be read as " + notationName(top[0]) + " or " + notationName(top[k]) + ", which differ ('" + l +
+				                            "' is [" + spaced(*a) + "] or [" + spaced(*b) + "]); say which with --notation " + optionName(top[0]) +
+				                            " or --notation " + optionName(top[k]));
+		}
+	if (evidence) {
+		// Labels that only the chosen notation knows (up to 5).
+		std::string e;
+		int count = 0;
+		for (const auto& l : labels) {
+			bool unique = true;
+			for (Notation n : cands)
+				if (n != top[0] && n != Notation::Ipa && lang.normalize(l, n) == lang.normalize(l, top[0])) unique = false;
+			if (top[0] != Notation::Ipa && lang.normalize(l, Notation::Ipa) == lang.normalize(l, top[0])) unique = false;
+			if (unique && count++ < 5) e += (e.empty() ? "'" : " '") + l + "'";
+		}
+		*evidence = e;
+	}
+	return top[0];
 }
 
 std::optional<std::vector<std::string>> Language::nearest(const std::string& label) const {
@@ -275,7 +411,7 @@ void assignCdvs(std::vector<PhoneSegment>& ph, const Language& lang) {
 	}
 }
 
-std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& lang, UnknownPhone unknown) {
+std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& lang, UnknownPhone unknown, Notation notation, Notation* used) {
 	std::vector<PhoneSegment> out;
 	if (tr.level == LabelLevel::Viseme) {
 		for (const auto& iv : tr.intervals) {
@@ -299,11 +435,14 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 	std::vector<Interval> phoneIntervals;
 	if (tr.level == LabelLevel::Word) {
 		phoneIntervals = expandWords(tr, lang.tag());
+		notation = Notation::Ipa;  // espeak-ng's IPA phoneme names
 	} else {
 		phoneIntervals = tr.intervals;
+		if (notation == Notation::Auto) notation = detectNotation(tr, lang);
 	}
+	if (used) *used = notation;
 	for (const auto& iv : phoneIntervals) {
-		auto phones = lang.normalize(iv.label);
+		auto phones = lang.normalize(iv.label, notation);
 		if (!phones) {
 			if (unknown == UnknownPhone::Nearest) phones = lang.nearest(iv.label);
 			if (!phones && unknown != UnknownPhone::Error) phones = std::vector<std::string>{"_"};

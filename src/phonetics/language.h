@@ -19,6 +19,13 @@ struct PhoneInfo {
 	std::string cdv;    // fixed CDV (vowels, glides, pauses, fixed consonants), or "" (decided by context)
 };
 
+// How a transcript spells its phones (the `notation` column of phonetics/<lang>/symbols.tsv). Auto: decided
+// per transcript from the evidence in its labels (detectNotation). Xsampa covers SAMPA, which it extends;
+// Br1 is MBROLA's br1/br2/br3 Brazilian Portuguese set.
+enum class Notation { Auto, Ipa, Arpabet, Xsampa, Espeak, Praat, Br1 };
+std::optional<Notation> parseNotation(const std::string& name);  // ipa sampa xsampa arpabet espeak praat br1 auto
+std::string notationName(Notation n);                            // "ipa", "arpabet", "x-sampa", …
+
 // Language data: the phone inventory and every accepted spelling of each phone (IPA, X-SAMPA, espeak
 // mnemonics, Praat trigraphs, ARPAbet …) → canonical IPA phones. Loaded from phonetics/<tag>/.
 class Language {
@@ -33,8 +40,13 @@ public:
 	Language(const std::string& tag, const std::string& dir);
 
 	const std::string& tag() const { return tag_; }
-	// Canonical phones for a label (a diphthong or affricate may give two); nullopt if unknown.
-	std::optional<std::vector<std::string>> normalize(const std::string& label) const;
+	// Canonical phones for a label (a diphthong or affricate may give two); nullopt if unknown. Auto: any
+	// notation, the first row of the file winning where spellings collide (ARPAbet's single capitals in
+	// en-US); otherwise the notation's own spellings first, then the IPA and pause ones (ARPAbet and
+	// espeak case-insensitively; SAMPA, X-SAMPA and br1 exactly, as their case carries meaning).
+	std::optional<std::vector<std::string>> normalize(const std::string& label, Notation notation = Notation::Auto) const;
+	// The notations this language's table has spellings for.
+	std::vector<Notation> notations() const;
 	// The known phone closest to an unknown label (longest known prefix), or nullopt.
 	std::optional<std::vector<std::string>> nearest(const std::string& label) const;
 	const PhoneInfo& info(const std::string& phone) const;
@@ -46,7 +58,14 @@ private:
 	std::map<std::string, PhoneInfo> inventory_;
 	std::vector<std::string> order_;
 	std::map<std::string, std::vector<std::string>> symbols_, symbolsFolded_;
+	std::map<Notation, std::map<std::string, std::vector<std::string>>> byNotation_, byNotationFolded_;
 };
+
+// The notation of a phone-level transcript's labels, decided from the evidence in them: the notation under
+// which most labels are known wins; when two read the same labels equally well but differently (a file
+// of only "S T" is ARPAbet [s t] or SAMPA [ʃ θ]), it is an Error asking for --notation. `evidence` gets a
+// few labels that decided it. MBROLA .pho files are SAMPA/X-SAMPA or br1 (never ARPAbet).
+Notation detectNotation(const Transcript& transcript, const Language& language, std::string* evidence = nullptr);
 
 enum class UnknownPhone { Error, Nearest, Silence };
 
@@ -62,7 +81,9 @@ struct PhoneSegment {
 // Normalises a phone-, word- or viseme-level transcript to phones with CDVs (spec §2.5 and
 // docs/decisions.md): word level goes through espeak-ng; viseme level maps through
 // phonetics/viseme-input.tsv; an interval whose label expands to N phones is split into N equal parts.
-std::vector<PhoneSegment> phoneSegments(const Transcript& transcript, const Language& language, UnknownPhone unknown = UnknownPhone::Error);
+// Phone-level labels are read in `notation` (Auto: detectNotation; the choice is written to *used).
+std::vector<PhoneSegment> phoneSegments(const Transcript& transcript, const Language& language, UnknownPhone unknown = UnknownPhone::Error,
+                                        Notation notation = Notation::Auto, Notation* used = nullptr);
 
 // The context-dependent viseme rule (spec §2.5) over a phone sequence: vowels by table, [i] → <i2>
 // between two [t d n] or two [ʃ ʒ]; consonants by the V1 C V2 / C V context looked up in the group's

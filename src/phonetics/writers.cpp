@@ -72,7 +72,7 @@ std::vector<Cue> rhubarbCues(const std::vector<PhoneSegment>& ph) {
 }  // namespace
 
 std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector<Keypose>& keys, const std::string& format,
-                          const std::string& lang, const std::string& source) {
+                          const std::string& lang, const std::string& source, const std::string& notation) {
 	std::ostringstream o;
 	const auto kt = keyTimes(ph, keys);
 	const Ticks end = ph.empty() ? Ticks(0) : ph.back().end;
@@ -81,7 +81,9 @@ std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector
 		for (std::size_t i = 0; i < ph.size(); ++i)
 			o << sec(ph[i].start) << '\t' << sec(ph[i].end) << '\t' << ph[i].phone << '\t' << ph[i].cdv << '\t' << (kt[i].empty() ? "-" : kt[i]) << '\n';
 	} else if (format == "json") {
-		o << "{\n  \"language\": " << jsonQuote(lang) << ",\n  \"source\": " << jsonQuote(source) << ",\n  \"duration\": " << sec(end)
+		o << "{\n  \"language\": " << jsonQuote(lang) << ",\n  \"source\": " << jsonQuote(source);
+		if (!notation.empty()) o << ",\n  \"notation\": " << jsonQuote(notation);
+		o << ",\n  \"duration\": " << sec(end)
 		  << ",\n  \"phones\": [\n";
 		for (std::size_t i = 0; i < ph.size(); ++i)
 			o << "    {\"start\": " << sec(ph[i].start) << ", \"end\": " << sec(ph[i].end) << ", \"label\": " << jsonQuote(ph[i].label)

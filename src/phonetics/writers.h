@@ -13,8 +13,9 @@ const std::vector<std::string>& visemeOutputFormats();  // tsv json textgrid rhu
 // The viseme timeline as text: one row per phone (start, end, phone, CDV, keypose time) in tsv/json; a
 // TextGrid with "phones" and "cdv" interval tiers and a "keyposes" point tier; or Rhubarb mouth cues
 // (CDVs mapped onto Rhubarb's A–H, X shapes by phonetics/rhubarb-shapes.tsv).
+// `notation` (JSON only): how the transcript spelled its phones, when known.
 std::string formatVisemes(const std::vector<PhoneSegment>& phones, const std::vector<Keypose>& keys, const std::string& format,
-                          const std::string& languageTag, const std::string& source);
+                          const std::string& languageTag, const std::string& source, const std::string& notation = "");
 
 // Rhubarb mouth shape of a CDV.
 std::string rhubarbShape(const std::string& cdv);

@@ -116,7 +116,7 @@ std::vector<double> boundaryErrors(const Transcript& got, const Transcript& trut
 
 Transcript canonical(const Transcript& espeakPhones, const Language& lang, Ticks end) {
 	Transcript t;
-	for (const PhoneSegment& s : phoneSegments(espeakPhones, lang, UnknownPhone::Nearest)) {
+	for (const PhoneSegment& s : phoneSegments(espeakPhones, lang, UnknownPhone::Nearest, Notation::Espeak)) {
 		const std::string label = s.phone == "_" ? "" : s.phone;
 		if (label.empty() && !t.intervals.empty() && t.intervals.back().label.empty()) t.intervals.back().end = s.end;
 		else t.intervals.push_back({s.start, s.end, label, 0});
