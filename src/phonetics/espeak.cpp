@@ -187,6 +187,19 @@ Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWp
 		if (last <= start) continue;  // a word that says nothing
 		sp.words.intervals.push_back({start, last, utf8Substring(text, c.words[k].textPosition, c.words[k].length), long(c.words[k].textPosition)});
 	}
+	// A pause event inside a word (espeak-ng marks the hiatus of "Maria", "tia", "rio" with a 38–64 ms pause)
+	// is not a silence: the mouth goes on from one vowel to the next. It joins the phone before it.
+	std::vector<Interval> merged;
+	std::size_t w = 0;
+	for (std::size_t i = 0; i < sp.phones.intervals.size(); ++i) {
+		const Interval& iv = sp.phones.intervals[i];
+		while (w < sp.words.intervals.size() && sp.words.intervals[w].end <= iv.start) ++w;
+		const bool inside = iv.label.empty() && w < sp.words.intervals.size() && iv.start > sp.words.intervals[w].start && iv.end < sp.words.intervals[w].end &&
+		                    !merged.empty() && !merged.back().label.empty() && i + 1 < sp.phones.intervals.size() && !sp.phones.intervals[i + 1].label.empty();
+		if (inside) merged.back().end = iv.end;
+		else merged.push_back(iv);
+	}
+	sp.phones.intervals = std::move(merged);
 	return sp;
 }
 

@@ -24,6 +24,10 @@ ad=$(ffprobe -v error -select_streams a:0 -show_entries stream=duration -of csv=
 vd=$(ffprobe -v error -select_streams v:0 -show_entries stream=duration -of csv=p=0 "$T/a.mp4")
 awk -v a="$ad" -v p="$pcm" -v v="$vd" 'BEGIN { d = a - p; if (d < 0) d = -d; e = v - a; if (e < 0) e = -e
 	if (d > 1024 / 22050 || e > 1 / 30) { print "audio " a " pcm " p " video " v; exit 1 } }'
+# A hiatus inside a word (espeak-ng's pause event in "Maria", "tia", "rio") is not a silence keypose.
+hiatus=$("$TH" say "Maria tia rio" --dry-run | cut -f3 | tail -n +2 | tr '\n' ' ')
+case "$(sed -E 's/^(_ )+//; s/( _)+ $/ /' <<<"$hiatus")" in *_*) echo "pause inside a word: $hiatus"; exit 1 ;; esac
+grep -q "i ɐ" <<<"$hiatus"
 # The saved transcript re-renders with `render`.
 "$TH" render -q --model "$T/face.thm" --transcript "$T/a.TextGrid" --audio "$T/a.wav" -o "$T/b.mp4"
 # English, text from stdin and from a file; y4m streaming.
