@@ -319,14 +319,30 @@ Transcript readHtk(const std::string& text, const std::string& path, const ReadO
 		const Utt* pick = &utts.front();
 		if (!o.utterance.empty()) {
 			pick = nullptr;
+			// A number is a 1-based index; a name matches exactly, or as the unique utterance whose name ends
+			// with it (a path suffix such as "*/a0001.lab" or "a0001"); anything else is an error listing them.
+			std::string names;
+			for (const auto& u : utts) names += (names.empty() ? "" : ", ") + u.name;
 			long long idx;
-			if (parseInt(o.utterance, idx) && idx >= 1 && std::size_t(idx) <= utts.size()) pick = &utts[std::size_t(idx - 1)];
-			for (const auto& u : utts)
-				if (!pick && u.name.find(o.utterance) != std::string::npos) pick = &u;
-			if (!pick) {
-				std::string names;
-				for (const auto& u : utts) names += (names.empty() ? "" : ", ") + u.name;
-				throw Error(path, 0, "no utterance '" + o.utterance + "' in the MLF (utterances: " + names + ")");
+			if (parseInt(o.utterance, idx)) {
+				if (idx < 1 || std::size_t(idx) > utts.size())
+					throw Error(path, 0, "no utterance " + o.utterance + ": the MLF holds " + std::to_string(utts.size()) + " (" + names + ")");
+				pick = &utts[std::size_t(idx - 1)];
+			} else {
+				auto stem = [](std::string n) {  // "*/a0001.lab" → a0001
+					if (auto slash = n.find_last_of('/'); slash != std::string::npos) n = n.substr(slash + 1);
+					if (auto dot = n.rfind('.'); dot != std::string::npos && dot > 0) n = n.substr(0, dot);
+					return n;
+				};
+				std::vector<const Utt*> hits;
+				for (const auto& u : utts)
+					if (u.name == o.utterance) hits = {&u};
+				if (hits.empty())
+					for (const auto& u : utts)
+						if (endsWith(u.name, o.utterance) || stem(u.name) == o.utterance) hits.push_back(&u);
+				if (hits.size() > 1) throw Error(path, 0, "utterance '" + o.utterance + "' is ambiguous in the MLF (utterances: " + names + "); give the full name or its number");
+				if (hits.empty()) throw Error(path, 0, "no utterance '" + o.utterance + "' in the MLF (utterances: " + names + ")");
+				pick = hits.front();
 			}
 		}
 		tr.intervals = readStartEndLabel(pick->body, path, ticksPer100ns);
@@ -426,9 +442,18 @@ Transcript readMarks(const std::string& text, const std::string& path) {
 		long line;
 	};
 	std::vector<Mark> marks;
-	for (const Line& l : lines(text)) {
-		if (l.text.empty()) continue;
-		JsonValue m = parseJson(l.text, path, l.no);
+	// JSON lines (what Polly returns), or one JSON array of the same objects (what some SDKs save).
+	std::vector<std::pair<JsonValue, long>> objects;
+	if (startsWith(trim(text), "[")) {
+		JsonValue all = parseJson(text, path, 1);
+		long k = 0;
+		for (auto& m : all.array) objects.push_back({std::move(m), ++k});
+	} else {
+		for (const Line& l : lines(text))
+			if (!l.text.empty()) objects.push_back({parseJson(l.text, path, l.no), l.no});
+	}
+	for (const auto& [m, no] : objects) {
+		const Line l{no, std::string()};
 		if (m.kind != JsonValue::Kind::Object) throw Error(path, l.no, "expected a JSON object per line");
 		const double ms = jsonNumber(m, "time", path, l.no);
 		if (ms < 0) throw Error(path, l.no, "negative time");
@@ -449,7 +474,10 @@ Transcript readMarks(const std::string& text, const std::string& path) {
 	std::stable_sort(sel.begin(), sel.end(), [](const Mark& a, const Mark& b) { return a.t < b.t; });
 	for (std::size_t i = 0; i < sel.size(); ++i) {
 		const Ticks end = i + 1 < sel.size() ? sel[i + 1].t : sel[i].t + Ticks(150 * kTicksPerMs);
-		tr.intervals.push_back({sel[i].t, end, sel[i].value, sel[i].line});
+		// Polly reports SSML it met as "words" (<break time="300ms"/>, <mark name="x"/>): a pause, not speech.
+		const std::string_view v = trim(sel[i].value);
+		const bool tag = !v.empty() && v.front() == '<' && v.back() == '>';
+		tr.intervals.push_back({sel[i].t, end, tag ? std::string() : sel[i].value, sel[i].line});
 	}
 	return tr;
 }

@@ -91,6 +91,12 @@ TEST(Htk, labelFileAndMasterLabelFile) {
 	EXPECT_EQ(labels(readTranscript(kDir + "two.mlf", {"", "", "2"})), labels(second));
 	EXPECT_NE(errorOf([] { readTranscript(kDir + "two.mlf", {"", "", "third"}); }).find("no utterance 'third' in the MLF (utterances: */first.lab, */second.lab)"),
 	          std::string::npos);
+	// Numbers are indices, never substrings of names; a suffix must be unique (issue 12 item 5).
+	EXPECT_NE(errorOf([] { readTranscript(kDir + "two.mlf", {"", "", "3"}); }).find("no utterance 3: the MLF holds 2 (*/first.lab, */second.lab)"),
+	          std::string::npos);
+	EXPECT_NE(errorOf([] { readTranscript(kDir + "two.mlf", {"", "", ".lab"}); }).find("utterance '.lab' is ambiguous"), std::string::npos);
+	EXPECT_EQ(labels(readTranscript(kDir + "two.mlf", {"", "", "*/second.lab"})), labels(second));
+	EXPECT_EQ(labels(readTranscript(kDir + "two.mlf", {"", "", "second.lab"})), labels(second));
 }
 
 TEST(Grid, wordAlignmentInFortyMicrosecondUnits) {
@@ -146,4 +152,23 @@ TEST(Rhubarb, mouthCuesInTsvAndJson) {
 		EXPECT_EQ(a.intervals[i].start, b.intervals[i].start);
 		EXPECT_EQ(a.intervals[i].end, b.intervals[i].end);
 	}
+}
+
+TEST(SpeechMarks, ssmlTagsReportedAsWordsArePausesAndArraysRead) {
+	// Polly reports <break/> as a word mark; it must be a pause, not phonemised and spoken (issue 12 item 3).
+	const std::string lines =
+	    "{\"time\":0,\"type\":\"sentence\",\"start\":0,\"end\":30,\"value\":\"Hi there\"}\n"
+	    "{\"time\":6,\"type\":\"word\",\"start\":0,\"end\":2,\"value\":\"Hi\"}\n"
+	    "{\"time\":300,\"type\":\"ssml\",\"start\":3,\"end\":30,\"value\":\"<break time=\\\"300ms\\\"/>\"}\n"
+	    "{\"time\":310,\"type\":\"word\",\"start\":3,\"end\":30,\"value\":\"<break time=\\\"300ms\\\"/>\"}\n"
+	    "{\"time\":620,\"type\":\"word\",\"start\":31,\"end\":36,\"value\":\"there\"}\n";
+	Transcript t = parseTranscript(lines, "s.marks");
+	EXPECT_EQ(t.level, LabelLevel::Word);
+	EXPECT_EQ(labels(t), (std::vector<std::string>{"Hi", "", "there"}));
+	EXPECT_EQ(t.intervals[1].start, ms(310));
+	EXPECT_EQ(t.intervals[1].end, ms(620));
+	// The same marks as one JSON array.
+	Transcript a = parseTranscript("[{\"time\":6,\"type\":\"word\",\"value\":\"Hi\"},\n{\"time\":620,\"type\":\"word\",\"value\":\"there\"}]\n", "a.json");
+	EXPECT_EQ(a.format, "marks");
+	EXPECT_EQ(labels(a), (std::vector<std::string>{"Hi", "there"}));
 }
