@@ -172,3 +172,20 @@ TEST(SpeechMarks, ssmlTagsReportedAsWordsArePausesAndArraysRead) {
 	EXPECT_EQ(a.format, "marks");
 	EXPECT_EQ(labels(a), (std::vector<std::string>{"Hi", "there"}));
 }
+
+TEST(Timit, phnTimesAreSamplesAndIntegerTimesAreNeverGuessed) {
+	// TIMIT .phn: sample numbers at 16 kHz (issue 12 item 4); once read as GRID's 1/25000 s units.
+	const std::string phn = "0 3050 h#\n3050 4559 sh\n4559 5723 iy\n5723 8000 h#\n";
+	Transcript t = parseTranscript(phn, "SA1.PHN");
+	EXPECT_EQ(t.format, "timit");
+	EXPECT_EQ(t.level, LabelLevel::Phone);
+	ASSERT_EQ(t.intervals.size(), 4u);
+	EXPECT_EQ(t.intervals[1].start, Ticks(3050 * (kTicksPerSecond / 16000)));
+	EXPECT_EQ(parseTranscript(phn, "no-extension").format, "timit");  // starts with h#
+	ReadOptions o;
+	o.sampleRate = 8000;
+	EXPECT_EQ(parseTranscript(phn, "x.phn", o).intervals[1].start, Ticks(3050 * (kTicksPerSecond / 8000)));
+	// GRID starts with sil; integer times with neither marker and no telling extension: an error, no guess.
+	EXPECT_EQ(parseTranscript("0 12250 sil\n12250 19250 set\n", "g").format, "grid");
+	EXPECT_NE(errorOf([] { parseTranscript("0 3050 x\n3050 4559 y\n", "u.txt"); }).find("integer times have no unit of their own"), std::string::npos);
+}
