@@ -22,8 +22,9 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--audio", "FILE", "speech audio (any format libav reads); the video lasts as long as it"},
 	    {"--lang", "LANG", languageOptionHelp("language of the transcript")},
 	    {"--transcript-format", "FORMAT", "transcript format if detection fails"},
-	    {"--tier", "NAME", "TextGrid tier"},
-	    {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
+	    {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier, else the word tier)"},
+	    {"--level", "LEVEL", "what the transcript's labels are: auto (default), phones, or words (phonemised with espeak-ng)"},
+	    {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
 	    {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa, espeak, praat, br1"}};
 	for (auto& o : videoOptionSpecs()) options.push_back(o);
 	Args args("render", "talkhead render (--transcript T [--audio A] | --audio A --text \"…\") [--emotion LABEL] -o OUT.mp4 [options]", options,
@@ -47,6 +48,8 @@ int runRender(const std::vector<std::string>& argv) {
 	const UnknownPhone unknown = policy == "nearest" ? UnknownPhone::Nearest : policy == "silence" ? UnknownPhone::Silence : UnknownPhone::Error;
 	const auto notation = parseNotation(args.get("--notation", "auto"));
 	if (!notation) throw UsageError("render: --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
+	const std::string level = args.get("--level", "auto");
+	if (level != "auto" && level != "phones" && level != "words") throw UsageError("render: --level takes auto, phones or words");
 	const VideoCommand cmd = parseVideoCommand(args, "render");
 	const Language& lang = languageOption(args);
 	if (auto f = args.get("--text-file")) text = readTextFile(*f);
@@ -55,6 +58,8 @@ int runRender(const std::vector<std::string>& argv) {
 	ReadOptions ro;
 	ro.format = args.get("--transcript-format", "");
 	ro.tier = args.get("--tier", "");
+	if (level != "auto") ro.level = level == "words" ? LabelLevel::Word : LabelLevel::Phone;
+	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 	AudioClip audio;
 	Transcript tr;
 	if (text) {
@@ -101,6 +106,8 @@ int runRender(const std::vector<std::string>& argv) {
 			             a->c_str(), toSeconds(perf.duration), toSeconds(audioDur), toSeconds(uncovered));
 		perf.duration = audioDur;
 	}
+	// Which TextGrid tier was read (once everything is checked: an error stays one line).
+	if (!tr.tier.empty() && !cmd.quiet) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", transcriptPath->c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	runVideoCommand(cmd, perf, std::move(sound), t0);
 	return 0;
 }

@@ -44,9 +44,10 @@ int runVisemes(const std::vector<std::string>& argv) {
 	          {{"--lang", "LANG", languageOptionHelp("language of the phones")},
 	           genericVisemesOption(),
 	           {"--format", "FORMAT", "input format (default: detected): " + joined(transcriptFormats())},
-	           {"--tier", "NAME", "TextGrid tier (default: the first interval tier named like phones, else the first)"},
+	           {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier — named like phones, or labels that are phones —, else the word tier)"},
+	           {"--level", "LEVEL", "what the labels are: auto (default: from tier names and labels), phones, or words (phonemised with espeak-ng)"},
 	           {"--utterance", "NAME|N", "HTK MLF utterance (name or 1-based index; default the first)"},
-	           {"--unknown", "POLICY", "unknown phones: error (default), nearest, silence"},
+	           {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
 	           {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa (= xsampa), espeak, praat, br1 (MBROLA pt-BR)"},
 	           {"--fps", "N", "output frame rate for keypose spacing (default 30)"},
 	           {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
@@ -54,7 +55,8 @@ int runVisemes(const std::vector<std::string>& argv) {
 	           {"--output", "OUT", "write here instead of standard output", "-o"}},
 	          "Maps a timed transcript to context-dependent visemes (Costa 2015) and keyposes: one row per phone\n"
 	          "with start, end, phone (IPA), CDV and keypose time. Word-level input (GRID .align, word speech\n"
-	          "marks) is phonemised with espeak-ng; viseme-level input (Polly visemes, Rhubarb cues) maps directly.");
+	          "marks, TextGrid word or utterance tiers) is phonemised with espeak-ng; viseme-level input (Polly\n"
+	          "visemes, Rhubarb cues) maps directly.");
 	if (!args.parse(argv)) return 0;
 	if (args.positionals().size() != 1) throw UsageError("visemes: expected one TRANSCRIPT argument (or - for standard input)");
 	ReadOptions ro;
@@ -65,6 +67,9 @@ int runVisemes(const std::vector<std::string>& argv) {
 			throw UsageError("visemes: unknown --format '" + ro.format + "' (" + joined(f) + ")");
 	}
 	ro.tier = args.get("--tier", "");
+	if (const std::string level = args.get("--level", "auto"); level == "words") ro.level = LabelLevel::Word;
+	else if (level == "phones") ro.level = LabelLevel::Phone;
+	else if (level != "auto") throw UsageError("visemes: --level takes auto, phones or words");
 	ro.utterance = args.get("--utterance", "");
 	const std::string outFormat = args.get("--out-format", "tsv");
 	const auto& of = visemeOutputFormats();
@@ -82,13 +87,16 @@ int runVisemes(const std::vector<std::string>& argv) {
 	const auto notation = parseNotation(args.get("--notation", "auto"));
 	if (!notation) throw UsageError("visemes: --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
 	const Language& lang = languageOption(args);
+	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
 	Notation used = *notation;
 	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, *notation, &used);
 	std::vector<Keypose> keys = keyposes(phones, rate->frameLength(), *pauses);
-	// Which notation the phones were read in (stderr, so the TSV stays clean; JSON also carries it).
+	// Which TextGrid tier was read, and which notation the phones were read in (stderr, so the TSV stays
+	// clean; JSON also carries the notation).
+	if (!tr.tier.empty()) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", path.c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	if (tr.level == LabelLevel::Phone && used != Notation::Auto) {
 		std::string evidence;
 		if (*notation == Notation::Auto) detectNotation(tr, lang, &evidence);

@@ -74,10 +74,15 @@ int main(int argc, char** argv) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");
 		return 1;
 	} catch (const std::exception& e) {
-		// One line, whatever the message quotes (a label read from a file may hold a newline).
-		std::string message = describeException(e);
-		for (char& c : message)
-			if (c == '\n' || c == '\r') c = ' ';
+		// One line, whatever the message quotes (a label read from a file may hold a newline), and no other
+		// control characters (a NUL byte of a binary or misread file shows as \0).
+		std::string message;
+		for (char c : describeException(e)) {
+			if (c == '\n' || c == '\r' || c == '\t') message += ' ';
+			else if (c == '\0') message += "\\0";
+			else if ((unsigned char)c < 0x20 || c == 0x7F) message += '?';
+			else message += c;
+		}
 		std::fprintf(stderr, "talkhead: error: %s\n", message.c_str());
 		return 1;
 	}

@@ -250,7 +250,7 @@ std::vector<Interval> expandWords(const Transcript& words, const std::string& ta
 	std::vector<Interval> out;
 	for (const Interval& w : words.intervals) {
 		const std::string l = toLower(w.label);
-		if (l.empty() || l == "sil" || l == "sp" || l == "_" || l == "#" || l == "pau") {
+		if (isPauseLabel(l)) {  // also <unk>, spn, {LG}: MFA and Buckeye non-speech
 			out.push_back({w.start, w.end, "", w.line});
 			continue;
 		}

@@ -77,13 +77,79 @@ std::string stripLength(const std::string& in) {
 	return out;
 }
 
-// UTF-8 code-point prefix lengths of s, longest first (excluding the whole string).
-std::vector<std::size_t> prefixes(const std::string& s) {
-	std::vector<std::size_t> cuts;
-	for (std::size_t i = 1; i < s.size(); ++i)
-		if ((s[i] & 0xC0) != 0x80) cuts.push_back(i);
-	std::reverse(cuts.begin(), cuts.end());
-	return cuts;
+// The code points of UTF-8 `s`, each as its bytes.
+std::vector<std::string> codePointsOf(const std::string& s) {
+	std::vector<std::string> out;
+	for (char c : s) {
+		if (out.empty() || ((unsigned char)c & 0xC0) != 0x80) out.emplace_back();
+		out.back() += c;
+	}
+	return out;
+}
+
+unsigned codePointValue(const std::string& c) {
+	const unsigned char b = c[0];
+	if (b < 0x80 || c.size() < 2) return b;
+	unsigned v = c.size() == 2 ? (b & 0x1F) : c.size() == 3 ? (b & 0x0F) : (b & 0x07);
+	for (std::size_t i = 1; i < c.size(); ++i) v = (v << 6) | ((unsigned char)c[i] & 0x3F);
+	return v;
+}
+
+// Without modifier letters (U+02B0–02FF: ʰ ʲ ʷ ˞ ˈ ˌ ː …) and, unless keepTilde says otherwise for U+0303,
+// combining diacritics (U+0300–036F, tie bars included: t͡ʃ → tʃ).
+std::string withoutDiacritics(const std::string& s, bool keepTilde) {
+	std::string out;
+	for (const auto& c : codePointsOf(s)) {
+		const unsigned v = codePointValue(c);
+		if (v >= 0x02B0 && v <= 0x02FF) continue;
+		if (v >= 0x0300 && v <= 0x036F && !(keepTilde && v == 0x0303)) continue;
+		out += c;
+	}
+	return out;
+}
+
+// Precomposed letters that are a plain letter with a hook (implosives ɓ ɗ ʄ ɠ ʛ, Vietnamese đ as espeak-ng's
+// ɗ; ƥ ƭ ƈ ƙ): the plain letter.
+std::string withoutHooks(const std::string& s) {
+	static const std::pair<const char*, const char*> hooks[] = {{"ɓ", "b"}, {"ɗ", "d"}, {"ʄ", "ɟ"}, {"ɠ", "g"}, {"ʛ", "ɢ"},
+	                                                            {"ƥ", "p"}, {"ƭ", "t"}, {"ƈ", "k"}, {"ƙ", "k"}};
+	std::string out;
+	for (const auto& c : codePointsOf(s)) {
+		std::string r = c;
+		for (const auto& [from, to] : hooks)
+			if (c == from) r = to;
+		out += r;
+	}
+	return out;
+}
+
+// Levenshtein distance over code points, or limit + 1 when it exceeds limit.
+std::size_t editDistance(const std::vector<std::string>& a, const std::vector<std::string>& b, std::size_t limit) {
+	if ((a.size() > b.size() ? a.size() - b.size() : b.size() - a.size()) > limit) return limit + 1;
+	std::vector<std::size_t> row(b.size() + 1), next(b.size() + 1);
+	for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+	for (std::size_t i = 1; i <= a.size(); ++i) {
+		next[0] = i;
+		std::size_t best = next[0];
+		for (std::size_t j = 1; j <= b.size(); ++j) {
+			next[j] = std::min({row[j] + 1, next[j - 1] + 1, row[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+			best = std::min(best, next[j]);
+		}
+		if (best > limit) return limit + 1;
+		std::swap(row, next);
+	}
+	return std::min(row[b.size()], limit + 1);
+}
+
+// A label as an error message quotes it: one line, at most 40 characters (whole code points).
+std::string quotedLabel(const std::string& label) {
+	std::string out;
+	std::size_t n = 0;
+	for (const auto& c : codePointsOf(std::string(trim(label)))) {
+		if (++n > 40) return out + "…";
+		out += (c == "\n" || c == "\r" || c == "\t") ? std::string(" ") : c;
+	}
+	return out;
 }
 
 std::string dataDirFor(const std::string& tag) {
@@ -195,7 +261,7 @@ std::vector<std::string> Language::available() {
 
 std::optional<std::vector<std::string>> Language::normalize(const std::string& label, Notation notation) const {
 	const std::string l(trim(label));
-	if (l.empty() || l == "#") return std::vector<std::string>{"_"};  // '#' cannot be a table row (comment)
+	if (isPauseLabel(l)) return std::vector<std::string>{"_"};  // also '#', which cannot be a table row (comment)
 	if (notation == Notation::Auto) {
 		if (auto it = symbols_.find(l); it != symbols_.end()) return it->second;
 		const std::string s = stripMarks(l);
@@ -301,11 +367,46 @@ Notation detectNotation(const Transcript& tr, const Language& lang, std::string*
 	return top[0];
 }
 
-std::optional<std::vector<std::string>> Language::nearest(const std::string& label) const {
-	const std::string s = stripMarks(std::string(trim(label)));
-	for (std::size_t cut : prefixes(s))
-		if (auto p = normalize(s.substr(0, cut))) return p;
-	return std::nullopt;
+std::optional<std::vector<std::string>> Language::nearest(const std::string& label, Notation notation, std::string* near) const {
+	const std::string l(trim(label));
+	const std::vector<std::string> cps = codePointsOf(l);
+	if (cps.empty() || cps.size() > 16) return std::nullopt;  // a word or a sentence is near no phone
+	// The same label without stress and length marks, modifier letters, then diacritics.
+	for (const std::string& s : {stripMarks(l), withoutDiacritics(stripMarks(l), true), withoutDiacritics(stripMarks(l), false),
+	                             withoutHooks(withoutDiacritics(stripMarks(l), false))})
+		if (!s.empty() && s != l)
+			if (auto p = normalize(s, notation); p && *p != std::vector<std::string>{"_"}) return p;
+	// A spelling one edit away (two for 5+ characters); all the nearest must agree. Never a pause.
+	if (cps.size() < 2) return std::nullopt;
+	const std::size_t limit = cps.size() >= 5 ? 2 : 1;
+	const bool caseless = notation == Notation::Auto || notation == Notation::Arpabet || notation == Notation::Espeak || notation == Notation::Praat;
+	const auto key = codePointsOf(caseless ? folded(l) : l);
+	std::size_t best = limit + 1;
+	std::vector<std::pair<std::string, const std::vector<std::string>*>> found;
+	auto consider = [&](const std::map<std::string, std::vector<std::string>>& table) {
+		for (const auto& [spelling, phones] : table) {
+			if (phones == std::vector<std::string>{"_"}) continue;
+			const std::size_t d = editDistance(key, codePointsOf(caseless ? folded(spelling) : spelling), std::min(best, limit));
+			if (d > limit || d > best) continue;
+			if (d < best) found.clear(), best = d;
+			found.emplace_back(spelling, &phones);
+		}
+	};
+	if (notation == Notation::Auto) consider(symbols_);
+	else
+		for (Notation n : notation == Notation::Ipa ? std::vector<Notation>{Notation::Ipa} : std::vector<Notation>{notation, Notation::Ipa})
+			if (auto t = byNotation_.find(n); t != byNotation_.end()) consider(t->second);
+	if (found.empty()) return std::nullopt;
+	for (const auto& f : found)
+		if (*f.second != *found.front().second) {
+			if (near) {
+				std::string list;
+				for (std::size_t k = 0; k < found.size() && k < 6; ++k) list += (list.empty() ? "'" : ", '") + found[k].first + "' [" + spaced(*found[k].second) + "]";
+				*near = list + (found.size() > 6 ? ", …" : "");
+			}
+			return std::nullopt;
+		}
+	return *found.front().second;
 }
 
 const PhoneInfo& Language::info(const std::string& phone) const {
@@ -441,14 +542,30 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 		if (notation == Notation::Auto) notation = detectNotation(tr, lang);
 	}
 	if (used) *used = notation;
+	std::map<std::string, std::optional<std::vector<std::string>>> nearestOf;  // each unknown label searched once
 	for (const auto& iv : phoneIntervals) {
 		auto phones = lang.normalize(iv.label, notation);
 		if (!phones) {
-			if (unknown == UnknownPhone::Nearest) phones = lang.nearest(iv.label);
-			if (!phones && unknown != UnknownPhone::Error) phones = std::vector<std::string>{"_"};
-			if (!phones)
-				throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + iv.label + "' (known: " + lang.inventoryList() +
+			std::string near;
+			if (unknown == UnknownPhone::Nearest) {
+				auto it = nearestOf.find(iv.label);
+				if (it == nearestOf.end()) it = nearestOf.emplace(iv.label, lang.nearest(iv.label, notation, &near)).first;
+				phones = it->second;
+			}
+			if (!phones && unknown == UnknownPhone::Silence) phones = std::vector<std::string>{"_"};
+			if (!phones) {
+				// Words where phones were expected (an utterance, or a tier whose level was a guess): say --level words.
+				const std::string shown = quotedLabel(iv.label), in = tr.tier.empty() ? "" : " in tier '" + tr.tier + "'";
+				const bool spacedLabel = trim(iv.label).find_first_of(" \t\n\r") != std::string_view::npos;
+				if (tr.level == LabelLevel::Phone && (spacedLabel || (tr.levelGuessed && codePointsOf(std::string(trim(iv.label))).size() >= 3)))
+					throw Error(tr.path, iv.line, (tr.tier.empty() ? std::string("the labels hold") : "tier '" + tr.tier + "' holds") +
+					                                  " words, not phones; use --level words ('" + shown + "' is no " + lang.tag() + " phone)");
+				if (unknown == UnknownPhone::Nearest)
+					throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + shown + "'" + in + ": no known spelling is near it" +
+					                                  (near.empty() ? "" : " (as near: " + near + ")") + "; use --unknown silence, or correct the label");
+				throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + shown + "'" + in + " (known: " + lang.inventoryList() +
 				                                  "; or use --unknown=nearest|silence)");
+			}
 		}
 		// Split the interval equally among the phones it spells (diphthongs, affricates).
 		const std::int64_t total = (iv.end - iv.start).count(), k = std::int64_t(phones->size());

@@ -47,8 +47,11 @@ public:
 	std::optional<std::vector<std::string>> normalize(const std::string& label, Notation notation = Notation::Auto) const;
 	// The notations this language's table has spellings for.
 	std::vector<Notation> notations() const;
-	// The known phone closest to an unknown label (longest known prefix), or nullopt.
-	std::optional<std::vector<std::string>> nearest(const std::string& label) const;
+	// The phones of the known spelling closest to an unknown label (--unknown nearest), or nullopt: the label
+	// without stress, length, modifier letters, diacritics or hooks (ˈaː, tʰ, t͡ʃ, ɐ̃ as ɐ̃ then ɐ, ɗ), else the spelling at
+	// edit distance 1 (labels of 2–4 characters) or 2 (5–16) when all spellings as near agree; never a pause,
+	// never for a label of one character or more than 16. `near` gets the disagreeing candidates.
+	std::optional<std::vector<std::string>> nearest(const std::string& label, Notation notation = Notation::Auto, std::string* near = nullptr) const;
 	const PhoneInfo& info(const std::string& phone) const;
 	// The inventory, for messages.
 	std::string inventoryList() const;

