@@ -24,6 +24,7 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--transcript-format", "FORMAT", "transcript format if detection fails"},
 	    {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier, else the word tier)"},
 	    {"--level", "LEVEL", "what the transcript's labels are: auto (default), phones, or words (phonemised with espeak-ng)"},
+	    {"--sample-rate", "HZ", "TIMIT .phn: the sample rate its times count in (default 16000)"},
 	    {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
 	    {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa, espeak, praat, br1"}};
 	for (auto& o : videoOptionSpecs()) options.push_back(o);
@@ -60,6 +61,7 @@ int runRender(const std::vector<std::string>& argv) {
 	ro.tier = args.get("--tier", "");
 	if (level != "auto") ro.level = level == "words" ? LabelLevel::Word : LabelLevel::Phone;
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
+	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
 	AudioClip audio;
 	Transcript tr;
 	if (text) {

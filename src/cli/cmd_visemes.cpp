@@ -46,6 +46,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	           {"--format", "FORMAT", "input format (default: detected): " + joined(transcriptFormats())},
 	           {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier — named like phones, or labels that are phones —, else the word tier)"},
 	           {"--level", "LEVEL", "what the labels are: auto (default: from tier names and labels), phones, or words (phonemised with espeak-ng)"},
+	           {"--sample-rate", "HZ", "TIMIT .phn: the sample rate its times count in (default 16000)"},
 	           {"--utterance", "NAME|N", "HTK MLF utterance (name or 1-based index; default the first)"},
 	           {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
 	           {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa (= xsampa), espeak, praat, br1 (MBROLA pt-BR)"},
@@ -71,6 +72,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	else if (level == "phones") ro.level = LabelLevel::Phone;
 	else if (level != "auto") throw UsageError("visemes: --level takes auto, phones or words");
 	ro.utterance = args.get("--utterance", "");
+	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
 	const std::string outFormat = args.get("--out-format", "tsv");
 	const auto& of = visemeOutputFormats();
 	if (std::find(of.begin(), of.end(), outFormat) == of.end())

@@ -18,7 +18,7 @@
 namespace talkhead {
 
 const std::vector<std::string>& transcriptFormats() {
-	static const std::vector<std::string> f = {"textgrid", "pho", "htk", "grid", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json"};
+	static const std::vector<std::string> f = {"textgrid", "pho", "htk", "grid", "timit", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json"};
 	return f;
 }
 
@@ -563,6 +563,16 @@ Transcript readGrid(const std::string& text, const std::string& path) {
 	return tr;
 }
 
+// ---- TIMIT .phn: start end phone, times in samples (16 kHz unless --sample-rate) ------------------------
+Transcript readTimit(const std::string& text, const std::string& path, int sampleRate) {
+	if (sampleRate < 1000 || sampleRate > 192000) throw Error(path, 0, "sample rate " + std::to_string(sampleRate) + " Hz is out of range (1000–192000)");
+	Transcript tr;
+	tr.format = "timit";
+	tr.level = LabelLevel::Phone;
+	tr.intervals = readStartEndLabel(lines(text), path, double(kTicksPerSecond) / sampleRate);
+	return tr;
+}
+
 // ---- plain TSV: start end label in seconds -----------------------------------------------------------
 Transcript readTsv(const std::string& text, const std::string& path) {
 	Transcript tr;
@@ -755,7 +765,15 @@ std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 	if (first.size() == 2 && parseDouble(first[0], d) && first[1].size() == 1 && std::string("ABCDEFGHX").find(first[1]) != std::string::npos)
 		return "rhubarb-tsv";
 	if (first.size() >= 2 && !parseDouble(first[0], d) && parseDouble(first[1], d)) return "pho";
-	if (first.size() >= 3 && allIntegers(first, 2) && intsOnly) return maxEnd < 1'000'000 ? "grid" : "htk";
+	// Integer times: the unit is the format's (GRID 1/25000 s, TIMIT samples, HTK 100 ns) and is never
+	// guessed from magnitudes alone. TIMIT starts with h#, GRID with sil; HTK times are 100-ns units
+	// (a second is 10⁷). Anything else: nullopt, and the error asks for --format.
+	if (first.size() >= 3 && allIntegers(first, 2) && intsOnly) {
+		if (first[2] == "h#") return "timit";
+		if (maxEnd >= 1'000'000) return "htk";
+		if (first[2] == "sil") return "grid";
+		return std::nullopt;
+	}
 	if (first.size() >= 2 && parseDouble(first[0], d)) return "tsv";
 	if (first.size() >= 2 && !parseDouble(first[0], d)) return "tsv";  // a header line
 	return std::nullopt;
@@ -769,8 +787,11 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	std::string format = o.format;
 	if (format.empty()) {
 		auto f = detectTranscriptFormat(text);
+		if (endsWith(toLower(path), ".phn") && (!f || *f == "grid" || *f == "htk" || *f == "timit")) f = "timit";
 		if (!f && endsWith(toLower(path), ".align")) f = "grid";
-		if (!f) throw Error(path, 0, "cannot tell the transcript format; name it with --format (textgrid, pho, htk, grid, marks, tsv, rhubarb-tsv, rhubarb-json)");
+		if (!f && endsWith(toLower(path), ".lab")) f = "htk";
+		if (!f)
+			throw Error(path, 0, "cannot tell the transcript format (integer times have no unit of their own); name it with --format: timit (16-kHz samples, --sample-rate), grid (1/25000 s), htk (100 ns), or textgrid, pho, marks, tsv, rhubarb-tsv, rhubarb-json");
 		format = *f;
 		// Integer "start end word" files are HTK or GRID; the extension settles it where it can.
 		if ((format == "htk" || format == "grid") && !startsWith(trim(text), "#!MLF!#")) {
@@ -784,6 +805,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	else if (format == "xlabel") tr = readXlabel(text, path);
 	else if (format == "htk") tr = readHtk(text, path, o);
 	else if (format == "grid") tr = readGrid(text, path);
+	else if (format == "timit") tr = readTimit(text, path, o.sampleRate);
 	else if (format == "marks") tr = readMarks(text, path);
 	else if (format == "tsv") tr = readTsv(text, path);
 	else if (format == "rhubarb-tsv") tr = readRhubarbTsv(text, path);

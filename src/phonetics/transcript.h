@@ -38,6 +38,7 @@ struct ReadOptions {
 	std::string format;     // empty = detect from the content
 	std::string tier;       // TextGrid tier name or 1-based number (empty = the phone tier, else the word tier)
 	std::string utterance;  // HTK MLF utterance name or 1-based index (empty = the first)
+	int sampleRate = 16000; // TIMIT .phn: times are sample numbers at this rate
 	// Phone or Word level as the user said (--level); nullopt = decided from tier names and labels.
 	std::optional<LabelLevel> level{};
 	// Whether a label is a phone of the transcript's language (tier choice and level detection); without it,
