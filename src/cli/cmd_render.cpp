@@ -52,7 +52,7 @@ int runRender(const std::vector<std::string>& argv) {
 	const std::string level = args.get("--level", "auto");
 	if (level != "auto" && level != "phones" && level != "words") throw UsageError("render: --level takes auto, phones or words");
 	const VideoCommand cmd = parseVideoCommand(args, "render");
-	const Language& lang = languageOption(args);
+	const Language& lang = languageOption(args, defaultLanguageFor(transcriptPath.value_or(""), args.get("--transcript-format", "")));
 	if (auto f = args.get("--text-file")) text = readTextFile(*f);
 
 	// Timeline.

@@ -88,7 +88,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	if (!pauses) throw UsageError("visemes: --pauses takes natural or thesis");
 	const auto notation = parseNotation(args.get("--notation", "auto"));
 	if (!notation) throw UsageError("visemes: --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
-	const Language& lang = languageOption(args);
+	const Language& lang = languageOption(args, defaultLanguageFor(args.positionals()[0], ro.format));
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 
 	const std::string path = args.positionals()[0];

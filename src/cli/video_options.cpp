@@ -13,6 +13,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "phonetics/labels.h"
+#include "phonetics/transcript.h"
 
 namespace fs = std::filesystem;
 
@@ -73,8 +74,23 @@ std::string languageOptionHelp(const std::string& what) {
 	return what + ": pt-BR (default) or another language with a viseme table (" + known + "; others with --generic-visemes)";
 }
 
-const Language& languageOption(const Args& args) {
-	const std::string tag = args.get("--lang", "pt-BR");
+std::string defaultLanguageFor(const std::string& transcriptPath, const std::string& format) {
+	// A GRID .align is English by definition (the GRID corpus): en-US unless --lang says otherwise.
+	if (format == "grid" || endsWith(toLower(transcriptPath), ".align")) return "en-US";
+	if (format.empty() && !transcriptPath.empty() && transcriptPath != "-") {
+		std::error_code ec;
+		if (fs::is_regular_file(transcriptPath, ec) && fs::file_size(transcriptPath, ec) < (64u << 20)) {
+			try {
+				if (detectTranscriptFormat(readTextFile(transcriptPath)) == std::optional<std::string>("grid")) return "en-US";
+			} catch (const std::exception&) {  // unreadable: the reader says so later
+			}
+		}
+	}
+	return "pt-BR";
+}
+
+const Language& languageOption(const Args& args, const std::string& defaultTag) {
+	const std::string tag = args.get("--lang", defaultTag);
 	if (!args.has("--generic-visemes")) return Language::get(tag);
 	const std::string lower = toLower(tag), primary = lower.substr(0, lower.find('-'));
 	for (const auto& a : Language::available())

@@ -28,10 +28,12 @@ struct VideoCommand {
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
 };
 
-// The language of --lang (default pt-BR), for the commands that take it: its viseme table; with
+// The language of --lang (default `defaultTag`), for the commands that take it: its viseme table; with
 // --generic-visemes, a language without a table maps IPA through phonetics/generic, with one warning line
 // on stderr. Throws Error ("no viseme table for language …") otherwise.
-const Language& languageOption(const Args& args);
+const Language& languageOption(const Args& args, const std::string& defaultTag = "pt-BR");
+// pt-BR, or en-US for a GRID .align (English by definition), for a transcript without --lang.
+std::string defaultLanguageFor(const std::string& transcriptPath, const std::string& format);
 // The --lang help, naming the languages with a table.
 std::string languageOptionHelp(const std::string& what);
 // --generic-visemes (also in videoOptionSpecs).

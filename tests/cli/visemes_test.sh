@@ -45,6 +45,9 @@ printf '_ 100\nx 80\na 120\nv 70\ny 60\n_ 50\nj 80\na 120\nt 70\nu 100\n_ 100\n'
 grep -q "phones read as MBROLA br1" "$T/n.err"
 # The examples/tts recipe's br1 file (what espeak-ng -v mb-br1 --pho writes) reads as br1: chave, jato.
 "$TH" visemes "$DATA/../../examples/tts/chave_br1.pho" 2>/dev/null | cut -f3 | tail -n +2 | tr '\n' ' ' | grep -q "^_ a ʃ a v j d u ʒ a t u _ $"
+# A GRID .align is English by definition: without --lang it is read as en-US (issue 12 item 11).
+printf '0 12250 sil\n12250 19250 set\n19250 27250 white\n27250 40000 sil\n' >"$T/g.align"
+"$TH" visemes "$T/g.align" 2>/dev/null | cut -f3 | tail -n +2 | tr '\n' ' ' | grep -q "^_ s ɛ t w a"
 # Errors: one line, the file named, no output file.
 err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
 printf '0\t0.1\ta\n0.1\t0.2\tqq\n' >"$T/bad.tsv"
