@@ -259,14 +259,19 @@ std::vector<Interval> expandWords(const Transcript& words, const std::string& ta
 			out.push_back({w.start, w.end, "", w.line});
 			continue;
 		}
+		// The word's span shared in proportion to espeak-ng's durations, in 128-bit arithmetic: a 100-s word
+		// times a second of phones overflows 64 bits (issue 15 item 3: times ran backwards, exit 0). Phones
+		// without durations share the span equally.
 		std::int64_t total = 0;
-		for (const auto& p : ph) total += p.duration.count();
-		const std::int64_t span = (w.end - w.start).count();
+		for (const auto& p : ph) total += std::max<std::int64_t>(0, p.duration.count());
+		const bool equal = total <= 0;
+		if (equal) total = std::int64_t(ph.size());
+		const __int128 span = std::max<std::int64_t>(0, (w.end - w.start).count());
 		std::int64_t acc = 0;
 		for (const auto& p : ph) {
-			const Ticks a = w.start + Ticks(span * acc / total);
-			acc += p.duration.count();
-			const Ticks b = w.start + Ticks(span * acc / total);
+			const Ticks a = w.start + Ticks(std::int64_t(span * acc / total));
+			acc += equal ? 1 : std::max<std::int64_t>(0, p.duration.count());
+			const Ticks b = w.start + Ticks(std::int64_t(span * acc / total));
 			out.push_back({a, b, p.ipa, w.line});
 		}
 	}

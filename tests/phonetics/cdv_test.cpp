@@ -267,3 +267,17 @@ TEST(Espeak, gridWordsExpandToPhonesInsideEachWord) {
 	EXPECT_EQ(phones.front().start, words.intervals.front().start);
 	EXPECT_EQ(phones.back().end, words.intervals.back().end);
 }
+
+TEST(Cdv, aHundredSecondWordKeepsItsPhonesInOrder) {
+	// A valid GRID file with one 100-s word: span × duration once overflowed 64 bits and the phone times
+	// ran backwards and negative with exit 0 (issue 15 item 3).
+	Transcript t = parseTranscript("0 25000 sil\n25000 2525000 set\n2525000 2550000 sil\n", "long.align");
+	auto phones = phoneSegments(t, Language::get("en-US"));
+	ASSERT_GE(phones.size(), 5u);
+	for (std::size_t i = 0; i < phones.size(); ++i) {
+		EXPECT_GE(phones[i].start, Ticks(0));
+		EXPECT_GT(phones[i].end, phones[i].start) << i;
+		if (i > 0) EXPECT_EQ(phones[i].start, phones[i - 1].end) << i;
+	}
+	EXPECT_EQ(phones.back().end, Ticks(102 * kTicksPerSecond));
+}
