@@ -4,6 +4,7 @@
 #include "phonetics/transcript.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <cstdio>
 #include <iostream>
@@ -80,6 +81,16 @@ std::vector<Line> lines(const std::string& text) {
 		out.push_back({n, std::string(trim(l))});
 	}
 	return out;
+}
+
+// One limit for every reader (issue 15 item 4): a transcript time is finite, ≥ 0 and at most a day, and is
+// checked before it becomes ticks (1e20 s would overflow the 64-bit tick count).
+constexpr double kMaxTranscriptSeconds = 86400;
+Ticks boundedSeconds(double v, const std::string& path, long line, const std::string& what) {
+	if (!std::isfinite(v)) throw Error(path, line, what + " is not a number");
+	if (v < 0) throw Error(path, line, what + " is negative (" + std::to_string(v) + " s)");
+	if (v > kMaxTranscriptSeconds) throw Error(path, line, what + " is absurd (" + std::to_string(v) + " s; at most 86400 s, a day)");
+	return ticksFromSeconds(v);
 }
 
 Ticks seconds(const std::string& path, long line, const std::string& s, const char* what) {
@@ -303,7 +314,7 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 					throw Error(path, line, "interval [" + std::to_string(a) + ", " + std::to_string(b) + "] lies outside its tier [" +
 					                            std::to_string(tmin) + ", " + std::to_string(tmax) + "]");
 				if (a < 0) throw Error(path, line, "negative time");
-				tier.intervals.push_back({ticksFromSeconds(a), ticksFromSeconds(b), std::string(trim(label)), line});
+				tier.intervals.push_back({boundedSeconds(a, path, line, "interval xmin"), boundedSeconds(b, path, line, "interval xmax"), std::string(trim(label)), line});
 			}
 		} else if (tier.cls == "TextTier") {
 			for (long long j = 0; j < n; ++j) {
@@ -410,6 +421,7 @@ Transcript readPho(const std::string& text, const std::string& path) {
 		double ms;
 		if (!parseDouble(f[1], ms) || ms < 0 || ms > 600000) throw Error(path, l.no, "bad duration '" + f[1] + "' (milliseconds)");
 		const Ticks d(std::llround(ms * double(kTicksPerMs)));
+		if (toSeconds(t + d) > kMaxTranscriptSeconds) throw Error(path, l.no, "the phones add up to more than 86400 s (a day)");
 		tr.intervals.push_back({t, t + d, f[0] == "_" ? "" : f[0], l.no});
 		t += d;
 	}
@@ -637,7 +649,8 @@ Transcript readRhubarbJson(const std::string& text, const std::string& path) {
 		if (!v || v->kind != JsonValue::Kind::String) throw Error(path, 0, "mouth cue " + std::to_string(k) + " has no \"value\"");
 		const double a = jsonNumber(c, "start", path, 0), b = jsonNumber(c, "end", path, 0);
 		if (a < 0 || b < a) throw Error(path, 0, "mouth cue " + std::to_string(k) + " has bad times");
-		tr.intervals.push_back({ticksFromSeconds(a), ticksFromSeconds(b), v->string, k});
+		tr.intervals.push_back({boundedSeconds(a, path, 0, "mouth cue " + std::to_string(k) + " start"),
+		                        boundedSeconds(b, path, 0, "mouth cue " + std::to_string(k) + " end"), v->string, k});
 	}
 	return tr;
 }
@@ -674,7 +687,7 @@ Transcript readMarks(const std::string& text, const std::string& path) {
 		const JsonValue* value = m.find("value");
 		if (!type || type->kind != JsonValue::Kind::String) throw Error(path, l.no, "expected \"type\"");
 		if (!value || value->kind != JsonValue::Kind::String) throw Error(path, l.no, "expected a string \"value\"");
-		marks.push_back({Ticks(std::llround(ms * double(kTicksPerMs))), type->string, value->string, l.no});
+		marks.push_back({boundedSeconds(ms / 1000.0, path, l.no, "mark time"), type->string, value->string, l.no});
 	}
 	bool hasViseme = false;
 	for (const auto& m : marks) hasViseme |= m.type == "viseme";

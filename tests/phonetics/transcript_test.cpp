@@ -374,3 +374,17 @@ TEST(UnknownPhones, nearestIsTheClosestSpellingNeverAPrefixOrAPause) {
 	EXPECT_EQ(errorOf([&] { phoneSegments(t, en, UnknownPhone::Nearest); }),
 	          "n.tsv:2: unknown en-US phone 'blah': no known spelling is near it; use --unknown silence, or correct the label");
 }
+
+TEST(Transcript, everyReaderBoundsItsTimesToADay) {
+	// 1e20 s once overflowed the tick type (negative times, exit 0) in the readers without a limit (issue 15 item 4).
+	const std::string tg = "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n\nxmin = 0\nxmax = 1e20\ntiers? <exists>\nsize = 1\nitem []:\n"
+	                       "    item [1]:\n        class = \"IntervalTier\"\n        name = \"phones\"\n        xmin = 0\n        xmax = 1e20\n"
+	                       "        intervals: size = 1\n        intervals [1]:\n            xmin = 0\n            xmax = 1e20\n            text = \"a\"\n";
+	EXPECT_NE(errorOf([&] { parseTranscript(tg, "big.TextGrid"); }).find("big.TextGrid:16: interval xmax is absurd"), std::string::npos);
+	EXPECT_NE(errorOf([] { parseTranscript("{\"time\":1e20,\"type\":\"word\",\"value\":\"hi\"}\n", "big.marks"); }).find("big.marks:1: mark time is absurd"),
+	          std::string::npos);
+	EXPECT_NE(errorOf([] { parseTranscript("{\"mouthCues\": [{\"start\": 0, \"end\": 1e20, \"value\": \"A\"}]}", "big.json"); }).find("mouth cue 1 end is absurd"),
+	          std::string::npos);
+	EXPECT_NE(errorOf([] { parseTranscript("{\"mouthCues\": [{\"start\": 0, \"end\": 90000, \"value\": \"A\"}]}", "day.json"); }).find("at most 86400 s"),
+	          std::string::npos);
+}
