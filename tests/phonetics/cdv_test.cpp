@@ -281,3 +281,15 @@ TEST(Cdv, aHundredSecondWordKeepsItsPhonesInOrder) {
 	}
 	EXPECT_EQ(phones.back().end, Ticks(102 * kTicksPerSecond));
 }
+
+TEST(Cdv, nearestIsBoundedForHugeLabels) {
+	// --unknown nearest once searched every prefix of a label: a 40 000-character label took 32 s and a 600 KB
+	// one never finished (issue 15 item 5). A label longer than 16 characters is near nothing: one clear error.
+	Transcript t;
+	t.path = "huge.tsv";
+	t.intervals = {{Ticks(0), Ticks(kTicksPerSecond), std::string(40000, 'x'), 1}};
+	const std::string e = errorOf([&] { phoneSegments(t, Language::get("pt-BR"), UnknownPhone::Nearest); });
+	EXPECT_NE(e.find("huge.tsv:1: unknown pt-BR phone 'xxxx"), std::string::npos) << e.substr(0, 200);
+	EXPECT_NE(e.find("no known spelling is near it"), std::string::npos);
+	EXPECT_LT(e.size(), 400u);  // the label is abbreviated in the message
+}
