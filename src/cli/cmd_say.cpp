@@ -90,6 +90,8 @@ int runSay(const std::vector<std::string>& argv) {
 	const std::string voice = args.get("--voice", espeakVoiceFor(lang.tag()));
 	if (args.get("--voice")) checkVoiceSpeaks(voice, lang);
 	const auto saveAudio = args.get("--save-audio"), saveTranscript = args.get("--save-transcript");
+	if (saveAudio) checkWritableFolder(*saveAudio);
+	if (saveTranscript) checkWritableFolder(*saveTranscript);
 
 	std::string text;
 	if (auto f = args.get("--text-file")) {
@@ -119,12 +121,13 @@ int runSay(const std::vector<std::string>& argv) {
 	audio.channels = 1;
 	audio.samples.reserve(speech.pcm.size());
 	for (short v : speech.pcm) audio.samples.push_back(float(v) / 32768.f);
-	if (saveAudio) writeWav(*saveAudio, audio);
-	if (saveTranscript) writeFileAtomically(*saveTranscript, formatVisemes(phones, perf.keys, "textgrid", lang.tag(), "espeak-ng"));
 	perf.duration = audio.duration();
 	char prefix[64];
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
 	runVideoCommand(cmd, perf, clipSource(audio), t0, prefix);
+	// The speech and its timeline only once the video is complete: a failed render leaves nothing behind.
+	if (saveAudio) writeWav(*saveAudio, audio);
+	if (saveTranscript) writeFileAtomically(*saveTranscript, formatVisemes(phones, perf.keys, "textgrid", lang.tag(), "espeak-ng"));
 	return 0;
 }
 

@@ -27,14 +27,6 @@ std::string emotionList() {
 	return s;
 }
 
-void checkWritableFolder(const std::string& path) {
-	fs::path parent = fs::path(path).parent_path();
-	if (parent.empty()) parent = ".";
-	std::error_code ec;
-	if (!fs::is_directory(parent, ec)) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' does not exist");
-	if (::access(parent.c_str(), W_OK) != 0) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' is not writable");
-}
-
 // The summary and the substitution warning on stderr around the library's progress (bar or JSON lines).
 class CliProgress final : public RenderProgress {
 public:
@@ -99,6 +91,14 @@ const Language& languageOption(const Args& args, const std::string& defaultTag) 
 	std::fprintf(stderr, "talkhead: warning: no viseme table for language '%s': its IPA phones are mapped through the generic table (approximate)\n",
 	             tag.c_str());
 	return lang;
+}
+
+void checkWritableFolder(const std::string& path) {
+	fs::path parent = fs::path(path).parent_path();
+	if (parent.empty()) parent = ".";
+	std::error_code ec;
+	if (!fs::is_directory(parent, ec)) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' does not exist");
+	if (::access(parent.c_str(), W_OK) != 0) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' is not writable");
 }
 
 std::vector<OptionSpec> videoOptionSpecs() {

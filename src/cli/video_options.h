@@ -12,6 +12,9 @@
 
 namespace talkhead::cli {
 
+// Throws Error naming `path` unless its folder exists and is writable (checked before any work).
+void checkWritableFolder(const std::string& path);
+
 // The options `render` and `say` share, with the same names, defaults and checks.
 std::vector<OptionSpec> videoOptionSpecs();
 

@@ -39,6 +39,10 @@ test "$(grep -c FRAME "$T/s.y4m")" -ge 10
 # Errors: one line, non-zero, no file.
 err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
 err say "" -o "$T/x.mp4" | grep -q "the text is empty"
+# A failed video leaves no --save-audio / --save-transcript behind (issue 15 item 7).
+head -c 4096 /dev/urandom >"$T/bad.thm"
+err say "Olá" --model "$T/bad.thm" -o "$T/v.mp4" --save-audio "$T/s.wav" --save-transcript "$T/s.TextGrid" >/dev/null
+test ! -e "$T/s.wav" && test ! -e "$T/s.TextGrid" && test ! -e "$T/v.mp4"
 err say "?! ..." -o "$T/x.mp4" | grep -q "no speakable words"
 err say "goedemorgen" --lang nl -o "$T/x.mp4" | grep -q "no viseme table for language 'nl'"
 err say "oi" --voice zz-qq -o "$T/x.mp4" | grep -q "no voice 'zz-qq'"
