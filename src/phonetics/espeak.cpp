@@ -131,7 +131,43 @@ std::string utf8Substring(const std::string& text, int pos, int length) {
 }
 }  // namespace
 
-Speech espeakSpeak(const std::string& text, const std::string& voice, int rateWpm, int pitch, int wordGap10ms) {
+namespace {
+// libespeak-ng overflows a stack buffer (abort: "stack smashing detected", the espeak-ng CLI too) on a long
+// token such as "x." and ~170 letters — a URL in say text or a word-level transcript (issue 15 item 1).
+// Tokens longer than 48 code points are cut into pieces of 32 (they are read letter by letter anyway).
+std::string splitLongTokens(const std::string& text) {
+	auto isSpace = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
+	auto isLead = [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; };  // not a UTF-8 continuation
+	std::string out;
+	out.reserve(text.size() + text.size() / 32);
+	for (std::size_t i = 0; i < text.size();) {
+		if (isSpace(text[i])) {
+			out += text[i++];
+			continue;
+		}
+		std::size_t j = i;
+		int points = 0;
+		while (j < text.size() && !isSpace(text[j])) points += isLead(text[j++]);
+		if (points <= 48) {
+			out.append(text, i, j - i);
+		} else {
+			int run = 0;
+			for (std::size_t k = i; k < j; ++k) {
+				if (isLead(text[k]) && run++ == 32) {
+					out += ' ';
+					run = 1;
+				}
+				out += text[k];
+			}
+		}
+		i = j;
+	}
+	return out;
+}
+}  // namespace
+
+Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rateWpm, int pitch, int wordGap10ms) {
+	const std::string text = splitLongTokens(rawText);
 	if (trim(text).empty()) throw Error("nothing to say: the text is empty");
 	std::lock_guard<std::mutex> lock(espeakMutex());
 	const int rate = initialise();
@@ -223,7 +259,8 @@ Transcript phonesWithClosures(const Speech& sp) {
 	return t;
 }
 
-std::vector<SpokenPhone> espeakPhones(const std::string& text, const std::string& voice) {
+std::vector<SpokenPhone> espeakPhones(const std::string& rawText, const std::string& voice) {
+	const std::string text = splitLongTokens(rawText);
 	std::lock_guard<std::mutex> lock(espeakMutex());
 	const int rate = initialise();
 	if (espeak_SetVoiceByName(voice.c_str()) != EE_OK) throw Error("espeak-ng has no voice '" + voice + "'");

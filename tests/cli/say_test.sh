@@ -39,6 +39,13 @@ test "$(grep -c FRAME "$T/s.y4m")" -ge 10
 # Errors: one line, non-zero, no file.
 err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
 err say "" -o "$T/x.mp4" | grep -q "the text is empty"
+# A URL-like token ("x." and 200 letters) once aborted libespeak-ng (stack smashing, exit 134), in say text
+# and in a word-level transcript; long tokens are cut before espeak-ng sees them (issue 15 item 1).
+long=$(printf 'a%.0s' $(seq 1 200))
+"$TH" say "see x.$long now" --dry-run >"$T/long.tsv"
+test "$(wc -l <"$T/long.tsv")" -gt 20
+printf '0 25000 sil\n25000 50000 x.%s\n50000 60000 sil\n' "$long" >"$T/url.align"
+"$TH" visemes "$T/url.align" --lang en-US >/dev/null
 # A failed video leaves no --save-audio / --save-transcript behind (issue 15 item 7).
 head -c 4096 /dev/urandom >"$T/bad.thm"
 err say "Olá" --model "$T/bad.thm" -o "$T/v.mp4" --save-audio "$T/s.wav" --save-transcript "$T/s.TextGrid" >/dev/null
