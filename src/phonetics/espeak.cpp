@@ -166,8 +166,36 @@ std::string splitLongTokens(const std::string& text) {
 }
 }  // namespace
 
+// Latin-script voices (the languages with viseme tables but for --generic-visemes ones): characters
+// outside Latin, its extensions, punctuation, currency and letter-like symbols become spaces. libespeak-ng
+// 1.51 reads freed memory on some (U+0D00, Malayalam; ASan; a release build silently says "nothing to
+// say"), issue 15 item 2; a Latin voice cannot say them anyway. Returns how many were replaced.
+static int dropForeignScript(std::string& text, const std::string& voice) {
+	const std::string v = toLower(voice);
+	bool latin = false;
+	for (const char* p : {"pt", "en", "es", "fr", "de", "it", "mb-br", "mb-us", "mb-en", "mb-es", "mb-fr", "mb-de", "mb-it"})
+		latin |= v.rfind(p, 0) == 0;
+	if (!latin) return 0;
+	std::string out;
+	int dropped = 0;
+	for (std::size_t i = 0; i < text.size();) {
+		const unsigned char c = static_cast<unsigned char>(text[i]);
+		const std::size_t n = c < 0x80 ? 1 : c < 0xE0 ? 2 : c < 0xF0 ? 3 : 4;
+		std::uint32_t cp = n == 1 ? c : n == 2 ? c & 0x1F : n == 3 ? c & 0x0F : c & 0x07;
+		for (std::size_t k = 1; k < n && i + k < text.size(); ++k) cp = (cp << 6) | (static_cast<unsigned char>(text[i + k]) & 0x3F);
+		const bool keep = cp < 0x0250 || (cp >= 0x1E00 && cp <= 0x1EFF) || (cp >= 0x2000 && cp <= 0x20CF) || (cp >= 0x2100 && cp <= 0x214F) ||
+		                  (cp >= 0x0300 && cp <= 0x036F);
+		if (keep) out.append(text, i, n);
+		else out += ' ', ++dropped;
+		i += n;
+	}
+	text = std::move(out);
+	return dropped;
+}
+
 Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rateWpm, int pitch, int wordGap10ms) {
-	const std::string text = splitLongTokens(rawText);
+	std::string text = splitLongTokens(rawText);
+	const int dropped = dropForeignScript(text, voice);
 	if (trim(text).empty()) throw Error("nothing to say: the text is empty");
 	std::lock_guard<std::mutex> lock(espeakMutex());
 	const int rate = initialise();
@@ -177,6 +205,9 @@ Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rat
 	espeak_SetParameter(espeakWORDGAP, std::max(0, wordGap10ms), 0);
 	Speech sp;
 	sp.sampleRate = rate;
+	if (dropped > 0)
+		sp.warnings.push_back(std::to_string(dropped) + (dropped > 1 ? " characters" : " character") + " outside the " + voice + " voice's script " +
+		                      (dropped > 1 ? "were" : "was") + " left out (read as spaces)");
 	Collector c;
 	c.pcm = &sp.pcm;
 	g_current = &c;
@@ -260,7 +291,8 @@ Transcript phonesWithClosures(const Speech& sp) {
 }
 
 std::vector<SpokenPhone> espeakPhones(const std::string& rawText, const std::string& voice) {
-	const std::string text = splitLongTokens(rawText);
+	std::string text = splitLongTokens(rawText);
+	dropForeignScript(text, voice);
 	std::lock_guard<std::mutex> lock(espeakMutex());
 	const int rate = initialise();
 	if (espeak_SetVoiceByName(voice.c_str()) != EE_OK) throw Error("espeak-ng has no voice '" + voice + "'");

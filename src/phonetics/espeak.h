@@ -41,6 +41,8 @@ struct Speech {
 	// last phoneme ends. Gaps between words are not filled. Each interval's `line` is the word's
 	// 1-based character position in the text.
 	Transcript words;
+	// What was changed in the text before espeak-ng saw it (characters outside the voice's script).
+	std::vector<std::string> warnings;
 };
 // rateWpm 0 / pitch −1 = the voice's defaults; wordGap10ms adds a pause of that many 10 ms units between
 // words (espeakWORDGAP). Throws Error for an unknown voice (with how to get MBROLA voices for "mb-…"

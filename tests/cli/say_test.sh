@@ -46,6 +46,10 @@ long=$(printf 'a%.0s' $(seq 1 200))
 test "$(wc -l <"$T/long.tsv")" -gt 20
 printf '0 25000 sil\n25000 50000 x.%s\n50000 60000 sil\n' "$long" >"$T/url.align"
 "$TH" visemes "$T/url.align" --lang en-US >/dev/null
+# U+0D00 made libespeak-ng read freed memory (issue 15 item 2): characters outside a Latin voice's script
+# are left out, and said so.
+"$TH" say "Olá ഀ mundo" --dry-run 2>"$T/script.err" >/dev/null
+grep -q "warning: 1 character outside the pt-br voice's script was left out" "$T/script.err"
 # A failed video leaves no --save-audio / --save-transcript behind (issue 15 item 7).
 head -c 4096 /dev/urandom >"$T/bad.thm"
 err say "Olá" --model "$T/bad.thm" -o "$T/v.mp4" --save-audio "$T/s.wav" --save-transcript "$T/s.TextGrid" >/dev/null
