@@ -93,15 +93,16 @@ int runVisemes(const std::vector<std::string>& argv) {
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
+	// The notation is decided once, here, so the evidence for it can be printed.
+	std::string evidence;
 	Notation used = *notation;
-	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, *notation, &used);
+	if (used == Notation::Auto && tr.level == LabelLevel::Phone) used = detectNotation(tr, lang, &evidence);
+	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, used, &used);
 	std::vector<Keypose> keys = keyposes(phones, rate->frameLength(), *pauses);
 	// Which TextGrid tier was read, and which notation the phones were read in (stderr, so the TSV stays
 	// clean; JSON also carries the notation).
 	if (!tr.tier.empty()) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", path.c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	if (tr.level == LabelLevel::Phone && used != Notation::Auto) {
-		std::string evidence;
-		if (*notation == Notation::Auto) detectNotation(tr, lang, &evidence);
 		std::fprintf(stderr, "talkhead: %s: phones read as %s%s\n", path.c_str(), notationName(used).c_str(),
 		             *notation != Notation::Auto ? " (--notation)" : evidence.empty() ? " (detected)" : (" (detected from " + evidence + ")").c_str());
 	}

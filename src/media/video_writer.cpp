@@ -28,17 +28,14 @@ void checkSize(const std::string& path, const VideoOptions& o) {
 }  // namespace
 
 Mp4Writer::Mp4Writer(const std::string& path, const VideoOptions& o, const AudioClip* audio) : impl_(std::make_unique<Impl>()) {
-	checkSize(path, o);
 	if (audio && audio->frameCount() > 0) ownSource_ = clipSource(*audio);
 	open(path, o, ownSource_.get());
 }
 
-Mp4Writer::Mp4Writer(const std::string& path, const VideoOptions& o, AudioSource* audio) : impl_(std::make_unique<Impl>()) {
-	checkSize(path, o);
-	open(path, o, audio);
-}
+Mp4Writer::Mp4Writer(const std::string& path, const VideoOptions& o, AudioSource* audio) : impl_(std::make_unique<Impl>()) { open(path, o, audio); }
 
 void Mp4Writer::open(const std::string& path, const VideoOptions& o, AudioSource* audio) {
+	checkSize(path, o);
 	impl_->av = &avModule();
 	impl_->width = o.width;
 	impl_->height = o.height;

@@ -145,7 +145,6 @@ class LandmarksSink final : public FrameSink {
 public:
 	explicit LandmarksSink(const std::string& path) : out_(path) {}
 	void begin(const StreamInfo& info) override {
-		rate_ = info.rate;
 		file_.open(out_.temp);
 		if (!file_) throw Error(out_.path, 0, "cannot write");
 		file_ << "frame\ttime";
@@ -171,7 +170,6 @@ public:
 
 private:
 	TempOutput out_;
-	FrameRate rate_;
 	std::ofstream file_;
 };
 
