@@ -3,8 +3,10 @@
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/convex_hull_2.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -55,6 +57,45 @@ TriangleMesh delaunayTriangulation(const Points& points) {
 	}
 	std::sort(mesh.triangles.begin(), mesh.triangles.end());
 	return mesh;
+}
+
+Points anchorRing(const std::vector<Points>& shapes, double margin, int width, int height) {
+	std::vector<Kernel::Point_2> all, hull;
+	for (const Points& s : shapes)
+		for (Eigen::Index i = 0; i < s.rows(); ++i)
+			if (std::isfinite(s(i, 0)) && std::isfinite(s(i, 1))) all.emplace_back(s(i, 0), s(i, 1));
+	CGAL::convex_hull_2(all.begin(), all.end(), std::back_inserter(hull));
+	const std::size_t n = hull.size();
+	if (n < 3 || !(margin > 0)) return Points(0, 2);
+	double cx = 0, cy = 0;
+	for (const auto& p : hull) cx += p.x() / double(n), cy += p.y() / double(n);
+	// Outward unit normal of edge i (hull[i] → hull[i + 1]): the perpendicular pointing away from the centre.
+	auto normal = [&](std::size_t i) {
+		const auto& a = hull[i];
+		const auto& b = hull[(i + 1) % n];
+		double nx = b.y() - a.y(), ny = a.x() - b.x();
+		const double len = std::hypot(nx, ny);
+		nx /= len, ny /= len;
+		if (nx * (0.5 * (a.x() + b.x()) - cx) + ny * (0.5 * (a.y() + b.y()) - cy) < 0) nx = -nx, ny = -ny;
+		return std::pair<double, double>{nx, ny};
+	};
+	std::vector<std::pair<double, double>> kept;
+	for (std::size_t i = 0; i < n; ++i) {
+		const auto [px, py] = normal((i + n - 1) % n);
+		const auto [qx, qy] = normal(i);
+		double dx = px + qx, dy = py + qy;
+		const double len = std::hypot(dx, dy);
+		if (len < 1e-9) dx = qx, dy = qy;
+		else dx /= len, dy /= len;
+		const double d = margin / std::max(0.5, dx * qx + dy * qy);
+		const double x = std::clamp(hull[i].x() + d * dx, 0.0, double(width - 1));
+		const double y = std::clamp(hull[i].y() + d * dy, 0.0, double(height - 1));
+		if (std::none_of(kept.begin(), kept.end(), [&](const auto& k) { return std::hypot(k.first - x, k.second - y) < 0.5 * margin; }))
+			kept.emplace_back(x, y);
+	}
+	Points ring(Eigen::Index(kept.size()), 2);
+	for (std::size_t i = 0; i < kept.size(); ++i) ring(Eigen::Index(i), 0) = kept[i].first, ring(Eigen::Index(i), 1) = kept[i].second;
+	return ring;
 }
 
 }  // namespace talkhead

@@ -33,7 +33,7 @@ void rasterizeMesh(const Points& p, const TriangleMesh& mesh, int width, int hei
 		// Edges in canonical direction (from the lexicographically smaller (y, x) end) so that two
 		// triangles sharing an edge compute bit-identical crossings.
 		struct Edge {
-			double xa, ya, xb, yb;
+			double xa, ya, xb, yb, slope;  // slope: dx/dy (the same for both triangles of an edge)
 		};
 		Edge edges[3];
 		double ymin = 1e300, ymax = -1e300;
@@ -44,7 +44,7 @@ void rasterizeMesh(const Points& p, const TriangleMesh& mesh, int width, int hei
 				std::swap(xi, xj);
 				std::swap(yi, yj);
 			}
-			edges[e] = {xi, yi, xj, yj};
+			edges[e] = {xi, yi, xj, yj, yj > yi ? (xj - xi) / (yj - yi) : 0.0};
 			ymin = std::min(ymin, yi);
 			ymax = std::max(ymax, yj);
 		}
@@ -55,7 +55,7 @@ void rasterizeMesh(const Points& p, const TriangleMesh& mesh, int width, int hei
 			double xs[2];
 			int n = 0;
 			for (const Edge& e : edges) {
-				if (e.ya <= y && y < e.yb && n < 2) xs[n++] = e.xa + (y - e.ya) * (e.xb - e.xa) / (e.yb - e.ya);
+				if (e.ya <= y && y < e.yb && n < 2) xs[n++] = e.xa + (y - e.ya) * e.slope;
 			}
 			if (n < 2) continue;
 			double xl = std::min(xs[0], xs[1]), xr = std::max(xs[0], xs[1]);

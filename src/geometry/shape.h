@@ -73,6 +73,14 @@ double signedArea(const Points& points, const Triangle& t);
 Points withFrameBorder(const Points& points, int width, int height);
 constexpr int kFrameBorderPoints = 8;
 
+// Static anchor points around a face (decision D41). The convex hull of every point of `shapes`, each hull
+// vertex moved outward by `margin` pixels (along the bisector of its two edges' outward normals, so both
+// edges move by `margin`; at most 2·margin at a sharp corner), clamped into the frame [0, width − 1] ×
+// [0, height − 1] and thinned so that no two anchors are closer than margin / 2. A warp mesh over shape +
+// anchors + frame border keeps every triangle outside the anchors fixed: the background beyond them never
+// moves. Empty when the points span no area.
+Points anchorRing(const std::vector<Points>& shapes, double margin, int width, int height);
+
 // A horizontal run of pixels [x0, x1) in row y that lies in triangle `tri`.
 struct Span {
 	std::int32_t y, x0, x1, tri;

@@ -5,7 +5,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
 #include <thread>
+
+#include <sys/resource.h>
 
 #include "base/data_dirs.h"
 #include "base/error.h"
@@ -18,6 +23,9 @@ namespace talkhead {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+// How much less the drawing threads weigh than the writer and encoder (nice +10: about 1/9 of a core's
+// time when both want it). See the render loop.
+constexpr int kDrawNice = 10;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 class TerminalProgress final : public RenderProgress {
@@ -164,25 +172,31 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		(s->anyThread() ? anyThread : ordered).push_back(s);
 	}
 
-	// Frames are independent: workers draw a batch while a writer thread feeds the previous batch to the
-	// sinks in order (double buffering). The keyposes a batch needs are made just before it, and the first
-	// batch is one frame per thread, so a stream starts at once.
+	// Frames are independent. Drawing threads draw batches of frames a few batches ahead while this
+	// thread feeds finished batches to the sinks in order. The drawing threads run at a lower priority
+	// (kDrawNice) than this thread and the encoder's threads, which the sinks started: the encoder is the
+	// bottleneck, so drawing takes the moments it leaves a core idle instead of slowing it down. The
+	// keyposes a batch needs are made just before it, and the first batch is one frame per thread, so a
+	// stream starts at once.
 	const unsigned nThreads = resolveThreads(options.threads);
 	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
 	struct Batch {
 		std::vector<Image8> rgb, innerRgb;
 		std::vector<YuvImage> yuv, innerYuv;
 		std::vector<Points> pts;
+		std::vector<char> drawn;  // the slot's buffer holds an earlier frame of this render, untouched since
 		std::int64_t first = 0;
 		std::size_t count = 0;
 	};
-	Batch batches[2];
+	// Batches in flight: up to 4 within ~96 MiB of frames (2 at least: one drawn while one is written).
+	const double frameBytes = double(st.width) * st.height * (1.5 + (rgbFrames ? 3 : 0)) * (place ? 2 : 1);
+	const std::size_t slots = std::clamp<std::size_t>(std::size_t(96.0 * 1024 * 1024 / (frameBytes * double(batch))), 2, 4);
+	std::vector<Batch> batches(slots);
 	for (auto& b : batches) {
-		b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch);
+		b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch), b.drawn.assign(batch, 0);
 		if (place) b.innerRgb.resize(batch), b.innerYuv.resize(batch);
 	}
 	std::vector<Synthesizer::Workspace> workspaces(batch);
-	std::exception_ptr writeError;
 	auto frameOf = [&](const Batch& bt, std::size_t k) {
 		RenderedFrame f;
 		f.index = bt.first + std::int64_t(k);
@@ -192,73 +206,109 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		f.points = &bt.pts[k];
 		return f;
 	};
-	auto writeBatch = [&](Batch& bt) {
+	// The queue between the drawing and this thread: batches drawn (in order), batches free.
+	std::mutex queueMutex;
+	std::condition_variable queueChanged;
+	std::deque<Batch*> drawn, spare;
+	for (auto& b : batches) spare.push_back(&b);
+	bool drawingDone = false, stop = false;
+	std::exception_ptr drawError;
+	std::thread drawer([&] {
 		try {
-			const auto tWrite = Clock::now();
-			for (std::size_t k = 0; k < bt.count; ++k) {
-				const RenderedFrame f = frameOf(bt, k);
-				for (FrameSink* s : ordered) s->frame(f);
+			setpriority(PRIO_PROCESS, 0, kDrawNice);  // this thread only (Linux); best effort
+			WorkerPool pool(nThreads);                // started here: same priority
+			for (std::int64_t first = 0; first < frames;) {
+				Batch* next = nullptr;
+				{
+					std::unique_lock<std::mutex> lock(queueMutex);
+					queueChanged.wait(lock, [&] { return stop || !spare.empty(); });
+					if (stop) break;
+					next = spare.front();
+					spare.pop_front();
+				}
+				Batch& bt = *next;
+				bt.first = first;
+				bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(first == 0 ? nThreads : batch), frames - first));
+				first += std::int64_t(bt.count);
+				const auto tPrep = Clock::now();
+				synth.prepare(Synthesizer::keyposesBetween(keys, perf.frameTime(bt.first), perf.frameTime(first - 1)));
+				st.keyposeSeconds += since(tPrep);
+				const auto tDraw = Clock::now();
+				pool.run(bt.count, [&](std::size_t k) {
+					const Ticks tau = perf.frameTime(bt.first + std::int64_t(k));
+					Image8& rgb = place ? bt.innerRgb[k] : bt.rgb[k];
+					YuvImage& yuv = place ? bt.innerYuv[k] : bt.yuv[k];
+					if (rgbFrames) {
+						synth.renderFrame(tau, keys, workspaces[k], rgb, bt.pts[k], bt.drawn[k]);
+						rgbToYuv420(rgb, yuv, so.yuvRange);
+					} else {
+						synth.renderFrameYuv(tau, keys, workspaces[k], yuv, bt.pts[k], bt.drawn[k]);
+					}
+					bt.drawn[k] = 1;
+					if (place) {  // into the output frame: crop or pad, points moved with it
+						placeYuv(yuv, bt.yuv[k], st.width, st.height, box.x, box.y);
+						if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, box.x, box.y);
+						bt.pts[k].col(0).array() += box.x;
+						bt.pts[k].col(1).array() += box.y;
+					}
+					const RenderedFrame f = frameOf(bt, k);
+					for (FrameSink* s : anyThread) s->frame(f);
+				});
+				st.drawSeconds += since(tDraw);
+				{
+					std::lock_guard<std::mutex> lock(queueMutex);
+					drawn.push_back(&bt);
+				}
+				queueChanged.notify_all();
 			}
-			st.writeSeconds += since(tWrite);
-			if (bt.first == 0) st.firstFrameSeconds = since(t0);
 		} catch (...) {
-			writeError = std::current_exception();
+			std::lock_guard<std::mutex> lock(queueMutex);
+			drawError = std::current_exception();
+			stop = true;
 		}
-	};
-	std::thread writer;
-	struct JoinOnExit {  // an error while the writer runs must not destroy a joinable thread
+		std::lock_guard<std::mutex> lock(queueMutex);
+		drawingDone = true;
+		queueChanged.notify_all();
+	});
+	struct StopDrawer {  // on every way out: no more batches, and the drawer joined before the buffers go
+		std::mutex& m;
+		std::condition_variable& cv;
+		bool& stop;
 		std::thread& t;
-		~JoinOnExit() {
+		~StopDrawer() {
+			{
+				std::lock_guard<std::mutex> lock(m);
+				stop = true;
+			}
+			cv.notify_all();
 			if (t.joinable()) t.join();
 		}
-	} joinWriter{writer};
-	std::exception_ptr drawError;
-	std::mutex drawErrorMutex;
-	int cur = 0;
-	for (std::int64_t first = 0; first < frames;) {
-		Batch& bt = batches[cur];
-		bt.first = first;
-		bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(first == 0 ? nThreads : batch), frames - first));
-		first += std::int64_t(bt.count);
-		const auto tPrep = Clock::now();
-		synth.prepare(Synthesizer::keyposesBetween(keys, perf.frameTime(bt.first), perf.frameTime(first - 1)));
-		st.keyposeSeconds += since(tPrep);
-		const auto tDraw = Clock::now();
-		parallelFor(bt.count, nThreads, [&](std::size_t k) {
-			const Ticks tau = perf.frameTime(bt.first + std::int64_t(k));
-			Image8& rgb = place ? bt.innerRgb[k] : bt.rgb[k];
-			YuvImage& yuv = place ? bt.innerYuv[k] : bt.yuv[k];
-			if (rgbFrames) {
-				synth.renderFrame(tau, keys, workspaces[k], rgb, bt.pts[k]);
-				rgbToYuv420(rgb, yuv, so.yuvRange);
-			} else {
-				synth.renderFrameYuv(tau, keys, workspaces[k], yuv, bt.pts[k]);
-			}
-			if (place) {  // into the output frame: crop or pad, points moved with it
-				placeYuv(yuv, bt.yuv[k], st.width, st.height, box.x, box.y);
-				if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, box.x, box.y);
-				bt.pts[k].col(0).array() += box.x;
-				bt.pts[k].col(1).array() += box.y;
-			}
-			if (anyThread.empty()) return;
-			try {
-				const RenderedFrame f = frameOf(bt, k);
-				for (FrameSink* s : anyThread) s->frame(f);
-			} catch (...) {
-				std::lock_guard<std::mutex> lock(drawErrorMutex);
-				if (!drawError) drawError = std::current_exception();
-			}
-		});
-		st.drawSeconds += since(tDraw);
-		if (drawError) std::rethrow_exception(drawError);
-		if (writer.joinable()) writer.join();
-		if (writeError) std::rethrow_exception(writeError);
-		writer = std::thread(writeBatch, std::ref(bt));
-		cur ^= 1;
-		prog.frames(first, frames);
+	} stopDrawer{queueMutex, queueChanged, stop, drawer};
+	for (;;) {
+		Batch* bt = nullptr;
+		{
+			std::unique_lock<std::mutex> lock(queueMutex);
+			queueChanged.wait(lock, [&] { return !drawn.empty() || drawingDone; });
+			if (drawError) std::rethrow_exception(drawError);
+			if (drawn.empty()) break;
+			bt = drawn.front();
+			drawn.pop_front();
+		}
+		const auto tWrite = Clock::now();
+		for (std::size_t k = 0; k < bt->count; ++k) {
+			const RenderedFrame f = frameOf(*bt, k);
+			for (FrameSink* s : ordered) s->frame(f);
+		}
+		st.writeSeconds += since(tWrite);
+		if (bt->first == 0) st.firstFrameSeconds = since(t0);
+		prog.frames(bt->first + std::int64_t(bt->count), frames);
+		{
+			std::lock_guard<std::mutex> lock(queueMutex);
+			spare.push_back(bt);
+		}
+		queueChanged.notify_all();
 	}
-	if (writer.joinable()) writer.join();
-	if (writeError) std::rethrow_exception(writeError);
+	drawer.join();
 	const auto tFinish = Clock::now();
 	for (FrameSink* s : sinks) s->finish();
 	st.writeSeconds += since(tFinish);

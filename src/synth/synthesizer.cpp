@@ -15,6 +15,9 @@
 namespace talkhead {
 
 namespace {
+// D41: the anchors' distance outside everything that moves, as a fraction of the mean shape's larger side.
+constexpr double kAnchorMargin = 0.15;
+
 // Luma pixel coordinates → 4:2:0 chroma sample coordinates (a chroma sample is centred on its 2×2 block).
 Points toChroma(const Points& p) { return (p.array() - 0.5) * 0.5; }
 
@@ -50,15 +53,88 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 		roiX1_ = std::min(model.width, (x1 + 2) & ~1);
 		roiY1_ = std::min(model.height, (y1 + 2) & ~1);
 	}
-	meanSource_ = withFrameBorder(model.meanShape, model.width, model.height);
+	// D41: anchors a quarter of the face's size outside everything that moves (every training shape and the
+	// face box), fixed in every frame.
+	{
+		std::vector<Points> extent = model.alignedShapes;
+		extent.push_back(model.meanShape);
+		// Every pixel the regions paste: per row, the outer corners of its leftmost and rightmost pixels.
+		std::vector<int> left(std::size_t(model.height), model.width), right(std::size_t(model.height), -1);
+		for (const auto& r : model.regions)
+			for (std::int32_t idx : r.pixels) {
+				const std::size_t y = std::size_t(idx / model.width);
+				left[y] = std::min(left[y], idx % model.width);
+				right[y] = std::max(right[y], idx % model.width);
+			}
+		std::vector<double> corners;
+		for (int y = 0; y < model.height; ++y)
+			if (right[std::size_t(y)] >= 0)
+				corners.insert(corners.end(), {double(left[std::size_t(y)]), double(y), double(left[std::size_t(y)]), y + 1.0,
+				                               right[std::size_t(y)] + 1.0, double(y), right[std::size_t(y)] + 1.0, y + 1.0});
+		extent.push_back(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>(corners.data(), Eigen::Index(corners.size() / 2), 2));
+		const Eigen::RowVector2d lo = model.meanShape.colwise().minCoeff(), hi = model.meanShape.colwise().maxCoeff();
+		anchors_ = anchorRing(extent, kAnchorMargin * (hi - lo).maxCoeff(), model.width, model.height);
+	}
+	const int k = model.pointCount();
+	anchorsOut_ = anchors_;
+	anchorsOut_.col(0) *= scaleX_;
+	anchorsOut_.col(1) *= scaleY_;
+	anchorsOutChroma_ = toChroma(anchorsOut_);
+	auto withAnchors = [&](const Points& face, const Points& anchors, int w, int h) {
+		Points p(face.rows() + anchors.rows(), 2);
+		p << face, anchors;
+		return withFrameBorder(p, w, h);
+	};
 	const int cw = (model.width + 1) / 2, ch = (model.height + 1) / 2;
-	meanSourceChroma_ = withFrameBorder(toChroma(model.meanShape), cw, ch);
+	meanSource_ = withAnchors(model.meanShape, anchors_, model.width, model.height);
+	meanSourceChroma_ = withAnchors(toChroma(model.meanShape), toChroma(anchors_), cw, ch);
+	mesh_ = delaunayTriangulation(meanSource_);
+	movingMesh_.vertexCount = mesh_.vertexCount;
+	for (const Triangle& t : mesh_.triangles)
+		if (t[0] < k || t[1] < k || t[2] < k) movingMesh_.triangles.push_back(t);
 	if (o.warpPath == WarpPath::Direct && !model.baseface.empty()) {
 		baseY_.resize(std::size_t(model.width) * model.height);
 		baseUV_.resize(std::size_t(cw) * ch * 2);
 		rgbToYuv420(model.baseface.data.data(), std::size_t(model.width) * 3, model.width, model.height, o.yuvRange, baseY_.data(),
 		            std::size_t(model.width), baseUV_.data(), baseUV_.data() + 1, std::size_t(cw) * 2, 2);
+		// The background: the mean shape's frame, whose static triangles every frame shares.
+		Points mean = model.meanShape;
+		mean.col(0) *= scaleX_;
+		mean.col(1) *= scaleY_;
+		backgroundYuv_.resize(width_, height_);
+		PiecewiseAffineWarp luma(mesh_, anchored(mean, false), width_, height_);
+		luma.setSource(meanSource_);
+		std::uint8_t* y[1] = {backgroundYuv_.y.data()};
+		luma.applyPlanes(baseY_.data(), model.width, model.height, std::size_t(model.width), 1, y, std::size_t(width_));
+		const int outCw = backgroundYuv_.chromaWidth(), outCh = backgroundYuv_.chromaHeight();
+		PiecewiseAffineWarp chroma(mesh_, anchored(toChroma(mean), true), outCw, outCh);
+		chroma.setSource(meanSourceChroma_);
+		std::uint8_t* uv[2] = {backgroundYuv_.u.data(), backgroundYuv_.v.data()};
+		chroma.applyPlanes(baseUV_.data(), cw, ch, std::size_t(cw) * 2, 2, uv, std::size_t(outCw));
 	}
+}
+
+Points Synthesizer::anchored(const Points& face, bool chroma) const {
+	const Points& a = chroma ? anchorsOutChroma_ : anchorsOut_;
+	Points p(face.rows() + a.rows() + kFrameBorderPoints, 2);
+	p.topRows(face.rows()) = face;
+	p.middleRows(face.rows(), a.rows()) = a;
+	const int w = chroma ? (width_ + 1) / 2 : width_, h = chroma ? (height_ + 1) / 2 : height_;
+	p.bottomRows(kFrameBorderPoints) = withFrameBorder(Points(0, 2), w, h);
+	return p;
+}
+
+const Image8& Synthesizer::backgroundRgb() const {
+	std::call_once(backgroundRgbOnce_, [&] {
+		Points mean = model_.meanShape;
+		mean.col(0) *= scaleX_;
+		mean.col(1) *= scaleY_;
+		PiecewiseAffineWarp warp(mesh_, anchored(mean, false), width_, height_);
+		warp.setSource(meanSource_);
+		backgroundRgb_ = Image8(width_, height_, 3);
+		warp.apply(model_.baseface, backgroundRgb_);
+	});
+	return backgroundRgb_;
 }
 
 namespace {
@@ -152,7 +228,12 @@ KeyposeImage Synthesizer::makeKeypose(long sample, const std::vector<const std::
 				a[r] = synthesized[r];
 			}
 		}
-		k.image = warpFromMean(model_, compositeRegions(model_, a), k.shape);
+		PiecewiseAffineWarp warp(mesh_, withFrameBorder((Points(k.shape.rows() + anchors_.rows(), 2) << k.shape, anchors_).finished(),
+		                                                 model_.width, model_.height),
+		                         model_.width, model_.height);
+		warp.setSource(meanSource_);
+		k.image = Image8(model_.width, model_.height, 3);
+		warp.apply(compositeRegions(model_, a), k.image);
 		return k;
 	}
 	// Spec §5.3 in the face box only (the baseface elsewhere): regions pasted coarse → fine through their
@@ -280,18 +361,28 @@ void placeWarp(std::unique_ptr<PiecewiseAffineWarp>& warp, const TriangleMesh& m
 }
 }  // namespace
 
-void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points) const {
+void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points,
+                              bool outHoldsFrame) const {
 	const Between f = locate(tau, keys, points);
-	if (out.width != width_ || out.height != height_ || out.channels != 3) out = Image8(width_, height_, 3);
+	if (out.width != width_ || out.height != height_ || out.channels != 3) out = Image8(width_, height_, 3), outHoldsFrame = false;
 	const auto t0 = std::chrono::steady_clock::now();
-	placeWarp(ws.warp, model_.frameMesh, withFrameBorder(points, width_, height_), width_, height_);
+	// The static background, then the moving triangles over it (D41).
+	if (!outHoldsFrame) {
+		const Image8& background = backgroundRgb();
+		std::memcpy(out.data.data(), background.data.data(), out.data.size());
+	}
+	placeWarp(ws.warp, movingMesh_, anchored(points, false), width_, height_);
 	if (o_.warpPath == WarpPath::Keypose) {
+		auto source = [&](const KeyposeImage* k) {
+			Points p(k->shape.rows() + anchors_.rows(), 2);
+			p << k->shape, anchors_;
+			return withFrameBorder(p, model_.width, model_.height);
+		};
 		if (f.u <= 0) {
-			ws.warp->setSource(withFrameBorder(f.src->shape, model_.width, model_.height));
+			ws.warp->setSource(source(f.src));
 			ws.warp->apply(f.src->image, out);
 		} else {  // F = K_f (1 − t) + K_b t, K_f = source warped S → P(t), K_b = target warped T → P(t), in one pass
-			ws.warp->dissolve(f.src->image, withFrameBorder(f.src->shape, model_.width, model_.height), f.dst->image,
-			                  withFrameBorder(f.dst->shape, model_.width, model_.height), f.w, out);
+			ws.warp->dissolve(f.src->image, source(f.src), f.dst->image, source(f.dst), f.w, out);
 		}
 		ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		return;
@@ -308,19 +399,27 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 	ws.warpSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, YuvImage& out, Points& points) const {
+void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, YuvImage& out, Points& points,
+                                 bool outHoldsFrame) const {
 	if (o_.warpPath == WarpPath::Keypose) {
 		renderFrame(tau, keys, ws, ws.rgb, points);
 		rgbToYuv420(ws.rgb, out, o_.yuvRange);
 		return;
 	}
 	const Between f = locate(tau, keys, points);
+	if (out.width != width_ || out.height != height_) outHoldsFrame = false;
 	out.resize(width_, height_);
 	const auto t0 = std::chrono::steady_clock::now();
 	const int W = model_.width, H = model_.height, cw = (W + 1) / 2, ch = (H + 1) / 2;
 	const int outCw = out.chromaWidth(), outCh = out.chromaHeight();
-	placeWarp(ws.warp, model_.frameMesh, withFrameBorder(points, width_, height_), width_, height_);
-	placeWarp(ws.chromaWarp, model_.frameMesh, withFrameBorder(toChroma(points), outCw, outCh), outCw, outCh);
+	// The static background, then the moving triangles over it (D41).
+	if (!outHoldsFrame) {
+		std::memcpy(out.y.data(), backgroundYuv_.y.data(), out.y.size());
+		std::memcpy(out.u.data(), backgroundYuv_.u.data(), out.u.size());
+		std::memcpy(out.v.data(), backgroundYuv_.v.data(), out.v.size());
+	}
+	placeWarp(ws.warp, movingMesh_, anchored(points, false), width_, height_);
+	placeWarp(ws.chromaWarp, movingMesh_, anchored(toChroma(points), true), outCw, outCh);
 	if (ws.meanY.empty()) {
 		resizePrefaulted(ws.meanY, baseY_.size());
 		resizePrefaulted(ws.meanUV, baseUV_.size());

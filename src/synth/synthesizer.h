@@ -71,10 +71,14 @@ public:
 		double warpSeconds = 0;  // time spent in the dissolve and warp passes, for benchmarks
 	};
 	// Draws the frame at time τ (keyposes must be prepared) into `out` (output size) and its feature
-	// points (output pixels) into `points`.
-	void renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points) const;
+	// points (output pixels) into `points`. `outHoldsFrame`: out holds a frame this synthesizer drew
+	// earlier (same call, same size) and nothing has written to it since, so its static background (D41)
+	// is already in place and only the moving part is drawn.
+	void renderFrame(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, Image8& out, Points& points,
+	                 bool outHoldsFrame = false) const;
 	// The same frame as YUV 4:2:0 in options().yuvRange, drawn in YUV (no RGB frame, no conversion pass).
-	void renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, YuvImage& out, Points& points) const;
+	void renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, YuvImage& out, Points& points,
+	                    bool outHoldsFrame = false) const;
 	// The keyposes that frames in [from, to] need (the ones bracketing those times).
 	static std::vector<Keypose> keyposesBetween(const std::vector<Keypose>& keys, Ticks from, Ticks to);
 	// The substitutions a timeline will need, without computing any keypose.
@@ -95,7 +99,18 @@ private:
 	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;
 	int roiX0_ = 0, roiY0_ = 0, roiX1_ = 0, roiY1_ = 0;  // face box in the model frame (even corners)
-	Points meanSource_, meanSourceChroma_;               // s̄ + frame border, in luma and chroma pixels
+	// D41: static anchors around the face (model pixels; in output luma and chroma pixels) and the warp
+	// meshes over face points + anchors + frame border: every triangle, and the moving ones (those with a
+	// face vertex). The others never change, so the frame outside the moving triangles is the background,
+	// drawn once, and a frame costs a warp of the moving part only.
+	Points anchors_, anchorsOut_, anchorsOutChroma_;
+	TriangleMesh mesh_, movingMesh_;
+	Points meanSource_, meanSourceChroma_;               // s̄ + anchors + frame border, in luma and chroma pixels
+	YuvImage backgroundYuv_;                              // Direct path: the static frame at the output size
+	mutable std::once_flag backgroundRgbOnce_;
+	mutable Image8 backgroundRgb_;
+	const Image8& backgroundRgb() const;                  // the same in RGB (made on first use)
+	Points anchored(const Points& face, bool chroma) const;  // output-pixel face points + anchors + border
 	std::vector<std::uint8_t> baseY_, baseUV_;           // the baseface in YUV 4:2:0
 	const KeyposeImage& cached(const Keypose& key) const;
 	long resolve(const Keypose& key) const;  // the model sample used for a keypose (CDV, context)

@@ -86,6 +86,9 @@ std::vector<std::uint8_t> PiecewiseAffineWarp::coverage() const {
 }
 
 namespace {
+// Round half away from zero, inline (std::llround is a libm call, and it ran per span).
+inline std::int64_t roundToInt64(double v) { return std::int64_t(v < 0 ? v - 0.5 : v + 0.5); }
+
 template <class T>
 inline T store(float v);
 template <>
@@ -187,8 +190,8 @@ inline void bilinearRunRgb8(const std::uint8_t* sp, std::size_t stride, const fl
 	const __m128i zero = _mm_setzero_si128(), round = _mm_set1_epi32(1 << 13);
 	// Source position in 32.32 fixed point, stepped along the run (drift < 1e-6 px over any run).
 	constexpr double one = 4294967296.0;
-	std::int64_t u = std::llround((double(a[0]) * xa + rx) * one), v = std::llround((double(a[3]) * xa + ry) * one);
-	const std::int64_t du = std::llround(double(a[0]) * one), dv = std::llround(double(a[3]) * one);
+	std::int64_t u = roundToInt64((double(a[0]) * xa + rx) * one), v = roundToInt64((double(a[3]) * xa + ry) * one);
+	const std::int64_t du = roundToInt64(double(a[0]) * one), dv = roundToInt64(double(a[3]) * one);
 	for (int x = xa; x < xb; ++x, o += 3, u += du, v += dv) {
 		__m128i r = _mm_srai_epi32(_mm_add_epi32(sampleRgb8(sp, stride, u, v), round), 14);
 		r = _mm_packus_epi16(_mm_packs_epi32(r, r), zero);
@@ -231,10 +234,10 @@ void PiecewiseAffineWarp::dissolve(const Image8& a, const Points& sourceA, const
 		if (fb > fa) {
 			const double rxa = double(ma[1]) * s.y + ma[2], rya = double(ma[4]) * s.y + ma[5];
 			const double rxb = double(mb[1]) * s.y + mb[2], ryb = double(mb[4]) * s.y + mb[5];
-			std::int64_t ua = std::llround((double(ma[0]) * fa + rxa) * one), va = std::llround((double(ma[3]) * fa + rya) * one);
-			std::int64_t ub = std::llround((double(mb[0]) * fa + rxb) * one), vb = std::llround((double(mb[3]) * fa + ryb) * one);
-			const std::int64_t dua = std::llround(double(ma[0]) * one), dva = std::llround(double(ma[3]) * one);
-			const std::int64_t dub = std::llround(double(mb[0]) * one), dvb = std::llround(double(mb[3]) * one);
+			std::int64_t ua = roundToInt64((double(ma[0]) * fa + rxa) * one), va = roundToInt64((double(ma[3]) * fa + rya) * one);
+			std::int64_t ub = roundToInt64((double(mb[0]) * fa + rxb) * one), vb = roundToInt64((double(mb[3]) * fa + ryb) * one);
+			const std::int64_t dua = roundToInt64(double(ma[0]) * one), dva = roundToInt64(double(ma[3]) * one);
+			const std::int64_t dub = roundToInt64(double(mb[0]) * one), dvb = roundToInt64(double(mb[3]) * one);
 			for (int x = fa; x < fb; ++x, o += 3, ua += dua, va += dva, ub += dub, vb += dvb) {
 				__m128i ra = _mm_srai_epi32(_mm_add_epi32(sampleRgb8(a.data.data(), strideA, ua, va), round14), 14);
 				__m128i rb = _mm_srai_epi32(_mm_add_epi32(sampleRgb8(b.data.data(), strideB, ub, vb), round14), 14);
@@ -303,6 +306,17 @@ namespace {
 // The plane kernel's vector loop, eight pixels at a time from x while x + 8 ≤ fb: float positions (exact
 // to ~1e-4 px here) and 7-bit weights; returns where it stopped. Compiled for AVX2 + FMA whatever the
 // build's -march, and called only when the CPU has them (portable builds dispatch at run time).
+// The low n (≤ 8) bytes of v to o.
+inline void storeUpTo8(std::uint8_t* o, __m128i v, int n) {
+	if (n == 8) {
+		_mm_storel_epi64(reinterpret_cast<__m128i*>(o), v);
+	} else {
+		alignas(16) std::uint8_t tmp[16];
+		_mm_store_si128(reinterpret_cast<__m128i*>(tmp), v);
+		std::memcpy(o, tmp, std::size_t(n));
+	}
+}
+
 __attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int sw, std::size_t stride, int ch, const float* a, float rx, float ry,
                                                     int x, int fb, std::uint8_t* const* dst, std::size_t row) {
 	const __m256 a0 = _mm256_set1_ps(a[0]), a3 = _mm256_set1_ps(a[3]), rxv = _mm256_set1_ps(rx), ryv = _mm256_set1_ps(ry);
@@ -317,8 +331,12 @@ __attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int
 	const __m256i pairLow = _mm256_setr_epi8(0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1,
 	                                         -1, -1, -1, -1, -1);
 	const __m256i pack2 = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-	for (; x + 8 <= fb; x += 8) {
-		const __m256 xs = _mm256_add_ps(_mm256_set1_ps(float(x)), lane);
+	// Whole groups of eight, then the span's last 2–7 pixels as one group whose lanes past the end repeat
+	// the last pixel (so every sample stays inside the source) and are not stored.
+	const __m256 last = _mm256_set1_ps(float(fb - 1));
+	for (; x + 2 <= fb; x += 8) {
+		const int n = std::min(8, fb - x);
+		const __m256 xs = _mm256_min_ps(_mm256_add_ps(_mm256_set1_ps(float(x)), lane), last);
 		const __m256 fu = _mm256_fmadd_ps(a0, xs, rxv), fv = _mm256_fmadd_ps(a3, xs, ryv);
 		const __m256i iu = _mm256_cvttps_epi32(fu), iv = _mm256_cvttps_epi32(fv);
 		const __m256i wx = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fu, _mm256_cvtepi32_ps(iu)), w128));
@@ -357,7 +375,7 @@ __attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int
 			r = _mm256_packus_epi32(r, r);                       // 16-bit, per 128-bit lane
 			r = _mm256_permute4x64_epi64(r, 0x08);               // lanes' low halves together
 			r = _mm256_packus_epi16(r, r);
-			_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[0] + row + std::size_t(x)), _mm256_castsi256_si128(r));
+			storeUpTo8(dst[0] + row + std::size_t(x), _mm256_castsi256_si128(r), n);
 		} else {
 			const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), _mm256_add_epi32(iu, iu));
 			const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
@@ -376,11 +394,11 @@ __attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int
 				r = _mm256_permute4x64_epi64(r, 0x08);
 				res[c] = _mm256_packus_epi16(r, r);
 			}
-			_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[0] + row + std::size_t(x)), _mm256_castsi256_si128(res[0]));
-			_mm_storel_epi64(reinterpret_cast<__m128i*>(dst[1] + row + std::size_t(x)), _mm256_castsi256_si128(res[1]));
+			storeUpTo8(dst[0] + row + std::size_t(x), _mm256_castsi256_si128(res[0]), n);
+			storeUpTo8(dst[1] + row + std::size_t(x), _mm256_castsi256_si128(res[1]), n);
 		}
 	}
-	return x;
+	return std::min(x, fb);
 }
 
 // TALKHEAD_SCALAR_WARP (any value) forces the scalar kernel, so tests cover it on AVX2 machines too.
@@ -412,16 +430,12 @@ void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, st
 		for (int x = s.x0; x < fa; ++x) slow(x);
 		if (fb > fa) {
 			// 32.32 fixed-point positions stepped along the run, 7-bit weights (as bilinearRunRgb8).
-			std::int64_t u = std::llround((double(a[0]) * fa + rx) * one), v = std::llround((double(a[3]) * fa + ry) * one);
-			const std::int64_t du = std::llround(double(a[0]) * one), dv = std::llround(double(a[3]) * one);
 			int x = fa;
 #ifdef TALKHEAD_AVX2
-			if (cpuHasAvx2()) {
-				x = planeRunAvx2(sp, sw, stride, ch, a, rx, ry, x, fb, dst, row);
-				u = std::llround((double(a[0]) * x + rx) * one);
-				v = std::llround((double(a[3]) * x + ry) * one);
-			}
+			if (cpuHasAvx2()) x = planeRunAvx2(sp, sw, stride, ch, a, rx, ry, x, fb, dst, row);
 #endif
+			std::int64_t u = roundToInt64((double(a[0]) * x + rx) * one), v = roundToInt64((double(a[3]) * x + ry) * one);
+			const std::int64_t du = roundToInt64(double(a[0]) * one), dv = roundToInt64(double(a[3]) * one);
 			if (ch == 1) {
 				std::uint8_t* o = dst[0] + row;
 				for (; x < fb; ++x, u += du, v += dv) {

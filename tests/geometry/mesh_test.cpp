@@ -112,3 +112,53 @@ TEST(Raster, sharedEdgesAreNeitherDoubledNorDropped) {
 			}
 		}
 }
+
+namespace {
+// Distance from p to the segment ab.
+double segmentDistance(double px, double py, double ax, double ay, double bx, double by) {
+	const double dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
+	const double t = len2 > 0 ? std::clamp(((px - ax) * dx + (py - ay) * dy) / len2, 0.0, 1.0) : 0.0;
+	return std::hypot(px - ax - t * dx, py - ay - t * dy);
+}
+}  // namespace
+
+TEST(AnchorRing, enclosesEveryShapeByTheMarginInsideTheFrame) {
+	// Two shapes of a small "face" (a diamond and the same moved): the anchors lie at least the margin
+	// outside the hull of all their points, inside the frame, no two closer than margin / 2.
+	Points a(4, 2), b(4, 2);
+	a << 100, 50, 150, 100, 100, 150, 50, 100;
+	b = a.array() + 5.0;
+	const double margin = 20;
+	const Points ring = anchorRing({a, b}, margin, 400, 300);
+	ASSERT_GE(ring.rows(), 4);
+	for (Eigen::Index i = 0; i < ring.rows(); ++i) {
+		EXPECT_GE(ring(i, 0), 0);
+		EXPECT_LE(ring(i, 0), 399);
+		EXPECT_GE(ring(i, 1), 0);
+		EXPECT_LE(ring(i, 1), 299);
+		for (const Points* s : {&a, &b})
+			for (Eigen::Index j = 0; j < s->rows(); ++j)
+				EXPECT_GE(std::hypot(ring(i, 0) - (*s)(j, 0), ring(i, 1) - (*s)(j, 1)), margin - 1e-9);
+		for (Eigen::Index j = 0; j < i; ++j) EXPECT_GE((ring.row(i) - ring.row(j)).norm(), margin / 2);
+	}
+	// Every shape point is inside the anchors' polygon, at least the margin from each of its edges (the
+	// anchors come out in hull order).
+	for (const Points* s : {&a, &b})
+		for (Eigen::Index j = 0; j < s->rows(); ++j) {
+			std::vector<cv::Point2f> poly;
+			for (Eigen::Index i = 0; i < ring.rows(); ++i) poly.emplace_back(float(ring(i, 0)), float(ring(i, 1)));
+			EXPECT_GT(cv::pointPolygonTest(poly, cv::Point2f(float((*s)(j, 0)), float((*s)(j, 1))), false), 0);
+			for (Eigen::Index i = 0; i < ring.rows(); ++i) {
+				const Eigen::Index k = (i + 1) % ring.rows();
+				EXPECT_GE(segmentDistance((*s)(j, 0), (*s)(j, 1), ring(i, 0), ring(i, 1), ring(k, 0), ring(k, 1)), margin - 1e-6);
+			}
+		}
+	// Near the frame's edge the anchors are clamped into it.
+	const Points edge = anchorRing({a.array() - 45.0}, margin, 400, 300);
+	EXPECT_EQ(edge.col(0).minCoeff(), 0);
+	EXPECT_EQ(edge.col(1).minCoeff(), 0);
+	// No area, no anchors.
+	Points line(3, 2);
+	line << 0, 0, 1, 1, 2, 2;
+	EXPECT_EQ(anchorRing({line}, margin, 400, 300).rows(), 0);
+}

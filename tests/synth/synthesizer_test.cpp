@@ -219,3 +219,51 @@ TEST(Synthesizer, keyposesAreMadeOnlyForTheFramesThatNeedThem) {
 	synth.prepare(k2);
 	EXPECT_EQ(planned, synth.substitutions());
 }
+
+TEST(Synthesizer, theBackgroundBeyondTheAnchorsNeverMovesAndReusedBuffersDrawTheSameFrames) {
+	// D41: pixels that change from frame to frame all lie within the anchors (at most 2 margins outside the
+	// hull of every training shape); a buffer that holds an earlier frame, redrawn with outHoldsFrame, gets
+	// the same bytes as a fresh one (RGB and YUV).
+	const SmallFace& f = smallFace();
+	SynthOptions o;
+	o.emotion = "joy";
+	Synthesizer synth(f.model, o);
+	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "p1", 0}, {ms(300), ms(450), "", "", "u", 0},
+	                                    {ms(450), ms(600), "", "", "i1", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	synth.prepare(keys);
+	std::vector<cv::Point2f> all, hull;
+	for (const auto& s : f.model.alignedShapes)
+		for (Eigen::Index i = 0; i < s.rows(); ++i) all.emplace_back(float(s(i, 0)), float(s(i, 1)));
+	cv::convexHull(all, hull);
+	const Eigen::RowVector2d extent = f.model.meanShape.colwise().maxCoeff() - f.model.meanShape.colwise().minCoeff();
+	const double limit = 2 * 0.15 * extent.maxCoeff() + 2;
+	Synthesizer::Workspace w1, w2;
+	Image8 first, reused;
+	YuvImage reusedYuv;
+	int changed = 0;
+	for (long t = 0; t <= 600; t += 33) {
+		Image8 fresh;
+		YuvImage freshYuv;
+		Points p1, p2;
+		synth.renderFrame(ms(t), keys, w1, fresh, p1);
+		synth.renderFrame(ms(t), keys, w2, reused, p2, t > 0);
+		ASSERT_EQ(fresh.data, reused.data) << t;
+		synth.renderFrameYuv(ms(t), keys, w1, freshYuv, p1);
+		synth.renderFrameYuv(ms(t), keys, w2, reusedYuv, p2, t > 0);
+		ASSERT_EQ(freshYuv.y, reusedYuv.y) << t;
+		ASSERT_EQ(freshYuv.u, reusedYuv.u) << t;
+		ASSERT_EQ(freshYuv.v, reusedYuv.v) << t;
+		if (t == 0) {
+			first = fresh;
+			continue;
+		}
+		for (int y = 0; y < fresh.height; ++y)
+			for (int x = 0; x < fresh.width; ++x)
+				if (std::memcmp(fresh.row(y) + 3 * x, first.row(y) + 3 * x, 3) != 0) {
+					++changed;
+					EXPECT_GE(cv::pointPolygonTest(hull, cv::Point2f(float(x), float(y)), true), -limit) << x << "," << y << " at " << t << " ms";
+				}
+	}
+	EXPECT_GT(changed, 1000);  // the face does move
+}
