@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "geometry/shape.h"
@@ -30,62 +31,29 @@ void rasterizeMesh(const Points& p, const TriangleMesh& mesh, int width, int hei
 	spans.clear();
 	for (std::size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
 		const Triangle& t = mesh.triangles[ti];
-		// Edges in canonical direction (from the lexicographically smaller (y, x) end) so that two
-		// triangles sharing an edge compute bit-identical crossings.
-		struct Edge {
-			double xa, ya, xb, yb, slope;  // slope: dx/dy (the same for both triangles of an edge)
-		};
-		Edge edges[3];
-		double ymin = 1e300, ymax = -1e300;
-		for (int e = 0; e < 3; ++e) {
-			int i = t[e], j = t[(e + 1) % 3];
-			double xi = p(i, 0), yi = p(i, 1), xj = p(j, 0), yj = p(j, 1);
-			if (yj < yi || (yj == yi && xj < xi)) {
-				std::swap(xi, xj);
-				std::swap(yi, yj);
-			}
-			edges[e] = {xi, yi, xj, yj, yj > yi ? (xj - xi) / (yj - yi) : 0.0};
-			ymin = std::min(ymin, yi);
-			ymax = std::max(ymax, yj);
-		}
-		if (!(ymax > ymin)) continue;
-		int rowBegin = std::max(0, static_cast<int>(std::ceil(ymin)));
-		int rowEnd = std::min(height, static_cast<int>(std::ceil(ymax)));  // rows y with ymin ≤ y < ymax
+		// Vertices in lexicographic (y, x) order, so that each edge runs from its smaller end and two
+		// triangles sharing an edge compute bit-identical crossings: x = xa + (y − ya)·slope.
+		std::array<std::array<double, 2>, 3> v;
+		for (int e = 0; e < 3; ++e) v[std::size_t(e)] = {p(t[std::size_t(e)], 0), p(t[std::size_t(e)], 1)};
+		auto before = [](const std::array<double, 2>& a, const std::array<double, 2>& b) { return a[1] < b[1] || (a[1] == b[1] && a[0] < b[0]); };
+		if (before(v[1], v[0])) std::swap(v[0], v[1]);
+		if (before(v[2], v[1])) std::swap(v[1], v[2]);
+		if (before(v[1], v[0])) std::swap(v[0], v[1]);
+		if (!(v[2][1] > v[0][1])) continue;
+		auto slope = [](const std::array<double, 2>& a, const std::array<double, 2>& b) { return b[1] > a[1] ? (b[0] - a[0]) / (b[1] - a[1]) : 0.0; };
+		const double sLong = slope(v[0], v[2]), sTop = slope(v[0], v[1]), sBottom = slope(v[1], v[2]);
+		// Rows y with y0 ≤ y < y2; the short edge is v0→v1 while y < y1, then v1→v2.
+		const int rowBegin = std::max(0, static_cast<int>(std::ceil(v[0][1])));
+		const int rowEnd = std::min(height, static_cast<int>(std::ceil(v[2][1])));
 		for (int y = rowBegin; y < rowEnd; ++y) {
-			double xs[2];
-			int n = 0;
-			for (const Edge& e : edges) {
-				if (e.ya <= y && y < e.yb && n < 2) xs[n++] = e.xa + (y - e.ya) * e.slope;
-			}
-			if (n < 2) continue;
-			double xl = std::min(xs[0], xs[1]), xr = std::max(xs[0], xs[1]);
-			int x0 = std::max(0, static_cast<int>(std::ceil(xl)));  // pixels x with xl ≤ x < xr
-			int x1 = std::min(width, static_cast<int>(std::ceil(xr)));
+			const double a = v[0][0] + (y - v[0][1]) * sLong;
+			const double b = y < v[1][1] ? v[0][0] + (y - v[0][1]) * sTop : v[1][0] + (y - v[1][1]) * sBottom;
+			const double xl = std::min(a, b), xr = std::max(a, b);
+			const int x0 = std::max(0, static_cast<int>(std::ceil(xl)));  // pixels x with xl ≤ x < xr
+			const int x1 = std::min(width, static_cast<int>(std::ceil(xr)));
 			if (x0 < x1) spans.push_back(Span{y, x0, x1, static_cast<std::int32_t>(ti)});
 		}
 	}
-	// Row-major order (y, then x0; spans of a row never overlap): a counting sort by row, then insertion
-	// by x0 within each row (a handful of spans). Scratch is per thread, so per-frame calls do not allocate.
-	thread_local std::vector<std::int32_t> start;
-	thread_local std::vector<Span> sorted;
-	start.assign(std::size_t(std::max(height, 0)) + 1, 0);
-	for (const Span& s : spans) ++start[std::size_t(s.y) + 1];
-	for (std::size_t y = 1; y < start.size(); ++y) start[y] += start[y - 1];
-	sorted.resize(spans.size());
-	for (const Span& s : spans) sorted[std::size_t(start[std::size_t(s.y)]++)] = s;
-	// start[y] is now the end of row y; insertion-sort each row by x0.
-	std::size_t begin = 0;
-	for (int y = 0; y < height; ++y) {
-		const std::size_t end = std::size_t(start[std::size_t(y)]);
-		for (std::size_t i = begin + 1; i < end; ++i) {
-			const Span v = sorted[i];
-			std::size_t j = i;
-			for (; j > begin && sorted[j - 1].x0 > v.x0; --j) sorted[j] = sorted[j - 1];
-			sorted[j] = v;
-		}
-		begin = end;
-	}
-	spans.swap(sorted);
 }
 
 }  // namespace talkhead

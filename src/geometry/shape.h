@@ -88,7 +88,8 @@ struct Span {
 
 // Rasterises the mesh at the given vertex positions into spans clipped to the frame. Pixel centres on
 // shared edges belong to exactly one triangle (half-open rule on canonical edges), so a valid
-// triangulation partitions the pixels it covers. Spans are ordered by row, then x.
+// triangulation partitions the pixels it covers. Spans come triangle by triangle, each triangle's rows
+// top to bottom (faster to warp than row-major order: each triangle's map and source stay in cache).
 std::vector<Span> rasterizeMesh(const Points& points, const TriangleMesh& mesh, int width, int height);
 // The same into an existing vector (its capacity is reused: no allocation per frame).
 void rasterizeMesh(const Points& points, const TriangleMesh& mesh, int width, int height, std::vector<Span>& spans);

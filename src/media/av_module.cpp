@@ -169,7 +169,8 @@ struct Mp4Encoder {
 	AVCodecContext* aenc = nullptr;
 	AVStream* vst = nullptr;
 	AVStream* ast = nullptr;
-	AVFrame* vframe = nullptr;
+	AVFrame* wrapped = av_frame_alloc();  // a frame lent to the encoder (writeYuv)
+	int released = 0;                     // how many of its planes the encoder has let go
 	AVFrame* aframe = nullptr;
 	AVPacket* pkt = nullptr;
 	std::int64_t frameIndex = 0;
@@ -225,11 +226,7 @@ struct Mp4Encoder {
 		const int r = avformat_write_header(fmt, &opts);
 		av_dict_free(&opts);
 		checkAv(r, path, "cannot write the MP4 header");
-		vframe = av_frame_alloc();
-		vframe->format = AV_PIX_FMT_YUV420P;
-		vframe->width = o.width;
-		vframe->height = o.height;
-		checkAv(av_frame_get_buffer(vframe, 0), path, "video frame");
+		if (!wrapped) throw Error(path, 0, "out of memory");
 		pkt = av_packet_alloc();
 	}
 
@@ -270,16 +267,35 @@ struct Mp4Encoder {
 
 	void writeYuv(const YuvImage& img) {
 		if (img.width != o.width || img.height != o.height) throw std::logic_error("Mp4Writer: frame size differs");
-		checkAv(av_frame_make_writable(vframe), path, "video frame");
-		const int cw = (o.width + 1) / 2, ch = (o.height + 1) / 2;
-		for (int y = 0; y < o.height; ++y) std::memcpy(vframe->data[0] + std::size_t(y) * vframe->linesize[0], img.y.data() + std::size_t(y) * o.width, std::size_t(o.width));
-		for (int y = 0; y < ch; ++y) {
-			std::memcpy(vframe->data[1] + std::size_t(y) * vframe->linesize[1], img.u.data() + std::size_t(y) * cw, std::size_t(cw));
-			std::memcpy(vframe->data[2] + std::size_t(y) * vframe->linesize[2], img.v.data() + std::size_t(y) * cw, std::size_t(cw));
+		// The caller's planes go to the encoder without a copy: wrapped in buffers whose release only counts.
+		// libx264 copies the picture into its own frames inside avcodec_send_frame (the simple encode path
+		// encodes a frame as soon as no packet is pending, and drain() leaves none), so libav lets go of
+		// them before this returns; if a libav ever kept them, the caller's buffer could change under it,
+		// so that is an error, not a silent risk.
+		const int cw = (o.width + 1) / 2;
+		released = 0;
+		auto wrap = [&](const std::vector<std::uint8_t>& plane) {
+			AVBufferRef* b = av_buffer_create(const_cast<std::uint8_t*>(plane.data()), plane.size(),
+			                                  [](void* opaque, std::uint8_t*) { ++*static_cast<int*>(opaque); }, &released, AV_BUFFER_FLAG_READONLY);
+			if (!b) throw Error(path, 0, "out of memory");
+			return b;
+		};
+		av_frame_unref(wrapped);
+		wrapped->format = AV_PIX_FMT_YUV420P;
+		wrapped->width = o.width;
+		wrapped->height = o.height;
+		const std::vector<std::uint8_t>* planes[3] = {&img.y, &img.u, &img.v};
+		for (int p = 0; p < 3; ++p) {
+			wrapped->buf[p] = wrap(*planes[p]);
+			wrapped->data[p] = wrapped->buf[p]->data;
+			wrapped->linesize[p] = p == 0 ? o.width : cw;
 		}
-		vframe->pts = frameIndex++;
-		checkAv(avcodec_send_frame(venc, vframe), path, "H.264 encoding failed");
+		wrapped->pts = frameIndex++;
+		const int sent = avcodec_send_frame(venc, wrapped);
+		av_frame_unref(wrapped);
+		checkAv(sent, path, "H.264 encoding failed");
 		drain(venc, vst);
+		if (released != 3) throw std::logic_error("Mp4Writer: the encoder kept a reference to a frame it was lent");
 		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.rate.den, o.rate.num}, AVRational{1, audio->sampleRate()}), false);
 	}
 
@@ -299,7 +315,7 @@ struct Mp4Encoder {
 
 	~Mp4Encoder() {
 		av_packet_free(&pkt);
-		av_frame_free(&vframe);
+		av_frame_free(&wrapped);
 		av_frame_free(&aframe);
 		avcodec_free_context(&venc);
 		avcodec_free_context(&aenc);

@@ -142,6 +142,12 @@ inline void interiorRun(const float* a, const Span& s, int sw, int sh, int& fa, 
 	const float rx = a[1] * float(s.y) + a[2], ry = a[4] * float(s.y) + a[5];
 	fa = s.x0;
 	fb = s.x1;
+	// The usual case: both ends inside, hence (the map is affine along the run) every pixel between.
+	const auto inside = [&](int x) {
+		const float u = a[0] * float(x) + rx, v = a[3] * float(x) + ry;
+		return u >= 0.f && u < limX && v >= 0.f && v < limY;
+	};
+	if (fb > fa && inside(fa) && inside(fb - 1)) return;
 	auto limit = [&](float slope, float offset, float lim) {
 		if (std::abs(slope) < 1e-9f) {
 			if (!(offset >= 0.f && offset < lim)) fb = fa;
@@ -317,7 +323,7 @@ inline void storeUpTo8(std::uint8_t* o, __m128i v, int n) {
 	}
 }
 
-__attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int sw, std::size_t stride, int ch, const float* a, float rx, float ry,
+__attribute__((target("avx2,fma"), always_inline)) inline int planeRunAvx2(const std::uint8_t* sp, int sw, std::size_t stride, int ch, const float* a, float rx, float ry,
                                                     int x, int fb, std::uint8_t* const* dst, std::size_t row) {
 	const __m256 a0 = _mm256_set1_ps(a[0]), a3 = _mm256_set1_ps(a[3]), rxv = _mm256_set1_ps(rx), ryv = _mm256_set1_ps(ry);
 	const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7), w128 = _mm256_set1_ps(128.f);
@@ -377,8 +383,30 @@ __attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int
 			r = _mm256_packus_epi16(r, r);
 			storeUpTo8(dst[0] + row + std::size_t(x), _mm256_castsi256_si128(r), n);
 		} else {
-			const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), _mm256_add_epi32(iu, iu));
-			const __m256i p = _mm256_i32gather_epi32(base, off, 1), q = _mm256_i32gather_epi32(below, off, 1);
+			// Each pixel's U V pairs at (iu, iv) and (iu + 1, iv), and the row below, as one dword per lane:
+			// from two 16-byte windows per row (lanes 0–3 and 4–7, one per 128-bit half) when the eight
+			// share a source row and each half spans ≤ 6 pairs (a near-identity map, the usual case), picked
+			// with a byte shuffle; else gathered.
+			__m256i p, q;
+			const int iy0 = _mm256_cvtsi256_si32(iv);
+			const int u0 = _mm256_cvtsi256_si32(iu), u3 = _mm256_extract_epi32(iu, 3), u4 = _mm256_extract_epi32(iu, 4),
+			          u7 = _mm256_extract_epi32(iu, 7);
+			const int loMin = std::min(u0, u3), hiMin = std::min(u4, u7);
+			if (std::max(u0, u3) - loMin <= 6 && std::max(u4, u7) - hiMin <= 6 && std::max(loMin, hiMin) + 8 <= sw &&
+			    _mm256_movemask_epi8(_mm256_cmpeq_epi32(iv, _mm256_set1_epi32(iy0))) == -1) {
+				const std::uint8_t* r0 = sp + std::size_t(iy0) * stride;
+				const __m256i top = _mm256_loadu2_m128i(reinterpret_cast<const __m128i*>(r0 + 2 * hiMin), reinterpret_cast<const __m128i*>(r0 + 2 * loMin));
+				const __m256i bot = _mm256_loadu2_m128i(reinterpret_cast<const __m128i*>(r0 + stride + 2 * hiMin),
+				                                        reinterpret_cast<const __m128i*>(r0 + stride + 2 * loMin));
+				const __m256i d2 = _mm256_slli_epi32(_mm256_sub_epi32(iu, _mm256_setr_epi32(loMin, loMin, loMin, loMin, hiMin, hiMin, hiMin, hiMin)), 1);
+				const __m256i m = _mm256_add_epi32(_mm256_mullo_epi32(d2, _mm256_set1_epi32(0x01010101)), _mm256_set1_epi32(0x03020100));
+				p = _mm256_shuffle_epi8(top, m);
+				q = _mm256_shuffle_epi8(bot, m);
+			} else {
+				const __m256i off = _mm256_add_epi32(_mm256_mullo_epi32(iv, strideV), _mm256_add_epi32(iu, iu));
+				p = _mm256_i32gather_epi32(base, off, 1);
+				q = _mm256_i32gather_epi32(below, off, 1);
+			}
 			__m256i res[2];
 			for (int c = 0; c < 2; ++c) {
 				const int sh0 = 8 * c, sh1 = 8 * c + 16;
@@ -401,6 +429,30 @@ __attribute__((target("avx2,fma"))) int planeRunAvx2(const std::uint8_t* sp, int
 	return std::min(x, fb);
 }
 
+// The whole span list with the vector kernel: one call per warp, the kernel's constants set up once (the
+// spans are short — ~27 luma pixels on average for a face — so per-span overhead matters). Pixels whose
+// neighbourhood leaves the source, and a last odd pixel, take the clamped float path.
+__attribute__((target("avx2,fma"))) void planeSpansAvx2(const std::vector<Span>& spans, const std::vector<float>& affine,
+                                                        const std::uint8_t* sp, int sw, int sh, std::size_t stride, int ch,
+                                                        std::uint8_t* const* dst, std::size_t dstStride) {
+	for (const Span& s : spans) {
+		const float* a = &affine[std::size_t(s.tri) * 6];
+		const float rx = a[1] * float(s.y) + a[2], ry = a[4] * float(s.y) + a[5];
+		const std::size_t row = std::size_t(s.y) * dstStride;
+		int fa, fb;
+		interiorRun(a, s, sw, ch == 1 ? sh - 1 : sh, fa, fb);
+		auto slow = [&](int x) {
+			std::uint8_t px[2];
+			sampleClamped(sp, sw, sh, ch, stride, a[0] * float(x) + rx, a[3] * float(x) + ry, px);
+			for (int c = 0; c < ch; ++c) dst[c][row + std::size_t(x)] = px[c];
+		};
+		int x = s.x0;
+		for (; x < fa; ++x) slow(x);
+		if (fb > fa) x = planeRunAvx2(sp, sw, stride, ch, a, rx, ry, fa, fb, dst, row);
+		for (; x < s.x1; ++x) slow(x);
+	}
+}
+
 // TALKHEAD_SCALAR_WARP (any value) forces the scalar kernel, so tests cover it on AVX2 machines too.
 bool cpuHasAvx2() {
 	static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !std::getenv("TALKHEAD_SCALAR_WARP");
@@ -413,6 +465,12 @@ void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, st
                                       std::size_t dstStride) const {
 	if (ch != 1 && ch != 2) throw std::logic_error("PiecewiseAffineWarp::applyPlanes: 1 or 2 channels");
 	if (sw < 1 || sh < 1) throw std::logic_error("PiecewiseAffineWarp::applyPlanes: empty source");
+#ifdef TALKHEAD_AVX2
+	if (cpuHasAvx2()) {
+		planeSpansAvx2(spans_, affine_, sp, sw, sh, stride, ch, dst, dstStride);
+		return;
+	}
+#endif
 	constexpr double one = 4294967296.0;
 	for (const Span& s : spans_) {
 		const float* a = &affine_[std::size_t(s.tri) * 6];
@@ -431,9 +489,6 @@ void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, st
 		if (fb > fa) {
 			// 32.32 fixed-point positions stepped along the run, 7-bit weights (as bilinearRunRgb8).
 			int x = fa;
-#ifdef TALKHEAD_AVX2
-			if (cpuHasAvx2()) x = planeRunAvx2(sp, sw, stride, ch, a, rx, ry, x, fb, dst, row);
-#endif
 			std::int64_t u = roundToInt64((double(a[0]) * x + rx) * one), v = roundToInt64((double(a[3]) * x + ry) * one);
 			const std::int64_t du = roundToInt64(double(a[0]) * one), dv = roundToInt64(double(a[3]) * one);
 			if (ch == 1) {

@@ -49,7 +49,7 @@ public:
 	// Row-major coverage mask of the destination frame (1 = inside the mesh).
 	std::vector<std::uint8_t> coverage() const;
 
-	// Calls f(pixelIndex, sx, sy) for each covered destination pixel, in row-major order.
+	// Calls f(pixelIndex, sx, sy) for each covered destination pixel, in span order (triangle by triangle).
 	template <class F>
 	void forEachPixel(F&& f) const {
 		for (const Span& s : spans_) {
