@@ -191,7 +191,7 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	const RenderStats st = renderPerformance(model, perf, cmd.render, sinks, &progress);
 	if (cmd.timing)
 		std::fprintf(stderr,
-		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s thread time); "
+		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s CPU); "
 		             "encode+write %.3f s; %lld frames; first frame out after %.3f s\n",
 		             timingPrefix.c_str(), loadSeconds, st.keyposeSeconds, st.keyposes, st.drawSeconds, st.warpSeconds, st.writeSeconds, (long long)st.frames,
 		             beforeRender + st.firstFrameSeconds);

@@ -41,7 +41,7 @@ struct RenderStats {
 	std::vector<std::string> substitutions;  // "emotion cdv -> emotion' cdv'" the model lacked
 	double keyposeSeconds = 0;   // keypose appearances (all batches)
 	double drawSeconds = 0;      // drawing frames (wall)
-	double warpSeconds = 0;      // warps and dissolves (summed over threads)
+	double warpSeconds = 0;      // CPU seconds in warps and dissolves (summed over threads)
 	double writeSeconds = 0;     // sinks on the writer thread (encoding, writing)
 	double firstFrameSeconds = 0;  // from the start of renderPerformance to the first frame handed to the sinks
 	double totalSeconds = 0;

@@ -68,7 +68,7 @@ public:
 		std::unique_ptr<PiecewiseAffineWarp> warp, chromaWarp;
 		Image8 meanRgb, rgb;                     // mean-frame RGB (baseface outside the face box); RGB frame
 		std::vector<std::uint8_t> meanY, meanUV;  // the same in YUV 4:2:0 (chroma interleaved)
-		double warpSeconds = 0;  // time spent in the dissolve and warp passes, for benchmarks
+		double warpSeconds = 0;  // CPU time spent in the dissolve and warp passes, for benchmarks
 	};
 	// Draws the frame at time τ (keyposes must be prepared) into `out` (output size) and its feature
 	// points (output pixels) into `points`. `outHoldsFrame`: out holds a frame this synthesizer drew
