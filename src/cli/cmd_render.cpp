@@ -86,6 +86,7 @@ int runRender(const std::vector<std::string>& argv) {
 	Performance perf;
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;
+	perf.modulation = cmd.modulation;
 	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
 	// Duration: the audio's (decoded once without keeping it, unless aligned), or the transcript's.
 	perf.duration = phones.back().end;

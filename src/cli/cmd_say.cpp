@@ -112,6 +112,7 @@ int runSay(const std::vector<std::string>& argv) {
 	Performance perf;
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;
+	perf.modulation = cmd.modulation;
 	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
 	if (dryRun) {
 		std::cout << formatVisemes(phones, perf.keys, "tsv", lang.tag(), "espeak-ng");

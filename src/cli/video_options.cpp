@@ -118,6 +118,9 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
+	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
+	        {"--head-motion", "on|off|X", "small smooth head motion (default on; X scales its amplitude, 0–3)"},
+	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
 	        {"--threads", "N", "worker threads (default: all cores)"},
 	        {"--json-progress", "", "machine-readable progress lines on stderr"},
 	        {"--timing", "", "print the time of each stage (load, keyposes, warps, blend, encode) on stderr"},
@@ -161,6 +164,16 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	const std::string warpPath = args.get("--warp", "direct");
 	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");
 	c.render.synth.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
+	const std::string blinks = args.get("--blinks", "on"), head = args.get("--head-motion", "on");
+	if (blinks != "on" && blinks != "off") throw UsageError(command + ": --blinks takes on or off");
+	c.modulation.blinks = blinks == "on";
+	double amplitude = 1;
+	if (head == "off") amplitude = 0;
+	else if (head != "on" && (!parseDouble(head, amplitude) || !(amplitude >= 0 && amplitude <= 3)))
+		throw UsageError(command + ": --head-motion takes on, off or an amplitude from 0 to 3");
+	c.modulation.headMotion = amplitude > 0;
+	c.modulation.headAmplitude = amplitude;
+	c.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
 	c.render.threads = unsigned(args.number("--threads", 0, 0, 256));
 	c.quiet = args.has("--quiet");
 	c.jsonProgress = args.has("--json-progress");

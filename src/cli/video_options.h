@@ -26,6 +26,7 @@ struct VideoCommand {
 	std::string emotion = "neutral";     // canonical
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
+	ModulatorOptions modulation;
 	Mp4Settings mp4;
 	RenderOptions render;
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;

@@ -20,7 +20,7 @@ int Scheme::indexOf(const std::string& n) const {
 Scheme parseScheme(const std::string& text, const std::string& file) {
 	Scheme s;
 	std::map<std::string, double> classes;
-	std::vector<std::pair<long, std::vector<std::string>>> regionLines;
+	std::vector<std::pair<long, std::vector<std::string>>> regionLines, eyeLines;
 	std::vector<double> weights;
 	long lineNo = 0;
 	for (const std::string& raw : split(text, '\n')) {
@@ -46,8 +46,10 @@ Scheme parseScheme(const std::string& text, const std::string& file) {
 			weights.push_back(c->second);
 		} else if (kw == "region") {
 			regionLines.emplace_back(lineNo, f);
+		} else if (kw == "eye") {
+			eyeLines.emplace_back(lineNo, f);
 		} else {
-			throw Error(file, lineNo, "unknown keyword '" + kw + "' (expected scheme, class, point or region)");
+			throw Error(file, lineNo, "unknown keyword '" + kw + "' (expected scheme, class, point, region or eye)");
 		}
 	}
 	if (s.name.empty()) throw Error(file, 0, "missing 'scheme NAME' line");
@@ -80,6 +82,30 @@ Scheme parseScheme(const std::string& text, const std::string& file) {
 		s.regions.push_back(std::move(r));
 	}
 	if (s.regions.empty()) throw Error(file, 0, "a scheme needs at least one region");
+	// eye NAME corners A B upper P … lower Q …  (lid points ordered from corner A to corner B)
+	for (auto& [ln, f] : eyeLines) {
+		const std::string usage = "expected 'eye NAME corners A B upper P … lower Q …'";
+		if (f.size() < 2) throw Error(file, ln, usage);
+		EyeSpec e;
+		e.name = f[1];
+		std::vector<int>* list = nullptr;
+		std::vector<int> corners;
+		for (std::size_t i = 2; i < f.size(); ++i) {
+			if (f[i] == "corners") list = &corners;
+			else if (f[i] == "upper") list = &e.upper;
+			else if (f[i] == "lower") list = &e.lower;
+			else if (!list) throw Error(file, ln, usage);
+			else {
+				const int idx = s.indexOf(f[i]);
+				if (idx < 0) throw Error(file, ln, "eye '" + e.name + "': unknown point '" + f[i] + "'");
+				list->push_back(idx);
+			}
+		}
+		if (corners.size() != 2 || e.upper.empty() || e.lower.empty())
+			throw Error(file, ln, "eye '" + e.name + "': needs 2 corners and at least one upper and one lower lid point");
+		e.corner0 = corners[0], e.corner1 = corners[1];
+		s.eyes.push_back(std::move(e));
+	}
 	s.weights = Eigen::Map<Eigen::VectorXd>(weights.data(), Eigen::Index(weights.size()));
 	if (!(s.weights.sum() > 0)) throw Error(file, 0, "all alignment weights are zero");
 	return s;

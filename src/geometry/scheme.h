@@ -15,6 +15,14 @@ struct RegionSpec {
 	double feather = 0.05;      // feather width as a fraction of sqrt(region area)
 };
 
+// An eye (for blinks): its two corners, and its upper- and lower-lid points, each list ordered from the
+// first corner to the second.
+struct EyeSpec {
+	std::string name;
+	int corner0 = -1, corner1 = -1;
+	std::vector<int> upper, lower;
+};
+
 // A landmark scheme: the names of a corpus's feature points in shape-vector order, their alignment
 // weights, and the face regions they bound. Loaded from data files (models/schemes/*.scheme).
 struct Scheme {
@@ -23,6 +31,7 @@ struct Scheme {
 	std::vector<std::string> pointClasses;  // weight class name per point
 	Eigen::VectorXd weights;                // alignment weight per point
 	std::vector<RegionSpec> regions;
+	std::vector<EyeSpec> eyes;  // optional ('eye' lines); none: the face cannot blink
 
 	int pointCount() const { return int(pointNames.size()); }
 	int indexOf(const std::string& pointName) const;  // −1 if absent

@@ -7,6 +7,7 @@
 #include "base/frame_rate.h"
 #include "base/ticks.h"
 #include "phonetics/language.h"
+#include "synth/modulator.h"
 
 namespace talkhead {
 
@@ -18,6 +19,7 @@ struct Performance {
 	Ticks duration{0};               // the video's length (the audio's, or the transcript's end)
 	std::vector<Keypose> keys;       // keyposes in time order (CDV, instant, phone context)
 	std::string emotion = "neutral"; // canonical emotion label (phonetics/labels.h) for every keypose
+	ModulatorOptions modulation;     // blinks and head motion (on by default; D42)
 	// (The expressive-control issue adds per-keypose emotion and control tracks here.)
 
 	std::int64_t frameCount() const { return rate.frameCount(duration); }

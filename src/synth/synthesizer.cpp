@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "base/memory.h"
 #include "base/parallel.h"
+#include "geometry/scheme.h"
 #include "phonetics/labels.h"
 #include "warp/piecewise_affine.h"
 
@@ -37,6 +38,116 @@ inline void blendRow(const std::uint8_t* a, const std::uint8_t* b, int wb, std::
 	}
 	const int wa = 256 - wb;
 	for (std::size_t i = 0; i < n; ++i) o[i] = std::uint8_t((a[i] * wa + b[i] * wb + 128) >> 8);
+}
+}  // namespace
+
+namespace {
+// The scheme's eyes: the model's, else the shipped scheme of the same name and points (models built before
+// schemes had 'eye' lines).
+std::vector<EyeSpec> eyesOf(const FaceModel& model) {
+	if (!model.scheme.eyes.empty()) return model.scheme.eyes;
+	try {
+		const Scheme s = loadScheme(model.scheme.name);
+		if (s.pointNames == model.scheme.pointNames) return s.eyes;
+	} catch (const Error&) {
+	}
+	return {};
+}
+
+// y of a polyline (points in order of x, as lids run corner to corner) at x; NaN outside its x range.
+double polylineY(const std::vector<Eigen::RowVector2d>& line, double x) {
+	for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+		const double xa = line[i](0), xb = line[i + 1](0);
+		if ((x >= std::min(xa, xb) && x <= std::max(xa, xb)) && xa != xb) return line[i](1) + (x - xa) / (xb - xa) * (line[i + 1](1) - line[i](1));
+	}
+	return std::nan("");
+}
+
+std::vector<Eigen::RowVector2d> lidLine(const Points& p, const EyeSpec& e, bool upper) {
+	std::vector<Eigen::RowVector2d> line{p.row(e.corner0)};
+	for (int i : upper ? e.upper : e.lower) line.push_back(p.row(i));
+	line.push_back(p.row(e.corner1));
+	return line;
+}
+
+// The closed lid of one eye in the mean-shape frame (D42): between the upper lid (raised a little, to
+// cover its lash line) and the lower lid, the skin of a band just above the upper lid, column by column,
+// shaded slightly toward a dark lash line along the lower lid, where a shut eye's lashes meet. Soft edges.
+ClosedLidPatch closedLid(const FaceModel& m, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range) {
+	ClosedLidPatch patch;
+	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
+	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
+	if (!(width > 2)) return patch;
+	const double cover = 0.12 * width, below = 0.03 * width, feather = std::max(1.0, 0.06 * width), band = std::max(2.0, 0.15 * width);
+	double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
+	for (const auto* line : {&up, &lo})
+		for (const auto& q : *line) xmin = std::min(xmin, q(0)), xmax = std::max(xmax, q(0)), ymin = std::min(ymin, q(1)), ymax = std::max(ymax, q(1));
+	const int x0 = std::max(rx0, (int(std::floor(xmin - feather)) - 1) & ~1), y0 = std::max(ry0, (int(std::floor(ymin - cover - feather)) - 1) & ~1);
+	const int x1 = std::min(rx1, (int(std::ceil(xmax + feather)) + 2) & ~1), y1 = std::min(ry1, (int(std::ceil(ymax + below + feather)) + 2) & ~1);
+	if (x1 - x0 < 2 || y1 - y0 < 2) return patch;
+	patch.x0 = x0, patch.y0 = y0, patch.w = x1 - x0, patch.h = y1 - y0;
+	patch.alpha.assign(std::size_t(patch.w) * patch.h, 0.f);
+	patch.rgb.resize(std::size_t(patch.w) * patch.h * 3);
+	const Image8& b = m.baseface;
+	// Per column: the lid's top and bottom, and the skin just above the covered lid margin (a band below the
+	// crease), then smoothed across columns so no crease or lash of the open eye streaks the lid.
+	const int n = x1 - x0;
+	const std::size_t cols = static_cast<std::size_t>(n);
+	std::vector<double> tops(cols), bottoms(cols), lashes(cols), skin(cols * 3), smooth(cols * 3);
+	for (int x = x0; x < x1; ++x) {
+		const std::size_t j = std::size_t(x - x0);
+		const double xc = std::clamp(double(x), xmin, xmax);
+		const double yu = polylineY(up, xc), yl = polylineY(lo, xc);
+		tops[j] = (std::isnan(yu) ? ymin : yu) - cover;
+		bottoms[j] = (std::isnan(yl) ? ymax : yl) + below;
+		lashes[j] = (std::isnan(yl) ? ymax : yl) - 0.02 * width;
+		std::vector<int> column[3];
+		for (int y = int(std::floor(tops[j] - band)); y < int(std::floor(tops[j])); ++y) {
+			const int yy = std::clamp(y, 0, b.height - 1), xx = std::clamp(x, 0, b.width - 1);
+			for (int c = 0; c < 3; ++c) column[c].push_back(b.row(yy)[3 * xx + c]);
+		}
+		for (int c = 0; c < 3; ++c) {  // the median: robust to a stray line in the band
+			auto& v = column[c];
+			std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+			skin[3 * j + std::size_t(c)] = v.empty() ? 128 : v[v.size() / 2];
+		}
+	}
+	const int reach = std::max(1, int(0.12 * width));
+	for (int j = 0; j < n; ++j)
+		for (int c = 0; c < 3; ++c) {
+			double sum = 0;
+			int count = 0;
+			for (int k = std::max(0, j - reach); k <= std::min(n - 1, j + reach); ++k) sum += skin[3 * std::size_t(k) + std::size_t(c)], ++count;
+			smooth[3 * std::size_t(j) + std::size_t(c)] = sum / count;
+		}
+	const double sigma = std::max(0.8, 0.03 * width);
+	for (int x = x0; x < x1; ++x) {
+		const std::size_t j = std::size_t(x - x0);
+		const double top = tops[j], bottom = bottoms[j];
+		const double side = std::min(x - (xmin - feather), (xmax + feather) - x) / feather;  // fade at the corners
+		for (int y = y0; y < y1; ++y) {
+			const std::size_t i = std::size_t(y - y0) * std::size_t(patch.w) + j;
+			const double inside = std::min({(double(y) - (top - feather)) / feather, ((bottom + feather) - double(y)) / feather, side});
+			patch.alpha[i] = float(std::clamp(inside, 0.0, 1.0));
+			const double t = std::clamp((double(y) - top) / std::max(1.0, bottom - top), 0.0, 1.0);
+			const double d = double(y) - lashes[j];
+			const double shade = (1 - 0.06 * t) * (1 - 0.7 * std::exp(-(d * d) / (2 * sigma * sigma)) * std::clamp(side, 0.0, 1.0));
+			for (int c = 0; c < 3; ++c)
+				patch.rgb[3 * i + std::size_t(c)] = std::uint8_t(std::clamp(smooth[3 * j + std::size_t(c)] * shade + 0.5, 0.0, 255.0));
+		}
+	}
+	const int cw = patch.w / 2, ch = patch.h / 2;
+	patch.y.resize(std::size_t(patch.w) * patch.h);
+	patch.uv.resize(std::size_t(cw) * ch * 2);
+	rgbToYuv420(patch.rgb.data(), std::size_t(patch.w) * 3, patch.w, patch.h, range, patch.y.data(), std::size_t(patch.w), patch.uv.data(),
+	            patch.uv.data() + 1, std::size_t(cw) * 2, 2);
+	patch.alphaC.resize(std::size_t(cw) * ch);
+	for (int y = 0; y < ch; ++y)
+		for (int x = 0; x < cw; ++x) {
+			const std::size_t a = std::size_t(2 * y) * patch.w + std::size_t(2 * x);
+			patch.alphaC[std::size_t(y) * cw + std::size_t(x)] = 0.25f * (patch.alpha[a] + patch.alpha[a + 1] + patch.alpha[a + patch.w] + patch.alpha[a + patch.w + 1]);
+		}
+	return patch;
 }
 }  // namespace
 
@@ -81,8 +192,19 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 				                               right[std::size_t(y)] + 1.0, double(y), right[std::size_t(y)] + 1.0, y + 1.0});
 		extent.push_back(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>(corners.data(), Eigen::Index(corners.size() / 2), 2));
 		const Eigen::RowVector2d lo = model.meanShape.colwise().minCoeff(), hi = model.meanShape.colwise().maxCoeff();
-		anchors_ = anchorRing(extent, kAnchorMargin * (hi - lo).maxCoeff(), model.width, model.height);
+		faceSize_ = std::max(1.0, (hi - lo).maxCoeff());
+		centre_ = model.meanShape.colwise().mean();
+		// Head motion (D42) moves everything by up to its rotation about the centre plus its shift: the
+		// anchors move out by as much.
+		double headRoom = 0;
+		if (o.modulator) {
+			double radius = 0;
+			for (Eigen::Index i = 0; i < model.meanShape.rows(); ++i) radius = std::max(radius, (model.meanShape.row(i) - centre_).norm());
+			headRoom = o.modulator->maxAngle() * radius * 1.5 + o.modulator->maxShift() * faceSize_;
+		}
+		anchors_ = anchorRing(extent, kAnchorMargin * faceSize_ + headRoom, model.width, model.height);
 	}
+	eyes_ = eyesOf(model);
 	const int k = model.pointCount();
 	anchorsOut_ = anchors_;
 	anchorsOut_.col(0) *= scaleX_;
@@ -120,6 +242,8 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 		std::uint8_t* uv[2] = {backgroundYuv_.u.data(), backgroundYuv_.v.data()};
 		chroma.applyPlanes(baseUV_.data(), cw, ch, std::size_t(cw) * 2, 2, uv, std::size_t(outCw));
 	}
+	if (o.modulator && !o.modulator->blinks().empty() && !model.baseface.empty())
+		for (const EyeSpec& e : eyes_) eyePatches_.push_back(closedLid(model, e, roiX0_, roiY0_, roiX1_, roiY1_, o.yuvRange));
 }
 
 Points Synthesizer::anchored(const Points& face, bool chroma) const {
@@ -356,9 +480,66 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 	f.w = o_.dissolve == Trajectory::Hermite ? f.u * f.u * (3 - 2 * f.u) : f.u;
 	f.w256 = int(std::lround(std::clamp(f.w, 0.0, 1.0) * 256));
 	points = trajectory(f.src->shape, f.dst->shape, f.u, o_.trajectory);
+	if (o_.modulator) {  // D42: lids, then the head, in model pixels
+		f.closure = eyes_.empty() ? 0.0 : o_.modulator->eyeClosure(tau);
+		if (f.closure > 0) closeEyes(points, f.closure);
+		const HeadMotion h = o_.modulator->head(tau);
+		if (h.angle != 0 || h.dx != 0 || h.dy != 0) {
+			const double c = std::cos(h.angle), s = std::sin(h.angle);
+			for (Eigen::Index i = 0; i < points.rows(); ++i) {
+				const double x = points(i, 0) - centre_(0), y = points(i, 1) - centre_(1);
+				points(i, 0) = centre_(0) + c * x - s * y + h.dx * faceSize_;
+				points(i, 1) = centre_(1) + s * x + c * y + h.dy * faceSize_;
+			}
+		}
+	}
 	points.col(0) *= scaleX_;
 	points.col(1) *= scaleY_;
 	return f;
+}
+
+void Synthesizer::closeEyes(Points& points, double closure) const {
+	// Each upper-lid point comes down to 95 % of the way to the lower lid below it.
+	for (const EyeSpec& e : eyes_) {
+		const auto lower = lidLine(points, e, false);
+		for (int i : e.upper) {
+			const double yl = polylineY(lower, points(i, 0));
+			if (std::isnan(yl)) continue;
+			const double target = points(i, 1) + 0.95 * (yl - points(i, 1));
+			points(i, 1) += closure * (target - points(i, 1));
+		}
+	}
+}
+
+void Synthesizer::drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const {
+	// The closed lid dissolves in faster than the lids close, so no half-open iris is squashed into the slit.
+	const float w = float(std::min(1.0, 1.6 * closure));
+	const int W = model_.width, cw = (W + 1) / 2;
+	for (const ClosedLidPatch& p : eyePatches_) {
+		for (int y = 0; y < p.h; ++y)
+			for (int x = 0; x < p.w; ++x) {
+				const std::size_t i = std::size_t(y) * std::size_t(p.w) + std::size_t(x);
+				const float a = p.alpha[i] * w;
+				if (a <= 0) continue;
+				const std::size_t o = std::size_t(p.y0 + y) * std::size_t(W) + std::size_t(p.x0 + x);
+				if (meanY) meanY[o] = std::uint8_t(float(meanY[o]) + a * (float(p.y[i]) - float(meanY[o])) + 0.5f);
+				if (meanRgb)
+					for (int c = 0; c < 3; ++c) {
+						std::uint8_t& v = meanRgb[3 * o + std::size_t(c)];
+						v = std::uint8_t(float(v) + a * (float(p.rgb[3 * i + std::size_t(c)]) - float(v)) + 0.5f);
+					}
+			}
+		if (!meanUV) continue;
+		for (int y = 0; y < p.h / 2; ++y)
+			for (int x = 0; x < p.w / 2; ++x) {
+				const std::size_t i = std::size_t(y) * std::size_t(p.w / 2) + std::size_t(x);
+				const float a = p.alphaC[i] * w;
+				if (a <= 0) continue;
+				const std::size_t o = (std::size_t(p.y0 / 2 + y) * std::size_t(cw) + std::size_t(p.x0 / 2 + x)) * 2;
+				for (int c = 0; c < 2; ++c)
+					meanUV[o + std::size_t(c)] = std::uint8_t(float(meanUV[o + std::size_t(c)]) + a * (float(p.uv[2 * i + std::size_t(c)]) - float(meanUV[o + std::size_t(c)])) + 0.5f);
+			}
+	}
 }
 
 namespace {
@@ -402,6 +583,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 		const std::size_t at = std::size_t(y - roiY0_) * rw * 3;
 		blendRow(f.src->rgb.data() + at, f.dst->rgb.data() + at, f.w256, ws.meanRgb.row(y) + std::size_t(roiX0_) * 3, std::size_t(rw) * 3);
 	}
+	if (f.closure > 0) drawClosedLids(nullptr, nullptr, ws.meanRgb.data.data(), f.closure);
 	ws.warp->setSource(meanSource_);
 	ws.warp->apply(ws.meanRgb, out);
 	ws.warpSeconds += threadCpuSeconds() - t0;
@@ -445,6 +627,7 @@ void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Wo
 		blendRow(f.src->uv.data() + at, f.dst->uv.data() + at, f.w256, ws.meanUV.data() + (std::size_t(y) * cw + std::size_t(roiX0_ / 2)) * 2,
 		         std::size_t(rcw) * 2);
 	}
+	if (f.closure > 0) drawClosedLids(ws.meanY.data(), ws.meanUV.data(), nullptr, f.closure);
 	ws.warp->setSource(meanSource_);
 	std::uint8_t* luma[1] = {out.y.data()};
 	ws.warp->applyPlanes(ws.meanY.data(), W, H, std::size_t(W), 1, luma, std::size_t(width_));

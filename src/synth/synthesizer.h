@@ -9,6 +9,7 @@
 #include "image/yuv.h"
 #include "model/face_model.h"
 #include "phonetics/language.h"
+#include "synth/modulator.h"
 #include "warp/piecewise_affine.h"
 
 namespace talkhead {
@@ -30,6 +31,8 @@ struct SynthOptions {
 	Trajectory dissolve = Trajectory::Linear;     // cross-dissolve weight: t (thesis) or the Hermite ease
 	WarpPath warpPath = WarpPath::Direct;
 	YuvRange yuvRange = YuvRange::Limited;         // of renderFrameYuv's output
+	// Blinks and head motion (D42); none when null. Blinks need the scheme's eyes ('eye' lines).
+	std::shared_ptr<const ShapeModulator> modulator;
 };
 
 // A keypose ready to morph: its shape (model pixels) and its appearance: composited in the mean-shape frame
@@ -40,6 +43,14 @@ struct KeyposeImage {
 	std::vector<std::uint8_t> y, uv; // the same as luma and interleaved chroma (4:2:0) in the synthesizer's range
 	Points shape;
 	std::string usedEmotion, usedCdv;  // the model entry it came from (after fallbacks)
+};
+
+// Blinks (D42): one eye's closed lid drawn in the mean-shape frame (a box inside the face box, model
+// pixels, soft alpha), as RGB, luma and interleaved chroma; dissolved in as the lids close.
+struct ClosedLidPatch {
+	int x0 = 0, y0 = 0, w = 0, h = 0;  // even corners and size
+	std::vector<float> alpha, alphaC;  // luma-resolution and chroma-resolution weights
+	std::vector<std::uint8_t> rgb, y, uv;
 };
 
 // The synthesizer of Costa (2015) §5: keypose appearances composited coarse to fine into the baseface and
@@ -112,6 +123,12 @@ private:
 	const Image8& backgroundRgb() const;                  // the same in RGB (made on first use)
 	Points anchored(const Points& face, bool chroma) const;  // output-pixel face points + anchors + border
 	std::vector<std::uint8_t> baseY_, baseUV_;           // the baseface in YUV 4:2:0
+	std::vector<EyeSpec> eyes_;
+	std::vector<ClosedLidPatch> eyePatches_;
+	Eigen::RowVector2d centre_{0, 0};  // the mean shape's centre (head rotation), model pixels
+	double faceSize_ = 1;              // the mean shape's larger side, model pixels
+	void closeEyes(Points& points, double closure) const;
+	void drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const;
 	const KeyposeImage& cached(const Keypose& key) const;
 	long resolve(const Keypose& key) const;  // the model sample used for a keypose (CDV, context)
 	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the
@@ -120,6 +137,7 @@ private:
 		const KeyposeImage *src, *dst;
 		double u, w;
 		int w256;
+		double closure = 0;  // the lids (0 open … 1 shut)
 	};
 	// Also sets `points`: the feature points at τ in output pixels.
 	Between locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const;

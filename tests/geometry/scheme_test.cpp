@@ -49,7 +49,17 @@ TEST(Scheme, malformedFilesNameFileAndLine) {
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P b\n"), "x.scheme:3: unknown weight class 'b' (declare it with 'class' first)");
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P a\npoint Q a\npoint R a\nregion r : P Q Z\n"), "x.scheme:6: region 'r': unknown point 'Z'");
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P a\npoint P a\n"), "x.scheme:4: duplicate point name 'P'");
-	EXPECT_EQ(message("scheme s\nbogus\n"), "x.scheme:2: unknown keyword 'bogus' (expected scheme, class, point or region)");
+	EXPECT_EQ(message("scheme s\nbogus\n"), "x.scheme:2: unknown keyword 'bogus' (expected scheme, class, point, region or eye)");
+	const std::string base = "scheme s\nclass a 1\npoint P a\npoint Q a\npoint R a\npoint S a\nregion r : P Q R\n";
+	EXPECT_EQ(message(base + "eye e corners P Q upper R\n"), "x.scheme:8: eye 'e': needs 2 corners and at least one upper and one lower lid point");
+	EXPECT_EQ(message(base + "eye e corners P Q upper R lower Z\n"), "x.scheme:8: eye 'e': unknown point 'Z'");
+	const Scheme eyed = parseScheme(base + "eye e corners P Q upper R lower S\n", "x.scheme");
+	ASSERT_EQ(eyed.eyes.size(), 1u);
+	EXPECT_EQ(eyed.eyes[0].corner0, 0);
+	EXPECT_EQ(eyed.eyes[0].upper, std::vector<int>{2});
+	EXPECT_EQ(eyed.eyes[0].lower, std::vector<int>{3});
+	// The shipped schemes name both eyes.
+	for (const std::string name : {"ch-unicamp-56", "ibug-68", "imm-73"}) EXPECT_EQ(loadScheme(name).eyes.size(), 2u) << name;
 	EXPECT_NE(message("class a x\n").find("x.scheme:1:"), std::string::npos);
 	EXPECT_THROW(loadScheme("no-such-scheme"), Error);
 }

@@ -267,3 +267,94 @@ TEST(Synthesizer, theBackgroundBeyondTheAnchorsNeverMovesAndReusedBuffersDrawThe
 	}
 	EXPECT_GT(changed, 1000);  // the face does move
 }
+
+namespace {
+std::vector<Keypose> speechKeys(long ms0, long ms1) {
+	std::vector<PhoneSegment> phones;
+	const std::vector<std::string> order = {"a", "p1", "u", "f1", "i1"};
+	long t = ms0;
+	for (std::size_t i = 0; t < ms1; ++i, t += 150) phones.push_back({ms(t), ms(t + 150), "", "", order[i % order.size()], 0});
+	return keyposes(phones, Ticks(kTicksPerSecond / 30));
+}
+}  // namespace
+
+TEST(ShapeModulator, blinksCloseTheEyesAndOpenThemAgainSeeded) {
+	// D42: during a blink the lid distance (upper-lid to lower-lid point of the landmark output) falls to
+	// ≤ 10 % of the open eye's and is back after it; the same seed gives the same blinks; blinks off gives
+	// none and the same points as no modulator.
+	const SmallFace& f = smallFace();
+	const auto keys = speechKeys(0, 6000);
+	ModulatorOptions mo;
+	mo.headMotion = false;
+	mo.seed = 7;
+	auto mod = std::make_shared<ShapeModulator>(mo, "joy", ms(6000), keys);
+	ASSERT_GE(mod->blinks().size(), 1u);
+	EXPECT_EQ(ShapeModulator(mo, "joy", ms(6000), keys).blinks().size(), mod->blinks().size());
+	EXPECT_EQ(ShapeModulator(mo, "joy", ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
+	mo.seed = 8;
+	EXPECT_NE(ShapeModulator(mo, "joy", ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
+	SynthOptions o;
+	o.emotion = "joy";
+	Synthesizer plain(f.model, o);
+	o.modulator = mod;
+	Synthesizer blinking(f.model, o);
+	plain.prepare(keys);
+	blinking.prepare(keys);
+	const int up = f.model.scheme.indexOf("REYE2"), down = f.model.scheme.indexOf("REYE4");
+	Synthesizer::Workspace w1, w2;
+	YuvImage frame;
+	Points p0, p1;
+	auto opening = [&](const Points& p) { return p(down, 1) - p(up, 1); };
+	for (const BlinkEvent& b : mod->blinks()) {
+		EXPECT_GE(toSeconds(b.end() - b.start), 0.1);
+		EXPECT_LE(toSeconds(b.end() - b.start), 0.3);
+		EXPECT_LT(b.closing, b.opening);
+		const Ticks shut = b.start + b.closing + b.closed / 2, after = b.end() + ms(1);
+		plain.renderFrameYuv(shut, keys, w1, frame, p0);
+		blinking.renderFrameYuv(shut, keys, w2, frame, p1);
+		EXPECT_LE(opening(p1), 0.1 * opening(p0)) << toSeconds(shut);
+		plain.renderFrameYuv(after, keys, w1, frame, p0);
+		blinking.renderFrameYuv(after, keys, w2, frame, p1);
+		EXPECT_LT((p1 - p0).cwiseAbs().maxCoeff(), 1e-9) << "open again after the blink";
+	}
+	mo.blinks = false;
+	EXPECT_TRUE(ShapeModulator(mo, "joy", ms(6000), keys).blinks().empty());
+}
+
+TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame) {
+	const SmallFace& f = smallFace();
+	const auto keys = speechKeys(0, 30000);
+	for (double amplitude : {1.0, 2.0}) {
+		ModulatorOptions mo;
+		mo.blinks = false;
+		mo.headAmplitude = amplitude;
+		auto mod = std::make_shared<ShapeModulator>(mo, "neutral", ms(30000), keys);
+		EXPECT_NEAR(mod->maxAngle(), amplitude * 1.5 * M_PI / 180, 1e-12);
+		double peak = 0;
+		for (long t = 0; t < 30000; t += 20) peak = std::max(peak, std::abs(mod->head(ms(t)).angle));
+		EXPECT_LE(peak, mod->maxAngle() + 1e-12);
+		EXPECT_GE(peak, 0.6 * mod->maxAngle()) << "the motion reaches its amplitude";
+		// Smooth: no jump between frames larger than 1/10 of the amplitude.
+		for (long t = 0; t < 30000; t += 33)
+			EXPECT_LT(std::abs(mod->head(ms(t + 33)).angle - mod->head(ms(t)).angle), 0.1 * mod->maxAngle());
+		SynthOptions o;
+		o.emotion = "joy";
+		o.modulator = mod;
+		Synthesizer synth(f.model, o);
+		synth.prepare(keys);
+		Synthesizer::Workspace ws;
+		YuvImage frame;
+		Points p;
+		for (long t = 0; t < 30000; t += 500) {
+			synth.renderFrameYuv(ms(t), keys, ws, frame, p);
+			EXPECT_GE(p.col(0).minCoeff(), 0);
+			EXPECT_GE(p.col(1).minCoeff(), 0);
+			EXPECT_LE(p.col(0).maxCoeff(), 319);
+			EXPECT_LE(p.col(1).maxCoeff(), 179);
+		}
+	}
+	ModulatorOptions still;
+	still.blinks = false;
+	still.headMotion = false;
+	EXPECT_EQ(ShapeModulator(still, "joy", ms(3000), keys).head(ms(1000)).angle, 0);
+}

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "synth/modulator.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace talkhead {
+
+namespace {
+
+// SplitMix64: a small, portable generator (the standard library's distributions differ between
+// implementations; these numbers must not).
+struct Random {
+	std::uint64_t state;
+	std::uint64_t next() {
+		std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+		z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+		z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+		return z ^ (z >> 31);
+	}
+	double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
+};
+
+double smoothstep(double u) {
+	u = std::clamp(u, 0.0, 1.0);
+	return u * u * (3 - 2 * u);
+}
+
+constexpr double kPi = 3.14159265358979323846;
+// Blink phases (Evinger, Manning & Sibony 1991, IOVS 32: the lid comes down about twice as fast as it
+// goes up; spontaneous blinks last 100–400 ms).
+constexpr double kClosing = 0.075, kClosed = 0.025, kOpening = 0.150;
+// Head motion, peak values at full speaking activity: rotation 1.5°, translation 1.2 % / 0.8 % of the
+// face's size horizontally / vertically (a judgement: visible, never a nod).
+constexpr double kPeakAngle = 1.5 * kPi / 180, kPeakDx = 0.012, kPeakDy = 0.008;
+constexpr double kGrid = 0.01;  // seconds between samples of the speaking activity
+
+}  // namespace
+
+double ShapeModulator::blinkRateFor(const std::string& emotion) {
+	// Spontaneous blinking at rest: 17 per minute on average (Bentivoglio et al. 1997, Movement Disorders
+	// 12: 17 at rest, 26 in conversation, 4.5 reading). Per emotion a judgement, no source: wide-eyed
+	// fear and surprise blink less, distress and shame more.
+	if (emotion == "fear" || emotion == "fears_confirmed") return 10;
+	if (emotion == "anger" || emotion == "hate") return 14;
+	if (emotion == "distress" || emotion == "shame" || emotion == "remorse" || emotion == "disappointment") return 22;
+	return 17;
+}
+
+double ShapeModulator::headFactorFor(const std::string& emotion) {
+	// Amplitude of head motion per emotion (a judgement): lively for joy and anger, subdued for distress
+	// and fear.
+	if (emotion == "joy" || emotion == "happy_for" || emotion == "gloating" || emotion == "pride" || emotion == "gratification") return 1.25;
+	if (emotion == "anger" || emotion == "hate" || emotion == "reproach") return 1.2;
+	if (emotion == "distress" || emotion == "fear" || emotion == "shame" || emotion == "remorse" || emotion == "pity") return 0.6;
+	return 1.0;
+}
+
+ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys)
+    : o_(o) {
+	// Speech runs: consecutive keyposes that are phones (not silence, not the in-breath).
+	for (std::size_t i = 0; i < keys.size();) {
+		if (keys[i].cdv == "sil" || keys[i].breath) {
+			++i;
+			continue;
+		}
+		std::size_t j = i;
+		while (j + 1 < keys.size() && keys[j + 1].cdv != "sil" && !keys[j + 1].breath) ++j;
+		speech_.emplace_back(keys[i].time, keys[j].time);
+		i = j + 1;
+	}
+	Random rng{o.seed * 0x2545F4914F6CDD1Dull + 1};
+	const double length = std::max(0.0, toSeconds(duration));
+	if (o.blinks) {
+		const double rate = o.blinkRate > 0 ? o.blinkRate : blinkRateFor(emotion);
+		const double mean = 60.0 / rate, total = kClosing + kClosed + kOpening;
+		double t = 0.3 + rng.uniform() * mean, lastEnd = -1e9;
+		while (t + total < length - 0.1) {
+			// During speech a blink moves to the nearest pause within a second, if there is one (speakers
+			// blink at phrase boundaries), but never closer than 0.8 s to the one before.
+			if (speaking(ticksFromSeconds(t))) {
+				double best = t, bestDistance = 1.0;
+				for (const auto& [a, b] : speech_) {
+					for (double c : {toSeconds(a) - total - 0.05, toSeconds(b) + 0.05})
+						if (std::abs(c - t) < bestDistance && c > lastEnd + 0.8 && c > 0.1 && c + total < length - 0.1 &&
+						    !speaking(ticksFromSeconds(c)) && !speaking(ticksFromSeconds(c + total)))
+							best = c, bestDistance = std::abs(c - t);
+				}
+				t = best;
+			}
+			BlinkEvent b;
+			b.start = ticksFromSeconds(t);
+			b.closing = ticksFromSeconds(kClosing);
+			b.closed = ticksFromSeconds(kClosed);
+			b.opening = ticksFromSeconds(kOpening);
+			blinks_.push_back(b);
+			lastEnd = t + total;
+			t = lastEnd + std::max(0.8, -std::log(1 - rng.uniform()) * mean - total);
+		}
+	}
+	// Head motion: per channel three sinusoids of slowly rising frequency and decreasing weight, seeded
+	// phases and frequencies; the sum stays within ±1.
+	for (int c = 0; c < 3; ++c) {
+		const double base[3] = {0.15, 0.37, 0.8};
+		for (int k = 0; k < 3; ++k) {
+			freq_[c][k] = base[k] * (0.8 + 0.4 * rng.uniform());
+			phase_[c][k] = 2 * kPi * rng.uniform();
+		}
+	}
+	factor_ = o.headMotion ? std::max(0.0, o.headAmplitude) * headFactorFor(emotion) : 0.0;
+	maxAngle_ = kPeakAngle * factor_;
+	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_;
+	// Speaking activity: 1 in speech, 0 in pauses, smoothed over ±0.4 s (the head settles in a pause).
+	const std::size_t n = std::size_t(length / kGrid) + 2;
+	std::vector<double> raw(n), prefix(n + 1, 0.0);
+	for (std::size_t i = 0; i < n; ++i) raw[i] = speaking(ticksFromSeconds(double(i) * kGrid)) ? 1.0 : 0.0;
+	for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + raw[i];
+	const long w = long(0.4 / kGrid);
+	activity_.resize(n);
+	for (std::size_t i = 0; i < n; ++i) {
+		const long a = std::max(0L, long(i) - w), b = std::min(long(n), long(i) + w + 1);
+		activity_[i] = float((prefix[std::size_t(b)] - prefix[std::size_t(a)]) / double(b - a));
+	}
+}
+
+bool ShapeModulator::speaking(Ticks t) const {
+	auto it = std::upper_bound(speech_.begin(), speech_.end(), t, [](Ticks v, const std::pair<Ticks, Ticks>& r) { return v < r.first; });
+	if (it == speech_.begin()) return false;
+	--it;
+	return t <= it->second;
+}
+
+double ShapeModulator::eyeClosure(Ticks t) const {
+	auto it = std::upper_bound(blinks_.begin(), blinks_.end(), t, [](Ticks v, const BlinkEvent& b) { return v < b.start; });
+	if (it == blinks_.begin()) return 0;
+	const BlinkEvent& b = *(it - 1);
+	const double s = toSeconds(t - b.start), c = toSeconds(b.closing), h = toSeconds(b.closed), op = toSeconds(b.opening);
+	if (s < c) return smoothstep(s / c);
+	if (s < c + h) return 1;
+	if (s < c + h + op) return smoothstep(1 - (s - c - h) / op);
+	return 0;
+}
+
+HeadMotion ShapeModulator::head(Ticks t) const {
+	HeadMotion p;
+	if (factor_ <= 0) return p;
+	const double s = toSeconds(t);
+	double act = 0;
+	if (!activity_.empty()) {
+		const double g = std::clamp(s / kGrid, 0.0, double(activity_.size() - 1));
+		const std::size_t i = std::min(activity_.size() - 1, std::size_t(g));
+		const std::size_t j = std::min(activity_.size() - 1, i + 1);
+		act = activity_[i] + (g - double(i)) * (activity_[j] - activity_[i]);
+	}
+	const double m = factor_ * (0.5 + 0.5 * act);  // half the amplitude at rest
+	auto channel = [&](int c) {
+		const double w[3] = {0.5, 0.3, 0.2};
+		double v = 0;
+		for (int k = 0; k < 3; ++k) v += w[k] * std::sin(2 * kPi * freq_[c][k] * s + phase_[c][k]);
+		return v;
+	};
+	p.angle = kPeakAngle * m * channel(0);
+	p.dx = kPeakDx * m * channel(1);
+	p.dy = kPeakDy * m * channel(2);
+	return p;
+}
+
+}  // namespace talkhead

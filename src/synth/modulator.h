@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "base/ticks.h"
+#include "phonetics/language.h"
+
+namespace talkhead {
+
+// The shape modulator (Costa 2015 §5.4, left unimplemented there; braun-spec §10): what moves besides the
+// mouth, applied at every output frame after the keypose trajectory, so it does not depend on phone
+// timing. Decision D42.
+struct ModulatorOptions {
+	bool blinks = true;
+	double blinkRate = 0;       // blinks per minute at rest; 0 = the emotion's default (see blinkRateFor)
+	bool headMotion = true;
+	double headAmplitude = 1;   // × the default amplitude (0 = a still head)
+	std::uint64_t seed = 1;     // the same seed, inputs and options give the same blinks and head motion
+	bool any() const { return blinks || (headMotion && headAmplitude > 0); }
+};
+
+// One blink: the lids close over `closing`, stay shut for `closed`, open over `opening` (closing faster
+// than opening; 250 ms in all).
+struct BlinkEvent {
+	Ticks start{0}, closing{0}, closed{0}, opening{0};
+	Ticks end() const { return start + closing + closed + opening; }
+};
+
+// A small similarity about the face's centre: rotation in radians (positive turns the face clockwise on
+// screen), translation in units of the face's size (the mean shape's larger side).
+struct HeadMotion {
+	double angle = 0, dx = 0, dy = 0;
+};
+
+// The modulator's plan for one utterance, fixed at construction (seeded), then a pure function of time:
+// frames drawn in any order on any thread agree.
+class ShapeModulator {
+public:
+	ShapeModulator(const ModulatorOptions& options, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys);
+
+	// Lid closure at t: 0 open … 1 shut.
+	double eyeClosure(Ticks t) const;
+	// The head's pose at t.
+	HeadMotion head(Ticks t) const;
+	const std::vector<BlinkEvent>& blinks() const { return blinks_; }
+	// Largest rotation (radians) and translation (face sizes) head() can return.
+	double maxAngle() const { return maxAngle_; }
+	double maxShift() const { return maxShift_; }
+	// Whether t falls in speech (between the first and last non-silent keypose of a run).
+	bool speaking(Ticks t) const;
+
+	// Defaults per emotion (canonical label): blinks per minute at rest and the head-motion amplitude factor.
+	static double blinkRateFor(const std::string& emotion);
+	static double headFactorFor(const std::string& emotion);
+
+private:
+	ModulatorOptions o_;
+	std::vector<BlinkEvent> blinks_;
+	std::vector<std::pair<Ticks, Ticks>> speech_;  // speech runs
+	std::vector<float> activity_;                  // smoothed speaking indicator, every 10 ms
+	double phase_[3][3] = {}, freq_[3][3] = {};    // per channel (angle, dx, dy): three sinusoids
+	double maxAngle_ = 0, maxShift_ = 0, factor_ = 1;
+};
+
+}  // namespace talkhead
