@@ -87,6 +87,7 @@ int runRender(const std::vector<std::string>& argv) {
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;
 	perf.modulation = cmd.modulation;
+	perf.intensity = cmd.intensity;
 	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
 	// Duration: the audio's (decoded once without keeping it, unless aligned), or the transcript's.
 	perf.duration = phones.back().end;

@@ -113,6 +113,7 @@ int runSay(const std::vector<std::string>& argv) {
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;
 	perf.modulation = cmd.modulation;
+	perf.intensity = cmd.intensity;
 	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
 	if (dryRun) {
 		std::cout << formatVisemes(phones, perf.keys, "tsv", lang.tag(), "espeak-ng");

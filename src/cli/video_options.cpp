@@ -103,7 +103,7 @@ void checkWritableFolder(const std::string& path) {
 
 std::vector<OptionSpec> videoOptionSpecs() {
 	return {genericVisemesOption(),
-	        {"--emotion", "LABEL", "one of the 23 emotion labels or an alias (default neutral)"},
+	        {"--emotion", "LABEL[:I]", "one of the 23 emotion labels or an alias (default neutral); :I sets its intensity, 0 (neutral) to 1 (the corpus, default), up to 1.5"},
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
@@ -149,8 +149,18 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.mp4.crf = int(args.number("--crf", 20, 0, 51));
 	c.mp4.preset = args.get("--preset", "veryfast");
 	c.noAudio = args.has("--no-audio");
-	const auto emotion = canonicalEmotion(args.get("--emotion", "neutral"));
-	if (!emotion) throw Error("unknown emotion '" + args.get("--emotion", "") + "' (known: " + emotionList() + "; aliases such as sadness, disgust)");
+	// --emotion LABEL[:INTENSITY]: 0 = neutral, 1 = the corpus (default), up to 1.5 (extrapolated, with a warning).
+	std::string emotionArg = args.get("--emotion", "neutral");
+	if (const auto colon = emotionArg.rfind(':'); colon != std::string::npos) {
+		const std::string value = emotionArg.substr(colon + 1);
+		if (!parseDouble(value, c.intensity) || !(c.intensity >= 0 && c.intensity <= 1.5))
+			throw UsageError(command + ": --emotion LABEL:INTENSITY takes an intensity from 0 to 1.5, not '" + value + "'");
+		emotionArg = emotionArg.substr(0, colon);
+		if (c.intensity > 1)
+			std::fprintf(stderr, "talkhead: warning: intensity %g is beyond the corpus's emotion: shapes and appearances are extrapolated\n", c.intensity);
+	}
+	const auto emotion = canonicalEmotion(emotionArg);
+	if (!emotion) throw Error("unknown emotion '" + emotionArg + "' (known: " + emotionList() + "; aliases such as sadness, disgust)");
 	c.emotion = *emotion;
 	c.modelPath = args.get("--model", "");
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));

@@ -24,6 +24,7 @@ struct VideoCommand {
 	std::optional<std::string> framesDir, landmarksOut;
 	std::string modelPath;               // empty = the default face
 	std::string emotion = "neutral";     // canonical
+	double intensity = 1;                // --emotion LABEL:INTENSITY
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
 	ModulatorOptions modulation;

@@ -138,6 +138,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 	const std::int64_t frames = perf.frameCount();
 	SynthOptions so = options.synth;
 	so.emotion = perf.emotion;
+	so.intensity = perf.intensity;
 	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
 	// 4:2:0 video needs even sizes: a model with an odd width or height renders one pixel smaller (the
 	// warps resample to the output size anyway).

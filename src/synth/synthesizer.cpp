@@ -278,24 +278,33 @@ std::string groupOf(const std::string& cdv) {
 }
 }  // namespace
 
-long Synthesizer::resolve(const Keypose& key) const {
+std::pair<long, long> Synthesizer::resolvePair(const Keypose& key) const {
+	const long sample = resolve(key);
+	// Intensity (D43): between the neutral keypose of the same CDV and context (0) and the emotion's (1).
+	if (o_.emotion == "neutral" || o_.intensity == 1.0) return {sample, -1};
+	return {sample, resolve(key, "neutral")};
+}
+
+long Synthesizer::resolve(const Keypose& key) const { return resolve(key, o_.emotion); }
+
+long Synthesizer::resolve(const Keypose& key, const std::string& emotion) const {
 	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs;
 	// among several samples of one entry, the best phone context (FaceModel::findSample).
 	const std::string& cdv = key.cdv;
 	const auto* context = &key.context;
-	long sample = model_.findSample(o_.emotion, cdv, context);
+	long sample = model_.findSample(emotion, cdv, context);
 	if (sample < 0) sample = model_.findSample("neutral", cdv, context);
 	if (sample < 0)
 		for (const auto& v : visemeLabels())
 			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) {
-				sample = model_.findSample(o_.emotion, v.label, context);
+				sample = model_.findSample(emotion, v.label, context);
 				if (sample < 0) sample = model_.findSample("neutral", v.label, context);
 			}
 	if (sample < 0) {
 		// Last resort: the emotion's silence, then anything of the emotion, then the first sample.
-		sample = model_.findSample(o_.emotion, "sil");
+		sample = model_.findSample(emotion, "sil");
 		for (std::size_t i = 0; sample < 0 && i < model_.sampleCount(); ++i)
-			if (model_.samples[i].emotion == o_.emotion) sample = long(i);
+			if (model_.samples[i].emotion == emotion) sample = long(i);
 		if (sample < 0) sample = 0;
 	}
 	return sample;
@@ -342,13 +351,13 @@ std::vector<Keypose> Synthesizer::keyposesBetween(const std::vector<Keypose>& ke
 	return std::vector<Keypose>(keys.begin() + long(i0), keys.begin() + long(i1) + 1);
 }
 
-KeyposeImage Synthesizer::makeKeypose(long sample, const std::vector<const std::uint8_t*>& cached8,
+KeyposeImage Synthesizer::makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
                                       const std::vector<Eigen::VectorXf>& synthesized) const {
 	KeyposeImage k;
 	const SampleInfo& s = model_.samples[std::size_t(sample)];
 	k.usedEmotion = s.emotion;
 	k.usedCdv = s.cdv;
-	k.shape = model_.alignedShapes[std::size_t(sample)];
+	k.shape = shape;
 	const std::size_t nr = model_.regions.size();
 	if (o_.warpPath == WarpPath::Keypose) {
 		std::vector<Eigen::VectorXf> a(nr);
@@ -405,8 +414,11 @@ KeyposeImage Synthesizer::makeKeypose(long sample, const std::vector<const std::
 }
 
 void Synthesizer::prepare(const std::vector<Keypose>& keys) {
-	// The (CDV, context) pairs not seen yet, their samples, and the samples without an image yet.
-	std::vector<std::pair<const Keypose*, long>> fresh;
+	// The (CDV, context) pairs not seen yet, their (sample, neutral sample) pairs, the pairs without an
+	// image yet, and the samples those need.
+	using Pair = std::pair<long, long>;
+	std::vector<std::pair<const Keypose*, Pair>> fresh;
+	std::vector<Pair> pairs;
 	std::vector<long> samples;
 	{
 		std::lock_guard<std::mutex> lock(mutex_);
@@ -415,9 +427,12 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 			if (it != index_.end() && it->second.count(k.context)) continue;
 			if (std::any_of(fresh.begin(), fresh.end(), [&](const auto& f) { return f.first->cdv == k.cdv && f.first->context == k.context; }))
 				continue;
-			const long sample = resolve(k);
-			fresh.push_back({&k, sample});
-			if (!images_.count(sample) && std::find(samples.begin(), samples.end(), sample) == samples.end()) samples.push_back(sample);
+			const Pair pair = resolvePair(k);
+			fresh.push_back({&k, pair});
+			if (images_.count(pair) || std::find(pairs.begin(), pairs.end(), pair) != pairs.end()) continue;
+			pairs.push_back(pair);
+			for (long sample : {pair.first, pair.second})
+				if (sample >= 0 && std::find(samples.begin(), samples.end(), sample) == samples.end()) samples.push_back(sample);
 		}
 	}
 	if (fresh.empty()) return;
@@ -431,27 +446,58 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(reg, std::size_t(samples[j]));
 		synthesized[r] = synthesizeAppearances(reg, c);
 	}
-	std::vector<std::unique_ptr<KeyposeImage>> made(samples.size());
-	parallelFor(samples.size(), 0, [&](std::size_t j) {
-		std::vector<std::vector<std::uint8_t>> bytes(model_.regions.size());
-		std::vector<const std::uint8_t*> cached8(model_.regions.size(), nullptr);
-		std::vector<Eigen::VectorXf> synth(model_.regions.size());
-		for (std::size_t r = 0; r < model_.regions.size(); ++r) {
-			const RegionModel& reg = model_.regions[r];
-			if (reg.hasAppearanceCache()) {
-				bytes[r].resize(std::size_t(reg.appearanceSize()));
-				reg.readCachedAppearance(std::size_t(samples[j]), bytes[r].data());
-				cached8[r] = bytes[r].data();
-			} else {
-				synth[r] = synthesized[r].col(Eigen::Index(j));
+	auto column = [&](long sample) { return Eigen::Index(std::find(samples.begin(), samples.end(), sample) - samples.begin()); };
+	std::vector<std::unique_ptr<KeyposeImage>> made(pairs.size());
+	const double intensity = o_.intensity;
+	parallelFor(pairs.size(), 0, [&](std::size_t j) {
+		const std::size_t nr = model_.regions.size();
+		auto load = [&](long sample, std::vector<std::vector<std::uint8_t>>& bytes, std::vector<const std::uint8_t*>& cached8,
+		                std::vector<Eigen::VectorXf>& synth) {
+			bytes.resize(nr), cached8.assign(nr, nullptr), synth.resize(nr);
+			for (std::size_t r = 0; r < nr; ++r) {
+				const RegionModel& reg = model_.regions[r];
+				if (reg.hasAppearanceCache()) {
+					bytes[r].resize(std::size_t(reg.appearanceSize()));
+					reg.readCachedAppearance(std::size_t(sample), bytes[r].data());
+					cached8[r] = bytes[r].data();
+				} else {
+					synth[r] = synthesized[r].col(column(sample));
+				}
+			}
+		};
+		std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
+		std::vector<const std::uint8_t*> cached8, baseCached8;
+		std::vector<Eigen::VectorXf> synth, baseSynth;
+		const auto [sample, base] = pairs[j];
+		load(sample, bytes, cached8, synth);
+		if (base < 0) {
+			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, model_.alignedShapes[std::size_t(sample)], cached8, synth));
+			return;
+		}
+		// D43: shape and appearance of neutral + intensity × (emotion − neutral), per region.
+		load(base, baseBytes, baseCached8, baseSynth);
+		std::vector<Eigen::VectorXf> mixed(nr);
+		const float t = float(intensity);
+		for (std::size_t r = 0; r < nr; ++r) {
+			const Eigen::Index n = model_.regions[r].appearanceSize();
+			auto value = [&](const std::vector<const std::uint8_t*>& c8, const std::vector<Eigen::VectorXf>& sy, Eigen::Index i) {
+				return c8[r] ? float(c8[r][i]) : sy[r](i);
+			};
+			mixed[r].resize(n);
+			for (Eigen::Index i = 0; i < n; ++i) {
+				const float b = value(baseCached8, baseSynth, i);
+				mixed[r](i) = b + t * (value(cached8, synth, i) - b);
 			}
 		}
-		made[j] = std::make_unique<KeyposeImage>(makeKeypose(samples[j], cached8, synth));
+		const Points& a = model_.alignedShapes[std::size_t(sample)];
+		const Points& b = model_.alignedShapes[std::size_t(base)];
+		const std::vector<const std::uint8_t*> none(nr, nullptr);
+		made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
 	});
 	std::lock_guard<std::mutex> lock(mutex_);
-	for (std::size_t j = 0; j < samples.size(); ++j) images_.emplace(samples[j], std::move(made[j]));
-	for (const auto& [k, sample] : fresh) {
-		const KeyposeImage* image = images_.at(sample).get();
+	for (std::size_t j = 0; j < pairs.size(); ++j) images_.emplace(pairs[j], std::move(made[j]));
+	for (const auto& [k, pair] : fresh) {
+		const KeyposeImage* image = images_.at(pair).get();
 		index_[k->cdv][k->context] = image;
 		const std::string line = o_.emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
 		if ((image->usedEmotion != o_.emotion || image->usedCdv != k->cdv) &&

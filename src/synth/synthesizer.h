@@ -26,6 +26,7 @@ enum class WarpPath { Direct, Keypose };
 
 struct SynthOptions {
 	std::string emotion = "neutral";  // canonical label
+	double intensity = 1;             // 0 = the neutral keyposes, 1 = the corpus's emotion, up to 1.5 (D43)
 	int width = 0, height = 0;        // output size; 0 = the model's frame size
 	Trajectory trajectory = Trajectory::Hermite;  // feature points between keyposes (spec §5.5)
 	Trajectory dissolve = Trajectory::Linear;     // cross-dissolve weight: t (thesis) or the Hermite ease
@@ -106,7 +107,7 @@ private:
 	double scaleX_, scaleY_;
 	mutable std::mutex mutex_;
 	// Keypose images per model sample, and which one each (CDV, phone context) uses.
-	std::map<long, std::unique_ptr<KeyposeImage>> images_;
+	std::map<std::pair<long, long>, std::unique_ptr<KeyposeImage>> images_;  // by (sample, neutral sample or −1)
 	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;
 	int roiX0_ = 0, roiY0_ = 0, roiX1_ = 0, roiY1_ = 0;  // face box in the model frame (even corners)
@@ -131,6 +132,9 @@ private:
 	void drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const;
 	const KeyposeImage& cached(const Keypose& key) const;
 	long resolve(const Keypose& key) const;  // the model sample used for a keypose (CDV, context)
+	long resolve(const Keypose& key, const std::string& emotion) const;
+	// The sample and, when the intensity mixes it in, the neutral sample of the same CDV and context (else −1).
+	std::pair<long, long> resolvePair(const Keypose& key) const;
 	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the
 	// dissolve weight (Eq. 5.4: t or the Hermite ease) as a double and in 1/256.
 	struct Between {
@@ -141,7 +145,8 @@ private:
 	};
 	// Also sets `points`: the feature points at τ in output pixels.
 	Between locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const;
-	KeyposeImage makeKeypose(long sample, const std::vector<const std::uint8_t*>& cached8, const std::vector<Eigen::VectorXf>& synthesized) const;
+	KeyposeImage makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
+	                         const std::vector<Eigen::VectorXf>& synthesized) const;
 };
 
 }  // namespace talkhead

@@ -358,3 +358,36 @@ TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame)
 	still.headMotion = false;
 	EXPECT_EQ(ShapeModulator(still, "joy", ms(3000), keys).head(ms(1000)).angle, 0);
 }
+
+TEST(Synthesizer, intensityGoesFromTheNeutralKeyposesToTheEmotionAndBeyond) {
+	// D43: intensity 0 draws the neutral keyposes (the same frames as --emotion neutral); the mouth corners
+	// rise steadily with joy's intensity and the brows come down with anger's.
+	const SmallFace& f = smallFace();
+	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "p1", 0}};
+	const auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	auto frame = [&](const std::string& emotion, double intensity, long t) {
+		SynthOptions o;
+		o.emotion = emotion;
+		o.intensity = intensity;
+		Synthesizer s(f.model, o);
+		s.prepare(keys);
+		Synthesizer::Workspace ws;
+		YuvImage out;
+		Points p;
+		s.renderFrameYuv(ms(t), keys, ws, out, p);
+		return std::make_pair(out.y, p);
+	};
+	for (long t : {0L, 110L, 250L}) {
+		EXPECT_EQ(frame("joy", 0, t).first, frame("neutral", 1, t).first) << t;
+		EXPECT_EQ(frame("anger", 0, t).second, frame("neutral", 1, t).second) << t;
+	}
+	const int corner = f.model.scheme.indexOf("RM2"), brow = f.model.scheme.indexOf("REB2"), eye = f.model.scheme.indexOf("REYE1");
+	double lastCorner = 1e9, lastBrow = -1e9;
+	for (double i : {0.0, 0.5, 1.0, 1.5}) {
+		const Points joy = frame("joy", i, 0).second, anger = frame("anger", i, 0).second;
+		const double cornerHeight = joy(corner, 1), browGap = anger(eye, 1) - anger(brow, 1);  // y grows downwards
+		EXPECT_LT(cornerHeight, lastCorner - 0.05) << "joy " << i;
+		EXPECT_GT(-browGap, lastBrow + 0.05) << "anger " << i;
+		lastCorner = cornerHeight, lastBrow = -browGap;
+	}
+}
