@@ -110,6 +110,7 @@ int runRender(const std::vector<std::string>& argv) {
 			             a->c_str(), toSeconds(perf.duration), toSeconds(audioDur), toSeconds(uncovered));
 		perf.duration = audioDur;
 	}
+	if (cmd.controls) applyControls(perf, *cmd.controls);
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).
 	if (!tr.tier.empty() && !cmd.quiet) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", transcriptPath->c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	runVideoCommand(cmd, perf, std::move(sound), t0);

@@ -125,6 +125,7 @@ int runSay(const std::vector<std::string>& argv) {
 	audio.samples.reserve(speech.pcm.size());
 	for (short v : speech.pcm) audio.samples.push_back(float(v) / 32768.f);
 	perf.duration = audio.duration();
+	if (cmd.controls) applyControls(perf, *cmd.controls);
 	char prefix[64];
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
 	runVideoCommand(cmd, perf, clipSource(audio), t0, prefix);

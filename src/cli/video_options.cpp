@@ -118,6 +118,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
+	        {"--controls", "F.json", "timed events: emotion changes (with a ramp), blinks, nods, shakes (README: Timed controls)"},
 	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
 	        {"--head-motion", "on|off|X", "small smooth head motion (default on; X scales its amplitude, 0–3)"},
 	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
@@ -184,6 +185,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.modulation.headMotion = amplitude > 0;
 	c.modulation.headAmplitude = amplitude;
 	c.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
+	if (auto f = args.get("--controls")) c.controls = loadControls(*f);
 	c.render.threads = unsigned(args.number("--threads", 0, 0, 256));
 	c.quiet = args.has("--quiet");
 	c.jsonProgress = args.has("--json-progress");

@@ -8,6 +8,7 @@
 #include "cli/args.h"
 #include "media/audio.h"
 #include "phonetics/language.h"
+#include "render/controls.h"
 #include "render/render.h"
 
 namespace talkhead::cli {
@@ -28,6 +29,7 @@ struct VideoCommand {
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
 	ModulatorOptions modulation;
+	std::optional<ControlTrack> controls;  // --controls F (read and checked with the options)
 	Mp4Settings mp4;
 	RenderOptions render;
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;

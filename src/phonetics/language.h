@@ -103,6 +103,9 @@ struct Keypose {
 	// two after; "_" for a pause or the utterance's edge. A model with several samples of the CDV uses the
 	// one whose context matches best (FaceModel::findSample).
 	std::array<std::string, 5> context{"_", "_", "_", "_", "_"};
+	// Set per keypose by an emotion track (render controls); empty / negative: the performance's.
+	std::string emotion;
+	double intensity = -1;
 };
 
 // How pauses move the mouth (docs/decisions.md D34).

@@ -33,7 +33,9 @@ constexpr double kClosing = 0.075, kClosed = 0.025, kOpening = 0.150;
 // Head motion, peak values at full speaking activity: rotation 1.5°, translation 1.2 % / 0.8 % of the
 // face's size horizontally / vertically (a judgement: visible, never a nod).
 constexpr double kPeakAngle = 1.5 * kPi / 180, kPeakDx = 0.012, kPeakDy = 0.008;
-constexpr double kGrid = 0.01;  // seconds between samples of the speaking activity
+constexpr double kGrid = 0.01;
+// Gestures' peak shifts, in face sizes: a nod 3.5 % down, a shake 2.5 % sideways.
+constexpr double kNod = 0.035, kShake = 0.025;  // seconds between samples of the speaking activity
 
 }  // namespace
 
@@ -98,6 +100,22 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 			t = lastEnd + std::max(0.8, -std::log(1 - rng.uniform()) * mean - total);
 		}
 	}
+	// Blinks a control track asks for: at their times, the drawn ones within 0.8 s of them dropped.
+	for (Ticks t : o.forcedBlinks) {
+		const double at = toSeconds(t);
+		blinks_.erase(std::remove_if(blinks_.begin(), blinks_.end(),
+		                             [&](const BlinkEvent& b) { return std::abs(toSeconds(b.start) - at) < 0.8; }),
+		              blinks_.end());
+	}
+	for (Ticks t : o.forcedBlinks) {
+		BlinkEvent b;
+		b.start = t;
+		b.closing = ticksFromSeconds(kClosing);
+		b.closed = ticksFromSeconds(kClosed);
+		b.opening = ticksFromSeconds(kOpening);
+		blinks_.push_back(b);
+	}
+	std::sort(blinks_.begin(), blinks_.end(), [](const BlinkEvent& a, const BlinkEvent& b) { return a.start < b.start; });
 	// Head motion: per channel three sinusoids of slowly rising frequency and decreasing weight, seeded
 	// phases and frequencies; the sum stays within ±1.
 	for (int c = 0; c < 3; ++c) {
@@ -109,7 +127,9 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 	}
 	factor_ = o.headMotion ? std::max(0.0, o.headAmplitude) * headFactorFor(emotion) : 0.0;
 	maxAngle_ = kPeakAngle * factor_;
-	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_;
+	double gesture = 0;
+	for (const HeadGesture& g : o.gestures) gesture = std::max(gesture, std::abs(g.amount) * (g.kind == HeadGesture::Kind::Nod ? kNod : kShake));
+	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_ + gesture;
 	// Speaking activity: 1 in speech, 0 in pauses, smoothed over ±0.4 s (the head settles in a pause).
 	const std::size_t n = std::size_t(length / kGrid) + 2;
 	std::vector<double> raw(n), prefix(n + 1, 0.0);
@@ -143,8 +163,15 @@ double ShapeModulator::eyeClosure(Ticks t) const {
 
 HeadMotion ShapeModulator::head(Ticks t) const {
 	HeadMotion p;
-	if (factor_ <= 0) return p;
 	const double s = toSeconds(t);
+	// Gestures from a control track: a nod goes down and back up; a shake sways twice each way.
+	for (const HeadGesture& g : o_.gestures) {
+		const double u = (s - toSeconds(g.time)) / std::max(1e-6, toSeconds(g.duration));
+		if (u <= 0 || u >= 1) continue;
+		if (g.kind == HeadGesture::Kind::Nod) p.dy += g.amount * kNod * std::sin(kPi * u);
+		else p.dx += g.amount * kShake * std::sin(4 * kPi * u) * std::sin(kPi * u);
+	}
+	if (factor_ <= 0) return p;
 	double act = 0;
 	if (!activity_.empty()) {
 		const double g = std::clamp(s / kGrid, 0.0, double(activity_.size() - 1));
@@ -159,9 +186,9 @@ HeadMotion ShapeModulator::head(Ticks t) const {
 		for (int k = 0; k < 3; ++k) v += w[k] * std::sin(2 * kPi * freq_[c][k] * s + phase_[c][k]);
 		return v;
 	};
-	p.angle = kPeakAngle * m * channel(0);
-	p.dx = kPeakDx * m * channel(1);
-	p.dy = kPeakDy * m * channel(2);
+	p.angle += kPeakAngle * m * channel(0);
+	p.dx += kPeakDx * m * channel(1);
+	p.dy += kPeakDy * m * channel(2);
 	return p;
 }
 

@@ -12,13 +12,23 @@ namespace talkhead {
 // The shape modulator (Costa 2015 §5.4, left unimplemented there; braun-spec §10): what moves besides the
 // mouth, applied at every output frame after the keypose trajectory, so it does not depend on phone
 // timing. Decision D42.
+// A head gesture asked for by a control track: a nod (down and back up) or a shake (two turns left and
+// right, as a sideways sway in the picture plane), over `duration`, scaled by `amount` (1 = a clear one).
+struct HeadGesture {
+	enum class Kind { Nod, Shake } kind = Kind::Nod;
+	Ticks time{0}, duration{0};
+	double amount = 1;
+};
+
 struct ModulatorOptions {
 	bool blinks = true;
 	double blinkRate = 0;       // blinks per minute at rest; 0 = the emotion's default (see blinkRateFor)
 	bool headMotion = true;
 	double headAmplitude = 1;   // × the default amplitude (0 = a still head)
 	std::uint64_t seed = 1;     // the same seed, inputs and options give the same blinks and head motion
-	bool any() const { return blinks || (headMotion && headAmplitude > 0); }
+	std::vector<Ticks> forcedBlinks;     // blinks at these times (a control track), even with blinks off
+	std::vector<HeadGesture> gestures;   // nods and shakes (a control track), even with head motion off
+	bool any() const { return blinks || (headMotion && headAmplitude > 0) || !forcedBlinks.empty() || !gestures.empty(); }
 };
 
 // One blink: the lids close over `closing`, stay shut for `closed`, open over `opening` (closing faster

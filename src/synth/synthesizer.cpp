@@ -281,11 +281,18 @@ std::string groupOf(const std::string& cdv) {
 std::pair<long, long> Synthesizer::resolvePair(const Keypose& key) const {
 	const long sample = resolve(key);
 	// Intensity (D43): between the neutral keypose of the same CDV and context (0) and the emotion's (1).
-	if (o_.emotion == "neutral" || o_.intensity == 1.0) return {sample, -1};
+	const double intensity = intensityOf(key);
+	if (emotionOf(key) == "neutral" || intensity == 1.0) return {sample, -1};
 	return {sample, resolve(key, "neutral")};
 }
 
-long Synthesizer::resolve(const Keypose& key) const { return resolve(key, o_.emotion); }
+const std::string& Synthesizer::emotionOf(const Keypose& key) const { return key.emotion.empty() ? o_.emotion : key.emotion; }
+double Synthesizer::intensityOf(const Keypose& key) const { return key.intensity < 0 ? o_.intensity : key.intensity; }
+std::string Synthesizer::indexKey(const Keypose& key) const {
+	return key.cdv + "\t" + emotionOf(key) + "\t" + std::to_string(intensityOf(key));
+}
+
+long Synthesizer::resolve(const Keypose& key) const { return resolve(key, emotionOf(key)); }
 
 long Synthesizer::resolve(const Keypose& key, const std::string& emotion) const {
 	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs;
@@ -319,7 +326,7 @@ const KeyposeImage& Synthesizer::keypose(const std::string& cdv) {
 
 const KeyposeImage& Synthesizer::cached(const Keypose& key) const {
 	std::lock_guard<std::mutex> lock(mutex_);
-	auto it = index_.find(key.cdv);
+	auto it = index_.find(indexKey(key));
 	if (it != index_.end()) {
 		auto jt = it->second.find(key.context);
 		if (jt != it->second.end()) return *jt->second;
@@ -336,8 +343,9 @@ std::vector<std::string> Synthesizer::substitutionsFor(const std::vector<Keypose
 	std::vector<std::string> out;
 	for (const auto& k : keys) {
 		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
-		const std::string line = o_.emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
-		if ((s.emotion != o_.emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
+		const std::string& emotion = emotionOf(k);
+		const std::string line = emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
+		if ((s.emotion != emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 	}
 	return out;
 }
@@ -417,20 +425,21 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 	// The (CDV, context) pairs not seen yet, their (sample, neutral sample) pairs, the pairs without an
 	// image yet, and the samples those need.
 	using Pair = std::pair<long, long>;
-	std::vector<std::pair<const Keypose*, Pair>> fresh;
-	std::vector<Pair> pairs;
+	std::vector<std::pair<const Keypose*, ImageKey>> fresh;
+	std::vector<ImageKey> pairs;
 	std::vector<long> samples;
 	{
 		std::lock_guard<std::mutex> lock(mutex_);
 		for (const auto& k : keys) {
-			auto it = index_.find(k.cdv);
+			auto it = index_.find(indexKey(k));
 			if (it != index_.end() && it->second.count(k.context)) continue;
-			if (std::any_of(fresh.begin(), fresh.end(), [&](const auto& f) { return f.first->cdv == k.cdv && f.first->context == k.context; }))
+			if (std::any_of(fresh.begin(), fresh.end(), [&](const auto& f) { return indexKey(*f.first) == indexKey(k) && f.first->context == k.context; }))
 				continue;
 			const Pair pair = resolvePair(k);
-			fresh.push_back({&k, pair});
-			if (images_.count(pair) || std::find(pairs.begin(), pairs.end(), pair) != pairs.end()) continue;
-			pairs.push_back(pair);
+			const ImageKey key{pair.first, pair.second, pair.second < 0 ? 1.0 : intensityOf(k)};
+			fresh.push_back({&k, key});
+			if (images_.count(key) || std::find(pairs.begin(), pairs.end(), key) != pairs.end()) continue;
+			pairs.push_back(key);
 			for (long sample : {pair.first, pair.second})
 				if (sample >= 0 && std::find(samples.begin(), samples.end(), sample) == samples.end()) samples.push_back(sample);
 		}
@@ -448,7 +457,6 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 	}
 	auto column = [&](long sample) { return Eigen::Index(std::find(samples.begin(), samples.end(), sample) - samples.begin()); };
 	std::vector<std::unique_ptr<KeyposeImage>> made(pairs.size());
-	const double intensity = o_.intensity;
 	parallelFor(pairs.size(), 0, [&](std::size_t j) {
 		const std::size_t nr = model_.regions.size();
 		auto load = [&](long sample, std::vector<std::vector<std::uint8_t>>& bytes, std::vector<const std::uint8_t*>& cached8,
@@ -468,7 +476,7 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 		std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
 		std::vector<const std::uint8_t*> cached8, baseCached8;
 		std::vector<Eigen::VectorXf> synth, baseSynth;
-		const auto [sample, base] = pairs[j];
+		const auto [sample, base, intensity] = pairs[j];
 		load(sample, bytes, cached8, synth);
 		if (base < 0) {
 			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, model_.alignedShapes[std::size_t(sample)], cached8, synth));
@@ -496,11 +504,12 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 	});
 	std::lock_guard<std::mutex> lock(mutex_);
 	for (std::size_t j = 0; j < pairs.size(); ++j) images_.emplace(pairs[j], std::move(made[j]));
-	for (const auto& [k, pair] : fresh) {
-		const KeyposeImage* image = images_.at(pair).get();
-		index_[k->cdv][k->context] = image;
-		const std::string line = o_.emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
-		if ((image->usedEmotion != o_.emotion || image->usedCdv != k->cdv) &&
+	for (const auto& [k, key] : fresh) {
+		const KeyposeImage* image = images_.at(key).get();
+		index_[indexKey(*k)][k->context] = image;
+		const std::string& emotion = emotionOf(*k);
+		const std::string line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
+		if ((image->usedEmotion != emotion || image->usedCdv != k->cdv) &&
 		    std::find(substitutions_.begin(), substitutions_.end(), line) == substitutions_.end())
 			substitutions_.push_back(line);
 	}

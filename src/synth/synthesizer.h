@@ -4,6 +4,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "image/yuv.h"
@@ -106,8 +107,10 @@ private:
 	int width_, height_;
 	double scaleX_, scaleY_;
 	mutable std::mutex mutex_;
-	// Keypose images per model sample, and which one each (CDV, phone context) uses.
-	std::map<std::pair<long, long>, std::unique_ptr<KeyposeImage>> images_;  // by (sample, neutral sample or −1)
+	// Keypose images by (sample, neutral sample or −1, intensity), and which one each (CDV, emotion,
+	// intensity; phone context) uses.
+	using ImageKey = std::tuple<long, long, double>;
+	std::map<ImageKey, std::unique_ptr<KeyposeImage>> images_;
 	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;
 	int roiX0_ = 0, roiY0_ = 0, roiX1_ = 0, roiY1_ = 0;  // face box in the model frame (even corners)
@@ -135,6 +138,9 @@ private:
 	long resolve(const Keypose& key, const std::string& emotion) const;
 	// The sample and, when the intensity mixes it in, the neutral sample of the same CDV and context (else −1).
 	std::pair<long, long> resolvePair(const Keypose& key) const;
+	const std::string& emotionOf(const Keypose& key) const;  // the keypose's emotion, else the options'
+	double intensityOf(const Keypose& key) const;
+	std::string indexKey(const Keypose& key) const;          // CDV, emotion and intensity
 	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the
 	// dissolve weight (Eq. 5.4: t or the Hermite ease) as a double and in 1/256.
 	struct Between {

@@ -391,3 +391,27 @@ TEST(Synthesizer, intensityGoesFromTheNeutralKeyposesToTheEmotionAndBeyond) {
 		lastCorner = cornerHeight, lastBrow = -browGap;
 	}
 }
+
+TEST(Synthesizer, keyposesTakeTheirOwnEmotionWhenATrackSetsIt) {
+	// Issue 13 §2: keyposes before an emotion change come from the first emotion, after it from the second.
+	const SmallFace& f = smallFace();
+	std::vector<PhoneSegment> phones = {{ms(0), ms(200), "", "", "a", 0}, {ms(200), ms(400), "", "", "u", 0}, {ms(400), ms(600), "", "", "a", 0},
+	                                    {ms(600), ms(800), "", "", "u", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	ASSERT_EQ(keys.size(), 4u);
+	keys[2].emotion = keys[3].emotion = "anger";
+	keys[2].intensity = keys[3].intensity = 1;
+	SynthOptions o;
+	o.emotion = "joy";
+	Synthesizer synth(f.model, o);
+	synth.prepare(keys);
+	Synthesizer::Workspace ws;
+	YuvImage frame;
+	Points p;
+	for (std::size_t i = 0; i < keys.size(); ++i) {
+		synth.renderFrameYuv(keys[i].time, keys, ws, frame, p);
+		const long sample = f.model.findSample(i < 2 ? "joy" : "anger", keys[i].cdv);
+		ASSERT_GE(sample, 0);
+		EXPECT_LT((p - f.model.alignedShapes[std::size_t(sample)]).cwiseAbs().maxCoeff(), 1e-9) << i;
+	}
+}

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <string>
+#include <vector>
+
+#include "base/ticks.h"
+#include "render/performance.h"
+
+namespace talkhead {
+
+// Timed controls (issue 13 §4; decision D44): a JSON control track of events that change the emotion
+// mid-utterance, force blinks, and nod or shake the head. The schema (README "Timed controls"):
+//   {"events": [
+//     {"type": "emotion", "time": 1.2, "emotion": "anger", "intensity": 0.8, "ramp": 0.4},
+//     {"type": "blink", "time": 2.0},
+//     {"type": "nod", "time": 3.0, "duration": 0.6, "amount": 1},
+//     {"type": "shake", "time": 4.0, "duration": 0.8, "amount": 0.5}]}
+// Times in seconds from the start of the video. A bare array of events is read the same way.
+struct ControlTrack {
+	struct EmotionChange {
+		Ticks time{0}, ramp{0};
+		std::string emotion;  // canonical
+		double intensity = 1;
+	};
+	std::string path;  // for messages
+	std::vector<EmotionChange> emotions;
+	std::vector<Ticks> blinks;
+	std::vector<HeadGesture> gestures;
+	bool empty() const { return emotions.empty() && blinks.empty() && gestures.empty(); }
+};
+
+// Parses a control track; throws Error naming the file and the line/column (malformed JSON) or the event
+// (its number, 1-based, and what is wrong: unknown type, missing or bad field, unknown emotion).
+ControlTrack parseControls(const std::string& text, const std::string& path);
+ControlTrack loadControls(const std::string& path);
+
+// Applies a track to a performance: each keypose takes the emotion and intensity in effect at its time
+// (a change ramps through neutral: the old emotion fades out over the first half of the ramp, the new
+// one in over the second); blinks and gestures go to the shape modulator. Throws Error naming the file and
+// the event when an event lies past the performance's end.
+void applyControls(Performance& perf, const ControlTrack& track);
+
+}  // namespace talkhead
