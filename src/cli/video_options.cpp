@@ -122,6 +122,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
 	        {"--head-motion", "on|off|X", "small smooth head motion (default on; X scales its amplitude, 0–3)"},
 	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
+	        {"--debug-overlay", "", "draw the feature points, the keyposes around each frame and the lids and head on every frame"},
 	        {"--threads", "N", "worker threads (default: all cores)"},
 	        {"--json-progress", "", "machine-readable progress lines on stderr"},
 	        {"--timing", "", "print the time of each stage (load, keyposes, warps, blend, encode) on stderr"},
@@ -186,6 +187,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.modulation.headAmplitude = amplitude;
 	c.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
 	if (auto f = args.get("--controls")) c.controls = loadControls(*f);
+	c.render.debugOverlay = args.has("--debug-overlay");
 	c.render.threads = unsigned(args.number("--threads", 0, 0, 256));
 	c.quiet = args.has("--quiet");
 	c.jsonProgress = args.has("--json-progress");

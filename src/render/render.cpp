@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <deque>
 #include <mutex>
 #include <thread>
@@ -17,6 +18,7 @@
 #include "base/parallel.h"
 #include "base/progress.h"
 #include "model/model_file.h"
+#include "render/overlay.h"
 
 namespace talkhead {
 
@@ -174,6 +176,37 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		(s->anyThread() ? anyThread : ordered).push_back(s);
 	}
 
+	// --debug-overlay: the time, the keyposes around it (viseme, emotion, intensity, position between them),
+	// the lids and the head.
+	auto overlayLines = [&](Ticks tau) {
+		std::vector<std::string> lines;
+		char b[160];
+		std::snprintf(b, sizeof b, "t %.3f s", toSeconds(tau));
+		lines.emplace_back(b);
+		std::size_t i = 0;
+		while (i + 1 < keys.size() && keys[i + 1].time <= tau) ++i;
+		auto label = [&](const Keypose& k) {
+			const std::string& e = k.emotion.empty() ? perf.emotion : k.emotion;
+			const double in = k.intensity < 0 ? perf.intensity : k.intensity;
+			char l[96];
+			std::snprintf(l, sizeof l, "%s %s:%.2g @%.3f", k.cdv.c_str(), e.c_str(), in, toSeconds(k.time));
+			return std::string(l);
+		};
+		if (i + 1 < keys.size() && tau > keys[i].time) {
+			const double u = toSeconds(tau - keys[i].time) / toSeconds(keys[i + 1].time - keys[i].time);
+			lines.push_back(label(keys[i]) + " -> " + label(keys[i + 1]));
+			std::snprintf(b, sizeof b, "u %.2f", u);
+			lines.emplace_back(b);
+		} else {
+			lines.push_back(label(keys[i]) + " (held)");
+		}
+		if (so.modulator) {
+			const HeadMotion h = so.modulator->head(tau);
+			std::snprintf(b, sizeof b, "lids %.2f  head %+.2f deg %+.3f %+.3f", so.modulator->eyeClosure(tau), h.angle * 57.29578, h.dx, h.dy);
+			lines.emplace_back(b);
+		}
+		return lines;
+	};
 	// Frames are independent. Drawing threads draw batches of frames a few batches ahead while this
 	// thread feeds finished batches to the sinks in order. The drawing threads run at a lower priority
 	// (kDrawNice) than this thread and the encoder's threads, which the sinks started: the encoder is the
@@ -242,11 +275,13 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 					YuvImage& yuv = place ? bt.innerYuv[k] : bt.yuv[k];
 					if (rgbFrames) {
 						synth.renderFrame(tau, keys, workspaces[k], rgb, bt.pts[k], bt.drawn[k]);
+						if (options.debugOverlay) drawDebugOverlay(rgb, bt.pts[k], overlayLines(tau));
 						rgbToYuv420(rgb, yuv, so.yuvRange);
 					} else {
 						synth.renderFrameYuv(tau, keys, workspaces[k], yuv, bt.pts[k], bt.drawn[k]);
+						if (options.debugOverlay) drawDebugOverlay(yuv, bt.pts[k], overlayLines(tau));
 					}
-					bt.drawn[k] = 1;
+					bt.drawn[k] = !options.debugOverlay;  // the overlay writes over the static background
 					if (place) {  // into the output frame: crop or pad, points moved with it
 						placeYuv(yuv, bt.yuv[k], st.width, st.height, box.x, box.y);
 						if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, box.x, box.y);

@@ -24,6 +24,7 @@ struct RenderOptions {
 	                       // comes from the Performance
 	Fit fit = Fit::Crop;   // when synth.width × height has another aspect than the model's frame
 	unsigned threads = 0;  // drawing threads (0 = all cores)
+	bool debugOverlay = false;  // draw the points, keyposes and active controls on every frame (overlay.h)
 };
 
 // Where the model's frame lands in an output of `width` × `height` (crop or pad): drawn at inner size,

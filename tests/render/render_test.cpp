@@ -153,3 +153,39 @@ TEST(Render, aFailingSinkLeavesNoOutputBehind) {
 	while (std::getline(in, line)) ++lines;
 	EXPECT_EQ(lines, 14);  // header + 13 frames
 }
+
+TEST(Render, debugOverlayMarksThePointsAndWritesTheTimeline) {
+	// Every feature point is drawn (luma 235 at its pixel) and text appears at the top left; without the
+	// overlay neither is there. Blinks and head motion off, so both renders draw the same face.
+	Performance perf = threeSyllables();
+	perf.modulation.blinks = false;
+	perf.modulation.headMotion = false;
+	auto render = [&](bool overlay) {
+		std::vector<YuvImage> frames;
+		std::vector<Points> points;
+		auto sink = makeCallbackSink([&](const StreamInfo&, const RenderedFrame& f) {
+			frames.push_back(*f.yuv);
+			points.push_back(*f.points);
+		});
+		RenderOptions o;
+		o.debugOverlay = overlay;
+		renderPerformance(tinyModel(), perf, o, {sink.get()});
+		return std::make_pair(frames, points);
+	};
+	const auto [plain, pts] = render(false);
+	const auto [marked, pts2] = render(true);
+	ASSERT_EQ(plain.size(), marked.size());
+	for (std::size_t f = 0; f < plain.size(); ++f) {
+		EXPECT_EQ(pts[f], pts2[f]);
+		const YuvImage& m = marked[f];
+		for (Eigen::Index i = 0; i < pts[f].rows(); ++i) {
+			const int x = int(std::lround(pts[f](i, 0))), y = int(std::lround(pts[f](i, 1)));
+			if (x < 0 || y < 0 || x >= m.width || y >= m.height) continue;
+			EXPECT_EQ(m.y[std::size_t(y) * std::size_t(m.width) + std::size_t(x)], 235) << "frame " << f << " point " << i;
+		}
+		int text = 0;  // changed pixels in the top-left band where the lines go
+		for (int y = 0; y < 20; ++y)
+			for (int x = 0; x < 80; ++x) text += m.y[std::size_t(y) * std::size_t(m.width) + std::size_t(x)] != plain[f].y[std::size_t(y) * std::size_t(m.width) + std::size_t(x)];
+		EXPECT_GT(text, 50) << "frame " << f;
+	}
+}
