@@ -6,15 +6,19 @@
 #include <iostream>
 #include <iterator>
 #include <map>
+#include <optional>
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/json.h"
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/video_options.h"
 #include "media/audio.h"
 #include "phonetics/espeak.h"
+#include "phonetics/labels.h"
+#include "phonetics/ssml.h"
 #include "phonetics/writers.h"
 
 namespace talkhead::cli {
@@ -101,8 +105,18 @@ int runSay(const std::vector<std::string>& argv) {
 	} else {
 		for (const auto& p : args.positionals()) text += (text.empty() ? "" : " ") + p;
 	}
+	// SSML (D45): breaks, marks, blinks and emotions placed at the words where they occur.
+	std::optional<SsmlText> ssml;
+	const std::string textName = args.get("--text-file", "text");
+	if (looksLikeSsml(text)) {
+		ssml = parseSsml(text, textName);
+		for (const auto& e : ssml->events)  // checked before any speech is synthesised
+			if (e.kind == SsmlText::Event::Kind::EmotionStart && !canonicalEmotion(e.name))
+				throw Error(textName, e.line, "column " + std::to_string(e.column) + ": unknown emotion '" + e.name + "'");
+	}
+	std::vector<Ticks> eventTimes;
 	const auto tSpeech = std::chrono::steady_clock::now();
-	Speech speech = espeakSpeak(text, voice, rate, pitch);
+	Speech speech = ssml ? espeakSpeakSsml(*ssml, voice, eventTimes, rate, pitch) : espeakSpeak(text, voice, rate, pitch);
 	for (const auto& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", w.c_str());
 	const double speechSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tSpeech).count();
 	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone (said
@@ -125,6 +139,30 @@ int runSay(const std::vector<std::string>& argv) {
 	audio.samples.reserve(speech.pcm.size());
 	for (short v : speech.pcm) audio.samples.push_back(float(v) / 32768.f);
 	perf.duration = audio.duration();
+	if (ssml) {
+		// Emotions nest: each end returns to the one around it (the command's outside any element).
+		ControlTrack track;
+		track.path = textName;
+		std::vector<std::pair<std::string, double>> stack{{cmd.emotion, cmd.intensity}};
+		for (std::size_t i = 0; i < ssml->events.size(); ++i) {
+			const SsmlText::Event& e = ssml->events[i];
+			const Ticks t = std::min(eventTimes[i], perf.duration);
+			if (e.kind == SsmlText::Event::Kind::Mark) {
+				if (cmd.jsonProgress) std::fprintf(stderr, "{\"type\": \"mark\", \"name\": %s, \"time\": %.3f}\n", jsonQuote(e.name).c_str(), toSeconds(t));
+				else if (!cmd.quiet) std::fprintf(stderr, "talkhead: mark %s at %.3f s\n", jsonQuote(e.name).c_str(), toSeconds(t));
+			} else if (e.kind == SsmlText::Event::Kind::Blink) {
+				track.blinks.push_back(t);
+			} else {
+				if (e.kind == SsmlText::Event::Kind::EmotionStart) {
+					stack.emplace_back(*canonicalEmotion(e.name), e.intensity);
+				} else {
+					stack.pop_back();
+				}
+				track.emotions.push_back(ControlTrack::EmotionChange{t, ticksFromSeconds(0.2), stack.back().first, stack.back().second});
+			}
+		}
+		applyControls(perf, track);
+	}
 	if (cmd.controls) applyControls(perf, *cmd.controls);
 	char prefix[64];
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);

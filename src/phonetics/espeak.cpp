@@ -348,3 +348,92 @@ std::vector<Interval> expandWords(const Transcript& words, const std::string& ta
 }
 
 }  // namespace talkhead
+
+namespace talkhead {
+
+Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vector<Ticks>& eventTimes, int rateWpm, int pitch) {
+	Speech out;
+	out.phones.path = out.words.path = "espeak-ng";
+	out.phones.format = out.words.format = "espeak";
+	out.words.level = LabelLevel::Word;
+	std::vector<Ticks> segmentStart(ssml.segments.size()), segmentEnd(ssml.segments.size());
+	std::vector<std::vector<Interval>> segmentWords(ssml.segments.size());
+	Ticks at{0};
+	auto addPause = [&](Ticks length) {
+		if (length <= Ticks(0)) return;
+		const std::size_t samples = std::size_t(std::llround(toSeconds(length) * (out.sampleRate > 0 ? out.sampleRate : 22050)));
+		if (out.sampleRate <= 0) out.sampleRate = 22050;  // fixed up by the first spoken segment (espeak-ng's rate)
+		out.pcm.insert(out.pcm.end(), samples, 0);
+		const Ticks end = ticksFromSeconds(double(out.pcm.size()) / out.sampleRate);
+		if (!out.phones.intervals.empty() && out.phones.intervals.back().label.empty()) out.phones.intervals.back().end = end;
+		else out.phones.intervals.push_back(Interval{at, end, "", 0});
+		at = end;
+	};
+	bool anySpeech = false;
+	for (std::size_t s = 0; s < ssml.segments.size(); ++s) {
+		const SsmlText::Segment& seg = ssml.segments[s];
+		segmentStart[s] = at;
+		if (!trim(seg.text).empty()) {
+			Speech sp = espeakSpeak(seg.text, voice, rateWpm, pitch);
+			for (auto& w : sp.warnings) out.warnings.push_back(w);
+			if (out.sampleRate > 0 && out.sampleRate != sp.sampleRate && !out.pcm.empty()) {
+				// A leading pause was laid at an assumed rate: redo it at espeak-ng's.
+				const double seconds = double(out.pcm.size()) / out.sampleRate;
+				out.pcm.assign(std::size_t(std::llround(seconds * sp.sampleRate)), 0);
+			}
+			out.sampleRate = sp.sampleRate;
+			// Next to a <break> the segment's own edge silence goes, so the pause is the break's length: from
+			// its first word's start, to its last phone's end.
+			const Ticks spEnd = ticksFromSeconds(double(sp.pcm.size()) / sp.sampleRate);
+			Ticks from{0}, to = spEnd;
+			if (s > 0 && ssml.segments[s - 1].pauseAfter > Ticks(0) && !sp.words.intervals.empty()) from = sp.words.intervals.front().start;
+			if (seg.pauseAfter > Ticks(0))
+				for (auto it = sp.phones.intervals.rbegin(); it != sp.phones.intervals.rend(); ++it)
+					if (!it->label.empty()) {
+						to = it->end;
+						break;
+					}
+			const std::size_t a = std::size_t(std::llround(toSeconds(from) * sp.sampleRate)), b = std::min(sp.pcm.size(), std::size_t(std::llround(toSeconds(to) * sp.sampleRate)));
+			const Ticks offset = at - from;
+			out.pcm.insert(out.pcm.end(), sp.pcm.begin() + long(std::min(a, b)), sp.pcm.begin() + long(b));
+			const Ticks end = ticksFromSeconds(double(out.pcm.size()) / out.sampleRate);
+			for (Interval iv : sp.phones.intervals) {
+				iv.start = std::max(iv.start, from) + offset;
+				iv.end = std::min(iv.end, to) + offset;
+				if (iv.end <= iv.start) continue;
+				if (iv.label.empty() && !out.phones.intervals.empty() && out.phones.intervals.back().label.empty()) out.phones.intervals.back().end = iv.end;
+				else out.phones.intervals.push_back(iv);
+			}
+			if (!out.phones.intervals.empty()) out.phones.intervals.back().end = end;
+			for (Interval w : sp.words.intervals) {
+				w.start = std::max(w.start, from) + offset;
+				w.end = std::min(w.end, to) + offset;
+				segmentWords[s].push_back(w);
+				out.words.intervals.push_back(w);
+			}
+			at = end;
+			anySpeech = true;
+		}
+		segmentEnd[s] = at;
+		addPause(seg.pauseAfter);
+	}
+	if (!anySpeech) throw Error("nothing to say: the text is empty");
+	// Each event at the start of the first word at or after its place in its segment's text, else at the end
+	// of that segment's speech.
+	eventTimes.clear();
+	for (const SsmlText::Event& e : ssml.events) {
+		Ticks t = segmentEnd[e.segment];
+		const std::string& text = ssml.segments[e.segment].text;
+		std::size_t characters = 0;  // espeak-ng counts characters, the event's offset is in bytes
+		for (std::size_t k = 0; k < e.offset && k < text.size(); ++k) characters += (static_cast<unsigned char>(text[k]) & 0xC0) != 0x80;
+		for (const Interval& w : segmentWords[e.segment])
+			if (std::size_t(w.line) > characters) {  // 1-based character position > 0-based offset: at or after
+				t = w.start;
+				break;
+			}
+		eventTimes.push_back(t);
+	}
+	return out;
+}
+
+}  // namespace talkhead

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "phonetics/ssml.h"
 #include "phonetics/transcript.h"
 
 namespace talkhead {
@@ -58,5 +59,10 @@ Transcript phonesWithClosures(const Speech& speech);
 // Word-level transcript → phone intervals: each word is phonemised and its phones spread over the
 // word's interval in proportion to espeak-ng's own durations; pauses ("", "sil", "sp", "_") stay pauses.
 std::vector<Interval> expandWords(const Transcript& words, const std::string& languageTag);
+
+// SSML (ssml.h) in one pass: each segment between <break>s spoken by espeakSpeak, joined with pauses of
+// exactly the breaks' lengths (the segments' own silence next to a break is cut); `eventTimes` gets, per
+// event of `ssml`, the start of the first word at or after it (or the end of its segment's speech).
+Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vector<Ticks>& eventTimes, int rateWpm = 0, int pitch = -1);
 
 }  // namespace talkhead
