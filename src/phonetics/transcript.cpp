@@ -621,6 +621,10 @@ Transcript readRhubarbTsv(const std::string& text, const std::string& path) {
 		auto f = splitWhitespace(l.text);
 		if (f.size() != 2) throw Error(path, l.no, "expected 'time<TAB>mouth shape', found '" + l.text + "'");
 		cues.emplace_back(seconds(path, l.no, f[0], "time"), Line{l.no, f[1]});
+		// Each cue holds until the next, so a cue before its predecessor would make a reversed interval.
+		if (cues.size() > 1 && cues.back().first < cues[cues.size() - 2].first)
+			throw Error(path, l.no, "cue at " + f[0] + " s comes before the previous one (line " + std::to_string(cues[cues.size() - 2].second.no) +
+			                            "): Rhubarb cues are in time order");
 	}
 	for (std::size_t i = 0; i + 1 < cues.size(); ++i)
 		tr.intervals.push_back({cues[i].first, cues[i + 1].first, cues[i].second.text, cues[i].second.no});
@@ -835,6 +839,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& a, const Interval& b) { return a.start < b.start; });
 	std::vector<Interval> clean;
 	for (const Interval& iv : tr.intervals) {
+		if (iv.end < iv.start) throw Error(path, iv.line, "interval '" + iv.label + "' ends before it starts");  // every reader's guard
 		if (iv.end == iv.start) continue;
 		if (!clean.empty() && iv.start < clean.back().end) {
 			const Interval& prev = clean.back();

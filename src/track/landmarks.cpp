@@ -410,19 +410,26 @@ LandmarkTrack readLandmarksTsv(const std::string& path) {
 		std::vector<std::string> c = split(line, '\t');
 		if (c.size() != 4 + 2 * kIbugPoints) throw Error(path, n, "expected " + std::to_string(4 + 2 * kIbugPoints) + " columns, found " + std::to_string(c.size()));
 		FrameLandmarks f;
-		try {
-			f.frame = std::stoll(c[0]);
-			f.time = ticksFromSeconds(std::stod(c[1]));
-			f.found = c[2] != "lost";
-			f.detected = c[2] == "detected";
-			f.confidence = std::stod(c[3]);
-			if (f.found) {
-				f.points.resize(kIbugPoints, 2);
-				for (int i = 0; i < kIbugPoints; ++i) f.points(i, 0) = std::stod(c[std::size_t(4 + 2 * i)]), f.points(i, 1) = std::stod(c[std::size_t(5 + 2 * i)]);
-				f.raw = f.points;
-			}
-		} catch (const std::logic_error&) {
-			throw Error(path, n, "malformed number");
+		// Whole fields, finite and in range (what landmarksTsv can write back: a coordinate of 1e100 pixels
+		// overflowed its "%.3f" buffer, and stod took "nan", "inf" and "12abc").
+		auto number = [&](const std::string& s, double lo, double hi, const char* what) {
+			double v;
+			if (!parseDouble(s, v)) throw Error(path, n, "malformed number '" + s.substr(0, 40) + "' (" + what + ")");
+			if (v < lo || v > hi) throw Error(path, n, "number out of range: " + s.substr(0, 40) + " (" + what + ")");
+			return v;
+		};
+		long long frame;
+		if (!parseInt(c[0], frame) || frame < 0) throw Error(path, n, "malformed number '" + c[0].substr(0, 40) + "' (frame index)");
+		f.frame = frame;
+		f.time = ticksFromSeconds(number(c[1], -86400, 86400, "time: seconds, at most a day"));
+		f.found = c[2] != "lost";
+		f.detected = c[2] == "detected";
+		f.confidence = number(c[3], 0, 1, "confidence: 0 to 1");
+		if (f.found) {
+			f.points.resize(kIbugPoints, 2);
+			for (int i = 0; i < kIbugPoints; ++i)
+				for (int d = 0; d < 2; ++d) f.points(i, d) = number(c[std::size_t(4 + 2 * i + d)], -1e6, 1e6, "a coordinate: pixels, at most 10^6");
+			f.raw = f.points;
 		}
 		track.frames.push_back(f);
 	}
