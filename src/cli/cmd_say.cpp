@@ -152,6 +152,8 @@ int runSay(const std::vector<std::string>& argv) {
 				else if (!cmd.quiet) std::fprintf(stderr, "talkhead: mark %s at %.3f s\n", jsonQuote(e.name).c_str(), toSeconds(t));
 			} else if (e.kind == SsmlText::Event::Kind::Blink) {
 				track.blinks.push_back(t);
+			} else if (e.kind == SsmlText::Event::Kind::Brows) {
+				track.brows.push_back(BrowEvent{t, ticksFromSeconds(0.8), e.intensity, e.frown});
 			} else {
 				if (e.kind == SsmlText::Event::Kind::EmotionStart) {
 					stack.emplace_back(*canonicalEmotion(e.name), e.intensity);

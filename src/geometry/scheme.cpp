@@ -48,8 +48,19 @@ Scheme parseScheme(const std::string& text, const std::string& file) {
 			regionLines.emplace_back(lineNo, f);
 		} else if (kw == "eye") {
 			eyeLines.emplace_back(lineNo, f);
+		} else if (kw == "brow") {
+			if (f.size() < 4 || f[2] != ":") throw Error(file, lineNo, "expected 'brow NAME : INNER … OUTER'");
+			BrowSpec b;
+			b.name = f[1];
+			for (std::size_t i = 3; i < f.size(); ++i) {
+				const int idx = s.indexOf(f[i]);
+				if (idx < 0) throw Error(file, lineNo, "brow '" + b.name + "': unknown point '" + f[i] + "'");
+				b.points.push_back(idx);
+			}
+			if (b.points.size() < 2) throw Error(file, lineNo, "brow '" + b.name + "': needs at least 2 points");
+			s.brows.push_back(std::move(b));
 		} else {
-			throw Error(file, lineNo, "unknown keyword '" + kw + "' (expected scheme, class, point, region or eye)");
+			throw Error(file, lineNo, "unknown keyword '" + kw + "' (expected scheme, class, point, region, eye or brow)");
 		}
 	}
 	if (s.name.empty()) throw Error(file, 0, "missing 'scheme NAME' line");

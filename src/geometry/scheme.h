@@ -23,6 +23,12 @@ struct EyeSpec {
 	std::vector<int> upper, lower;
 };
 
+// A brow (for raises and frowns): its points from the inner end to the outer end.
+struct BrowSpec {
+	std::string name;
+	std::vector<int> points;
+};
+
 // A landmark scheme: the names of a corpus's feature points in shape-vector order, their alignment
 // weights, and the face regions they bound. Loaded from data files (models/schemes/*.scheme).
 struct Scheme {
@@ -32,6 +38,7 @@ struct Scheme {
 	Eigen::VectorXd weights;                // alignment weight per point
 	std::vector<RegionSpec> regions;
 	std::vector<EyeSpec> eyes;  // optional ('eye' lines); none: the face cannot blink
+	std::vector<BrowSpec> brows;  // optional ('brow' lines); none: brow events do nothing
 
 	int pointCount() const { return int(pointNames.size()); }
 	int indexOf(const std::string& pointName) const;  // −1 if absent

@@ -77,7 +77,7 @@ private:
 		fail("unknown entity (use &amp; &lt; &gt; &quot; &apos;)");
 	}
 	void event(SsmlText::Event::Kind kind, const std::string& name, double intensity, long line, long column) {
-		SsmlText::Event e{kind, out_.segments.size() - 1, text().size(), name, intensity, line, column};
+		SsmlText::Event e{kind, out_.segments.size() - 1, text().size(), name, intensity, 0, line, column};
 		out_.events.push_back(e);
 	}
 	void tag(std::vector<std::string>& open) {
@@ -173,9 +173,17 @@ private:
 			if (!selfClosing) throw here("<blink> must be empty: <blink/>");
 			event(SsmlText::Event::Kind::Blink, "", 1, line, column);
 		} else if (name == "brows") {
-			throw here("<brows> is not supported yet (blink, break, emotion and mark are)");
+			allow({"up", "down"});
+			double up = 0, down = 0;
+			for (auto [key, value] : {std::pair<const char*, double*>{"up", &up}, {"down", &down}})
+				if (const std::string* v = attribute(key); v && (!parseDouble(*v, *value) || !(*value >= 0 && *value <= 1.5)))
+					throw here(std::string("<brows> ") + key + " must be a number from 0 to 1.5");
+			if (up == 0 && down == 0) throw here("<brows> needs up=\"…\" or down=\"…\" (0–1.5)");
+			if (!selfClosing) throw here("<brows> must be empty: <brows up=\"0.8\"/>");
+			event(SsmlText::Event::Kind::Brows, "", up, line, column);
+			out_.events.back().frown = down;
 		} else {
-			throw here("unknown tag <" + name + "> (known: speak, emotion, break, mark, blink)");
+			throw here("unknown tag <" + name + "> (known: speak, emotion, break, mark, blink, brows)");
 		}
 	}
 };

@@ -119,8 +119,17 @@ ControlTrack parseControls(const std::string& text, const std::string& path) {
 			g.duration = ticksFromSeconds(r.number("duration", type == "nod" ? 0.6 : 0.9, 0.1, 10));
 			g.amount = r.number("amount", 1, 0, 3);
 			track.gestures.push_back(g);
+		} else if (type == "brows") {
+			r.only({"type", "time", "duration", "raise", "frown"});
+			BrowEvent b;
+			b.time = time;
+			b.duration = ticksFromSeconds(r.number("duration", 0.8, 0.2, 30));
+			b.raise = r.number("raise", 0, 0, 1.5);
+			b.frown = r.number("frown", 0, 0, 1.5);
+			if (b.raise == 0 && b.frown == 0) r.fail("a \"brows\" event needs \"raise\" or \"frown\" (0–1.5)");
+			track.brows.push_back(b);
 		} else {
-			r.fail("unknown type '" + shown(type) + "' (known: emotion, blink, nod, shake)");
+			r.fail("unknown type '" + shown(type) + "' (known: emotion, blink, nod, shake, brows)");
 		}
 	}
 	std::stable_sort(track.emotions.begin(), track.emotions.end(), [](const auto& a, const auto& b) { return a.time < b.time; });
@@ -137,6 +146,7 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 	for (const auto& c : track.emotions) past(c.time, "the emotion change to " + c.emotion);
 	for (Ticks t : track.blinks) past(t, "a blink");
 	for (const auto& g : track.gestures) past(g.time, g.kind == HeadGesture::Kind::Nod ? "a nod" : "a shake");
+	for (const auto& b : track.brows) past(b.time, "a brows event");
 	// Each keypose takes the emotion in effect at its time.
 	for (Keypose& k : perf.keys) {
 		std::string before = perf.emotion;
@@ -156,6 +166,7 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 	}
 	perf.modulation.forcedBlinks.insert(perf.modulation.forcedBlinks.end(), track.blinks.begin(), track.blinks.end());
 	perf.modulation.gestures.insert(perf.modulation.gestures.end(), track.gestures.begin(), track.gestures.end());
+	perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), track.brows.begin(), track.brows.end());
 }
 
 }  // namespace talkhead

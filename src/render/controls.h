@@ -14,7 +14,8 @@ namespace talkhead {
 //     {"type": "emotion", "time": 1.2, "emotion": "anger", "intensity": 0.8, "ramp": 0.4},
 //     {"type": "blink", "time": 2.0},
 //     {"type": "nod", "time": 3.0, "duration": 0.6, "amount": 1},
-//     {"type": "shake", "time": 4.0, "duration": 0.8, "amount": 0.5}]}
+//     {"type": "shake", "time": 4.0, "duration": 0.8, "amount": 0.5},
+//     {"type": "brows", "time": 5.0, "duration": 0.8, "raise": 0.8}]}   (or "frown": 0.5)
 // Times in seconds from the start of the video. A bare array of events is read the same way.
 struct ControlTrack {
 	struct EmotionChange {
@@ -26,7 +27,8 @@ struct ControlTrack {
 	std::vector<EmotionChange> emotions;
 	std::vector<Ticks> blinks;
 	std::vector<HeadGesture> gestures;
-	bool empty() const { return emotions.empty() && blinks.empty() && gestures.empty(); }
+	std::vector<BrowEvent> brows;
+	bool empty() const { return emotions.empty() && blinks.empty() && gestures.empty() && brows.empty(); }
 };
 
 // Parses a control track; throws Error naming the file and the line/column (malformed JSON) or the event

@@ -161,6 +161,19 @@ double ShapeModulator::eyeClosure(Ticks t) const {
 	return 0;
 }
 
+std::pair<double, double> ShapeModulator::brows(Ticks t) const {
+	double raise = 0, frown = 0;
+	const double s = toSeconds(t);
+	for (const BrowEvent& b : o_.browEvents) {
+		const double a = s - toSeconds(b.time), d = toSeconds(b.duration);
+		if (a <= 0 || a >= d) continue;
+		const double envelope = std::min(smoothstep(a / std::min(0.15, d / 2)), smoothstep((d - a) / std::min(0.25, d / 2)));
+		raise = std::max(raise, b.raise * envelope);
+		frown = std::max(frown, b.frown * envelope);
+	}
+	return {raise, frown};
+}
+
 HeadMotion ShapeModulator::head(Ticks t) const {
 	HeadMotion p;
 	const double s = toSeconds(t);

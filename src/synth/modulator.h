@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/ticks.h"
@@ -20,6 +21,13 @@ struct HeadGesture {
 	double amount = 1;
 };
 
+// Brows asked for by a control track or SSML: raised (AU1+2) and/or lowered and drawn together (AU4), each
+// 0–1.5, over `duration` (rising over the first 0.15 s, falling over the last 0.25 s).
+struct BrowEvent {
+	Ticks time{0}, duration{0};
+	double raise = 0, frown = 0;
+};
+
 struct ModulatorOptions {
 	bool blinks = true;
 	double blinkRate = 0;       // blinks per minute at rest; 0 = the emotion's default (see blinkRateFor)
@@ -28,7 +36,10 @@ struct ModulatorOptions {
 	std::uint64_t seed = 1;     // the same seed, inputs and options give the same blinks and head motion
 	std::vector<Ticks> forcedBlinks;     // blinks at these times (a control track), even with blinks off
 	std::vector<HeadGesture> gestures;   // nods and shakes (a control track), even with head motion off
-	bool any() const { return blinks || (headMotion && headAmplitude > 0) || !forcedBlinks.empty() || !gestures.empty(); }
+	std::vector<BrowEvent> browEvents;   // brow raises and frowns (a control track or SSML)
+	bool any() const {
+		return blinks || (headMotion && headAmplitude > 0) || !forcedBlinks.empty() || !gestures.empty() || !browEvents.empty();
+	}
 };
 
 // One blink: the lids close over `closing`, stay shut for `closed`, open over `opening` (closing faster
@@ -52,6 +63,8 @@ public:
 
 	// Lid closure at t: 0 open … 1 shut.
 	double eyeClosure(Ticks t) const;
+	// The brows at t: raise and frown amounts (0 = at rest).
+	std::pair<double, double> brows(Ticks t) const;
 	// The head's pose at t.
 	HeadMotion head(Ticks t) const;
 	const std::vector<BlinkEvent>& blinks() const { return blinks_; }

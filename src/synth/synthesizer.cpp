@@ -44,14 +44,18 @@ inline void blendRow(const std::uint8_t* a, const std::uint8_t* b, int wb, std::
 namespace {
 // The scheme's eyes: the model's, else the shipped scheme of the same name and points (models built before
 // schemes had 'eye' lines).
-std::vector<EyeSpec> eyesOf(const FaceModel& model) {
-	if (!model.scheme.eyes.empty()) return model.scheme.eyes;
+// (And its brows, the same way.)
+Scheme partsOf(const FaceModel& model) {
+	Scheme parts;
+	parts.eyes = model.scheme.eyes;
+	parts.brows = model.scheme.brows;
+	if (!parts.eyes.empty() || !parts.brows.empty()) return parts;
 	try {
 		const Scheme s = loadScheme(model.scheme.name);
-		if (s.pointNames == model.scheme.pointNames) return s.eyes;
+		if (s.pointNames == model.scheme.pointNames) parts.eyes = s.eyes, parts.brows = s.brows;
 	} catch (const Error&) {
 	}
-	return {};
+	return parts;
 }
 
 // y of a polyline (points in order of x, as lids run corner to corner) at x; NaN outside its x range.
@@ -204,7 +208,16 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 		}
 		anchors_ = anchorRing(extent, kAnchorMargin * faceSize_ + headRoom, model.width, model.height);
 	}
-	eyes_ = eyesOf(model);
+	{
+		const Scheme parts = partsOf(model);
+		eyes_ = parts.eyes;
+		brows_ = parts.brows;
+		if (eyes_.size() >= 2) {
+			auto centre = [&](const EyeSpec& e) { return (model.meanShape.row(e.corner0) + model.meanShape.row(e.corner1)) / 2; };
+			eyeDistance_ = (centre(eyes_[0]) - centre(eyes_[1])).norm();
+		}
+		if (!(eyeDistance_ > 0)) eyeDistance_ = 0.3 * faceSize_;
+	}
 	const int k = model.pointCount();
 	anchorsOut_ = anchors_;
 	anchorsOut_.col(0) *= scaleX_;
@@ -538,6 +551,18 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 	if (o_.modulator) {  // D42: lids, then the head, in model pixels
 		f.closure = eyes_.empty() ? 0.0 : o_.modulator->eyeClosure(tau);
 		if (f.closure > 0) closeEyes(points, f.closure);
+		// Brows (D46): raised 10 % of the eye distance, all along; a frown lowers them 6 % and draws the
+		// inner ends 5 % toward the midline, fading to half the lowering and none of the pull at the outer end.
+		const auto [raise, frown] = o_.modulator->brows(tau);
+		if (raise > 0 || frown > 0)
+			for (const BrowSpec& b : brows_)
+				for (std::size_t k = 0; k < b.points.size(); ++k) {
+					const double inner = 1 - double(k) / double(b.points.size() - 1);
+					const int i = b.points[k];
+					const double toward = points(i, 0) < centre_(0) ? 1.0 : -1.0;
+					points(i, 1) += eyeDistance_ * (-0.10 * raise + 0.06 * frown * (0.5 + 0.5 * inner));
+					points(i, 0) += eyeDistance_ * 0.05 * frown * inner * toward;
+				}
 		const HeadMotion h = o_.modulator->head(tau);
 		if (h.angle != 0 || h.dx != 0 || h.dy != 0) {
 			const double c = std::cos(h.angle), s = std::sin(h.angle);

@@ -128,6 +128,8 @@ private:
 	Points anchored(const Points& face, bool chroma) const;  // output-pixel face points + anchors + border
 	std::vector<std::uint8_t> baseY_, baseUV_;           // the baseface in YUV 4:2:0
 	std::vector<EyeSpec> eyes_;
+	std::vector<BrowSpec> brows_;
+	double eyeDistance_ = 0;  // between the eyes' centres on the mean shape, model pixels (brow motion's unit)
 	std::vector<ClosedLidPatch> eyePatches_;
 	Eigen::RowVector2d centre_{0, 0};  // the mean shape's centre (head rotation), model pixels
 	double faceSize_ = 1;              // the mean shape's larger side, model pixels

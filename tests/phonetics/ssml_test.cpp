@@ -38,9 +38,15 @@ TEST(Ssml, theSubsetIsReadAndBadMarkupNamedWithItsPosition) {
 	EXPECT_EQ(t.events[3].kind, SsmlText::Event::Kind::EmotionEnd);
 	EXPECT_EQ(failure("Bom\n dia <emotion name=\"joy\">x"), "t:2: column 6: <emotion> is not closed");
 	EXPECT_EQ(failure("a <break time=\"soon\"/>"), "t:1: column 3: <break> time must be like 300ms or 1.5s, at most 60 s");
-	EXPECT_EQ(failure("a <pause/>"), "t:1: column 3: unknown tag <pause> (known: speak, emotion, break, mark, blink)");
+	EXPECT_EQ(failure("a <pause/>"), "t:1: column 3: unknown tag <pause> (known: speak, emotion, break, mark, blink, brows)");
 	EXPECT_EQ(failure("a <mark nome=\"x\"/>"), "t:1: column 3: <mark> has no attribute 'nome'");
 	EXPECT_EQ(failure("<speak>a</emotion>"), "t:1: column 9: </emotion> closes nothing open (open: <speak>)");
+	const SsmlText b = parseSsml("a <brows up=\"0.8\"/>b <brows down=\"0.5\"/>c", "t");
+	ASSERT_EQ(b.events.size(), 2u);
+	EXPECT_EQ(b.events[0].kind, SsmlText::Event::Kind::Brows);
+	EXPECT_EQ(b.events[0].intensity, 0.8);
+	EXPECT_EQ(b.events[1].frown, 0.5);
+	EXPECT_EQ(failure("a <brows/>"), "t:1: column 3: <brows> needs up=\"…\" or down=\"…\" (0–1.5)");
 	EXPECT_EQ(failure("<speak>a &nbsp; b</speak>"), "t:1: column 10: unknown entity (use &amp; &lt; &gt; &quot; &apos;)");
 }
 

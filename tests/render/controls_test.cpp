@@ -45,7 +45,7 @@ TEST(Controls, eventsAreReadAndBadOnesNamed) {
 	EXPECT_EQ(t.gestures[1].kind, HeadGesture::Kind::Shake);
 	EXPECT_EQ(t.gestures[1].amount, 2);
 	EXPECT_EQ(parseControls(R"([{"type": "blink", "time": 1}])", "c.json").blinks.size(), 1u);  // a bare array
-	EXPECT_EQ(failure(R"({"events": [{"type": "wink", "time": 1}]})"), "c.json: event 1: unknown type 'wink' (known: emotion, blink, nod, shake)");
+	EXPECT_EQ(failure(R"({"events": [{"type": "wink", "time": 1}]})"), "c.json: event 1: unknown type 'wink' (known: emotion, blink, nod, shake, brows)");
 	EXPECT_EQ(failure(R"([{"type": "blink"}])"), "c.json: event 1: missing \"time\"");
 	EXPECT_EQ(failure(R"([{"type": "blink", "time": 1}, {"type": "emotion", "time": 1, "emotion": "glee"}])").substr(0, 36),
 	          "c.json: event 2: unknown emotion 'gl");

@@ -415,3 +415,40 @@ TEST(Synthesizer, keyposesTakeTheirOwnEmotionWhenATrackSetsIt) {
 		EXPECT_LT((p - f.model.alignedShapes[std::size_t(sample)]).cwiseAbs().maxCoeff(), 1e-9) << i;
 	}
 }
+
+TEST(ShapeModulator, browsRiseForARaiseAndComeDownAndTogetherForAFrown) {
+	// D46: at the apex of a raise every brow point is 10 % of the eye distance higher; a frown lowers the
+	// inner ends by 6 % and draws them toward the midline; before and after, the brows are at rest.
+	const SmallFace& f = smallFace();
+	const auto keys = speechKeys(0, 3000);
+	ModulatorOptions mo;
+	mo.blinks = mo.headMotion = false;
+	mo.browEvents = {BrowEvent{ms(500), ms(800), 1, 0}, BrowEvent{ms(2000), ms(800), 0, 1}};
+	SynthOptions o;
+	o.emotion = "joy";
+	Synthesizer plain(f.model, o);
+	o.modulator = std::make_shared<ShapeModulator>(mo, "joy", ms(3000), keys);
+	Synthesizer moved(f.model, o);
+	plain.prepare(keys);
+	moved.prepare(keys);
+	Synthesizer::Workspace w1, w2;
+	YuvImage frame;
+	auto at = [&](Synthesizer& s, Synthesizer::Workspace& w, long t) {
+		Points p;
+		s.renderFrameYuv(ms(t), keys, w, frame, p);
+		return p;
+	};
+	const Points& m = f.model.meanShape;
+	const double eyes = ((m.row(f.model.scheme.indexOf("REYE1")) + m.row(f.model.scheme.indexOf("REYE3"))) / 2 -
+	                     (m.row(f.model.scheme.indexOf("LEYE1")) + m.row(f.model.scheme.indexOf("LEYE3"))) / 2).norm();
+	const int inner = f.model.scheme.indexOf("REB1"), outer = f.model.scheme.indexOf("REB3"), innerLeft = f.model.scheme.indexOf("LEB1");
+	const Points rest = at(plain, w1, 900), raised = at(moved, w2, 900);  // the raise's plateau
+	EXPECT_NEAR(rest(inner, 1) - raised(inner, 1), 0.10 * eyes, 1e-6);
+	EXPECT_NEAR(rest(outer, 1) - raised(outer, 1), 0.10 * eyes, 1e-6);
+	const Points rest2 = at(plain, w1, 2400), frowned = at(moved, w2, 2400);
+	EXPECT_NEAR(frowned(inner, 1) - rest2(inner, 1), 0.06 * eyes, 1e-6);
+	EXPECT_NEAR(frowned(outer, 1) - rest2(outer, 1), 0.03 * eyes, 1e-6);
+	const double gapRest = std::abs(rest2(innerLeft, 0) - rest2(inner, 0)), gapFrown = std::abs(frowned(innerLeft, 0) - frowned(inner, 0));
+	EXPECT_NEAR(gapRest - gapFrown, 0.10 * eyes, 1e-6);  // each inner end 5 % closer to the midline
+	EXPECT_LT((at(moved, w2, 1500) - at(plain, w1, 1500)).cwiseAbs().maxCoeff(), 1e-9);  // between the two: at rest
+}
