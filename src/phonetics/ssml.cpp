@@ -122,9 +122,9 @@ private:
 			return nullptr;
 		};
 		auto allow = [&](std::initializer_list<const char*> keys) {
-			for (const auto& [k, v] : attributes)
-				if (std::none_of(keys.begin(), keys.end(), [&](const char* a) { return k == a; }))
-					throw Error(path_, line, "column " + std::to_string(column) + ": <" + name + "> has no attribute '" + k + "'");
+			for (const auto& attr : attributes)
+				if (std::none_of(keys.begin(), keys.end(), [&](const char* a) { return attr.first == a; }))
+					throw Error(path_, line, "column " + std::to_string(column) + ": <" + name + "> has no attribute '" + attr.first + "'");
 		};
 		auto here = [&](const std::string& what) { return Error(path_, line, "column " + std::to_string(column) + ": " + what); };
 		if (closing) {

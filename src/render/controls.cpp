@@ -73,9 +73,9 @@ struct EventReader {
 		return f->string;
 	}
 	void only(std::initializer_list<const char*> keys) const {
-		for (const auto& [k, value] : v.object)
-			if (std::none_of(keys.begin(), keys.end(), [&](const char* known) { return k == known; }))
-				fail("unknown field \"" + shown(k) + "\" for a \"" + text("type") + "\" event");
+		for (const auto& member : v.object)
+			if (std::none_of(keys.begin(), keys.end(), [&](const char* known) { return member.first == known; }))
+				fail("unknown field \"" + shown(member.first) + "\" for a \"" + text("type") + "\" event");
 	}
 };
 
