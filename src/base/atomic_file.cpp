@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "base/error.h"
+#include "base/interrupt.h"
 
 namespace fs = std::filesystem;
 
@@ -15,7 +16,9 @@ namespace talkhead {
 
 std::string temporaryNameFor(const std::string& path) {
 	const fs::path t(path);
-	return (t.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + t.filename().string())).string();
+	const std::string name = (t.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + t.filename().string())).string();
+	registerTemporary(name);  // removed if a signal stops the process before it is renamed (interrupt.h)
+	return name;
 }
 
 void writeFileAtomically(const std::string& path, const std::string& bytes) {
@@ -27,15 +30,15 @@ void writeFileAtomically(const std::string& path, const std::string& bytes) {
 		if (!out) {
 			out.close();
 			std::remove(tmp.c_str());
+			releaseTemporary(tmp);
 			throw Error(path, 0, "cannot write (missing folder, no permission or disk full)");
 		}
 	}
 	std::error_code ec;
 	fs::rename(tmp, path, ec);
-	if (ec) {
-		std::remove(tmp.c_str());
-		throw Error(path, 0, "cannot write: " + ec.message());
-	}
+	if (ec) std::remove(tmp.c_str());
+	releaseTemporary(tmp);
+	if (ec) throw Error(path, 0, "cannot write: " + ec.message());
 }
 
 }  // namespace talkhead

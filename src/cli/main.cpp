@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/interrupt.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
 	using namespace talkhead;
 	// A reader that goes away (| head, a closed ffplay) is a write error with a message, not a silent kill.
 	std::signal(SIGPIPE, SIG_IGN);
+	installInterruptHandlers();  // a stop removes every temporary and exits at once (base/interrupt.h)
 	std::vector<std::string> args(argv + 1, argv + argc);
 	if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
 		if (args.empty()) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "base/atomic_file.h"
+#include "base/interrupt.h"
 #include "base/error.h"
 #include "base/plugin.h"
 #include "media/image_io_module.h"
@@ -40,14 +41,14 @@ void writeImage(const std::string& path, const Image8& image, int pngCompression
 	std::string error;
 	if (!m.writeImage(tmp.string(), target.filename().string(), image, pngCompression, error)) {
 		std::remove(tmp.string().c_str());
+		releaseTemporary(tmp.string());
 		throw Error(path, 0, error);
 	}
 	std::error_code ec;
 	fs::rename(tmp, target, ec);
-	if (ec) {
-		std::remove(tmp.string().c_str());
-		throw Error(path, 0, "cannot write image: " + ec.message());
-	}
+	if (ec) std::remove(tmp.string().c_str());
+	releaseTemporary(tmp.string());
+	if (ec) throw Error(path, 0, "cannot write image: " + ec.message());
 }
 
 }  // namespace talkhead

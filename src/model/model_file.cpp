@@ -11,6 +11,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/interrupt.h"
 #include "base/memory.h"
 
 namespace talkhead {
@@ -413,8 +414,9 @@ void saveModel(const FaceModel& model, const std::string& path) {
 	ok = (std::fclose(f) == 0) && ok;
 	std::error_code ec;
 	if (ok) fs::rename(tmp, target, ec);
+	if (!ok || ec) std::remove(tmp.c_str());
+	releaseTemporary(tmp.string());
 	if (!ok || ec) {
-		std::remove(tmp.c_str());
 		throw Error(path, 0, "cannot write model" + (ec ? ": " + ec.message() : std::string(" (disk full?)")));
 	}
 }

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "base/atomic_file.h"
+#include "base/interrupt.h"
 #include "base/error.h"
 #include "media/image_io.h"
 #include "media/video_writer.h"
@@ -26,6 +27,7 @@ struct TempOutput {
 			std::error_code ec;
 			fs::remove(temp, ec);
 		}
+		releaseTemporary(temp);
 	}
 	void commit() {
 		std::error_code ec;

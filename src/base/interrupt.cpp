@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "base/interrupt.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstring>
+
+namespace talkhead {
+
+namespace {
+
+// A fixed table the signal handler can walk without locks or allocation: a slot is free (0), being
+// written (1) or holds a live path (2).
+constexpr int kSlots = 512;
+constexpr std::size_t kPathMax = 4096;
+struct Slot {
+	std::atomic<int> state{0};
+	char path[kPathMax];
+};
+Slot slots[kSlots];
+
+void onSignal(int sig) {
+	for (Slot& s : slots)
+		if (s.state.load(std::memory_order_acquire) == 2) {
+			if (::unlink(s.path) != 0) ::rmdir(s.path);  // async-signal-safe
+		}
+	static const char message[] = "talkhead: interrupted\n";
+	const ssize_t written = ::write(STDERR_FILENO, message, sizeof message - 1);
+	(void)written;
+	::_exit(128 + sig);
+}
+
+}  // namespace
+
+void installInterruptHandlers() {
+	struct sigaction sa {};
+	sa.sa_handler = onSignal;
+	sigemptyset(&sa.sa_mask);
+	sa.sa_flags = 0;
+	for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+		// A signal ignored when the process started stays ignored (a background job's SIGINT, nohup's SIGHUP).
+		struct sigaction old {};
+		if (sig != SIGTERM && sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+		sigaction(sig, &sa, nullptr);
+	}
+}
+
+void registerTemporary(const std::string& path) {
+	if (path.size() >= kPathMax) return;
+	for (Slot& s : slots) {
+		int expected = 0;
+		if (s.state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
+			std::memcpy(s.path, path.c_str(), path.size() + 1);
+			s.state.store(2, std::memory_order_release);
+			return;
+		}
+	}
+	// Full (more than kSlots temporaries at once): this one is not cleaned on a signal.
+}
+
+void releaseTemporary(const std::string& path) {
+	for (Slot& s : slots) {
+		int expected = 2;
+		if (s.state.load(std::memory_order_acquire) == 2 && std::strcmp(s.path, path.c_str()) == 0 &&
+		    s.state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
+			s.state.store(0, std::memory_order_release);
+			return;
+		}
+	}
+}
+
+}  // namespace talkhead
