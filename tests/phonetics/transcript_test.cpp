@@ -149,6 +149,10 @@ TEST(Rhubarb, mouthCuesInTsvAndJson) {
 	EXPECT_EQ(b.format, "rhubarb-json");
 	EXPECT_EQ(labels(a), (std::vector<std::string>{"X", "B", "C", "A", "F"}));
 	EXPECT_EQ(labels(a), labels(b));
+	// Cues out of time order (found by fuzzing, issue 15) are an error, not reversed intervals.
+	EXPECT_NE(errorOf([] { parseTranscript("0.00\tX\n0.55\tF\n0.05\tX\n", "r.tsv", {"rhubarb-tsv", "", ""}); })
+	              .find("r.tsv:3: cue at 0.05 s comes before the previous one (line 2)"),
+	          std::string::npos);
 	for (std::size_t i = 0; i < a.intervals.size(); ++i) {
 		EXPECT_EQ(a.intervals[i].start, b.intervals[i].start);
 		EXPECT_EQ(a.intervals[i].end, b.intervals[i].end);

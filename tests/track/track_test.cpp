@@ -216,4 +216,20 @@ TEST(LandmarksTsv, roundTripsAndNamesFileAndLineOfBadRows) {
 	EXPECT_NE(test::errorOf([&] { readLandmarksTsv(dir + "/c.tsv"); }).find(dir + "/c.tsv:2: expected 140 columns, found 6"), std::string::npos);
 	std::ofstream(dir + "/d.tsv") << text.substr(0, text.find('\n') + 1) << "x\t0.04\tlost\t0" << std::string(136, '\t') << "\n";
 	EXPECT_NE(test::errorOf([&] { readLandmarksTsv(dir + "/d.tsv"); }).find(dir + "/d.tsv:2: malformed number"), std::string::npos);
+	// Not-a-number and absurd coordinates (found by fuzzing, issue 15): errors, not values written back cut off.
+	const std::string header = text.substr(0, text.find('\n') + 1);
+	const std::string row = text.substr(header.size(), text.find('\n', header.size()) + 1 - header.size());
+	for (const std::string& bad : {std::string("nan"), std::string("1e113"), std::string("12abc")}) {
+		std::string r = row;
+		const std::size_t at = [&] {  // the first point's x: after frame, time, state, confidence
+			std::size_t p = 0;
+			for (int k = 0; k < 4; ++k) p = r.find('\t', p) + 1;
+			return p;
+		}();
+		r.replace(at, r.find('\t', at) - at, bad);
+		std::ofstream(dir + "/e.tsv") << header << r;
+		const std::string e = test::errorOf([&] { readLandmarksTsv(dir + "/e.tsv"); });
+		EXPECT_TRUE(e.find(dir + "/e.tsv:2: malformed number") != std::string::npos || e.find(dir + "/e.tsv:2: number out of range") != std::string::npos)
+		    << bad << ": " << e;
+	}
 }
