@@ -21,12 +21,6 @@ namespace talkhead::cli {
 
 namespace {
 
-std::string emotionList() {
-	std::string s;
-	for (const auto& e : emotionLabels()) s += (s.empty() ? "" : ", ") + e.label;
-	return s;
-}
-
 // The summary and the substitution warning on stderr around the library's progress (bar or JSON lines).
 class CliProgress final : public RenderProgress {
 public:

@@ -67,6 +67,12 @@ const std::vector<EmotionLabel>& emotionLabels() {
 	return v;
 }
 
+std::string emotionList() {
+	std::string s;
+	for (const auto& e : emotionLabels()) s += (s.empty() ? "" : ", ") + e.label;
+	return s;
+}
+
 const std::vector<VisemeLabel>& visemeLabels() {
 	static const std::vector<VisemeLabel> v = loadVisemeLabels(dataFile("phonetics/visemes.tsv"));
 	return v;

@@ -30,6 +30,8 @@ const std::vector<VisemeLabel>& visemeLabels();
 std::vector<EmotionLabel> loadEmotionLabels(const std::string& path);
 std::vector<VisemeLabel> loadVisemeLabels(const std::string& path);
 
+// The canonical emotion labels, comma-separated (for messages).
+std::string emotionList();
 // Canonical label for a label or alias (case-insensitive), or nullopt.
 std::optional<std::string> canonicalEmotion(const std::string& nameOrAlias);
 // Canonical viseme label for a label or its ASCII alias, or nullopt.

@@ -45,12 +45,6 @@ std::string shown(const std::string& s) {
 	return o;
 }
 
-std::string emotionList() {
-	std::string s;
-	for (const auto& e : emotionLabels()) s += (s.empty() ? "" : ", ") + e.label;
-	return s;
-}
-
 struct EventReader {
 	const JsonValue& v;
 	const std::string& path;

@@ -42,6 +42,13 @@ inline void blendRow(const std::uint8_t* a, const std::uint8_t* b, int wb, std::
 }  // namespace
 
 namespace {
+// Face points, then the static anchors (D41), then the frame border: the vertices of the synthesizer's mesh.
+Points withAnchors(const Points& face, const Points& anchors, int width, int height) {
+	Points p(face.rows() + anchors.rows(), 2);
+	p << face, anchors;
+	return withFrameBorder(p, width, height);
+}
+
 // The scheme's eyes: the model's, else the shipped scheme of the same name and points (models built before
 // schemes had 'eye' lines).
 // (And its brows, the same way.)
@@ -223,11 +230,6 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 	anchorsOut_.col(0) *= scaleX_;
 	anchorsOut_.col(1) *= scaleY_;
 	anchorsOutChroma_ = toChroma(anchorsOut_);
-	auto withAnchors = [&](const Points& face, const Points& anchors, int w, int h) {
-		Points p(face.rows() + anchors.rows(), 2);
-		p << face, anchors;
-		return withFrameBorder(p, w, h);
-	};
 	const int cw = (model.width + 1) / 2, ch = (model.height + 1) / 2;
 	meanSource_ = withAnchors(model.meanShape, anchors_, model.width, model.height);
 	meanSourceChroma_ = withAnchors(toChroma(model.meanShape), toChroma(anchors_), cw, ch);
@@ -260,13 +262,7 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 }
 
 Points Synthesizer::anchored(const Points& face, bool chroma) const {
-	const Points& a = chroma ? anchorsOutChroma_ : anchorsOut_;
-	Points p(face.rows() + a.rows() + kFrameBorderPoints, 2);
-	p.topRows(face.rows()) = face;
-	p.middleRows(face.rows(), a.rows()) = a;
-	const int w = chroma ? (width_ + 1) / 2 : width_, h = chroma ? (height_ + 1) / 2 : height_;
-	p.bottomRows(kFrameBorderPoints) = withFrameBorder(Points(0, 2), w, h);
-	return p;
+	return chroma ? withAnchors(face, anchorsOutChroma_, (width_ + 1) / 2, (height_ + 1) / 2) : withAnchors(face, anchorsOut_, width_, height_);
 }
 
 const Image8& Synthesizer::backgroundRgb() const {
@@ -390,9 +386,7 @@ KeyposeImage Synthesizer::makeKeypose(long sample, const Points& shape, const st
 				a[r] = synthesized[r];
 			}
 		}
-		PiecewiseAffineWarp warp(mesh_, withFrameBorder((Points(k.shape.rows() + anchors_.rows(), 2) << k.shape, anchors_).finished(),
-		                                                 model_.width, model_.height),
-		                         model_.width, model_.height);
+		PiecewiseAffineWarp warp(mesh_, withAnchors(k.shape, anchors_, model_.width, model_.height), model_.width, model_.height);
 		warp.setSource(meanSource_);
 		k.image = Image8(model_.width, model_.height, 3);
 		warp.apply(compositeRegions(model_, a), k.image);
@@ -642,11 +636,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 	}
 	placeWarp(ws.warp, movingMesh_, anchored(points, false), width_, height_);
 	if (o_.warpPath == WarpPath::Keypose) {
-		auto source = [&](const KeyposeImage* k) {
-			Points p(k->shape.rows() + anchors_.rows(), 2);
-			p << k->shape, anchors_;
-			return withFrameBorder(p, model_.width, model_.height);
-		};
+		auto source = [&](const KeyposeImage* k) { return withAnchors(k->shape, anchors_, model_.width, model_.height); };
 		if (f.u <= 0) {
 			ws.warp->setSource(source(f.src));
 			ws.warp->apply(f.src->image, out);
