@@ -81,8 +81,8 @@ std::map<std::string, ActionUnits> loadActionUnits(const std::string& path) {
 		ActionUnits u;
 		auto au = [&](const char* name) { return t.number(r, t.column(name), 0, 1); };
 		u.au1 = au("AU1"), u.au2 = au("AU2"), u.au4 = au("AU4"), u.au5 = au("AU5"), u.au6 = au("AU6"), u.au7 = au("AU7");
-		u.au9 = au("AU9"), u.au12 = au("AU12"), u.au15 = au("AU15"), u.au17 = au("AU17"), u.au23 = au("AU23"), u.au24 = au("AU24");
-		u.au43 = au("AU43"), u.au26 = au("AU26");
+		u.au9 = au("AU9"), u.au10 = au("AU10"), u.au12 = au("AU12"), u.au15 = au("AU15"), u.au16 = au("AU16"), u.au17 = au("AU17");
+		u.au20 = au("AU20"), u.au23 = au("AU23"), u.au24 = au("AU24"), u.au25 = au("AU25"), u.au43 = au("AU43"), u.au26 = au("AU26");
 		auto label = canonicalEmotion(r.fields[cl]);
 		if (!label) throw Error(path, r.line, "unknown emotion '" + r.fields[cl] + "'");
 		out[*label] = u;

@@ -225,73 +225,92 @@ Geometry computeGeometry(const Articulation& a, const ActionUnits& u) {
 	const double closed = clamp01(a.closed), tuck = clamp01(a.tuck), round = clamp01(a.round);
 	g.drop = g.jawOpen * 0.40;
 	const double ym = 1.36;
-	// Mouth width: spread widens, rounding narrows; a smile (AU12) widens every viseme, tightening narrows.
-	double hw = 0.46 * (1 + 0.16 * a.width - 0.30 * round) * (1 + 0.20 * u.au12 - 0.06 * u.au23 - 0.04 * u.au24 + 0.03 * u.au15);
+	// Mouth width: spread widens, rounding narrows; a smile (AU12) and the lip stretcher (AU20) widen every viseme,
+	// tightening and pressing narrow it.
+	double hw = 0.46 * (1 + 0.16 * a.width - 0.30 * round) *
+	            (1 + 0.26 * u.au12 + 0.30 * u.au20 - 0.08 * u.au23 - 0.05 * u.au24 + 0.03 * u.au15);
 	g.mouthHalfWidth = hw;
-	const double cornerY = ym + 0.28 * g.drop * (1 - closed) - 0.10 * u.au12 + 0.09 * u.au15 - 0.02 * u.au17;
+	const double open = 1 - closed;  // a bilabial closure overrides every action unit that parts the lips
+	// AU17 pushes the lower lip's middle up, so the corners sit lower relative to it.
+	const double cornerY = ym + 0.28 * g.drop * open - 0.17 * u.au12 + 0.16 * u.au15 + 0.05 * u.au20 + 0.03 * u.au17 - 0.02 * u.au10;
 	g.cornerR = {-hw, cornerY};
 	g.cornerL = {hw, cornerY};
 	// Upper teeth are fixed to the skull; lower teeth ride on the jaw.
 	g.teethUpperEdge = ym + 0.045;
-	// Inner upper lip: raised by upper-lip raise, by teeth display and a little by rounding of an open mouth.
-	const double yiu = ym - 0.005 - 0.06 * clamp01(a.upper) - 0.035 * clamp01(a.teeth) - 0.02 * round * clamp01(a.jaw * 3) + 0.02 * u.au24;
-	const double tu = 0.125 * (1 + 0.35 * round - 0.40 * u.au23 - 0.45 * u.au24 + 0.10 * u.au12 * 0);
-	// Inner lower lip: the jaw's drop unless the lips are pressed; tucked under the upper teeth for [f].
-	double yil = yiu + (g.drop + 0.04 * clamp01(a.teeth)) * (1 - closed);
+	// Inner upper lip: raised by upper-lip raise, by teeth display and a little by rounding of an open mouth;
+	// AU10 raises it off the upper teeth, a broad smile (AU12 with the lips parted) a little.
+	const double yiu0 = ym - 0.005 - 0.06 * clamp01(a.upper) - 0.035 * clamp01(a.teeth) - 0.02 * round * clamp01(a.jaw * 3) + 0.02 * u.au24;
+	const double yiu = yiu0 - (0.08 * u.au10 + 0.03 * u.au12 * u.au25) * open;
+	// Lip thickness: tightening, pressing and stretching thin the lips.
+	const double thin = std::clamp(1 - 0.40 * u.au23 - 0.45 * u.au24 - 0.25 * u.au20 - 0.12 * u.au12, 0.3, 1.0);
+	const double tu = 0.125 * (1 + 0.35 * round) * thin;
+	// Inner lower lip: the jaw's drop unless the lips are pressed; AU25 parts the lips without the jaw, AU16
+	// pulls the lower lip down off the lower teeth, AU17 pushes it up; tucked under the upper teeth for [f].
+	double yil = yiu0 + (g.drop + 0.04 * clamp01(a.teeth) + 0.06 * u.au25 + 0.07 * u.au16 - 0.02 * u.au17) * open;
+	yil = std::max(yil, yiu);
 	// The lower incisors show a little above the lower lip once the mouth is open.
-	g.teethLowerEdge = std::max(g.teethUpperEdge + 0.01, yil - 0.035 * clamp01(g.drop / 0.12));
+	g.teethLowerEdge = std::max(g.teethUpperEdge + 0.01, yil - 0.035 * clamp01(g.drop / 0.12) - 0.03 * u.au16 * open);
 	yil = yil + (g.teethUpperEdge + 0.01 - yil) * tuck;
-	const double tl = 0.18 * (1 + 0.25 * round - 0.40 * u.au23 - 0.45 * u.au24 - 0.30 * tuck);
+	const double tl = 0.18 * (1 + 0.25 * round - 0.30 * tuck) * thin;
 	g.cium = {0, yiu};
 	g.cilm = {0, yil};
 	g.cum = {0, yiu - tu};
 	const double bow = 0.11 * hw / 0.46;
+	// The lip stretcher flattens the lips into a wide, straight-sided opening.
+	const double side = 1 + 0.16 * u.au20;
 	g.vmr = {-bow, yiu - tu - 0.022};
 	g.vml = {bow, yiu - tu - 0.022};
-	g.rm1 = {-0.58 * hw, (cornerY * 0.25 + (yiu - tu) * 0.75) + 0.005};
+	g.rm1 = {-0.58 * side * hw, (cornerY * 0.25 + (yiu - tu) * 0.75) + 0.005};
 	g.lm1 = mirror(g.rm1);
-	g.rm4 = {-0.50 * hw, cornerY * 0.18 + yiu * 0.82};
+	g.rm4 = {-0.50 * side * hw, cornerY * 0.18 + yiu * 0.82};
 	g.lm4 = mirror(g.rm4);
-	g.rm5 = {-0.50 * hw, cornerY * 0.18 + yil * 0.82};
+	g.rm5 = {-0.50 * side * hw, cornerY * 0.18 + yil * 0.82};
 	g.lm5 = mirror(g.rm5);
-	const double lowerOuter = yil + tl - 0.05 * u.au17;
+	const double lowerOuter = yil + tl - 0.06 * u.au17;
 	g.clm = {0, lowerOuter};
-	g.rm3 = {-0.56 * hw, cornerY * 0.22 + lowerOuter * 0.78};
+	g.rm3 = {-0.56 * side * hw, cornerY * 0.22 + lowerOuter * 0.78};
 	g.lm3 = mirror(g.rm3);
 
 	// Jaw outline moves with the opening (more at the chin than at the angle).
-	g.cjaw = {0, 2.15 + g.jawOpen * 0.44 - 0.04 * u.au17};
+	g.cjaw = {0, 2.15 + g.jawOpen * 0.44 - 0.05 * u.au17};
 	g.chinSideR = {-0.58, 2.00 + g.jawOpen * 0.40};
 	g.rjaw2 = {-1.06 + 0.04 * g.jawOpen, 1.42 + g.jawOpen * 0.26};
 	g.rjaw1 = {-1.22, 0.95 + g.jawOpen * 0.05};
 
-	// Eyes: lid opening from AU5 (raise), AU7 (tighten), AU6 (cheek pushes the lower lid), AU43 (close).
-	const double openU = std::clamp(1 + 0.45 * u.au5 - 0.30 * u.au7 - 0.15 * u.au6 - 0.85 * u.au43 - 0.1 * u.au4, 0.08, 1.6);
-	const double openL = std::clamp(1 - 0.45 * u.au6 - 0.35 * u.au7 + 0.10 * u.au5 - 0.2 * u.au43, 0.25, 1.3);
+	// Eyes: lid opening from AU5 (raise), AU7 (tighten), AU6 and AU9 (the cheek pushes the lower lid up), AU4
+	// (the lowered brow presses on the upper lid), AU43 (close).
+	const double openU = std::clamp(1 + 0.60 * u.au5 - 0.30 * u.au7 - 0.15 * u.au6 - 0.85 * u.au43 - 0.10 * u.au4 - 0.10 * u.au9, 0.08, 1.7);
+	const double openL = std::clamp(1 - 0.45 * u.au6 - 0.40 * u.au7 + 0.10 * u.au5 - 0.2 * u.au43 - 0.25 * u.au9, 0.25, 1.3);
 	g.eyeOpen = openU;
 	g.reye1 = {-0.88, 0.01};
 	g.reye3 = {-0.36, 0.02};
 	g.reye2 = {-0.61, -0.125 * openU};
 	g.reye4 = {-0.62, 0.075 * openL};
 	g.reyeUpperOuter = {-0.77, -0.10 * openU};
-	g.reyeUpperInner = {-0.45, -0.085 * openU};
+	g.reyeUpperInner = {-0.45, -0.085 * openU - 0.02 * u.au1 * u.au4};  // 1+4 lifts the lid's inner third
 	g.reyeLowerInner = {-0.46, 0.06 * openL};
 	g.reyeLowerOuter = {-0.78, 0.055 * openL};
 	g.cheekRaise = u.au6;
 
-	// Brows: AU1 lifts the inner end, AU2 the outer, AU4 lowers and draws them together.
-	g.reb1 = {-0.30 + 0.07 * u.au4, -0.40 - 0.17 * u.au1 + 0.14 * u.au4};
-	g.reb2 = {-0.63 + 0.03 * u.au4, -0.53 - 0.08 * u.au1 - 0.13 * u.au2 + 0.10 * u.au4};
-	g.reb3 = {-0.97, -0.44 - 0.16 * u.au2 + 0.04 * u.au4};
+	// Brows: AU1 lifts the inner end, AU2 the outer, AU4 lowers them and draws them together, AU9 pulls the
+	// inner ends down. In 1+4 (sadness, fear) AU1 wins at the inner end and AU4 knits and lowers the rest,
+	// which gives the oblique brow of sadness.
+	// With AU1+2 (fear) AU4 also flattens the raised arch into the straight brow of fear. AU9 lowers the
+	// whole brow rather than knitting it.
+	const double knit = u.au4 * (1 - 0.6 * u.au1);
+	const double flatten = u.au4 * std::min(u.au1, u.au2);
+	g.reb1 = {-0.30 + 0.10 * u.au4 + 0.01 * u.au9, -0.40 - 0.26 * u.au1 + 0.19 * knit + 0.05 * u.au9};
+	g.reb2 = {-0.63 + 0.05 * u.au4, -0.53 - 0.06 * u.au1 - 0.19 * u.au2 + 0.15 * u.au4 + 0.06 * u.au9 + 0.08 * flatten};
+	g.reb3 = {-0.97 + 0.02 * u.au4, -0.44 - 0.22 * u.au2 + 0.06 * u.au4 + 0.05 * u.au9};
 
 	// Nose: AU9 wrinkles it, lifting the wings and the base.
 	g.n1 = {0, -0.10};
 	g.n4 = {0, 0.36};
 	g.rn1 = {-0.13, 0.36};
-	g.n2 = {0, 0.80 - 0.02 * u.au9};
-	g.rn2 = {-0.31 - 0.02 * u.au9, 0.84 - 0.06 * u.au9};
-	g.rn3 = {-0.16, 0.955 - 0.05 * u.au9};
-	g.n3 = {0, 0.965 - 0.05 * u.au9};
+	g.n2 = {0, 0.80 - 0.03 * u.au9};
+	g.rn2 = {-0.31 - 0.03 * u.au9 - 0.01 * u.au10, 0.84 - 0.09 * u.au9 - 0.03 * u.au10};
+	g.rn3 = {-0.16, 0.955 - 0.07 * u.au9 - 0.02 * u.au10};
+	g.n3 = {0, 0.965 - 0.07 * u.au9 - 0.02 * u.au10};
 
 	g.hc = {0, -2.05};
 	g.hr = {-1.02, -1.62};
@@ -448,25 +467,68 @@ SynthFace FaceRenderer::render(const Articulation& a, const ActionUnits& u, cons
 		pa.shade(stroke(curve({{s * 0.22, g.rn2.y - 0.13}, {wing.x, wing.y - 0.03}, {s * 0.24, g.rn3.y + 0.01}}), 0.008, 0.010), 0.14, 0.016);
 		pa.fill(ellipse({s * 0.115, g.rn3.y - 0.02}, 0.070, 0.032, s * 0.35), Color(70, 32, 30), 0.85, 0.012);
 	}
-	// Nasolabial folds, deeper with a smile (AU12) and with AU9.
+	// Appearance changes a warp cannot make (FACS Investigator's Guide, Ekman, Friesen & Hager 2002): the
+	// wrinkles, folds and bulges each action unit produces, drawn from the same parameters as the points.
+	// Nasolabial folds: deeper with a smile (AU12) and, in their upper part beside the nose wing, with AU9 and AU10.
 	for (double s : {-1.0, 1.0}) {
-		P top{s * (std::abs(g.rn2.x) + 0.03), g.rn2.y + 0.06};
+		P top{s * (std::abs(g.rn2.x) + 0.03), g.rn2.y + 0.06 - 0.04 * (u.au9 + u.au10)};
 		P corner{s * (g.mouthHalfWidth + 0.10), g.cornerR.y + 0.08};
-		pa.shade(stroke(curve({top, lerp(top, corner, 0.5) + P{s * 0.06, 0}, corner}), 0.012, 0.02),
-		         0.10 + 0.22 * u.au12 + 0.10 * u.au9, 0.025);
+		pa.shade(stroke(curve({top, lerp(top, corner, 0.5) + P{s * 0.06, 0}, corner}), 0.012 + 0.01 * u.au12, 0.02),
+		         0.10 + 0.26 * u.au12 + 0.10 * u.au20, 0.025);
+		if (u.au9 + u.au10 > 0.05)  // the deepened upper fold and the raised infraorbital triangle above it
+			pa.shade(stroke(curve({top + P{0, -0.03}, lerp(top, corner, 0.35) + P{s * 0.04, 0}}), 0.02, 0.01), 0.30 * std::min(1.0, u.au9 + u.au10), 0.02);
+		// AU15: the corners pulled down fold the skin below them (the depressor's oblique furrow).
+		if (u.au15 > 0.05)
+			pa.shade(stroke(curve({corner + P{-s * 0.08, 0.0}, corner + P{-s * 0.02, 0.14}, corner + P{s * 0.02, 0.26}}), 0.015, 0.008), 0.28 * u.au15, 0.02);
+		// AU12/AU20: the skin bunches just outside each corner (a dimple for the smile, a taut fold when stretched).
+		if (u.au12 + u.au20 > 0.05)
+			pa.shade(ellipse({s * (g.mouthHalfWidth + 0.06), g.cornerR.y + 0.01}, 0.03, 0.06), 0.20 * std::min(1.0, u.au12 + u.au20), 0.02);
 	}
-	// Chin: mentolabial shadow and chin highlight (AU17 bunches it).
-	pa.shade(ellipse({0, g.clm.y + 0.13}, 0.22, 0.05), 0.08 + 0.10 * u.au17, 0.05);
-	pa.shade(ellipse({0, g.cjaw.y - 0.22}, 0.25, 0.13), -0.05, 0.08);
-	// Forehead: horizontal lines for AU1/AU2, vertical glabella lines for AU4.
-	const double foreheadLines = std::max(u.au1, u.au2);
-	for (int i = 0; i < 3 && foreheadLines > 0.05; ++i) {
-		double y = -0.78 - 0.13 * i;
-		pa.shade(stroke(curve({{-0.55, y + 0.03}, {0, y}, {0.55, y + 0.03}}), 0.008, 0.008), 0.12 * foreheadLines, 0.012);
+	// Chin: mentolabial shadow and chin highlight; AU17 pushes the chin boss up, deepens the furrow under the
+	// lower lip and wrinkles the chin's skin.
+	pa.shade(ellipse({0, g.clm.y + 0.13 - 0.03 * u.au17}, 0.22, 0.05), 0.08 + 0.22 * u.au17, 0.05);
+	pa.shade(ellipse({0, g.cjaw.y - 0.22}, 0.25, 0.13), -0.05 - 0.06 * u.au17, 0.08);
+	if (u.au17 > 0.05)
+		for (const P& d : {P{-0.10, -0.27}, P{0.08, -0.30}, P{-0.02, -0.20}, P{0.13, -0.21}, P{-0.14, -0.17}, P{0.03, -0.13}})
+			pa.shade(ellipse(P{0, g.cjaw.y} + d, 0.025, 0.018), 0.12 * u.au17, 0.015);
+	// AU23/AU24: the pressed lips bulge the skin above and below them.
+	if (u.au23 + u.au24 > 0.05) {
+		const double press = std::min(1.0, u.au23 + u.au24);
+		pa.shade(stroke(curve({g.rm1 + P{-0.02, -0.05}, g.cum + P{0, -0.06}, g.lm1 + P{0.02, -0.05}}), 0.02, 0.02), -0.06 * press, 0.03);
+		pa.shade(stroke(curve({g.rm3 + P{0, 0.05}, g.clm + P{0, 0.05}, g.lm3 + P{0, 0.05}}), 0.02, 0.02), 0.10 * press, 0.03);
 	}
-	if (u.au4 > 0.05)
-		for (double s : {-1.0, 1.0})
-			pa.shade(stroke(curve({{s * 0.08, -0.42}, {s * 0.07, -0.24}}), 0.01, 0.008), 0.25 * u.au4, 0.012);
+	// Forehead: horizontal lines, in the middle for AU1 (inner brow raise), across for AU2.
+	if (u.au1 > 0.05 || u.au2 > 0.05) {
+		const double reach = 0.30 + 0.30 * std::min(1.0, u.au2 / std::max(0.05, u.au1));
+		for (int i = 0; i < 3; ++i) {
+			double y = -0.80 - 0.13 * i - 0.08 * u.au1;
+			pa.shade(stroke(curve({{-reach, y + 0.04 * (1 - u.au2)}, {0, y - 0.02 * u.au1}, {reach, y + 0.04 * (1 - u.au2)}}), 0.009, 0.009),
+			         0.16 * std::max(u.au1, u.au2), 0.012);
+		}
+	}
+	// AU4: vertical furrows between the brows, and the lowered brows shade the eyes.
+	if (u.au4 > 0.05) {
+		for (double s : {-1.0, 1.0}) {
+			pa.shade(stroke(curve({{s * 0.09, -0.48}, {s * 0.075, -0.33}, {s * 0.08, -0.20}}), 0.012, 0.008), 0.40 * u.au4, 0.012);
+			pa.shade(stroke(curve({{s * 0.17, -0.40}, {s * 0.13, -0.28}}), 0.008, 0.006), 0.20 * u.au4 * (1 - u.au1), 0.012);
+			pa.shade(ellipse({s * 0.60, -0.16}, 0.32, 0.12), 0.12 * u.au4, 0.08);
+		}
+	}
+	// AU9: horizontal wrinkles across the root of the nose, between and below the brows.
+	if (u.au9 > 0.05)
+		for (int i = 0; i < 3; ++i) {
+			const double y = -0.12 + 0.09 * i, w = 0.10 + 0.02 * i;
+			pa.shade(stroke(curve({{-w, y + 0.02}, {0, y - 0.015}, {w, y + 0.02}}), 0.010, 0.010), 0.30 * u.au9, 0.010);
+		}
+	// AU6 (and AU9's cheek): crow's feet fanning from the outer eye corners, the lower lid bulge.
+	for (double s : {-1.0, 1.0}) {
+		const double cheek = std::min(1.0, u.au6 + 0.5 * u.au9);
+		if (cheek > 0.05) {
+			for (int i = -1; i <= 1; ++i)
+				pa.shade(stroke(curve({{s * 0.94, 0.02 + 0.05 * i}, {s * 1.06, 0.02 + 0.09 * i}}), 0.008, 0.004), 0.22 * cheek, 0.010);
+			pa.shade(stroke(curve({{s * 0.45, 0.16}, {s * 0.62, 0.19}, {s * 0.80, 0.15}}), 0.012, 0.012), 0.14 * cheek, 0.02);
+		}
+	}
 
 	// Eyes.
 	for (double s : {-1.0, 1.0}) {

@@ -23,8 +23,8 @@ struct Articulation {
 
 // Facial action units with intensities 0..1 (corpus-tools/data/expression-aus.tsv).
 struct ActionUnits {
-	double au1 = 0, au2 = 0, au4 = 0, au5 = 0, au6 = 0, au7 = 0, au9 = 0, au12 = 0, au15 = 0, au17 = 0, au23 = 0, au24 = 0,
-	       au43 = 0, au26 = 0;
+	double au1 = 0, au2 = 0, au4 = 0, au5 = 0, au6 = 0, au7 = 0, au9 = 0, au10 = 0, au12 = 0, au15 = 0, au16 = 0, au17 = 0,
+	       au20 = 0, au23 = 0, au24 = 0, au25 = 0, au43 = 0, au26 = 0;
 };
 
 // Small rigid head motion of one image: rotation (degrees), scale, translation (pixels).

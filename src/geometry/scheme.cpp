@@ -81,12 +81,25 @@ Scheme parseScheme(const std::string& text, const std::string& file) {
 			else throw Error(file, ln, "unknown region option '" + key + "'");
 		}
 		if (i == f.size()) throw Error(file, ln, "region '" + r.name + "': missing ':' before the boundary points");
-		std::set<int> seen;
+		std::set<std::pair<int, int>> seen;
 		for (++i; i < f.size(); ++i) {
-			int idx = s.indexOf(f[i]);
-			if (idx < 0) throw Error(file, ln, "region '" + r.name + "': unknown point '" + f[i] + "'");
-			if (!seen.insert(idx).second) throw Error(file, ln, "region '" + r.name + "': point '" + f[i] + "' repeated");
+			// A point, or A>B@T: the point T of the way from A to B (T < 0: beyond A, away from B).
+			std::string a = f[i], b;
+			double t = 0;
+			if (auto gt = f[i].find('>'); gt != std::string::npos) {
+				auto at = f[i].find('@', gt);
+				a = f[i].substr(0, gt);
+				b = f[i].substr(gt + 1, at == std::string::npos ? std::string::npos : at - gt - 1);
+				if (at == std::string::npos || !parseDouble(f[i].substr(at + 1), t) || !(t >= -3 && t <= 3) || t == 0 || t == 1)
+					throw Error(file, ln, "region '" + r.name + "': bad boundary point '" + f[i] + "' (expected A>B@T with −3 ≤ T ≤ 3, T not 0 or 1)");
+			}
+			int idx = s.indexOf(a), other = b.empty() ? -1 : s.indexOf(b);
+			if (idx < 0) throw Error(file, ln, "region '" + r.name + "': unknown point '" + a + "'");
+			if (!b.empty() && (other < 0 || other == idx)) throw Error(file, ln, "region '" + r.name + "': bad second point '" + b + "' in '" + f[i] + "'");
+			if (!seen.insert({idx, other}).second) throw Error(file, ln, "region '" + r.name + "': point '" + f[i] + "' repeated");
 			r.boundary.push_back(idx);
+			r.towards.push_back(other);
+			r.fraction.push_back(t);
 		}
 		if (r.boundary.size() < 3) throw Error(file, ln, "region '" + r.name + "' needs at least 3 boundary points");
 		if (r.grow <= -1 || r.feather < 0) throw Error(file, ln, "region '" + r.name + "': grow must be > −1 and feather ≥ 0");
@@ -144,6 +157,16 @@ std::vector<std::string> availableSchemes() {
 		if (!names.empty()) return {names.begin(), names.end()};
 	}
 	return {};
+}
+
+Points regionBoundary(const RegionSpec& region, const Points& shape) {
+	Points b(Eigen::Index(region.boundary.size()), 2);
+	for (std::size_t i = 0; i < region.boundary.size(); ++i) {
+		b.row(Eigen::Index(i)) = shape.row(region.boundary[i]);
+		if (i < region.towards.size() && region.towards[i] >= 0)
+			b.row(Eigen::Index(i)) += region.fraction[i] * (shape.row(region.towards[i]) - shape.row(region.boundary[i]));
+	}
+	return b;
 }
 
 }  // namespace talkhead

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "geometry/shape.h"
+
 namespace talkhead {
 
 // A face region: a closed boundary through named points (by index), grown about its centroid and
@@ -11,6 +13,11 @@ namespace talkhead {
 struct RegionSpec {
 	std::string name;
 	std::vector<int> boundary;  // point indices, in order around the region
+	// Per boundary entry: −1 for the point itself, else the index of a second point; the entry is then the
+	// point `fraction` of the way from boundary[i] to towards[i] (scheme syntax A>B@T; a negative fraction
+	// lies beyond boundary[i], away from towards[i]). Empty = all −1.
+	std::vector<int> towards;
+	std::vector<double> fraction;
 	double grow = 0;            // relative growth of the curve about its centroid
 	double feather = 0.05;      // feather width as a fraction of sqrt(region area)
 };
@@ -43,6 +50,9 @@ struct Scheme {
 	int pointCount() const { return int(pointNames.size()); }
 	int indexOf(const std::string& pointName) const;  // −1 if absent
 };
+
+// The boundary of a region on a shape (k × 2 points): one row per boundary entry, in order.
+Points regionBoundary(const RegionSpec& region, const Points& shape);
 
 // Parses a scheme file; errors name the file and line.
 Scheme parseScheme(const std::string& text, const std::string& fileName);

@@ -36,12 +36,6 @@ int FaceModel::regionIndex(const std::string& name) const {
 
 namespace {
 
-Points boundaryOf(const Points& shape, const std::vector<int>& idx) {
-	Points b(idx.size(), 2);
-	for (std::size_t i = 0; i < idx.size(); ++i) b.row(i) = shape.row(idx[i]);
-	return b;
-}
-
 void checkShape(const Points& s, int k, int width, int height, const std::string& what) {
 	if (s.rows() != k) throw Error(what + ": has " + std::to_string(s.rows()) + " points, the scheme has " + std::to_string(k));
 	for (Eigen::Index i = 0; i < s.rows(); ++i) {
@@ -104,7 +98,7 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 	for (const RegionSpec& spec : scheme.regions) {
 		RegionModel r;
 		r.name = spec.name;
-		Points boundary = boundaryOf(model.meanShape, spec.boundary);
+		Points boundary = regionBoundary(spec, model.meanShape);
 		double featherPx = spec.feather * std::sqrt(regionArea(boundary, spec.grow));
 		std::vector<float> alpha = softRegionMask(boundary, spec.grow, featherPx, width, height);
 		for (std::size_t p = 0; p < alpha.size(); ++p) {

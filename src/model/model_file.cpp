@@ -343,6 +343,14 @@ void writeRecords(Writer& w, const FaceModel& model) {
 	for (const auto& r : s.regions) {
 		w.strings("region.name", {r.name});
 		w.i32("region.boundary", r.boundary.data(), r.boundary.size());
+		// Version 5: per boundary entry, the second point (−1: none) and the fraction towards it.
+		std::vector<double> towards;
+		for (std::size_t i = 0; i < r.boundary.size(); ++i) {
+			const bool between = i < r.towards.size() && r.towards[i] >= 0;
+			towards.push_back(between ? r.towards[i] : -1);
+			towards.push_back(between ? r.fraction[i] : 0);
+		}
+		w.f64("region.towards", towards.data(), towards.size());
 		double gf[2] = {r.grow, r.feather};
 		w.f64("region.growFeather", gf, 2);
 	}
@@ -423,7 +431,7 @@ void saveModel(const FaceModel& model, const std::string& path) {
 
 namespace {
 
-FaceModel readRecords(Reader& r, bool bases);
+FaceModel readRecords(Reader& r, bool bases, std::uint32_t version);
 
 // The checksum of the payload from `offset` to the end, read in chunks (used to tell corruption from
 // a format problem when parsing stops early).
@@ -454,8 +462,8 @@ FaceModel loadModel(const std::string& path, ModelParts parts) {
 	std::memcpy(&version, head + 8, 4);
 	std::memcpy(&size, head + 16, 8);
 	std::memcpy(&sum, head + 24, 8);
-	if (version != kModelFormatVersion)
-		throw Error(path, 0, "model format version " + std::to_string(version) + " is not supported (this build reads version " +
+	if (version != kModelFormatVersion && version != 4)
+		throw Error(path, 0, "model format version " + std::to_string(version) + " is not supported (this build reads versions 4 to " +
 		                         std::to_string(kModelFormatVersion) + "; rebuild the model with 'talkhead build')");
 	std::error_code ec;
 	auto fileSize = std::filesystem::file_size(path, ec);
@@ -465,7 +473,7 @@ FaceModel loadModel(const std::string& path, ModelParts parts) {
 	Reader r(f, size, path);
 	FaceModel m;
 	try {
-		m = readRecords(r, parts == ModelParts::All);
+		m = readRecords(r, parts == ModelParts::All, version);
 	} catch (const Error& e) {
 		// A damaged record says so itself; anything else that stops the parse is reported as damage
 		// when the payload's checksum disagrees (a flipped byte in a length field, say).
@@ -479,7 +487,7 @@ FaceModel loadModel(const std::string& path, ModelParts parts) {
 
 namespace {
 
-FaceModel readRecords(Reader& r, bool bases) {
+FaceModel readRecords(Reader& r, bool bases, std::uint32_t version) {
 	FaceModel m;
 	Scheme& s = m.scheme;
 	auto one = [&](const std::string& name) {
@@ -507,6 +515,22 @@ FaceModel readRecords(Reader& r, bool bases) {
 		for (int x : b)
 			if (x < 0 || x >= k) r.fail("region boundary index out of range");
 		rs.boundary.assign(b.begin(), b.end());
+		if (version >= 5) {  // version 4 has no region.towards: every boundary entry is a point
+			auto t = r.f64("region.towards");
+			if (t.size() != 2 * b.size()) r.fail("bad region.towards");
+			for (std::size_t i = 0; i < b.size(); ++i) {
+				const double other = t[2 * i], frac = t[2 * i + 1];
+				if (other == -1) {
+					rs.towards.push_back(-1);
+					rs.fraction.push_back(0);
+				} else if (other >= 0 && other < double(k) && other == std::floor(other) && frac >= -3 && frac <= 3) {
+					rs.towards.push_back(int(other));
+					rs.fraction.push_back(frac);
+				} else {
+					r.fail("region.towards out of range");
+				}
+			}
+		}
 		auto gf = r.f64("region.growFeather");
 		if (gf.size() != 2) r.fail("bad region options");
 		rs.grow = gf[0];

@@ -11,7 +11,7 @@ namespace talkhead {
 // checksum, then the payload: named, typed records (little-endian; float32 for image and basis data,
 // float64 for shapes and eigenvalues). Written to a temporary name and renamed into place.
 // 2: per-sample appearance cache; 3: per-record checksums; 4: per-sample checksums of the cache.
-constexpr std::uint32_t kModelFormatVersion = 4;
+constexpr std::uint32_t kModelFormatVersion = 5;  // reads 4 too (no region.towards)
 
 void saveModel(const FaceModel& model, const std::string& path);
 // What to load: everything, or what rendering needs: the bases and training coefficients are skipped and

@@ -64,8 +64,7 @@ Image8 drawBasefaceMesh(const FaceModel& model) {
 	const cv::Scalar regionColors[] = {cv::Scalar(255, 200, 0), cv::Scalar(255, 80, 200), cv::Scalar(0, 200, 255)};
 	for (std::size_t r = 0; r < model.scheme.regions.size(); ++r) {
 		const auto& spec = model.scheme.regions[r];
-		Points b(spec.boundary.size(), 2);
-		for (std::size_t i = 0; i < spec.boundary.size(); ++i) b.row(i) = model.meanShape.row(spec.boundary[i]);
+		Points b = regionBoundary(spec, model.meanShape);
 		Points c = closedCatmullRom(b);
 		Eigen::RowVector2d centre = b.colwise().mean();
 		std::vector<cv::Point> poly;

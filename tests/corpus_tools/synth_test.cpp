@@ -3,6 +3,7 @@
 
 #include <set>
 
+#include "base/data_dirs.h"
 #include "geometry/scheme.h"
 #include "phonetics/labels.h"
 #include "synth_corpus.h"
@@ -146,4 +147,76 @@ TEST(SynthCorpus, expressionsMoveBrowsAndMouthAsTheirActionUnitsSay) {
 	EXPECT_GT(anger(idx("REB1"), 1), neutral(idx("REB1"), 1) + 3);          // AU4 lowers the inner brow
 	EXPECT_LT(fear(idx("REB1"), 1), neutral(idx("REB1"), 1) - 3);           // AU1 raises it
 	EXPECT_LT(fear(idx("REYE2"), 1), neutral(idx("REYE2"), 1) - 1);         // AU5 raises the upper lid
+	// The prototypes at apex (expression-aus.tsv): sadness 1+4+15+17, anger 4+5+7+23+24, fear 1+2+4+5+20,
+	// disgust 9+10+15+17.
+	Points distress = still(item(items, "distress", "e")), hate = still(item(items, "hate", "e"));
+	const double eye = eyeCorners(neutral);
+	auto y = [](const Points& p, const char* n) { return p(idx(n), 1); };
+	EXPECT_GT(y(distress, "RM2") - y(distress, "CLM"), y(neutral, "RM2") - y(neutral, "CLM") + 0.05 * eye);  // corners down
+	// The oblique brow of sadness: the inner end rises above the middle of the brow.
+	EXPECT_LT(y(distress, "REB1"), y(distress, "REB2"));
+	EXPECT_GT(y(neutral, "REB1"), y(neutral, "REB2"));
+	// Anger draws the brows together; fear's brows are raised and flattened (less arch than neutral's).
+	auto gap = [](const Points& p) { return p(idx("LEB1"), 0) - p(idx("REB1"), 0); };
+	EXPECT_LT(gap(anger), gap(neutral) - 0.05 * eye);
+	auto arch = [&](const Points& p) { return (y(p, "REB1") + y(p, "REB3")) / 2 - y(p, "REB2"); };
+	EXPECT_LT(arch(fear), 0.6 * arch(neutral));
+	EXPECT_GT(width(fear), 1.15 * width(neutral));  // AU20 stretches the lips sideways
+	EXPECT_LT(y(anger, "CIUM") - y(anger, "CUM"), 0.7 * (y(neutral, "CIUM") - y(neutral, "CUM")));  // lips pressed thin
+	// Disgust: AU9 lifts the nose base, AU10 the upper lip.
+	EXPECT_LT(y(hate, "N3"), y(neutral, "N3") - 0.02 * eye);
+	EXPECT_LT(y(hate, "CUM"), y(neutral, "CUM") - 0.03 * eye);
+}
+
+TEST(SynthFace, expressionsDrawTheWrinklesAndFoldsAWarpCannotMake) {
+	auto items = synthCorpusItems({});
+	auto face = [&](const char* e) {
+		const SynthItem& it = item(items, e, "sil");
+		return renderer().render(it.articulation, it.actionUnits, HeadPose{});
+	};
+	const SynthFace neutral = face("neutral");
+	const Points& p = neutral.points;
+	const double f = eyeCorners(p) / 1.76;  // face units: the outer eye corners are 1.76 apart
+	// Mean brightness of a box (half-size h face units) centred at point `name` + (dx, dy) face units.
+	auto mean = [&](const SynthFace& s, const char* name, double dx, double dy, double h) {
+		const double cx = p(idx(name), 0) + dx * f, cy = p(idx(name), 1) + dy * f;
+		double sum = 0;
+		int n = 0;
+		for (int yy = int(cy - h * f); yy <= int(cy + h * f); ++yy)
+			for (int xx = int(cx - h * f); xx <= int(cx + h * f); ++xx, ++n)
+				for (int c = 0; c < 3; ++c) sum += s.image.data[(std::size_t(yy) * 640 + std::size_t(xx)) * 3 + std::size_t(c)];
+		return sum / (3.0 * n);
+	};
+	struct Cue {
+		const char* emotion;
+		const char* what;
+		const char* point;
+		double dx, dy, h;
+	} cues[] = {
+	    {"anger", "AU4 glabella furrows", "N1", 0, -0.25, 0.12},
+	    {"distress", "AU1 forehead lines", "N1", 0, -0.85, 0.25},
+	    {"hate", "AU9 wrinkles across the nose root", "N1", 0, 0.06, 0.07},
+	    {"joy", "AU6 crow's feet", "REYE1", -0.12, 0.02, 0.06},
+	    {"distress", "AU15 furrow below the corner", "RM2", 0.0, 0.16, 0.06},
+	    {"distress", "AU17 mentolabial furrow", "CLM", 0.0, 0.12, 0.06},
+	};
+	for (const Cue& c : cues) {
+		const double before = mean(neutral, c.point, c.dx, c.dy, c.h), after = mean(face(c.emotion), c.point, c.dx, c.dy, c.h);
+		EXPECT_LT(after, before - 2.0) << c.emotion << ": " << c.what;
+	}
+}
+
+TEST(SynthCorpus, everyTwoExpressionsDifferInSomeActionUnit) {
+	const auto table = loadActionUnits(*findDataFile("corpus-tools/data/expression-aus.tsv"));
+	auto values = [](const ActionUnits& u) {
+		return std::vector<double>{u.au1,  u.au2,  u.au4,  u.au5,  u.au6,  u.au7,  u.au9,  u.au10, u.au12,
+		                           u.au15, u.au16, u.au17, u.au20, u.au23, u.au24, u.au25, u.au43, u.au26};
+	};
+	for (auto a = table.begin(); a != table.end(); ++a)
+		for (auto b = std::next(a); b != table.end(); ++b) {
+			const auto va = values(a->second), vb = values(b->second);
+			double most = 0;
+			for (std::size_t i = 0; i < va.size(); ++i) most = std::max(most, std::abs(va[i] - vb[i]));
+			EXPECT_GE(most, 0.2 - 1e-9) << a->first << " vs " << b->first;
+		}
 }

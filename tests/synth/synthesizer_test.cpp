@@ -103,8 +103,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 			w.apply(face.image, truth);
 			// The model's face region, drawn on the keypose's shape (its fully opaque part).
 			const RegionSpec& spec = f.model.scheme.regions[0];
-			Points boundary(spec.boundary.size(), 2);
-			for (std::size_t i = 0; i < spec.boundary.size(); ++i) boundary.row(Eigen::Index(i)) = aligned.row(spec.boundary[i]);
+			const Points boundary = regionBoundary(spec, aligned);
 			const std::vector<float> alpha = softRegionMask(boundary, spec.grow, spec.feather * std::sqrt(regionArea(boundary, spec.grow)), 320, 180);
 			std::vector<std::uint8_t> mask(alpha.size());
 			for (std::size_t i = 0; i < alpha.size(); ++i) mask[i] = alpha[i] > 0.99f;
