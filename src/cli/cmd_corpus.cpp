@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// talkhead corpus synth -o DIR
+// talkhead corpus synth -o DIR; talkhead corpus au-templates CORPUS -o F.tsv
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "base/progress.h"
+#include "corpus/corpus.h"
 #include "phonetics/labels.h"
+#include "synth/action_units.h"
 #include "synth_corpus.h"
 
 namespace talkhead::cli {
@@ -70,6 +74,45 @@ int runSynth(const std::vector<std::string>& argv) {
 	return 0;
 }
 
+int runAuTemplates(const std::vector<std::string>& argv) {
+	Args args("corpus au-templates", "talkhead corpus au-templates CORPUS -o TEMPLATES.tsv [options]",
+	          {{"--output", "F.tsv", "template file to write (required; the shipped ones are models/au-templates/SCHEME.tsv)", "-o"},
+	           {"--scheme", "NAME|FILE", "landmark scheme (default: from the corpus)"},
+	           {"--profiles", "F.tsv", "each emotion's action units (default: corpus-tools/data/expression-aus.tsv)"},
+	           {"--quiet", "", "no summary", "-q"}},
+	          "Learns action-unit shape templates (D48) from a corpus that has the emotions: every (emotion, CDV)\n"
+	          "shape is aligned to the neutral shape of the same CDV and its displacement, in units of the\n"
+	          "inter-ocular distance, fitted by ridge least squares as the sum of its emotion's action units\n"
+	          "(--profiles) times one template each. 'render --controls' (\"au\" events) and\n"
+	          "'--emotion-source au' use the templates of the model's scheme.");
+	if (!args.parse(argv)) return 0;
+	if (args.positionals().size() != 1) throw UsageError("corpus au-templates: expected one CORPUS (a CSV or a folder)");
+	auto out = args.get("--output");
+	if (!out) throw UsageError("corpus au-templates: -o F.tsv is required");
+	const std::string path = args.positionals()[0];
+	const Corpus corpus = loadCorpus(path);
+	const Scheme scheme = loadScheme(args.get("--scheme", corpus.schemeName));
+	const auto profiles = args.get("--profiles") ? loadAuProfiles(*args.get("--profiles")) : defaultAuProfiles();
+	std::vector<LabelledShape> shapes;
+	for (const auto& e : corpus.entries) shapes.push_back({e.emotion, e.cdv, e.points});
+	const AuFit fit = learnAuTemplates(scheme, shapes, profiles);
+	char summary[256];
+	std::snprintf(summary, sizeof summary, "%zu (emotion, CDV) shapes; displacement rms %.4f, residual rms %.4f (inter-ocular distances)", fit.pairs,
+	              fit.rmsData, fit.rmsResidual);
+	std::string comment = "Action-unit shape templates for scheme " + scheme.name + " (decision D48): per AU and point, the displacement from the\n"
+	                      "neutral face at full intensity in inter-ocular distances, x toward the image-right eye, y down the face.\n"
+	                      "Learned by 'talkhead corpus au-templates' from " + std::filesystem::path(path).filename().string() + ": " + summary + ".";
+	if (!fit.unused.empty()) {
+		comment += "\nNo profile uses";
+		for (const auto& au : fit.unused) comment += " " + au;
+		comment += ": no template.";
+	}
+	writeFileAtomically(*out, formatAuTemplates(fit.templates, scheme, comment));
+	if (!args.has("--quiet"))
+		std::fprintf(stderr, "wrote %s: %zu action units x %d points from %s\n", out->c_str(), fit.templates.names.size(), scheme.pointCount(), summary);
+	return 0;
+}
+
 }  // namespace
 
 int runCorpus(const std::vector<std::string>& argv) {
@@ -77,6 +120,7 @@ int runCorpus(const std::vector<std::string>& argv) {
 		std::printf("usage: talkhead corpus synth -o DIR [options]                        the synthetic corpus\n"
 		            "       talkhead corpus landmarks VIDEO|FOLDER -o DIR [options]         68 face points per frame (dlib)\n"
 		            "       talkhead corpus from-video VIDEO [--text T] -o DIR [options]    a viseme corpus from a video\n"
+		            "       talkhead corpus au-templates CORPUS -o F.tsv [options]          action-unit shape templates\n"
 		            "(see 'talkhead corpus SUBCOMMAND --help')\n");
 		return argv.empty() ? 2 : 0;
 	}
@@ -84,7 +128,8 @@ int runCorpus(const std::vector<std::string>& argv) {
 	const std::vector<std::string> rest(argv.begin() + 1, argv.end());
 	if (argv[0] == "landmarks") return runCorpusLandmarks(rest);
 	if (argv[0] == "from-video") return runCorpusFromVideo(rest);
-	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth, landmarks or from-video)");
+	if (argv[0] == "au-templates") return runAuTemplates(rest);
+	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth, landmarks, from-video or au-templates)");
 }
 
 }  // namespace talkhead::cli

@@ -99,6 +99,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	return {genericVisemesOption(),
 	        {"--emotion", "LABEL[:I]", "one of the 23 emotion labels or an alias (default neutral); :I sets its intensity, 0 (neutral) to 1 (the corpus, default), up to 1.5"},
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
+	        {"--emotion-source", "SRC", "corpus (default: the model's images of the emotion), au (the neutral images reshaped by the emotion's action units) or auto (corpus where the model has the emotion, else au)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
 	        {"--fit", "MODE", "when --size has another aspect than the model: crop (default: fill, cut the overflow), pad (fit inside, extend the edges) or stretch"},
@@ -112,7 +113,8 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
-	        {"--controls", "F.json", "timed events: emotion changes (with a ramp), blinks, nods, shakes (README: Timed controls)"},
+	        {"--controls", "F", "timed events (JSON, or a TextGrid with --control-tier): emotion changes, blinks, nods, shakes, turns, brows, action units (README: Timed controls)"},
+	        {"--control-tier", "NAME", "with a TextGrid --controls: the tier whose labels are the events"},
 	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
 	        {"--head-motion", "on|off|X", "small smooth head motion (default on; X scales its amplitude, 0–3)"},
 	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
@@ -170,6 +172,9 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	const std::string warpPath = args.get("--warp", "direct");
 	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");
 	c.render.synth.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
+	const std::string source = args.get("--emotion-source", "corpus");
+	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
+	c.render.synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);
 	const std::string blinks = args.get("--blinks", "on"), head = args.get("--head-motion", "on");
 	if (blinks != "on" && blinks != "off") throw UsageError(command + ": --blinks takes on or off");
 	c.modulation.blinks = blinks == "on";
@@ -180,7 +185,8 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.modulation.headMotion = amplitude > 0;
 	c.modulation.headAmplitude = amplitude;
 	c.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
-	if (auto f = args.get("--controls")) c.controls = loadControls(*f);
+	if (args.has("--control-tier") && !args.has("--controls")) throw UsageError(command + ": --control-tier needs --controls F.TextGrid");
+	if (auto f = args.get("--controls")) c.controls = args.has("--control-tier") ? loadControlTier(*f, *args.get("--control-tier")) : loadControls(*f);
 	c.render.debugOverlay = args.has("--debug-overlay");
 	c.render.threads = unsigned(args.number("--threads", 0, 0, 256));
 	c.quiet = args.has("--quiet");

@@ -283,7 +283,10 @@ TierLook lookAt(const std::vector<Interval>& intervals, const ReadOptions& o) {
 	return k;
 }
 
-Transcript readTextGrid(const std::string& text, const std::string& path, const ReadOptions& o) {
+}  // namespace
+
+std::vector<TextGridTier> readTextGridTiers(const std::string& bytes, const std::string& path) {
+	const std::string text = toUtf8(bytes);
 	TokenReader r(textGridTokens(text, path), path);
 	if (r.next(Token::String, "\"ooTextFile\"").text != "ooTextFile") throw Error(path, 1, "not a Praat text file (expected File type = \"ooTextFile\")");
 	if (r.next(Token::String, "\"TextGrid\"").text != "TextGrid") throw Error(path, 2, "not a TextGrid (Object class is not \"TextGrid\")");
@@ -291,14 +294,9 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 	if (!r.peekFlag()) throw Error(path, r.line(), "expected <exists> (a TextGrid with tiers)");
 	const std::string flag = r.next(Token::Flag, "<exists>").text;
 	const long long tiers = flag == "<exists>" ? r.count("number of tiers") : 0;
-	struct Tier {
-		std::string name, cls;
-		long line;
-		std::vector<Interval> intervals;
-	};
-	std::vector<Tier> all;
+	std::vector<TextGridTier> all;
 	for (long long k = 0; k < tiers; ++k) {
-		Tier tier;
+		TextGridTier tier;
 		tier.line = r.line();
 		tier.cls = r.next(Token::String, "tier class").text;
 		tier.name = r.next(Token::String, "tier name").text;
@@ -318,14 +316,26 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 			}
 		} else if (tier.cls == "TextTier") {
 			for (long long j = 0; j < n; ++j) {
-				r.number("point time");
-				r.next(Token::String, "point mark");
+				const long line = r.line();
+				const double t = r.number("point time");
+				const std::string mark = r.next(Token::String, "point mark").text;
+				if (t < 0) throw Error(path, line, "negative time");
+				const Ticks at = boundedSeconds(t, path, line, "point time");
+				tier.intervals.push_back({at, at, std::string(trim(mark)), line});
 			}
 		} else {
 			throw Error(path, tier.line, "unknown tier class '" + shown(tier.cls) + "'");
 		}
 		all.push_back(std::move(tier));
 	}
+	return all;
+}
+
+namespace {
+
+Transcript readTextGrid(const std::string& text, const std::string& path, const ReadOptions& o) {
+	using Tier = TextGridTier;
+	const std::vector<Tier> all = readTextGridTiers(text, path);
 	const Tier* chosen = nullptr;
 	std::string names, note;
 	for (const auto& t : all) names += (names.empty() ? "" : ", ") + ("'" + t.name + "' (" + (t.cls == "IntervalTier" ? "intervals" : "points") + ")");

@@ -61,6 +61,15 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 // From a file, or standard input when path is "-".
 Transcript readTranscript(const std::string& path, const ReadOptions& options = {});
 
+// Every tier of a Praat TextGrid (long or short text format): interval tiers' intervals, and point tiers'
+// points as intervals whose start and end are the point's time. Throws Error naming the file and line.
+struct TextGridTier {
+	std::string name, cls;  // cls: IntervalTier or TextTier
+	long line = 0;
+	std::vector<Interval> intervals;
+};
+std::vector<TextGridTier> readTextGridTiers(const std::string& text, const std::string& path);
+
 // Detects the format from the content (nullopt when nothing matches).
 std::optional<std::string> detectTranscriptFormat(const std::string& text);
 

@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "base/error.h"
 #include "base/json.h"
 #include "base/text.h"
 #include "phonetics/labels.h"
+#include "phonetics/transcript.h"
+#include "synth/action_units.h"
 
 namespace talkhead {
 
@@ -49,7 +52,11 @@ struct EventReader {
 	const JsonValue& v;
 	const std::string& path;
 	std::size_t index;  // 1-based
-	[[noreturn]] void fail(const std::string& what) const { throw Error(path, 0, "event " + std::to_string(index) + ": " + what); }
+	long line = 0;      // a TextGrid label's line: errors name it instead of the event number
+	[[noreturn]] void fail(const std::string& what) const {
+		if (line > 0) throw Error(path, line, what);
+		throw Error(path, 0, "event " + std::to_string(index) + ": " + what);
+	}
 	double number(const std::string& key, double fallback, double lo, double hi, bool required = false) const {
 		const JsonValue* f = v.find(key);
 		if (!f) {
@@ -73,6 +80,88 @@ struct EventReader {
 	}
 };
 
+void addEvent(ControlTrack& track, const EventReader& r) {
+	const JsonValue& e = r.v;
+	if (e.kind != JsonValue::Kind::Object) r.fail("an event must be an object");
+	const std::string type = r.text("type");
+	const Ticks time = ticksFromSeconds(r.number("time", 0, 0, kMaxSeconds, true));
+	if (type == "emotion") {
+		r.only({"type", "time", "emotion", "intensity", "ramp"});
+		ControlTrack::EmotionChange c;
+		c.time = time;
+		const std::string label = r.text("emotion");
+		const auto canonical = canonicalEmotion(label);
+		if (!canonical) r.fail("unknown emotion '" + shown(label) + "' (known: " + emotionList() + ")");
+		c.emotion = *canonical;
+		c.intensity = r.number("intensity", 1, 0, 1.5);
+		c.ramp = ticksFromSeconds(r.number("ramp", 0.3, 0, 60));
+		track.emotions.push_back(c);
+	} else if (type == "blink") {
+		r.only({"type", "time"});
+		track.blinks.push_back(time);
+	} else if (type == "nod" || type == "shake" || type == "turn") {
+		HeadGesture g;
+		g.kind = type == "nod" ? HeadGesture::Kind::Nod : type == "shake" ? HeadGesture::Kind::Shake : HeadGesture::Kind::Turn;
+		g.time = time;
+		g.duration = ticksFromSeconds(r.number("duration", type == "nod" ? 0.6 : type == "shake" ? 0.9 : 1.5, 0.1, 30));
+		g.amount = r.number("amount", 1, 0, 3);
+		if (type == "turn") {
+			r.only({"type", "time", "duration", "amount", "direction"});
+			const std::string d = r.text("direction");
+			if (d == "left") g.directionX = 1;  // the subject's left: toward the image's right
+			else if (d == "right") g.directionX = -1;
+			else if (d == "up") g.directionY = -1;
+			else if (d == "down") g.directionY = 1;
+			else r.fail("\"direction\" '" + shown(d) + "' is not left, right, up or down");
+		} else {
+			r.only({"type", "time", "duration", "amount"});
+		}
+		track.gestures.push_back(g);
+	} else if (type == "brows") {
+		r.only({"type", "time", "duration", "raise", "frown"});
+		BrowEvent b;
+		b.time = time;
+		b.duration = ticksFromSeconds(r.number("duration", 0.8, 0.2, 30));
+		b.raise = r.number("raise", 0, 0, 1.5);
+		b.frown = r.number("frown", 0, 0, 1.5);
+		if (b.raise == 0 && b.frown == 0) r.fail("a \"brows\" event needs \"raise\" or \"frown\" (0–1.5)");
+		track.brows.push_back(b);
+	} else if (type == "au") {
+		r.only({"type", "time", "au", "intensity", "side", "onset", "apex", "offset"});
+		const std::string name = r.text("au");
+		const auto au = canonicalActionUnit(name);
+		if (!au) {
+			std::string known;
+			for (const auto& k : knownActionUnits()) known += (known.empty() ? "" : " ") + k;
+			r.fail("unknown action unit '" + shown(name) + "' (known: " + known + ")");
+		}
+		if (*au == "AU45") {  // a blink
+			track.blinks.push_back(time);
+			return;
+		}
+		AuEvent a;
+		a.au = *au;
+		a.time = time;
+		a.intensity = r.number("intensity", 1, 0, 1.5);
+		a.onset = ticksFromSeconds(r.number("onset", 0.2, 0.02, 30));
+		a.apex = ticksFromSeconds(r.number("apex", 0.5, 0, 600));
+		a.offset = ticksFromSeconds(r.number("offset", 0.3, 0.02, 30));
+		if (r.v.find("side")) {
+			const std::string side = r.text("side");
+			if (side == "left") a.side = 1;  // the subject's left (FACS L): the image's right half
+			else if (side == "right") a.side = -1;
+			else if (side != "both") r.fail("\"side\" '" + shown(side) + "' is not left, right or both");
+		}
+		track.actionUnits.push_back(a);
+	} else {
+		r.fail("unknown type '" + shown(type) + "' (known: emotion, blink, nod, shake, turn, brows, au)");
+	}
+}
+
+void finish(ControlTrack& track) {
+	std::stable_sort(track.emotions.begin(), track.emotions.end(), [](const auto& a, const auto& b) { return a.time < b.time; });
+}
+
 }  // namespace
 
 ControlTrack parseControls(const std::string& text, const std::string& path) {
@@ -85,50 +174,81 @@ ControlTrack parseControls(const std::string& text, const std::string& path) {
 	if (events->kind != JsonValue::Kind::Array) throw Error(path, 0, "\"events\" must be an array");
 	ControlTrack track;
 	track.path = path;
-	for (std::size_t i = 0; i < events->array.size(); ++i) {
-		const JsonValue& e = events->array[i];
-		const EventReader r{e, path, i + 1};
-		if (e.kind != JsonValue::Kind::Object) r.fail("an event must be an object");
-		const std::string type = r.text("type");
-		const Ticks time = ticksFromSeconds(r.number("time", 0, 0, kMaxSeconds, true));
-		if (type == "emotion") {
-			r.only({"type", "time", "emotion", "intensity", "ramp"});
-			ControlTrack::EmotionChange c;
-			c.time = time;
-			const std::string label = r.text("emotion");
-			const auto canonical = canonicalEmotion(label);
-			if (!canonical) r.fail("unknown emotion '" + shown(label) + "' (known: " + emotionList() + ")");
-			c.emotion = *canonical;
-			c.intensity = r.number("intensity", 1, 0, 1.5);
-			c.ramp = ticksFromSeconds(r.number("ramp", 0.3, 0, 60));
-			track.emotions.push_back(c);
-		} else if (type == "blink") {
-			r.only({"type", "time"});
-			track.blinks.push_back(time);
-		} else if (type == "nod" || type == "shake") {
-			r.only({"type", "time", "duration", "amount"});
-			HeadGesture g;
-			g.kind = type == "nod" ? HeadGesture::Kind::Nod : HeadGesture::Kind::Shake;
-			g.time = time;
-			g.duration = ticksFromSeconds(r.number("duration", type == "nod" ? 0.6 : 0.9, 0.1, 10));
-			g.amount = r.number("amount", 1, 0, 3);
-			track.gestures.push_back(g);
-		} else if (type == "brows") {
-			r.only({"type", "time", "duration", "raise", "frown"});
-			BrowEvent b;
-			b.time = time;
-			b.duration = ticksFromSeconds(r.number("duration", 0.8, 0.2, 30));
-			b.raise = r.number("raise", 0, 0, 1.5);
-			b.frown = r.number("frown", 0, 0, 1.5);
-			if (b.raise == 0 && b.frown == 0) r.fail("a \"brows\" event needs \"raise\" or \"frown\" (0–1.5)");
-			track.brows.push_back(b);
-		} else {
-			r.fail("unknown type '" + shown(type) + "' (known: emotion, blink, nod, shake, brows)");
-		}
-	}
-	std::stable_sort(track.emotions.begin(), track.emotions.end(), [](const auto& a, const auto& b) { return a.time < b.time; });
+	for (std::size_t i = 0; i < events->array.size(); ++i) addEvent(track, EventReader{events->array[i], path, i + 1});
+	finish(track);
 	return track;
 }
+
+ControlTrack parseControlTier(const std::string& text, const std::string& path, const std::string& tierName) {
+	const std::vector<TextGridTier> tiers = readTextGridTiers(text, path);
+	const TextGridTier* tier = nullptr;
+	std::string names;
+	for (const auto& t : tiers) {
+		names += (names.empty() ? "'" : ", '") + t.name + "'";
+		if (!tier && t.name == tierName) tier = &t;
+	}
+	if (!tier) throw Error(path, 0, "no tier named '" + shown(tierName) + "' (tiers: " + (names.empty() ? "none" : names) + ")");
+	ControlTrack track;
+	track.path = path;
+	std::size_t index = 0;
+	for (const Interval& iv : tier->intervals) {
+		const std::vector<std::string> words = splitWhitespace(iv.label);
+		if (words.empty()) continue;
+		// "TYPE [positional values] [key=value …]": each type's positional fields, in order; an interval's
+		// length is the event's duration (for au: onset, apex and offset).
+		static const std::map<std::string, std::vector<std::string>> positional = {
+		    {"emotion", {"emotion", "intensity", "ramp"}}, {"blink", {}},           {"nod", {"amount"}}, {"shake", {"amount"}},
+		    {"turn", {"direction", "amount"}},             {"brows", {"*", "*"}},   {"au", {"au", "intensity", "side"}}};
+		JsonValue e;
+		e.kind = JsonValue::Kind::Object;
+		auto set = [&](const std::string& key, const std::string& value) {
+			JsonValue v;
+			double number;
+			if (parseDouble(value, number)) v.kind = JsonValue::Kind::Number, v.number = number;
+			else v.kind = JsonValue::Kind::String, v.string = value;
+			for (auto& m : e.object)
+				if (m.first == key) throw Error(path, iv.line, "'" + shown(key) + "' given twice in '" + shown(iv.label) + "'");
+			e.object.emplace_back(key, v);
+		};
+		set("type", words[0]);
+		JsonValue t;
+		t.kind = JsonValue::Kind::Number, t.number = toSeconds(iv.start);
+		e.object.emplace_back("time", t);
+		const auto p = positional.find(words[0]);
+		std::size_t next = 0;
+		std::string browKind;
+		for (std::size_t w = 1; w < words.size(); ++w) {
+			if (auto eq = words[w].find('='); eq != std::string::npos) {
+				set(words[w].substr(0, eq), words[w].substr(eq + 1));
+				continue;
+			}
+			if (p == positional.end() || next >= p->second.size())
+				throw Error(path, iv.line, "too many values in '" + shown(iv.label) + "' (write key=value for the others)");
+			if (words[0] == "brows" && next == 0) {  // brows raise|frown [amount]
+				browKind = words[w];
+				if (browKind != "raise" && browKind != "frown") throw Error(path, iv.line, "brows take raise or frown, not '" + shown(browKind) + "'");
+				++next;
+				continue;
+			}
+			set(words[0] == "brows" ? browKind : p->second[next], words[w]);
+			++next;
+		}
+		if (words[0] == "brows" && !browKind.empty() && !e.find(browKind)) set(browKind, "0.8");
+		const double length = toSeconds(iv.end - iv.start);
+		if (length > 0 && words[0] != "au" && words[0] != "emotion" && words[0] != "blink" && !e.find("duration")) set("duration", std::to_string(length));
+		if (length > 0 && words[0] == "au" && !e.find("apex")) {
+			const double on = std::min(0.2, length / 3), off = std::min(0.3, length / 3);
+			set("onset", std::to_string(on));
+			set("offset", std::to_string(off));
+			set("apex", std::to_string(std::max(0.0, length - on - off)));
+		}
+		addEvent(track, EventReader{e, path, ++index, iv.line});
+	}
+	finish(track);
+	return track;
+}
+
+ControlTrack loadControlTier(const std::string& path, const std::string& tier) { return parseControlTier(readTextFile(path), path, tier); }
 
 ControlTrack loadControls(const std::string& path) { return parseControls(readTextFile(path), path); }
 
@@ -139,8 +259,9 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 	};
 	for (const auto& c : track.emotions) past(c.time, "the emotion change to " + c.emotion);
 	for (Ticks t : track.blinks) past(t, "a blink");
-	for (const auto& g : track.gestures) past(g.time, g.kind == HeadGesture::Kind::Nod ? "a nod" : "a shake");
+	for (const auto& g : track.gestures) past(g.time, g.kind == HeadGesture::Kind::Nod ? "a nod" : g.kind == HeadGesture::Kind::Shake ? "a shake" : "a turn");
 	for (const auto& b : track.brows) past(b.time, "a brows event");
+	for (const auto& a : track.actionUnits) past(a.time, "the action unit " + a.au);
 	// Each keypose takes the emotion in effect at its time.
 	for (Keypose& k : perf.keys) {
 		std::string before = perf.emotion;
@@ -161,6 +282,7 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 	perf.modulation.forcedBlinks.insert(perf.modulation.forcedBlinks.end(), track.blinks.begin(), track.blinks.end());
 	perf.modulation.gestures.insert(perf.modulation.gestures.end(), track.gestures.begin(), track.gestures.end());
 	perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), track.brows.begin(), track.brows.end());
+	perf.modulation.auEvents.insert(perf.modulation.auEvents.end(), track.actionUnits.begin(), track.actionUnits.end());
 }
 
 }  // namespace talkhead

@@ -15,7 +15,9 @@ namespace talkhead {
 //     {"type": "blink", "time": 2.0},
 //     {"type": "nod", "time": 3.0, "duration": 0.6, "amount": 1},
 //     {"type": "shake", "time": 4.0, "duration": 0.8, "amount": 0.5},
-//     {"type": "brows", "time": 5.0, "duration": 0.8, "raise": 0.8}]}   (or "frown": 0.5)
+//     {"type": "turn", "time": 4.5, "duration": 1.5, "direction": "left", "amount": 1},
+//     {"type": "brows", "time": 5.0, "duration": 0.8, "raise": 0.8},   (or "frown": 0.5)
+//     {"type": "au", "time": 6.0, "au": "AU12", "intensity": 0.7, "side": "left", "onset": 0.2, "apex": 0.5, "offset": 0.3}]}
 // Times in seconds from the start of the video. A bare array of events is read the same way.
 struct ControlTrack {
 	struct EmotionChange {
@@ -28,13 +30,22 @@ struct ControlTrack {
 	std::vector<Ticks> blinks;
 	std::vector<HeadGesture> gestures;
 	std::vector<BrowEvent> brows;
-	bool empty() const { return emotions.empty() && blinks.empty() && gestures.empty() && brows.empty(); }
+	std::vector<AuEvent> actionUnits;
+	bool empty() const { return emotions.empty() && blinks.empty() && gestures.empty() && brows.empty() && actionUnits.empty(); }
 };
 
 // Parses a control track; throws Error naming the file and the line/column (malformed JSON) or the event
 // (its number, 1-based, and what is wrong: unknown type, missing or bad field, unknown emotion).
 ControlTrack parseControls(const std::string& text, const std::string& path);
 ControlTrack loadControls(const std::string& path);
+
+// A TextGrid tier as a control track: each non-empty label (interval or point) is one event at its start,
+//   TYPE [values in order] [key=value …]
+// with the JSON fields in order per type: emotion LABEL [intensity] [ramp]; blink; nod|shake [amount];
+// turn left|right|up|down [amount]; brows raise|frown [amount]; au AU [intensity] [left|right|both].
+// An interval's length is its duration (an au's onset, apex and offset). Errors name the file and line.
+ControlTrack parseControlTier(const std::string& text, const std::string& path, const std::string& tier);
+ControlTrack loadControlTier(const std::string& path, const std::string& tier);
 
 // Applies a track to a performance: each keypose takes the emotion and intensity in effect at its time
 // (a change ramps through neutral: the old emotion fades out over the first half of the ramp, the new

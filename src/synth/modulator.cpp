@@ -34,8 +34,9 @@ constexpr double kClosing = 0.075, kClosed = 0.025, kOpening = 0.150;
 // face's size horizontally / vertically (a judgement: visible, never a nod).
 constexpr double kPeakAngle = 1.5 * kPi / 180, kPeakDx = 0.012, kPeakDy = 0.008;
 constexpr double kGrid = 0.01;
-// Gestures' peak shifts, in face sizes: a nod 3.5 % down, a shake 2.5 % sideways.
-constexpr double kNod = 0.035, kShake = 0.025;  // seconds between samples of the speaking activity
+// Gestures' peak shifts, in face sizes: a nod 3.5 % down, a shake 2.5 % sideways, a turn 4 % with a 3°
+// tilt the same way.
+constexpr double kNod = 0.035, kShake = 0.025, kTurn = 0.04, kTurnTilt = 3 * kPi / 180;
 
 }  // namespace
 
@@ -126,9 +127,13 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 		}
 	}
 	factor_ = o.headMotion ? std::max(0.0, o.headAmplitude) * headFactorFor(emotion) : 0.0;
-	maxAngle_ = kPeakAngle * factor_;
-	double gesture = 0;
-	for (const HeadGesture& g : o.gestures) gesture = std::max(gesture, std::abs(g.amount) * (g.kind == HeadGesture::Kind::Nod ? kNod : kShake));
+	double gesture = 0, gestureAngle = 0;
+	for (const HeadGesture& g : o.gestures) {
+		const double shift = g.kind == HeadGesture::Kind::Nod ? kNod : (g.kind == HeadGesture::Kind::Shake ? kShake : kTurn);
+		gesture = std::max(gesture, std::abs(g.amount) * shift);
+		if (g.kind == HeadGesture::Kind::Turn) gestureAngle = std::max(gestureAngle, std::abs(g.amount) * kTurnTilt);
+	}
+	maxAngle_ = kPeakAngle * factor_ + gestureAngle;
 	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_ + gesture;
 	// Speaking activity: 1 in speech, 0 in pauses, smoothed over ±0.4 s (the head settles in a pause).
 	const std::size_t n = std::size_t(length / kGrid) + 2;
@@ -174,6 +179,18 @@ std::pair<double, double> ShapeModulator::brows(Ticks t) const {
 	return {raise, frown};
 }
 
+std::vector<std::pair<const AuEvent*, double>> ShapeModulator::actionUnits(Ticks t) const {
+	std::vector<std::pair<const AuEvent*, double>> out;
+	const double s = toSeconds(t);
+	for (const AuEvent& e : o_.auEvents) {
+		const double a = s - toSeconds(e.time), on = toSeconds(e.onset), top = toSeconds(e.apex), off = toSeconds(e.offset);
+		if (a <= 0 || a >= on + top + off) continue;
+		const double envelope = a < on ? smoothstep(a / on) : (a < on + top ? 1.0 : smoothstep(1 - (a - on - top) / off));
+		if (envelope > 0) out.emplace_back(&e, e.intensity * envelope);
+	}
+	return out;
+}
+
 HeadMotion ShapeModulator::head(Ticks t) const {
 	HeadMotion p;
 	const double s = toSeconds(t);
@@ -181,8 +198,16 @@ HeadMotion ShapeModulator::head(Ticks t) const {
 	for (const HeadGesture& g : o_.gestures) {
 		const double u = (s - toSeconds(g.time)) / std::max(1e-6, toSeconds(g.duration));
 		if (u <= 0 || u >= 1) continue;
-		if (g.kind == HeadGesture::Kind::Nod) p.dy += g.amount * kNod * std::sin(kPi * u);
-		else p.dx += g.amount * kShake * std::sin(4 * kPi * u) * std::sin(kPi * u);
+		if (g.kind == HeadGesture::Kind::Nod) {
+			p.dy += g.amount * kNod * std::sin(kPi * u);
+		} else if (g.kind == HeadGesture::Kind::Shake) {
+			p.dx += g.amount * kShake * std::sin(4 * kPi * u) * std::sin(kPi * u);
+		} else {  // Turn: toward the direction and held, with a little tilt the same way
+			const double e = std::min(smoothstep(u / 0.25), smoothstep((1 - u) / 0.25));
+			p.dx += g.amount * kTurn * g.directionX * e;
+			p.dy += g.amount * kTurn * 0.6 * g.directionY * e;
+			p.angle += g.amount * kTurnTilt * g.directionX * e;
+		}
 	}
 	if (factor_ <= 0) return p;
 	double act = 0;

@@ -15,10 +15,24 @@ namespace talkhead {
 // timing. Decision D42.
 // A head gesture asked for by a control track: a nod (down and back up) or a shake (two turns left and
 // right, as a sideways sway in the picture plane), over `duration`, scaled by `amount` (1 = a clear one).
+// A turn moves the head toward `direction` (in the picture: −1 image-left / +1 image-right in x, −1 up /
+// +1 down in y), holds it there and brings it back: in over the first quarter of `duration`, back over the
+// last. Control tracks name directions as the subject's: "left" is toward the image's right.
 struct HeadGesture {
-	enum class Kind { Nod, Shake } kind = Kind::Nod;
+	enum class Kind { Nod, Shake, Turn } kind = Kind::Nod;
 	Ticks time{0}, duration{0};
 	double amount = 1;
+	int directionX = 0, directionY = 0;  // Turn only
+};
+
+// An action unit asked for by a control track (D48): rises to `intensity` over `onset` (smoothstep), holds
+// for `apex`, falls back over `offset`. `side`: 0 both, −1 the image-left half of the face (the subject's
+// right, FACS R), +1 the image-right half (the subject's left, FACS L).
+struct AuEvent {
+	Ticks time{0}, onset{0}, apex{0}, offset{0};
+	std::string au;  // canonical ("AU12")
+	int side = 0;
+	double intensity = 1;
 };
 
 // Brows asked for by a control track or SSML: raised (AU1+2) and/or lowered and drawn together (AU4), each
@@ -37,8 +51,10 @@ struct ModulatorOptions {
 	std::vector<Ticks> forcedBlinks;     // blinks at these times (a control track), even with blinks off
 	std::vector<HeadGesture> gestures;   // nods and shakes (a control track), even with head motion off
 	std::vector<BrowEvent> browEvents;   // brow raises and frowns (a control track or SSML)
+	std::vector<AuEvent> auEvents;       // action units (a control track); need the scheme's AU templates
 	bool any() const {
-		return blinks || (headMotion && headAmplitude > 0) || !forcedBlinks.empty() || !gestures.empty() || !browEvents.empty();
+		return blinks || (headMotion && headAmplitude > 0) || !forcedBlinks.empty() || !gestures.empty() || !browEvents.empty() ||
+		       !auEvents.empty();
 	}
 };
 
@@ -67,6 +83,9 @@ public:
 	std::pair<double, double> brows(Ticks t) const;
 	// The head's pose at t.
 	HeadMotion head(Ticks t) const;
+	// The action-unit events active at t and their weights (intensity × envelope), in event order.
+	std::vector<std::pair<const AuEvent*, double>> actionUnits(Ticks t) const;
+	const std::vector<AuEvent>& auEvents() const { return o_.auEvents; }
 	const std::vector<BlinkEvent>& blinks() const { return blinks_; }
 	// Largest rotation (radians) and translation (face sizes) head() can return.
 	double maxAngle() const { return maxAngle_; }

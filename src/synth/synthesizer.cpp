@@ -224,6 +224,23 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 			eyeDistance_ = (centre(eyes_[0]) - centre(eyes_[1])).norm();
 		}
 		if (!(eyeDistance_ > 0)) eyeDistance_ = 0.3 * faceSize_;
+		// D48: the scheme's action-unit templates, when an emotion or an event needs them.
+		const bool auEvents = o.modulator && !o.modulator->auEvents().empty();
+		if (o.emotionSource != EmotionSource::Corpus || auEvents) {
+			Scheme scheme = model.scheme;
+			scheme.eyes = parts.eyes;
+			auTemplates_ = findAuTemplates(scheme);
+			if (!auTemplates_ && (auEvents || o.emotionSource == EmotionSource::ActionUnits))
+				throw Error("no action-unit templates for scheme " + scheme.name + " (models/au-templates/" + scheme.name +
+				            ".tsv; make them from a corpus with the emotions with 'talkhead corpus au-templates')");
+			if (auTemplates_) auFrame_ = eyeFrame(scheme, model.meanShape);
+			if (auEvents)
+				for (const AuEvent& e : o.modulator->auEvents()) {
+					const int a = auTemplates_->find(e.au);
+					if (a < 0) throw Error("the action-unit templates of scheme " + scheme.name + " have no " + e.au);
+					auEventIndex_.push_back(a);
+				}
+		}
 	}
 	const int k = model.pointCount();
 	anchorsOut_ = anchors_;
@@ -287,7 +304,18 @@ std::string groupOf(const std::string& cdv) {
 }
 }  // namespace
 
+bool Synthesizer::fromActionUnits(const Keypose& key) const {
+	if (!auTemplates_ || o_.emotionSource == EmotionSource::Corpus) return false;
+	const std::string& emotion = emotionOf(key);
+	if (emotion == "neutral" || !defaultAuProfiles().count(emotion)) return false;
+	if (o_.emotionSource == EmotionSource::ActionUnits) return true;
+	for (const auto& s : model_.samples)
+		if (s.emotion == emotion) return false;
+	return true;
+}
+
 std::pair<long, long> Synthesizer::resolvePair(const Keypose& key) const {
+	if (fromActionUnits(key)) return {resolve(key, "neutral"), -1};
 	const long sample = resolve(key);
 	// Intensity (D43): between the neutral keypose of the same CDV and context (0) and the emotion's (1).
 	const double intensity = intensityOf(key);
@@ -443,7 +471,8 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 			if (std::any_of(fresh.begin(), fresh.end(), [&](const auto& f) { return indexKey(*f.first) == indexKey(k) && f.first->context == k.context; }))
 				continue;
 			const Pair pair = resolvePair(k);
-			const ImageKey key{pair.first, pair.second, pair.second < 0 ? 1.0 : intensityOf(k)};
+			const bool au = fromActionUnits(k);
+			const ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k) : std::string()};
 			fresh.push_back({&k, key});
 			if (images_.count(key) || std::find(pairs.begin(), pairs.end(), key) != pairs.end()) continue;
 			pairs.push_back(key);
@@ -483,8 +512,15 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 		std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
 		std::vector<const std::uint8_t*> cached8, baseCached8;
 		std::vector<Eigen::VectorXf> synth, baseSynth;
-		const auto [sample, base, intensity] = pairs[j];
+		const auto& [sample, base, intensity, auEmotion] = pairs[j];
 		load(sample, bytes, cached8, synth);
+		if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
+			Points shape = model_.alignedShapes[std::size_t(sample)];
+			applyActionUnits(shape, *auTemplates_, profileWeights(*auTemplates_, defaultAuProfiles().at(auEmotion), intensity), auFrame_);
+			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth));
+			made[j]->usedEmotion = auEmotion + " (action units)";
+			return;
+		}
 		if (base < 0) {
 			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, model_.alignedShapes[std::size_t(sample)], cached8, synth));
 			return;
@@ -516,7 +552,8 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 		index_[indexKey(*k)][k->context] = image;
 		const std::string& emotion = emotionOf(*k);
 		const std::string line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
-		if ((image->usedEmotion != emotion || image->usedCdv != k->cdv) &&
+		const bool asked = o_.emotionSource == EmotionSource::ActionUnits && image->usedEmotion == emotion + " (action units)";
+		if (!asked && (image->usedEmotion != emotion || image->usedCdv != k->cdv) &&
 		    std::find(substitutions_.begin(), substitutions_.end(), line) == substitutions_.end())
 			substitutions_.push_back(line);
 	}
@@ -557,6 +594,12 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 					points(i, 1) += eyeDistance_ * (-0.10 * raise + 0.06 * frown * (0.5 + 0.5 * inner));
 					points(i, 0) += eyeDistance_ * 0.05 * frown * inner * toward;
 				}
+		if (!auEventIndex_.empty()) {  // D48: action units from a control track
+			std::vector<AuWeight> w;
+			const auto& all = o_.modulator->auEvents();
+			for (const auto& [e, weight] : o_.modulator->actionUnits(tau)) w.push_back({auEventIndex_[std::size_t(e - all.data())], weight, e->side});
+			applyActionUnits(points, *auTemplates_, w, auFrame_);
+		}
 		const HeadMotion h = o_.modulator->head(tau);
 		if (h.angle != 0 || h.dx != 0 || h.dy != 0) {
 			const double c = std::cos(h.angle), s = std::sin(h.angle);

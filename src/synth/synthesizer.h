@@ -10,6 +10,7 @@
 #include "image/yuv.h"
 #include "model/face_model.h"
 #include "phonetics/language.h"
+#include "synth/action_units.h"
 #include "synth/modulator.h"
 #include "warp/piecewise_affine.h"
 
@@ -25,6 +26,13 @@ enum class Trajectory { Hermite, Linear };
 // the same frame up to resampling: Direct resamples once (sharper) and costs one warp instead of three.
 enum class WarpPath { Direct, Keypose };
 
+// Where an emotion's keyposes come from (D48). Corpus: the model's samples of the emotion (a missing one
+// falls back to neutral, and says so). ActionUnits: the neutral samples, their shapes moved by the
+// emotion's action units (corpus-tools/data/expression-aus.tsv) through the scheme's AU templates — the
+// appearance stays neutral, so wrinkles do not come. Auto: the corpus where the model has the emotion,
+// else action units.
+enum class EmotionSource { Corpus, ActionUnits, Auto };
+
 struct SynthOptions {
 	std::string emotion = "neutral";  // canonical label
 	double intensity = 1;             // 0 = the neutral keyposes, 1 = the corpus's emotion, up to 1.5 (D43)
@@ -35,6 +43,7 @@ struct SynthOptions {
 	YuvRange yuvRange = YuvRange::Limited;         // of renderFrameYuv's output
 	// Blinks and head motion (D42); none when null. Blinks need the scheme's eyes ('eye' lines).
 	std::shared_ptr<const ShapeModulator> modulator;
+	EmotionSource emotionSource = EmotionSource::Corpus;
 };
 
 // A keypose ready to morph: its shape (model pixels) and its appearance: composited in the mean-shape frame
@@ -109,7 +118,8 @@ private:
 	mutable std::mutex mutex_;
 	// Keypose images by (sample, neutral sample or −1, intensity), and which one each (CDV, emotion,
 	// intensity; phone context) uses.
-	using ImageKey = std::tuple<long, long, double>;
+	// A non-empty 4th element: the sample is neutral and its shape takes that emotion's action units (D48).
+	using ImageKey = std::tuple<long, long, double, std::string>;
 	std::map<ImageKey, std::unique_ptr<KeyposeImage>> images_;
 	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;
@@ -130,6 +140,10 @@ private:
 	std::vector<EyeSpec> eyes_;
 	std::vector<BrowSpec> brows_;
 	double eyeDistance_ = 0;  // between the eyes' centres on the mean shape, model pixels (brow motion's unit)
+	std::optional<AuTemplates> auTemplates_;  // the scheme's, loaded when action units are asked for
+	EyeFrame auFrame_;                        // the mean shape's eye frame
+	std::vector<int> auEventIndex_;           // per modulator AU event: its template
+	bool fromActionUnits(const Keypose& key) const;  // whether this keypose's emotion comes from action units
 	std::vector<ClosedLidPatch> eyePatches_;
 	Eigen::RowVector2d centre_{0, 0};  // the mean shape's centre (head rotation), model pixels
 	double faceSize_ = 1;              // the mean shape's larger side, model pixels

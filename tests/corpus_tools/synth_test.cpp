@@ -6,6 +6,7 @@
 #include "base/data_dirs.h"
 #include "geometry/scheme.h"
 #include "phonetics/labels.h"
+#include "synth/action_units.h"
 #include "synth_corpus.h"
 
 using namespace talkhead;
@@ -219,4 +220,28 @@ TEST(SynthCorpus, everyTwoExpressionsDifferInSomeActionUnit) {
 			for (std::size_t i = 0; i < va.size(); ++i) most = std::max(most, std::abs(va[i] - vb[i]));
 			EXPECT_GE(most, 0.2 - 1e-9) << a->first << " vs " << b->first;
 		}
+}
+
+TEST(SynthCorpus, theShippedActionUnitTemplatesAreTheOnesTheDefaultCorpusTeaches) {
+	// models/au-templates/ch-unicamp-56.tsv was written by 'talkhead corpus au-templates' from the default
+	// corpus; learning again from the generator's exact points must give the same numbers (4 decimals).
+	const Scheme scheme = loadScheme("ch-unicamp-56");
+	std::vector<LabelledShape> shapes;
+	for (const auto& it : synthCorpusItems({})) shapes.push_back({it.emotion, it.viseme, renderer().points(it.articulation, it.actionUnits, it.pose)});
+	const AuFit fit = learnAuTemplates(scheme, shapes, defaultAuProfiles());
+	EXPECT_LT(fit.rmsResidual, 0.25 * fit.rmsData);  // the additive AU model explains the corpus's expressions
+	const auto shipped = findAuTemplates(scheme);
+	ASSERT_TRUE(shipped.has_value());
+	ASSERT_EQ(shipped->names, fit.templates.names);
+	for (std::size_t a = 0; a < fit.templates.names.size(); ++a)
+		EXPECT_LT((shipped->offsets[a] - fit.templates.offsets[a]).cwiseAbs().maxCoeff(), 5e-4) << fit.templates.names[a];
+	// And they say what FACS says: AU12 lifts and widens the mouth corners, AU1 lifts the inner brow, AU26
+	// drops the chin, AU15 lowers the corners.
+	auto at = [&](const char* au, const char* point) { return shipped->offsets[std::size_t(shipped->find(au))].row(idx(point)); };
+	EXPECT_LT(at("AU12", "RM2")(1), -0.05);
+	EXPECT_LT(at("AU12", "RM2")(0), -0.03);
+	EXPECT_GT(at("AU12", "LM2")(0), 0.03);
+	EXPECT_LT(at("AU1", "REB1")(1), -0.1);
+	EXPECT_GT(at("AU26", "CJAW")(1), 0.03);
+	EXPECT_GT(at("AU15", "RM2")(1), 0.05);
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Control tracks (src/render/controls.cpp): parsed, then applied to a 5-s performance (times past its end
-// are errors, never wrong keyposes).
+// are errors, never wrong keyposes); and the same bytes as a TextGrid control tier.
 #include <string>
 
 #include "fuzz_support.h"
@@ -18,6 +18,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 		for (int i = 0; i < 10; ++i) p.keys.push_back(Keypose{Ticks(i * kTicksPerSecond / 2), "a", 0, 0});
 		applyControls(p, t);
 		for (const auto& k : p.keys) TALKHEAD_FUZZ_CHECK(k.intensity <= 1.5, "intensity above 1.5");
+	});
+	fuzz::expectOnlyErrors([&] {
+		const ControlTrack t = parseControlTier(text, "fuzz.TextGrid", "controls");
+		for (const auto& a : t.actionUnits) TALKHEAD_FUZZ_CHECK(a.intensity >= 0 && a.intensity <= 1.5, "action-unit intensity out of range");
 	});
 	return 0;
 }

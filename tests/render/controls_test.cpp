@@ -45,7 +45,7 @@ TEST(Controls, eventsAreReadAndBadOnesNamed) {
 	EXPECT_EQ(t.gestures[1].kind, HeadGesture::Kind::Shake);
 	EXPECT_EQ(t.gestures[1].amount, 2);
 	EXPECT_EQ(parseControls(R"([{"type": "blink", "time": 1}])", "c.json").blinks.size(), 1u);  // a bare array
-	EXPECT_EQ(failure(R"({"events": [{"type": "wink", "time": 1}]})"), "c.json: event 1: unknown type 'wink' (known: emotion, blink, nod, shake, brows)");
+	EXPECT_EQ(failure(R"({"events": [{"type": "wink", "time": 1}]})"), "c.json: event 1: unknown type 'wink' (known: emotion, blink, nod, shake, turn, brows, au)");
 	EXPECT_EQ(failure(R"([{"type": "blink"}])"), "c.json: event 1: missing \"time\"");
 	EXPECT_EQ(failure(R"([{"type": "blink", "time": 1}, {"type": "emotion", "time": 1, "emotion": "glee"}])").substr(0, 36),
 	          "c.json: event 2: unknown emotion 'gl");
@@ -93,4 +93,93 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 	EXPECT_EQ(m.eyeClosure(ms(3500 + 85)), 1.0);
 	EXPECT_NEAR(m.head(ms(500)).dy, 0.035, 1e-3);  // the middle of a 0.6-s nod from 0.2 s: the lowest point
 	EXPECT_EQ(m.head(ms(900)).dy, 0.0);
+}
+
+TEST(Controls, actionUnitsAndTurnsAreReadAndBadOnesNamed) {
+	const ControlTrack t = parseControls(R"([
+		{"type": "au", "time": 1, "au": "12", "intensity": 0.7, "side": "left", "onset": 0.1, "apex": 0.4, "offset": 0.2},
+		{"type": "au", "time": 2, "au": "AU4"},
+		{"type": "au", "time": 3, "au": "au45"},
+		{"type": "turn", "time": 0.5, "direction": "left", "duration": 2}])",
+	                                     "c.json");
+	ASSERT_EQ(t.actionUnits.size(), 2u);
+	EXPECT_EQ(t.actionUnits[0].au, "AU12");
+	EXPECT_EQ(t.actionUnits[0].side, 1);  // the subject's left: the image's right half
+	EXPECT_EQ(t.actionUnits[0].intensity, 0.7);
+	EXPECT_EQ(t.actionUnits[0].onset, ms(100));
+	EXPECT_EQ(t.actionUnits[0].apex, ms(400));
+	EXPECT_EQ(t.actionUnits[0].offset, ms(200));
+	EXPECT_EQ(t.actionUnits[1].side, 0);
+	EXPECT_EQ(t.actionUnits[1].onset, ms(200));  // defaults 0.2 / 0.5 / 0.3 s
+	ASSERT_EQ(t.blinks.size(), 1u);              // AU45 is a blink
+	EXPECT_EQ(t.blinks[0], ms(3000));
+	ASSERT_EQ(t.gestures.size(), 1u);
+	EXPECT_EQ(t.gestures[0].kind, HeadGesture::Kind::Turn);
+	EXPECT_EQ(t.gestures[0].directionX, 1);
+	EXPECT_EQ(failure(R"([{"type": "au", "time": 1, "au": "AU99"}])").substr(0, 47), "c.json: event 1: unknown action unit 'AU99' (kn");
+	EXPECT_EQ(failure(R"([{"type": "au", "time": 1, "au": "AU12", "side": "top"}])"), "c.json: event 1: \"side\" 'top' is not left, right or both");
+	EXPECT_EQ(failure(R"([{"type": "turn", "time": 1}])"), "c.json: event 1: missing \"direction\"");
+	EXPECT_EQ(failure(R"([{"type": "turn", "time": 1, "direction": "back"}])"), "c.json: event 1: \"direction\" 'back' is not left, right, up or down");
+	// Applied: the AU events reach the modulator.
+	Performance p = fourSeconds();
+	applyControls(p, t);
+	EXPECT_EQ(p.modulation.auEvents.size(), 2u);
+	EXPECT_EQ(p.modulation.gestures.size(), 1u);
+}
+
+namespace {
+std::string textGrid(const std::string& tierClass, const std::string& items) {
+	return "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\nxmin = 0\nxmax = 4\ntiers? <exists>\nsize = 2\nitem []:\n"
+	       "item [1]:\nclass = \"IntervalTier\"\nname = \"phones\"\nxmin = 0\nxmax = 4\nintervals: size = 1\n"
+	       "intervals [1]:\nxmin = 0\nxmax = 4\ntext = \"a\"\n"
+	       "item [2]:\nclass = \"" + tierClass + "\"\nname = \"controls\"\nxmin = 0\nxmax = 4\n" + items;
+}
+std::string tierFailure(const std::string& text, const std::string& tier = "controls") {
+	try {
+		parseControlTier(text, "c.TextGrid", tier);
+	} catch (const Error& e) {
+		return e.what();
+	}
+	return "no error";
+}
+}  // namespace
+
+TEST(Controls, aTextGridTierIsAControlTrack) {
+	// Interval tier: labels are events at their interval's start, its length their duration.
+	const std::string intervals = textGrid("IntervalTier",
+	                                       "intervals: size = 5\n"
+	                                       "intervals [1]:\nxmin = 0\nxmax = 0.5\ntext = \"\"\n"
+	                                       "intervals [2]:\nxmin = 0.5\nxmax = 1.5\ntext = \"brows raise 0.6\"\n"
+	                                       "intervals [3]:\nxmin = 1.5\nxmax = 2.5\ntext = \"au AU12 0.8 left\"\n"
+	                                       "intervals [4]:\nxmin = 2.5\nxmax = 3\ntext = \"emotion anger 0.9 ramp=0.2\"\n"
+	                                       "intervals [5]:\nxmin = 3\nxmax = 4\ntext = \"nod amount=0.5\"\n");
+	const ControlTrack t = parseControlTier(intervals, "c.TextGrid", "controls");
+	ASSERT_EQ(t.brows.size(), 1u);
+	EXPECT_EQ(t.brows[0].time, ms(500));
+	EXPECT_EQ(t.brows[0].duration, ms(1000));
+	EXPECT_EQ(t.brows[0].raise, 0.6);
+	ASSERT_EQ(t.actionUnits.size(), 1u);
+	EXPECT_EQ(t.actionUnits[0].au, "AU12");
+	EXPECT_EQ(t.actionUnits[0].side, 1);
+	EXPECT_EQ(t.actionUnits[0].onset + t.actionUnits[0].apex + t.actionUnits[0].offset, ms(1000));  // the interval
+	ASSERT_EQ(t.emotions.size(), 1u);
+	EXPECT_EQ(t.emotions[0].emotion, "anger");
+	EXPECT_EQ(t.emotions[0].ramp, ms(200));
+	ASSERT_EQ(t.gestures.size(), 1u);
+	EXPECT_EQ(t.gestures[0].amount, 0.5);
+	EXPECT_EQ(t.gestures[0].duration, ms(1000));
+	// Point tier: events at the points.
+	const std::string points = textGrid("TextTier", "points: size = 2\npoints [1]:\nnumber = 1.25\nmark = \"blink\"\n"
+	                                                "points [2]:\nnumber = 2\nmark = \"turn right\"\n");
+	const ControlTrack p = parseControlTier(points, "c.TextGrid", "controls");
+	ASSERT_EQ(p.blinks.size(), 1u);
+	EXPECT_EQ(p.blinks[0], ms(1250));
+	ASSERT_EQ(p.gestures.size(), 1u);
+	EXPECT_EQ(p.gestures[0].directionX, -1);
+	// Errors name the file and the label's line.
+	EXPECT_EQ(tierFailure(points, "gestures"), "c.TextGrid: no tier named 'gestures' (tiers: 'phones', 'controls')");
+	const std::string bad = textGrid("TextTier", "points: size = 1\npoints [1]:\nnumber = 1\nmark = \"wink\"\n");
+	EXPECT_EQ(tierFailure(bad), "c.TextGrid:25: unknown type 'wink' (known: emotion, blink, nod, shake, turn, brows, au)");
+	const std::string many = textGrid("TextTier", "points: size = 1\npoints [1]:\nnumber = 1\nmark = \"nod 1 2\"\n");
+	EXPECT_EQ(tierFailure(many), "c.TextGrid:25: too many values in 'nod 1 2' (write key=value for the others)");
 }

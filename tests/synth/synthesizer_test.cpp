@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include "base/error.h"
+
 #include <opencv2/imgproc.hpp>
 
 #include "geometry/scheme.h"
@@ -131,6 +133,71 @@ TEST(Synthesizer, missingEntriesFallBackAndSaySo) {
 	ASSERT_EQ(subs.size(), 2u);
 	EXPECT_EQ(subs[0], "fear a -> neutral a");
 	EXPECT_EQ(subs[1], "fear p2 -> neutral p1");
+}
+
+TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
+	// D48: fear is not in the small model. Auto takes it from the AU templates (the neutral sample, its
+	// shape moved: brows up, lids wide); ActionUnits does that even for joy, which the model has.
+	const SmallFace& f = smallFace();
+	const int reb1 = f.model.scheme.indexOf("REB1"), rm2 = f.model.scheme.indexOf("RM2"), cum = f.model.scheme.indexOf("CUM");
+	SynthOptions n;
+	Synthesizer neutral(f.model, n);
+	const Points rest = neutral.keypose("sil").shape;
+	SynthOptions o;
+	o.emotion = "fear";
+	o.emotionSource = EmotionSource::Auto;
+	Synthesizer fear(f.model, o);
+	const KeyposeImage& k = fear.keypose("sil");
+	EXPECT_EQ(k.usedEmotion, "fear (action units)");
+	EXPECT_LT(k.shape(reb1, 1), rest(reb1, 1) - 2);            // AU1: the inner brow rises
+	EXPECT_EQ(k.y, neutral.keypose("sil").y);                   // the neutral appearance, reshaped
+	ASSERT_EQ(fear.substitutions().size(), 1u);
+	EXPECT_EQ(fear.substitutions()[0], "fear sil -> fear (action units) sil");
+	o.emotion = "joy";  // in the model: Auto uses the corpus
+	Synthesizer joyCorpus(f.model, o);
+	EXPECT_EQ(joyCorpus.keypose("sil").usedEmotion, "joy");
+	o.emotionSource = EmotionSource::ActionUnits;
+	Synthesizer joyAu(f.model, o);
+	const Points smile = joyAu.keypose("sil").shape;
+	EXPECT_LT(smile(rm2, 1) - smile(cum, 1), rest(rm2, 1) - rest(cum, 1) - 1);  // the corners rise against the lip
+	EXPECT_TRUE(joyAu.substitutions().empty());  // asked for: not a substitution
+	// Intensity scales the action units.
+	o.intensity = 0.5;
+	Synthesizer half(f.model, o);
+	const Points mid = half.keypose("sil").shape;
+	EXPECT_NEAR(mid(rm2, 1), 0.5 * (rest(rm2, 1) + smile(rm2, 1)), 1e-6);
+}
+
+TEST(Synthesizer, actionUnitEventsMoveThePointsOnTheirSide) {
+	const SmallFace& f = smallFace();
+	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	ModulatorOptions mo;
+	mo.blinks = false;
+	mo.headMotion = false;
+	AuEvent smile;
+	smile.au = "AU12";
+	smile.time = ms(500), smile.onset = ms(200), smile.apex = ms(500), smile.offset = ms(200);
+	smile.side = 1;  // the subject's left: the image's right half
+	mo.auEvents = {smile};
+	SynthOptions o;
+	o.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
+	Synthesizer synth(f.model, o);
+	synth.prepare(keys);
+	Synthesizer::Workspace ws;
+	Image8 frame;
+	Points before, apex, after;
+	synth.renderFrame(ms(400), keys, ws, frame, before);
+	synth.renderFrame(ms(900), keys, ws, frame, apex);
+	synth.renderFrame(ms(1500), keys, ws, frame, after);
+	const int rm2 = f.model.scheme.indexOf("RM2"), lm2 = f.model.scheme.indexOf("LM2");
+	EXPECT_LT(apex(lm2, 1), before(lm2, 1) - 1);           // the image-right corner rises
+	EXPECT_DOUBLE_EQ(apex(rm2, 1), before(rm2, 1));          // the other does not move
+	EXPECT_LT((after - before).cwiseAbs().maxCoeff(), 1e-9);  // and it is over
+	// A scheme without templates cannot take AU events: a clear error.
+	FaceModel other = f.model;
+	other.scheme.name = "no-such-scheme";
+	EXPECT_THROW(Synthesizer(other, o), Error);
 }
 
 TEST(Synthesizer, sameInputsGiveTheSameFrames) {
