@@ -138,3 +138,21 @@ TEST(ActionUnits, learningRecoversTheTemplatesThatMadeTheShapes) {
 	// Too few shapes for the AUs: a clear error.
 	EXPECT_THROW(learnAuTemplates(s, {shapes[0], shapes[1]}, profiles), Error);
 }
+
+TEST(ActionUnits, theShippedIbug68TemplatesMoveDlibsPointsAsFacsSays) {
+	// models/au-templates/ibug-68.tsv (corpus-tools/ibug68_au_templates.sh): faces made from video can
+	// smile and frown by action units.
+	const Scheme s = loadScheme("ibug-68");
+	const auto t = findAuTemplates(s);
+	ASSERT_TRUE(t.has_value());
+	auto at = [&](const char* au, const char* point) { return t->offsets[std::size_t(t->find(au))].row(s.indexOf(point)); };
+	EXPECT_LT(at("AU12", "OM0")(1), -0.05);  // corners up
+	EXPECT_LT(at("AU12", "OM0")(0), -0.03);  // and out
+	EXPECT_GT(at("AU12", "OM6")(0), 0.03);
+	EXPECT_GT(at("AU15", "OM0")(1), 0.05);   // corners down
+	EXPECT_LT(at("AU1", "RB4")(1), -0.1);    // inner brow up
+	EXPECT_GT(at("AU4", "RB4")(1), 0.02);    // brows down
+	EXPECT_GT(at("AU4", "RB4")(0), 0.02);    // and together
+	EXPECT_GT(at("AU26", "JAW8")(1), 0.03);  // the chin drops
+	EXPECT_FALSE(findAuTemplates(loadScheme("imm-73")).has_value());
+}
