@@ -89,6 +89,10 @@ int runRender(const std::vector<std::string>& argv) {
 	perf.modulation = cmd.modulation;
 	perf.intensity = cmd.intensity;
 	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
+	if (cmd.speechBrows > 0) {  // D49
+		const auto brows = speechBrows(phones, cmd.speechBrows);
+		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
+	}
 	// Duration: the audio's (decoded once without keeping it, unless aligned), or the transcript's.
 	perf.duration = phones.back().end;
 	std::unique_ptr<AudioSource> sound;

@@ -129,6 +129,10 @@ int runSay(const std::vector<std::string>& argv) {
 	perf.modulation = cmd.modulation;
 	perf.intensity = cmd.intensity;
 	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
+	if (cmd.speechBrows > 0) {  // D49
+		const auto brows = speechBrows(phones, cmd.speechBrows);
+		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
+	}
 	if (dryRun) {
 		std::cout << formatVisemes(phones, perf.keys, "tsv", lang.tag(), "espeak-ng");
 		return 0;

@@ -117,6 +117,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--control-tier", "NAME", "with a TextGrid --controls: the tier whose labels are the events"},
 	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
 	        {"--head-motion", "on|off|X", "small smooth head motion (default on; X scales its amplitude, 0–3)"},
+	        {"--speech-brows", "on|off|X", "raise the brows on each phrase's most prominent (longest) vowel (default off; X scales the raise, 0–3)"},
 	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
 	        {"--debug-overlay", "", "draw the feature points, the keyposes around each frame and the lids and head on every frame"},
 	        {"--threads", "N", "worker threads (default: all cores)"},
@@ -185,6 +186,10 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.modulation.headMotion = amplitude > 0;
 	c.modulation.headAmplitude = amplitude;
 	c.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
+	const std::string brows = args.get("--speech-brows", "off");
+	c.speechBrows = brows == "on" ? 1.0 : 0.0;
+	if (brows != "on" && brows != "off" && (!parseDouble(brows, c.speechBrows) || !(c.speechBrows >= 0 && c.speechBrows <= 3)))
+		throw UsageError(command + ": --speech-brows takes on, off or an amount from 0 to 3");
 	if (args.has("--control-tier") && !args.has("--controls")) throw UsageError(command + ": --control-tier needs --controls F.TextGrid");
 	if (auto f = args.get("--controls")) c.controls = args.has("--control-tier") ? loadControlTier(*f, *args.get("--control-tier")) : loadControls(*f);
 	c.render.debugOverlay = args.has("--debug-overlay");

@@ -29,6 +29,7 @@ struct VideoCommand {
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
 	ModulatorOptions modulation;
+	double speechBrows = 0;  // --speech-brows: 0 off, else the raise amount (D49)
 	std::optional<ControlTrack> controls;  // --controls F (read and checked with the options)
 	Mp4Settings mp4;
 	RenderOptions render;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "phonetics/labels.h"
+
 namespace talkhead {
 
 namespace {
@@ -228,6 +230,57 @@ HeadMotion ShapeModulator::head(Ticks t) const {
 	p.dx += kPeakDx * m * channel(1);
 	p.dy += kPeakDy * m * channel(2);
 	return p;
+}
+
+std::vector<BrowEvent> speechBrows(const std::vector<PhoneSegment>& phones, double amount) {
+	std::vector<BrowEvent> out;
+	if (!(amount > 0)) return out;
+	auto isVowel = [](const PhoneSegment& p) {
+		for (const auto& v : visemeLabels())
+			if (v.label == p.cdv) return v.kind == "vowel";
+		return false;
+	};
+	auto isPause = [](const PhoneSegment& p) { return p.phone == "_" || p.phone.empty(); };
+	const Ticks minPause = ticksFromSeconds(0.15), minGap = ticksFromSeconds(1.2);
+	auto raiseAt = [&](const PhoneSegment& v) {
+		BrowEvent b;
+		b.time = std::max(Ticks(0), v.start - ticksFromSeconds(0.08));
+		b.duration = std::max(ticksFromSeconds(0.45), (v.end - v.start) + ticksFromSeconds(0.35));
+		b.raise = std::min(1.5, 0.5 * amount);
+		if (!out.empty() && b.time < out.back().time + minGap) return;
+		out.push_back(b);
+	};
+	std::size_t i = 0;
+	while (i < phones.size()) {
+		// One phrase: phones up to the next pause of at least 150 ms.
+		std::size_t j = i;
+		while (j < phones.size() && !(isPause(phones[j]) && phones[j].end - phones[j].start >= minPause)) ++j;
+		std::vector<const PhoneSegment*> vowels;
+		for (std::size_t k = i; k < j; ++k)
+			if (isVowel(phones[k])) vowels.push_back(&phones[k]);
+		if (vowels.size() >= 2) {
+			auto longest = [&](std::size_t a, std::size_t b) {  // ties: the later one
+				const PhoneSegment* best = vowels[a];
+				for (std::size_t k = a; k < b; ++k)
+					if (vowels[k]->end - vowels[k]->start >= best->end - best->start) best = vowels[k];
+				return best;
+			};
+			const Ticks start = phones[i].start, end = phones[j - 1].end;
+			const PhoneSegment* nuclear = longest(0, vowels.size());
+			const PhoneSegment* early = nullptr;
+			if (end - start > ticksFromSeconds(2.4)) {
+				const Ticks half = start + (end - start) / 2;
+				std::size_t n = 0;
+				while (n < vowels.size() && vowels[n]->start < half) ++n;
+				if (n > 0) early = longest(0, n);
+				if (early == nuclear) early = nullptr;
+			}
+			if (early) raiseAt(*early);
+			raiseAt(*nuclear);
+		}
+		i = j + 1;
+	}
+	return out;
 }
 
 }  // namespace talkhead

@@ -42,6 +42,13 @@ struct BrowEvent {
 	double raise = 0, frown = 0;
 };
 
+// Brows with speech (issue 13 §3, D49): a raise on each phrase's most prominent syllable — between pauses
+// (≥ 150 ms), the longest vowel (stressed and pitch-accented vowels are the long ones: espeak-ng and real
+// speech lengthen them), and in a phrase over 2.4 s also the longest vowel of its first half — never two
+// within 1.2 s. Each rises 80 ms before its vowel, lasts the vowel + 350 ms, and raises by 0.5 × amount
+// (5 % of the eye distance at amount 1). The phones' CDVs say which are vowels.
+std::vector<BrowEvent> speechBrows(const std::vector<PhoneSegment>& phones, double amount = 1);
+
 struct ModulatorOptions {
 	bool blinks = true;
 	double blinkRate = 0;       // blinks per minute at rest; 0 = the emotion's default (see blinkRateFor)

@@ -518,3 +518,31 @@ TEST(ShapeModulator, browsRiseForARaiseAndComeDownAndTogetherForAFrown) {
 	EXPECT_NEAR(gapRest - gapFrown, 0.10 * eyes, 1e-6);  // each inner end 5 % closer to the midline
 	EXPECT_LT((at(moved, w2, 1500) - at(plain, w1, 1500)).cwiseAbs().maxCoeff(), 1e-9);  // between the two: at rest
 }
+
+TEST(ShapeModulator, speechBrowsRiseOnEachPhrasesLongestVowel) {
+	// D49. Phones (start, end in ms, phone, CDV): a short phrase, a 300-ms pause, a long phrase.
+	auto seg = [](long a, long b, const char* phone, const char* cdv) { return PhoneSegment{ms(a), ms(b), phone, phone, cdv, 0}; };
+	std::vector<PhoneSegment> phones = {seg(0, 100, "p", "p1"), seg(100, 180, "a", "a"), seg(180, 260, "t", "t1"), seg(260, 420, "u", "u"),
+	                                    seg(420, 1500, "_", "sil")};  // the longest vowel: [u]; then a pause
+	const std::vector<PhoneSegment> second = {
+	    seg(0, 80, "s", "s1"),       seg(80, 280, "e", "e"),      seg(280, 380, "l", "l1"), seg(380, 460, "i", "i1"),
+	    seg(460, 580, "m", "p1"),    seg(580, 680, "o", "o"),     seg(680, 780, "k", "k1"), seg(780, 1280, "k", "k1"),
+	    seg(1280, 1380, "i", "i1"),  seg(1380, 1580, "a", "a"),   seg(1580, 1880, "t", "t1"), seg(1880, 2020, "ɔ", "ɔ"),
+	    seg(2020, 2180, "s", "s1"),  seg(2180, 2480, "a", "a"),   seg(2480, 2580, "_", "sil")};
+	for (PhoneSegment p : second) p.start += ms(1500), p.end += ms(1500), phones.push_back(p);
+	const auto brows = speechBrows(phones);
+	// The first phrase: its 160-ms [u]; the second (2.48 s) its longest vowel (the 300-ms [a] at 3.68 s)
+	// and, in its first half, the 200-ms [e] at 1.58 s.
+	ASSERT_EQ(brows.size(), 3u);
+	EXPECT_EQ(brows[0].time, ms(260 - 80));
+	EXPECT_EQ(brows[0].duration, ms(160 + 350));
+	EXPECT_EQ(brows[1].time, ms(1580 - 80));
+	EXPECT_EQ(brows[2].time, ms(3680 - 80));
+	EXPECT_DOUBLE_EQ(brows[0].raise, 0.5);
+	EXPECT_DOUBLE_EQ(speechBrows(phones, 2)[0].raise, 1.0);
+	EXPECT_TRUE(speechBrows(phones, 0).empty());
+	// Never two within 1.2 s: a second phrase right after the first gives way.
+	std::vector<PhoneSegment> close = {seg(0, 100, "a", "a"), seg(100, 300, "e", "e"), seg(300, 500, "_", "sil"),
+	                                   seg(500, 600, "o", "o"), seg(600, 800, "u", "u")};
+	EXPECT_EQ(speechBrows(close).size(), 1u);
+}
