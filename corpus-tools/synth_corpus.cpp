@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "synth_corpus.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cinttypes>
 #include <cmath>
@@ -46,6 +47,18 @@ std::uint64_t hashString(const std::string& s) {
 double unit(std::uint64_t& state) {  // uniform in [−1, 1)
 	state = splitmix(state);
 	return double(state >> 11) / double(1ull << 52) - 1.0;
+}
+
+// The per-image head jitter (≤ 2°, ± 2 % scale, a few pixels at 720 lines), from a seed.
+HeadPose jitter(std::uint64_t seed, int height) {
+	std::uint64_t s = splitmix(seed);
+	const double scale = height / 720.0;
+	HeadPose p;
+	p.angleDeg = 2.0 * unit(s);
+	p.scale = 1.0 + 0.02 * unit(s);
+	p.dx = 12.0 * scale * unit(s);
+	p.dy = 8.0 * scale * unit(s);
+	return p;
 }
 
 }  // namespace
@@ -120,12 +133,7 @@ std::vector<SynthItem> synthCorpusItems(const SynthCorpusOptions& o) {
 			it.viseme = v->label;
 			it.articulation = articulations().at(v->label);
 			it.actionUnits = actionUnits().at(e);
-			std::uint64_t s = splitmix(o.seed ^ splitmix(hashString(e) ^ (hashString(v->label) << 1)));
-			const double scale = o.height / 720.0;
-			it.pose.angleDeg = 2.0 * unit(s);
-			it.pose.scale = 1.0 + 0.02 * unit(s);
-			it.pose.dx = 12.0 * scale * unit(s);
-			it.pose.dy = 8.0 * scale * unit(s);
+			it.pose = jitter(o.seed ^ splitmix(hashString(e) ^ (hashString(v->label) << 1)), o.height);
 			it.fileName = e + "_" + v->ascii + ".png";
 			// Phone context: the viseme's first listed context (V1 C V2 or C V), centre = the group's first phone.
 			it.context = {"_", "_", v->group.empty() ? "_" : v->group.front(), "_", "_"};
@@ -143,6 +151,20 @@ std::vector<SynthItem> synthCorpusItems(const SynthCorpusOptions& o) {
 		}
 	}
 	return items;
+}
+
+SynthItem closedEyesItem(const SynthCorpusOptions& o) {
+	SynthItem it;
+	it.emotion = "-";
+	it.viseme = "closed-eyes";
+	it.articulation = articulations().at("sil");
+	it.actionUnits = actionUnits().at("neutral");
+	it.actionUnits.au43 = 1;
+	it.pose = jitter(o.seed ^ splitmix(hashString("closed-eyes")), o.height);
+	it.fileName = "neutral_closed.png";
+	it.context = {"_", "_", "_", "_", "_"};
+	it.word = "-";
+	return it;
 }
 
 std::string chUnicampCsvRow(const SynthItem& it, const Points& p) {
@@ -164,7 +186,11 @@ void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, Progr
 	std::error_code ec;
 	fs::create_directories(dir, ec);
 	if (ec) throw Error(dir, 0, "cannot create folder: " + ec.message());
-	const std::vector<SynthItem> items = synthCorpusItems(o);
+	std::vector<SynthItem> items = synthCorpusItems(o);
+	// D50: with neutral, one more image: the neutral face at rest with its eyes shut, an unlabelled row that
+	// the CSV names with "# closed-eyes:" (blinks take the closed lid's skin from it).
+	const bool closedEyes = o.emotions.empty() || std::find(o.emotions.begin(), o.emotions.end(), "neutral") != o.emotions.end();
+	if (closedEyes) items.push_back(closedEyesItem(o));
 	const FaceRenderer renderer(o.width, o.height);
 	std::vector<std::string> rows(items.size());
 	std::atomic<std::size_t> done{0};
@@ -177,7 +203,7 @@ void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, Progr
 		std::lock_guard<std::mutex> lock(m);
 		progress.report(double(d) / double(items.size()), "drawing faces");
 	});
-	std::string csv;
+	std::string csv = closedEyes ? "# closed-eyes: neutral_closed.png\n" : "";
 	for (const auto& r : rows) csv += r + '\n';
 	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), csv);
 }

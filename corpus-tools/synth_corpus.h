@@ -41,8 +41,13 @@ struct SynthItem {
 // The items of the corpus in CSV order (emotions outer, visemes inner), with their per-image jitter.
 // The jitter depends only on (seed, emotion, viseme), never on the order or the thread that draws it.
 std::vector<SynthItem> synthCorpusItems(const SynthCorpusOptions& options);
+// The closed-eyes image (D50): the neutral face at rest with its eyes shut (AU43 at 1), an unlabelled row
+// (emotion "-", CDV "closed-eyes", neutral_closed.png) that the CSV names with "# closed-eyes:". The corpus
+// has it whenever it has neutral.
+SynthItem closedEyesItem(const SynthCorpusOptions& options);
 
-// Writes DIR/<files>.png and DIR/corpus.csv (written last, through a temporary name).
+// Writes DIR/<files>.png and DIR/corpus.csv (written last, through a temporary name), with the
+// closed-eyes image when the emotions include neutral.
 void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& options, ProgressSink& progress);
 
 // One CH-Unicamp CSV row for an item and its points.

@@ -279,8 +279,10 @@ Geometry computeGeometry(const Articulation& a, const ActionUnits& u) {
 
 	// Eyes: lid opening from AU5 (raise), AU7 (tighten), AU6 and AU9 (the cheek pushes the lower lid up), AU4
 	// (the lowered brow presses on the upper lid), AU43 (close).
-	const double openU = std::clamp(1 + 0.60 * u.au5 - 0.30 * u.au7 - 0.15 * u.au6 - 0.85 * u.au43 - 0.10 * u.au4 - 0.10 * u.au9, 0.08, 1.7);
 	const double openL = std::clamp(1 - 0.45 * u.au6 - 0.40 * u.au7 + 0.10 * u.au5 - 0.2 * u.au43 - 0.25 * u.au9, 0.25, 1.3);
+	// AU43 at 1: shut — the upper lid comes down onto the lower lid's line (the closed-eye image, D50).
+	const double openU = u.au43 >= 1 ? -0.6 * openL + 0.01
+	                                 : std::clamp(1 + 0.60 * u.au5 - 0.30 * u.au7 - 0.15 * u.au6 - 0.85 * u.au43 - 0.10 * u.au4 - 0.10 * u.au9, 0.08, 1.7);
 	g.eyeOpen = openU;
 	g.reye1 = {-0.88, 0.01};
 	g.reye3 = {-0.36, 0.02};

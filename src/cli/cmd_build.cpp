@@ -116,6 +116,7 @@ int runBuild(const std::vector<std::string>& argv) {
 	std::vector<SampleInfo> samples;
 	for (const auto& e : corpus.entries) {
 		if (!corpus.baseface.empty() && e.imagePath == corpus.baseface && opts.baseface < 0) opts.baseface = long(shapes.size());
+		if (!corpus.closedEyes.empty() && e.imagePath == corpus.closedEyes) opts.closedEyes = long(shapes.size());
 		shapes.push_back(e.points);
 		samples.push_back(SampleInfo{std::filesystem::path(e.imagePath).filename().string(), e.emotion, e.cdv, e.word, e.context});
 	}

@@ -104,6 +104,10 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 				const std::string image(trim(c.substr(9)));
 				if (image.empty()) throw Error(path, lineNo, "'# baseface:' names no image");
 				corpus.baseface = (fs::path(image).is_absolute() ? fs::path(image) : dir / image).string();
+			} else if (startsWith(std::string(c), "closed-eyes:")) {
+				const std::string image(trim(c.substr(12)));
+				if (image.empty()) throw Error(path, lineNo, "'# closed-eyes:' names no image");
+				corpus.closedEyes = (fs::path(image).is_absolute() ? fs::path(image) : dir / image).string();
 			}
 			continue;
 		}
@@ -151,6 +155,11 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 	if (!corpus.baseface.empty() &&
 	    std::none_of(corpus.entries.begin(), corpus.entries.end(), [&](const CorpusEntry& e) { return e.imagePath == corpus.baseface; }))
 		throw Error(path, 0, "the baseface '" + corpus.baseface + "' is not one of the corpus's images");
+	if (!corpus.closedEyes.empty()) {
+		auto e = std::find_if(corpus.entries.begin(), corpus.entries.end(), [&](const CorpusEntry& x) { return x.imagePath == corpus.closedEyes; });
+		if (e == corpus.entries.end()) throw Error(path, 0, "the closed-eyes image '" + corpus.closedEyes + "' is not one of the corpus's images");
+		if (e->emotion != "-") throw Error(e->source + ": the closed-eyes image must be an unlabelled row (emotion '-'), so no keypose uses it");
+	}
 	return corpus;
 }
 

@@ -24,12 +24,16 @@ struct Corpus {
 	std::string schemeName;  // inferred from the format and point count (ch-unicamp-56, imm-73, ibug-68)
 	std::vector<CorpusEntry> entries;
 	std::string baseface;    // image chosen as the baseface ("# baseface: IMAGE" in a CSV), resolved; "" = the builder's choice
+	// An image of the face with its eyes shut ("# closed-eyes: IMAGE", an unlabelled row): blinks take the
+	// closed lid's skin from it (D50). "" = none.
+	std::string closedEyes;
 };
 
 // CH-Unicamp CSV (Costa 2015 §3.2, spec §1.3): no header; image, emotion, 5 context phones, CDV, word,
 // then `pointCount` points written "(x;y)". Images resolve relative to the CSV's folder. pointCount 0: from
 // the first row (56 → ch-unicamp-56, 68 → ibug-68, 73 → imm-73). Lines starting with '#' are comments;
-// "# baseface: IMAGE" names the training image to use as the model's baseface. Labels come out canonical
+// "# baseface: IMAGE" names the training image to use as the model's baseface; "# closed-eyes: IMAGE" an
+// unlabelled row (emotion "-") showing the face with its eyes shut. Labels come out canonical
 // (D36): emotion and CDV through the phonetics tables (aliases, "<p1>"), an unknown one is an error naming
 // the row; emotion "-" marks an unlabelled row, whose CDV is kept as written.
 Corpus readChUnicampCsv(const std::string& path, int pointCount = 0);

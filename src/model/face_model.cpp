@@ -93,6 +93,8 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 	model.frameMesh = delaunayTriangulation(meanWithBorder);
 	if (options.baseface >= long(shapes.size())) throw std::logic_error("buildFaceModel: baseface index out of range");
 	model.basefaceIndex = options.baseface >= 0 ? std::size_t(options.baseface) : nearestShape(model.alignedShapes, model.meanShape);
+	if (options.closedEyes >= long(shapes.size())) throw std::logic_error("buildFaceModel: closed-eyes index out of range");
+	model.closedEyesIndex = options.closedEyes;
 
 	// Region masks in the mean-shape frame.
 	for (const RegionSpec& spec : scheme.regions) {

@@ -69,6 +69,7 @@ struct FaceModel {
 	TriangleMesh frameMesh;              // Delaunay of s̄ + 8 frame-border points (k + 8 vertices)
 	Image8 baseface;                     // the image nearest to s̄, warped to s̄, full frame
 	std::size_t basefaceIndex = 0;
+	long closedEyesIndex = -1;           // training image with the eyes shut (blinks take the lid from it, D50); −1 = none
 	std::vector<RegionModel> regions;    // coarse → fine
 
 	int pointCount() const { return int(meanShape.rows()); }
@@ -88,6 +89,7 @@ struct BuildOptions {
 	unsigned threads = 0;                          // 0 = all cores
 	ProcrustesOptions procrustes;
 	long baseface = -1;                            // training image used as the baseface; −1 = the one nearest s̄
+	long closedEyes = -1;                          // training image with the eyes shut; −1 = none
 };
 
 // Provides training image i (8-bit RGB, all the same size) on demand; called from worker threads.

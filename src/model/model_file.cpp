@@ -379,6 +379,7 @@ void writeRecords(Writer& w, const FaceModel& model) {
 	writeMesh(w, "faceMesh", model.faceMesh);
 	writeMesh(w, "frameMesh", model.frameMesh);
 	w.i64("basefaceIndex", std::int64_t(model.basefaceIndex));
+	w.i64("closedEyesIndex", model.closedEyesIndex);  // version 5
 	w.u8("baseface", model.baseface.data.data(), model.baseface.data.size());
 	w.i64("regions", std::int64_t(model.regions.size()));
 	for (const auto& r : model.regions) {
@@ -567,6 +568,11 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version) {
 	m.frameMesh = readMesh(r, "frameMesh");
 	if (m.faceMesh.vertexCount != k || m.frameMesh.vertexCount != k + kFrameBorderPoints) r.fail("mesh vertex counts differ from the scheme");
 	m.basefaceIndex = std::size_t(count("basefaceIndex", double(samples)));
+	if (version >= 5) {
+		const double closed = r.scalar("closedEyesIndex");
+		if (!(closed >= -1 && closed < double(samples)) || closed != std::floor(closed)) r.fail("record 'closedEyesIndex' is out of range");
+		m.closedEyesIndex = long(closed);
+	}
 	auto base = r.u8("baseface");
 	if (base.size() != std::size_t(m.width) * m.height * 3) r.fail("baseface has the wrong size");
 	m.baseface.width = m.width;  // adopt the buffer (no zero-filled image first)

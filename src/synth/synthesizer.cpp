@@ -84,7 +84,60 @@ std::vector<Eigen::RowVector2d> lidLine(const Points& p, const EyeSpec& e, bool 
 // The closed lid of one eye in the mean-shape frame (D42): between the upper lid (raised a little, to
 // cover its lash line) and the lower lid, the skin of a band just above the upper lid, column by column,
 // shaded slightly toward a dark lash line along the lower lid, where a shut eye's lashes meet. Soft edges.
-ClosedLidPatch closedLid(const FaceModel& m, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range) {
+// Luma, chroma and chroma-resolution alpha of a patch whose RGB and alpha are set.
+void finishPatch(ClosedLidPatch& patch, YuvRange range) {
+	const int cw = patch.w / 2, ch = patch.h / 2;
+	patch.y.resize(std::size_t(patch.w) * patch.h);
+	patch.uv.resize(std::size_t(cw) * ch * 2);
+	rgbToYuv420(patch.rgb.data(), std::size_t(patch.w) * 3, patch.w, patch.h, range, patch.y.data(), std::size_t(patch.w), patch.uv.data(),
+	            patch.uv.data() + 1, std::size_t(cw) * 2, 2);
+	patch.alphaC.resize(std::size_t(cw) * ch);
+	for (int y = 0; y < ch; ++y)
+		for (int x = 0; x < cw; ++x) {
+			const std::size_t a = std::size_t(2 * y) * patch.w + std::size_t(2 * x);
+			patch.alphaC[std::size_t(y) * cw + std::size_t(x)] = 0.25f * (patch.alpha[a] + patch.alpha[a + 1] + patch.alpha[a + patch.w] + patch.alpha[a + patch.w + 1]);
+		}
+}
+
+// D50: the shut eye from the corpus's closed-eyes image `closed` (its appearance composited in the mean
+// frame): the lid's skin from 0.3 eye widths above the open upper lid down to just below the lower lid,
+// copied as it is: warped to the shut lids' shape it gives back the closed-eyes image's own lid, crease
+// and lashes. In the open eye's slit the shut image has no area of its own (its lash line is smeared
+// across it), so this patch comes in only as the lids finish closing (from 60 % shut), over the drawn lid
+// of D42 (whose skin is then taken from the shut image's lid), which covers the half-closed eye.
+ClosedLidPatch closedLidFrom(const FaceModel& m, const Image8& closed, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range) {
+	ClosedLidPatch patch;
+	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
+	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
+	if (!(width > 2)) return patch;
+	const double above = 0.30 * width, below = 0.05 * width, feather = std::max(1.0, 0.08 * width);
+	double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
+	for (const auto* line : {&up, &lo})
+		for (const auto& q : *line) xmin = std::min(xmin, q(0)), xmax = std::max(xmax, q(0)), ymin = std::min(ymin, q(1)), ymax = std::max(ymax, q(1));
+	const int x0 = std::max(rx0, (int(std::floor(xmin - 2 * feather)) - 1) & ~1), y0 = std::max(ry0, (int(std::floor(ymin - above - feather)) - 1) & ~1);
+	const int x1 = std::min(rx1, (int(std::ceil(xmax + 2 * feather)) + 2) & ~1), y1 = std::min(ry1, (int(std::ceil(ymax + below + feather)) + 2) & ~1);
+	if (x1 - x0 < 2 || y1 - y0 < 2) return patch;
+	patch.x0 = x0, patch.y0 = y0, patch.w = x1 - x0, patch.h = y1 - y0;
+	patch.alpha.assign(std::size_t(patch.w) * patch.h, 0.f);
+	patch.rgb.resize(std::size_t(patch.w) * patch.h * 3);
+	patch.from = 0.6;
+	for (int x = x0; x < x1; ++x) {
+		const double xc = std::clamp(double(x), xmin, xmax);
+		const double yu = polylineY(up, xc), yl = polylineY(lo, xc);
+		const double top = (std::isnan(yu) ? ymin : yu) - above, bottom = (std::isnan(yl) ? ymax : yl) + below;
+		const double side = std::min(x - (xmin - 2 * feather), (xmax + 2 * feather) - x) / feather;
+		for (int y = y0; y < y1; ++y) {
+			const std::size_t i = std::size_t(y - y0) * std::size_t(patch.w) + std::size_t(x - x0);
+			const double inside = std::min({(double(y) - top) / feather, (bottom - double(y)) / feather, side});
+			patch.alpha[i] = float(std::clamp(inside, 0.0, 1.0));
+			for (int c = 0; c < 3; ++c) patch.rgb[3 * i + std::size_t(c)] = closed.row(y)[3 * x + c];
+		}
+	}
+	finishPatch(patch, range);
+	return patch;
+}
+
+ClosedLidPatch closedLid(const FaceModel& m, const Image8& b, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range) {
 	ClosedLidPatch patch;
 	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
 	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
@@ -99,7 +152,6 @@ ClosedLidPatch closedLid(const FaceModel& m, const EyeSpec& e, int rx0, int ry0,
 	patch.x0 = x0, patch.y0 = y0, patch.w = x1 - x0, patch.h = y1 - y0;
 	patch.alpha.assign(std::size_t(patch.w) * patch.h, 0.f);
 	patch.rgb.resize(std::size_t(patch.w) * patch.h * 3);
-	const Image8& b = m.baseface;
 	// Per column: the lid's top and bottom, and the skin just above the covered lid margin (a band below the
 	// crease), then smoothed across columns so no crease or lash of the open eye streaks the lid.
 	const int n = x1 - x0;
@@ -147,17 +199,7 @@ ClosedLidPatch closedLid(const FaceModel& m, const EyeSpec& e, int rx0, int ry0,
 				patch.rgb[3 * i + std::size_t(c)] = std::uint8_t(std::clamp(smooth[3 * j + std::size_t(c)] * shade + 0.5, 0.0, 255.0));
 		}
 	}
-	const int cw = patch.w / 2, ch = patch.h / 2;
-	patch.y.resize(std::size_t(patch.w) * patch.h);
-	patch.uv.resize(std::size_t(cw) * ch * 2);
-	rgbToYuv420(patch.rgb.data(), std::size_t(patch.w) * 3, patch.w, patch.h, range, patch.y.data(), std::size_t(patch.w), patch.uv.data(),
-	            patch.uv.data() + 1, std::size_t(cw) * 2, 2);
-	patch.alphaC.resize(std::size_t(cw) * ch);
-	for (int y = 0; y < ch; ++y)
-		for (int x = 0; x < cw; ++x) {
-			const std::size_t a = std::size_t(2 * y) * patch.w + std::size_t(2 * x);
-			patch.alphaC[std::size_t(y) * cw + std::size_t(x)] = 0.25f * (patch.alpha[a] + patch.alpha[a + 1] + patch.alpha[a + patch.w] + patch.alpha[a + patch.w + 1]);
-		}
+	finishPatch(patch, range);
 	return patch;
 }
 }  // namespace
@@ -274,8 +316,30 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 		std::uint8_t* uv[2] = {backgroundYuv_.u.data(), backgroundYuv_.v.data()};
 		chroma.applyPlanes(baseUV_.data(), cw, ch, std::size_t(cw) * 2, 2, uv, std::size_t(outCw));
 	}
-	if (o.modulator && !o.modulator->blinks().empty() && !model.baseface.empty())
-		for (const EyeSpec& e : eyes_) eyePatches_.push_back(closedLid(model, e, roiX0_, roiY0_, roiX1_, roiY1_, o.yuvRange));
+	if (o.modulator && !o.modulator->blinks().empty() && !model.baseface.empty()) {
+		// D50: the corpus's closed-eyes image, in the mean frame, gives the shut lid where the model has one.
+		Image8 closed;
+		if (model.closedEyesIndex >= 0 && std::size_t(model.closedEyesIndex) < model.sampleCount()) {
+			std::vector<Eigen::VectorXf> a(model.regions.size());
+			for (std::size_t r = 0; r < model.regions.size(); ++r) {
+				const RegionModel& reg = model.regions[r];
+				if (reg.hasAppearanceCache()) {
+					std::vector<std::uint8_t> bytes(std::size_t(reg.appearanceSize()));
+					reg.readCachedAppearance(std::size_t(model.closedEyesIndex), bytes.data());
+					a[r] = Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(bytes.data(), Eigen::Index(bytes.size())).cast<float>();
+				} else {
+					Eigen::MatrixXf c(reg.pca.components(), 1);
+					c.col(0) = sampleCoefficients(reg, std::size_t(model.closedEyesIndex));
+					a[r] = synthesizeAppearances(reg, c).col(0);
+				}
+			}
+			closed = toU8(compositeRegions(model, a));
+		}
+		for (const EyeSpec& e : eyes_) {
+			eyePatches_.push_back(closedLid(model, closed.empty() ? model.baseface : closed, e, roiX0_, roiY0_, roiX1_, roiY1_, o.yuvRange));
+			if (!closed.empty()) eyePatches_.push_back(closedLidFrom(model, closed, e, roiX0_, roiY0_, roiX1_, roiY1_, o.yuvRange));
+		}
+	}
 }
 
 Points Synthesizer::anchored(const Points& face, bool chroma) const {
@@ -630,9 +694,10 @@ void Synthesizer::closeEyes(Points& points, double closure) const {
 
 void Synthesizer::drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const {
 	// The closed lid dissolves in faster than the lids close, so no half-open iris is squashed into the slit.
-	const float w = float(std::min(1.0, 1.6 * closure));
 	const int W = model_.width, cw = (W + 1) / 2;
 	for (const ClosedLidPatch& p : eyePatches_) {
+		const double s = p.from > 0 ? std::clamp((closure - p.from) / (1 - p.from), 0.0, 1.0) : 0.0;
+		const float w = float(p.from > 0 ? s * s * (3 - 2 * s) : std::min(1.0, 1.6 * closure));
 		for (int y = 0; y < p.h; ++y)
 			for (int x = 0; x < p.w; ++x) {
 				const std::size_t i = std::size_t(y) * std::size_t(p.w) + std::size_t(x);

@@ -61,6 +61,7 @@ struct KeyposeImage {
 struct ClosedLidPatch {
 	int x0 = 0, y0 = 0, w = 0, h = 0;  // even corners and size
 	std::vector<float> alpha, alphaC;  // luma-resolution and chroma-resolution weights
+	double from = 0;  // 0: dissolved in at min(1, 1.6 × closure) (D42); else from this closure to shut (D50)
 	std::vector<std::uint8_t> rgb, y, uv;
 };
 

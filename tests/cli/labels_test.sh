@@ -14,11 +14,13 @@ T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 # The same images (linked) with the labels rewritten: b = <CDV>; c = ASCII aliases and emotion aliases.
 mkdir "$T/b" "$T/c"
 for f in "$T"/a/*.png; do ln -s "$f" "$T/b/"; ln -s "$f" "$T/c/"; done
-awk -F, -v OFS=, '/^#/ { print; next } { $8 = "<" $8 ">"; print }' "$T/a/corpus.csv" >"$T/b/corpus.csv"
+# (The unlabelled closed-eyes row, emotion "-", keeps its label as written.)
+awk -F, -v OFS=, '/^#/ || $2 == "-" { print; next } { $8 = "<" $8 ">"; print }' "$T/a/corpus.csv" >"$T/b/corpus.csv"
 awk -F'\t' -v OFS=, '
 	FNR == NR { if ($0 !~ /^#/ && $1 != "label") ascii[$1] = $4; next }
 	/^#/ { print; next }
-	{ FS = ","; $0 = $0; $8 = ascii[$8]; $2 = ($2 == "joy" ? "Happiness" : toupper($2)); print }' "$VIS" "$T/a/corpus.csv" >"$T/c/corpus.csv"
+	{ FS = ","; $0 = $0 } $2 == "-" { print; next }
+	{ $8 = ascii[$8]; $2 = ($2 == "joy" ? "Happiness" : toupper($2)); print }' "$VIS" "$T/a/corpus.csv" >"$T/c/corpus.csv"
 grep -q '^joy_k1.png,joy,.*,<k1>,-,(' "$T/b/corpus.csv"
 grep -q '^neutral_sh1.png,NEUTRAL,.*,sh1,-,(' "$T/c/corpus.csv"
 grep -q '^joy_E.png,Happiness,.*,E,-,(' "$T/c/corpus.csv"
@@ -42,6 +44,6 @@ err "$T/c/bad-emotion.csv" | grep -q "^talkhead: error: $T/c/bad-emotion.csv:7: 
 # Unlabelled rows (emotion "-", the image stem as CDV, as IMM and iBUG corpora are read) still build.
 mkdir "$T/d"
 for f in "$T"/a/*.png; do ln -s "$f" "$T/d/"; done
-awk -F, -v OFS=, '{ $2 = "-"; $8 = $1; sub(/\.png$/, "", $8); print }' "$T/a/corpus.csv" >"$T/d/corpus.csv"
+awk -F, -v OFS=, '/^#/ { print; next } { $2 = "-"; $8 = $1; sub(/\.png$/, "", $8); print }' "$T/a/corpus.csv" >"$T/d/corpus.csv"
 "$TH" build -q "$T/d/corpus.csv" -o "$T/d.thm"
 echo "labels ok"

@@ -110,7 +110,7 @@ i = d.find(b"\0\0\0appearances") + len(b"\0\0\0appearances") + 4 + 8 + 5000  # s
 d[i] ^= 0x40
 open(sys.argv[2], "wb").write(d)
 PY
-head -1 "$T/c/corpus.csv" | grep -q '^neutral_p1.png,neutral,'
+awk '!/^#/ { print; exit }' "$T/c/corpus.csv" | grep -q '^neutral_p1.png,neutral,'
 { for i in $(seq 0 20); do printf '%d.0\t%d.5\ta\n%d.5\t%d.9\tp\n%d.9\t%d.0\ti\n' $i $i $i $i $i $((i + 1)); done; } >"$T/long.tsv"
 err render --model "$T/bad.thm" --transcript "$T/long.tsv" --emotion neutral -o "$T/x.mp4" | grep -q "$T/bad.thm: corrupt model file: checksum mismatch in the cached appearance of sample 0"
 test ! -e "$T/x.mp4"

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include "base/text.h"
+
 #include <fstream>
 #include <utility>
 #include <vector>
@@ -157,4 +160,19 @@ TEST(Corpus, folderWithoutShapesIsRejected) {
 	std::string dir = test::tempDir("emptycorpus");
 	EXPECT_EQ(errorOf([&] { loadCorpus(dir); }), dir + ": no .asf or .pts shape files in this folder");
 	EXPECT_EQ(errorOf([&] { loadCorpus(dir + "/nope"); }), dir + "/nope: corpus not found");
+}
+
+TEST(ChUnicampCsv, aClosedEyesImageIsAnUnlabelledRowTheCsvNames) {
+	// D50: "# closed-eyes: IMAGE" names the row whose face has its eyes shut; it must be unlabelled.
+	auto p = labelledCorpus("closed.csv", {{"neutral", "sil"}, {"-", "closed-eyes"}});
+	const std::string text = readTextFile(p);
+	std::ofstream(p, std::ios::binary) << "# closed-eyes: img1.png\n" + text;
+	const Corpus c = readChUnicampCsv(p);
+	EXPECT_EQ(c.closedEyes, (std::filesystem::path(p).parent_path() / "img1.png").string());
+	std::ofstream(p, std::ios::binary) << "# closed-eyes: img0.png\n" + text;
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }), p + ":3: the closed-eyes image must be an unlabelled row (emotion '-'), so no keypose uses it");
+	std::ofstream(p, std::ios::binary) << "# closed-eyes: other.png\n" + text;
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }).rfind(p + ": the closed-eyes image '", 0), 0u);
+	std::ofstream(p, std::ios::binary) << "# closed-eyes:\n" + text;
+	EXPECT_EQ(errorOf([&] { readChUnicampCsv(p); }), p + ":1: '# closed-eyes:' names no image");
 }

@@ -546,3 +546,70 @@ TEST(ShapeModulator, speechBrowsRiseOnEachPhrasesLongestVowel) {
 	                                   seg(500, 600, "o", "o"), seg(600, 800, "u", "u")};
 	EXPECT_EQ(speechBrows(close).size(), 1u);
 }
+
+TEST(Synthesizer, blinksTakeTheShutLidFromTheCorpusClosedEyeImage) {
+	// D50: a model whose corpus has a closed-eyes image draws the shut lid's skin from it.
+	SynthCorpusOptions o;
+	o.width = 320;
+	o.height = 180;
+	o.emotions = {"neutral"};
+	o.visemes = {"sil", "a"};
+	std::vector<SynthItem> items = synthCorpusItems(o);
+	items.push_back(closedEyesItem(o));
+	FaceRenderer r(o.width, o.height);
+	std::vector<SynthFace> faces;
+	std::vector<Points> shapes;
+	std::vector<SampleInfo> samples;
+	for (const auto& it : items) {
+		faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
+		shapes.push_back(faces.back().points);
+		samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
+	}
+	const int reye2 = loadScheme("ch-unicamp-56").indexOf("REYE2"), reye4 = loadScheme("ch-unicamp-56").indexOf("REYE4");
+	EXPECT_LT(std::abs(shapes.back()(reye2, 1) - shapes.back()(reye4, 1)), 0.5);  // the image's lids meet
+	NullProgress quiet;
+	BuildOptions with;
+	with.closedEyes = long(items.size() - 1);
+	auto source = [&](std::size_t i) { return faces[i].image; };
+	const FaceModel a = buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, source, with, quiet);
+	const FaceModel b = buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, source, BuildOptions{}, quiet);
+	EXPECT_EQ(a.closedEyesIndex, long(items.size() - 1));
+	EXPECT_EQ(b.closedEyesIndex, -1);
+	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	ModulatorOptions mo;
+	mo.blinks = false;
+	mo.headMotion = false;
+	mo.forcedBlinks = {ms(1000)};
+	SynthOptions so;
+	so.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
+	const Ticks shut = so.modulator->blinks().at(0).start + so.modulator->blinks().at(0).closing + ms(10);
+	Synthesizer sa(a, so), sb(b, so);
+	sa.prepare(keys), sb.prepare(keys);
+	Synthesizer::Workspace wa, wb;
+	Image8 fa, fb, oa, ob;
+	Points pa, pb;
+	sa.renderFrame(ms(400), keys, wa, oa, pa);
+	sb.renderFrame(ms(400), keys, wb, ob, pb);
+	EXPECT_EQ(oa.data, ob.data);  // eyes open: the same frame
+	sa.renderFrame(shut, keys, wa, fa, pa);
+	sb.renderFrame(shut, keys, wb, fb, pb);
+	// The shut eye against the closed-eyes image warped to the frame's points, over the eyes' box.
+	PiecewiseAffineWarp w(a.frameMesh, withFrameBorder(pa, 320, 180), 320, 180);
+	w.setSource(withFrameBorder(faces.back().points, 320, 180));
+	Image8 truth(320, 180, 3);
+	w.apply(faces.back().image, truth);
+	const Scheme sc = loadScheme("ch-unicamp-56");
+	std::vector<std::uint8_t> mask(320 * 180, 0);
+	double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+	for (const char* n : {"REYE1", "REYE3", "LEYE1", "LEYE3", "REB2", "LEB2"}) {
+		const int i = sc.indexOf(n);
+		x0 = std::min(x0, pa(i, 0)), x1 = std::max(x1, pa(i, 0)), y0 = std::min(y0, pa(i, 1)), y1 = std::max(y1, pa(i, 1));
+	}
+	for (int y = int(y0); y <= int(y1 + 3); ++y)
+		for (int x = int(x0); x <= int(x1); ++x) mask[std::size_t(y) * 320 + std::size_t(x)] = 1;
+	EXPECT_NE(fa.data, fb.data);
+	const double corpusLid = psnr(toFloat(fa), toFloat(truth), mask), drawnLid = psnr(toFloat(fb), toFloat(truth), mask);
+	EXPECT_GT(corpusLid, drawnLid + 1.0) << corpusLid << " dB vs " << drawnLid << " dB";
+	std::fprintf(stderr, "shut eye against the closed-eyes image: %.1f dB (corpus lid), %.1f dB (drawn lid)\n", corpusLid, drawnLid);
+}
