@@ -751,6 +751,17 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 		} else {  // F = K_f (1 − t) + K_b t, K_f = source warped S → P(t), K_b = target warped T → P(t), in one pass
 			ws.warp->dissolve(f.src->image, source(f.src), f.dst->image, source(f.dst), f.w, out);
 		}
+		if (f.closure > 0 && !eyePatches_.empty()) {
+			// The shut lids live in the mean frame, which this order never builds: during a blink, the frame
+			// goes back to the mean shape, gets its lids there, and is warped forward again (blink frames only).
+			PiecewiseAffineWarp back(mesh_, meanSource_, model_.width, model_.height);
+			back.setSource(anchored(points, false));
+			Image8 mean(model_.width, model_.height, 3);
+			back.apply(out, mean);
+			drawClosedLids(nullptr, nullptr, mean.data.data(), f.closure);
+			ws.warp->setSource(meanSource_);
+			ws.warp->apply(mean, out);
+		}
 		ws.warpSeconds += threadCpuSeconds() - t0;
 		return;
 	}

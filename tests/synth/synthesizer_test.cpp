@@ -613,3 +613,39 @@ TEST(Synthesizer, blinksTakeTheShutLidFromTheCorpusClosedEyeImage) {
 	EXPECT_GT(corpusLid, drawnLid + 1.0) << corpusLid << " dB vs " << drawnLid << " dB";
 	std::fprintf(stderr, "shut eye against the closed-eyes image: %.1f dB (corpus lid), %.1f dB (drawn lid)\n", corpusLid, drawnLid);
 }
+
+TEST(Synthesizer, theThesisWarpOrderDrawsTheShutLidsToo) {
+	// --warp keypose never builds the mean frame the lids are drawn in: blink frames go back to it and
+	// forward again, and agree with the direct order's.
+	const SmallFace& f = smallFace();
+	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	ModulatorOptions mo;
+	mo.blinks = false;
+	mo.headMotion = false;
+	mo.forcedBlinks = {ms(1000)};
+	SynthOptions o;
+	o.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
+	const Ticks shut = o.modulator->blinks().at(0).start + o.modulator->blinks().at(0).closing + ms(10);
+	Image8 direct, thesis, open;
+	Points p;
+	{
+		Synthesizer s(f.model, o);
+		s.prepare(keys);
+		Synthesizer::Workspace ws;
+		s.renderFrame(shut, keys, ws, direct, p);
+	}
+	o.warpPath = WarpPath::Keypose;
+	Synthesizer s(f.model, o);
+	s.prepare(keys);
+	Synthesizer::Workspace ws;
+	s.renderFrame(shut, keys, ws, thesis, p);
+	s.renderFrame(ms(400), keys, ws, open, p);
+	const Scheme sc = loadScheme("ch-unicamp-56");
+	std::vector<std::uint8_t> eyes(320 * 180, 0);
+	const int r1 = sc.indexOf("REYE1"), l1 = sc.indexOf("LEYE1"), r2 = sc.indexOf("REYE2");
+	for (int y = int(p(r2, 1)) - 6; y <= int(p(r2, 1)) + 6; ++y)
+		for (int x = int(p(r1, 0)); x <= int(p(l1, 0)); ++x) eyes[std::size_t(y) * 320 + std::size_t(x)] = 1;
+	EXPECT_GT(psnr(toFloat(thesis), toFloat(direct), eyes), 30.0);
+	EXPECT_LT(psnr(toFloat(thesis), toFloat(open), eyes), 25.0);  // and the eyes are not open
+}
