@@ -6,6 +6,18 @@
 
 using namespace talkhead;
 
+namespace {
+// The error a scheme text gives, or "no error".
+std::string message(const std::string& text) {
+	try {
+		parseScheme(text, "x.scheme");
+	} catch (const Error& e) {
+		return e.what();
+	}
+	return "no error";
+}
+}  // namespace
+
 TEST(Scheme, shippedSchemesLoad) {
 	struct Expect {
 		const char* name;
@@ -38,14 +50,6 @@ TEST(Scheme, chUnicampFollowsTheThesisColumnOrderAndWeights) {
 }
 
 TEST(Scheme, malformedFilesNameFileAndLine) {
-	auto message = [](const std::string& text) {
-		try {
-			parseScheme(text, "x.scheme");
-		} catch (const Error& e) {
-			return std::string(e.what());
-		}
-		return std::string("no error");
-	};
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P b\n"), "x.scheme:3: unknown weight class 'b' (declare it with 'class' first)");
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P a\npoint Q a\npoint R a\nregion r : P Q Z\n"), "x.scheme:6: region 'r': unknown point 'Z'");
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P a\npoint P a\n"), "x.scheme:4: duplicate point name 'P'");
@@ -67,14 +71,6 @@ TEST(Scheme, malformedFilesNameFileAndLine) {
 }
 
 TEST(Scheme, regionBoundaryPointsBetweenTwoPoints) {
-	auto message = [](const std::string& text) {
-		try {
-			parseScheme(text, "x.scheme");
-		} catch (const Error& e) {
-			return std::string(e.what());
-		}
-		return std::string("no error");
-	};
 	const std::string base = "scheme s\nclass a 1\npoint P a\npoint Q a\npoint R a\n";
 	const Scheme s = parseScheme(base + "region r : P Q>R@0.25 R>P@-0.5\n", "x.scheme");
 	ASSERT_EQ(s.regions.size(), 1u);

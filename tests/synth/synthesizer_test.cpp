@@ -547,6 +547,19 @@ TEST(ShapeModulator, speechBrowsRiseOnEachPhrasesLongestVowel) {
 	EXPECT_EQ(speechBrows(close).size(), 1u);
 }
 
+namespace {
+// Two seconds at rest, and a modulator with one blink at 1 s and nothing else; returns when the lids are shut.
+std::vector<Keypose> restingKeys() { return keyposes({{ms(0), ms(2000), "", "", "sil", 0}}, Ticks(kTicksPerSecond / 30)); }
+Ticks oneBlink(SynthOptions& o, const std::vector<Keypose>& keys) {
+	ModulatorOptions mo;
+	mo.blinks = false;
+	mo.headMotion = false;
+	mo.forcedBlinks = {ms(1000)};
+	o.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
+	return o.modulator->blinks().at(0).start + o.modulator->blinks().at(0).closing + ms(10);
+}
+}  // namespace
+
 TEST(Synthesizer, blinksTakeTheShutLidFromTheCorpusClosedEyeImage) {
 	// D50: a model whose corpus has a closed-eyes image draws the shut lid's skin from it.
 	SynthCorpusOptions o;
@@ -575,15 +588,9 @@ TEST(Synthesizer, blinksTakeTheShutLidFromTheCorpusClosedEyeImage) {
 	const FaceModel b = buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, source, BuildOptions{}, quiet);
 	EXPECT_EQ(a.closedEyesIndex, long(items.size() - 1));
 	EXPECT_EQ(b.closedEyesIndex, -1);
-	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
-	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
-	ModulatorOptions mo;
-	mo.blinks = false;
-	mo.headMotion = false;
-	mo.forcedBlinks = {ms(1000)};
+	const std::vector<Keypose> keys = restingKeys();
 	SynthOptions so;
-	so.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
-	const Ticks shut = so.modulator->blinks().at(0).start + so.modulator->blinks().at(0).closing + ms(10);
+	const Ticks shut = oneBlink(so, keys);
 	Synthesizer sa(a, so), sb(b, so);
 	sa.prepare(keys), sb.prepare(keys);
 	Synthesizer::Workspace wa, wb;
@@ -618,15 +625,9 @@ TEST(Synthesizer, theThesisWarpOrderDrawsTheShutLidsToo) {
 	// --warp keypose never builds the mean frame the lids are drawn in: blink frames go back to it and
 	// forward again, and agree with the direct order's.
 	const SmallFace& f = smallFace();
-	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
-	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
-	ModulatorOptions mo;
-	mo.blinks = false;
-	mo.headMotion = false;
-	mo.forcedBlinks = {ms(1000)};
+	const std::vector<Keypose> keys = restingKeys();
 	SynthOptions o;
-	o.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
-	const Ticks shut = o.modulator->blinks().at(0).start + o.modulator->blinks().at(0).closing + ms(10);
+	const Ticks shut = oneBlink(o, keys);
 	Image8 direct, thesis, open;
 	Points p;
 	{
