@@ -106,4 +106,35 @@ std::string toLower(std::string_view s) {
 	return r;
 }
 
+// Splits one CSV record on commas, honouring double quotes ("a,b" and "" escapes).
+std::vector<std::string> splitCsvRecord(const std::string& line) {
+	std::vector<std::string> out;
+	std::string cur;
+	bool quoted = false;
+	for (std::size_t i = 0; i < line.size(); ++i) {
+		char c = line[i];
+		if (quoted) {
+			if (c == '"') {
+				if (i + 1 < line.size() && line[i + 1] == '"') {
+					cur += '"';
+					++i;
+				} else {
+					quoted = false;
+				}
+			} else {
+				cur += c;
+			}
+		} else if (c == '"') {
+			quoted = true;
+		} else if (c == ',') {
+			out.push_back(cur);
+			cur.clear();
+		} else {
+			cur += c;
+		}
+	}
+	out.push_back(cur);
+	return out;
+}
+
 }  // namespace talkhead

@@ -10,6 +10,8 @@ std::string_view trim(std::string_view s);
 std::vector<std::string> splitWhitespace(std::string_view s);
 // Splits on `sep`; no quoting.
 std::vector<std::string> split(std::string_view s, char sep);
+// One CSV record split on commas, honouring double quotes ("a,b" and "" escapes).
+std::vector<std::string> splitCsvRecord(const std::string& line);
 // Whole file as bytes; throws Error("PATH: cannot read file: reason").
 std::string readTextFile(const std::string& path);
 // Strict number parsing of the whole (trimmed) string; false on garbage, NaN or infinity.

@@ -16,5 +16,6 @@ int runAlign(const std::vector<std::string>& args);
 int runCompare(const std::vector<std::string>& args);
 int runCorpusLandmarks(const std::vector<std::string>& args);
 int runCorpusFromVideo(const std::vector<std::string>& args);
+int runBatch(const std::vector<std::string>& args);
 
 }  // namespace talkhead::cli

@@ -33,6 +33,7 @@ const char* kUsage =
     "  align     forced alignment: speech audio (or video) + its text -> TextGrid of words and phones\n"
     "  compare   lip-sync measures of a synthesized video against a real speaker's video\n"
     "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
+    "  batch     perceptual-test stimuli from a manifest: blind IDs, key, balanced orders, resumable, shards\n"
     "\n"
     "  talkhead <command> --help   options of one command\n"
     "  talkhead --version          version\n";
@@ -68,9 +69,10 @@ int main(int argc, char** argv) {
 		if (command == "say") return cli::runSay(rest);
 		if (command == "align") return cli::runAlign(rest);
 		if (command == "compare") return cli::runCompare(rest);
+		if (command == "batch") return cli::runBatch(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "batch" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

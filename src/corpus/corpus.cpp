@@ -15,36 +15,6 @@ namespace talkhead {
 
 namespace {
 
-// Splits one CSV record on commas, honouring double quotes ("a,b" and "" escapes).
-std::vector<std::string> csvFields(const std::string& line) {
-	std::vector<std::string> out;
-	std::string cur;
-	bool quoted = false;
-	for (std::size_t i = 0; i < line.size(); ++i) {
-		char c = line[i];
-		if (quoted) {
-			if (c == '"') {
-				if (i + 1 < line.size() && line[i + 1] == '"') {
-					cur += '"';
-					++i;
-				} else {
-					quoted = false;
-				}
-			} else {
-				cur += c;
-			}
-		} else if (c == '"') {
-			quoted = true;
-		} else if (c == ',') {
-			out.push_back(cur);
-			cur.clear();
-		} else {
-			cur += c;
-		}
-	}
-	out.push_back(cur);
-	return out;
-}
 
 std::string schemeForCount(int n) {
 	switch (n) {
@@ -111,7 +81,7 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 			}
 			continue;
 		}
-		auto f = csvFields(line);
+		auto f = splitCsvRecord(line);
 		if (pointCount == 0) {
 			const int n = int(f.size()) - 9;
 			if (schemeForCount(n).empty())

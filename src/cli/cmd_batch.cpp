@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// talkhead batch MANIFEST -o OUTDIR: perceptual-test stimuli (issue 14, D51).
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "base/atomic_file.h"
+#include "base/error.h"
+#include "base/sha256.h"
+#include "base/text.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "render/batch.h"
+
+namespace fs = std::filesystem;
+
+extern char** environ;
+
+namespace talkhead::cli {
+
+namespace {
+
+// Runs `talkhead ARGS…` as a child process (this executable) and waits: each stimulus in a fresh process,
+// because libespeak-ng's timings depend on what it synthesised before in the same process (the same
+// sentence comes out a few milliseconds apart after another one), which would make a stimulus depend on
+// the rows before it — and a shard on which rows it holds. Returns the exit code; *message gets the last
+// line the child wrote on stderr.
+int runChild(const std::vector<std::string>& args, std::string* message) {
+	int pipefd[2];
+	if (::pipe(pipefd) != 0) throw Error("batch: cannot create a pipe");
+	posix_spawn_file_actions_t actions;
+	posix_spawn_file_actions_init(&actions);
+	posix_spawn_file_actions_adddup2(&actions, pipefd[1], 2);
+	posix_spawn_file_actions_addclose(&actions, pipefd[0]);
+	std::vector<std::string> all{"talkhead"};
+	all.insert(all.end(), args.begin(), args.end());
+	std::vector<char*> argv;
+	for (auto& a : all) argv.push_back(a.data());
+	argv.push_back(nullptr);
+	pid_t pid = 0;
+	const int rc = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
+	posix_spawn_file_actions_destroy(&actions);
+	::close(pipefd[1]);
+	if (rc != 0) {
+		::close(pipefd[0]);
+		throw Error(std::string("batch: cannot start talkhead: ") + std::strerror(rc));
+	}
+	std::string err;
+	char buf[4096];
+	for (ssize_t n; (n = ::read(pipefd[0], buf, sizeof buf)) != 0;) {
+		if (n < 0) {
+			if (errno == EINTR) continue;
+			break;
+		}
+		err.append(buf, std::size_t(n));
+	}
+	::close(pipefd[0]);
+	int status = 0;
+	while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+	}
+	while (!err.empty() && err.back() == '\n') err.pop_back();
+	const auto nl = err.rfind('\n');
+	std::string last = nl == std::string::npos ? err : err.substr(nl + 1);
+	if (startsWith(last, "talkhead: error: ")) last = last.substr(17);
+	if (message) *message = last;
+	if (WIFEXITED(status)) return WEXITSTATUS(status);
+	if (message && WIFSIGNALED(status)) *message = "killed by signal " + std::to_string(WTERMSIG(status)) + (last.empty() ? "" : " (" + last + ")");
+	return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+}  // namespace
+
+int runBatch(const std::vector<std::string>& argv) {
+	Args args("batch", "talkhead batch MANIFEST -o OUTDIR [options]",
+	          {{"--output", "OUTDIR", "folder for the stimuli (ID.mp4), key.csv and the orders (required)", "-o"},
+	           {"--seed", "N", "seed of the blind IDs and the orders (default 1)"},
+	           {"--participants", "N", "presentation orders to write, one per participant (default: one full design: n stimuli, 2n when n is odd)"},
+	           {"--no-repeat", "COLUMN", "no order shows two stimuli with the same value of this column in a row (e.g. emotion)"},
+	           {"--shard", "I/N", "render only the rows of shard I of N (rows I, I+N, …; IDs, key and orders come from the whole manifest)"},
+	           {"--threads", "N", "worker threads per stimulus (default: all cores)"},
+	           {"--quiet", "", "no progress lines and no summary", "-q"}},
+	          "Renders one stimulus per manifest row (CSV with a header, or JSON) under a blind ID, and writes\n"
+	          "key.csv (ID → row, conditions, SHA-256) and one balanced presentation order per participant\n"
+	          "(order-NN.csv, a Williams design). The whole manifest is checked before anything renders; a rerun\n"
+	          "skips stimuli already complete (checked against key.csv's SHA-256); a failing row is reported and\n"
+	          "the others go on; the exit code is 0 only when every row of the shard succeeded. Columns: README\n"
+	          "'Perceptual-test stimuli'.");
+	if (!args.parse(argv)) return 0;
+	if (args.positionals().size() != 1) throw UsageError("batch: expected one MANIFEST (CSV or JSON)");
+	auto out = args.get("--output");
+	if (!out) throw UsageError("batch: -o OUTDIR is required");
+	const std::uint64_t seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
+	std::size_t shard = 0, shards = 1;
+	if (auto s = args.get("--shard")) {
+		const auto parts = split(*s, '/');
+		long long i = -1, n = 0;
+		if (parts.size() != 2 || !parseInt(parts[0], i) || !parseInt(parts[1], n) || n < 1 || n > 100000 || i < 0 || i >= n)
+			throw UsageError("batch: --shard takes I/N with 0 ≤ I < N (e.g. 0/4)");
+		shard = std::size_t(i), shards = std::size_t(n);
+	}
+	const std::string threads = std::to_string(long(args.number("--threads", 0, 0, 256)));
+	const bool quiet = args.has("--quiet");
+
+	Manifest m;
+	try {
+		m = loadManifest(args.positionals()[0]);
+	} catch (const ManifestErrors& e) {
+		for (const auto& msg : e.messages) std::fprintf(stderr, "talkhead: error: %s\n", msg.c_str());
+		return 1;
+	}
+	const std::size_t n = m.rows.size();
+	const std::size_t participants = std::size_t(args.number("--participants", double(n % 2 ? 2 * n : n), 1, 100000));
+	std::vector<std::string> labels;
+	if (auto column = args.get("--no-repeat")) {
+		if (std::find(m.columns.begin(), m.columns.end(), *column) == m.columns.end())
+			throw UsageError("batch: --no-repeat: the manifest has no column '" + *column + "'");
+		for (const auto& r : m.rows) labels.push_back(*column == "emotion" ? r.emotion : (r.fields.count(*column) ? r.fields.at(*column) : ""));
+	}
+	const std::vector<std::string> ids = blindIds(n, seed);
+	std::string warning;
+	const auto orders = presentationOrders(n, participants, seed, labels.empty() ? nullptr : &labels, &warning);
+	if (!warning.empty()) std::fprintf(stderr, "talkhead: warning: --no-repeat: %s\n", warning.c_str());
+
+	std::error_code ec;
+	fs::create_directories(*out, ec);
+	if (ec) throw Error(*out, 0, "cannot create folder: " + ec.message());
+	const std::string keyPath = (fs::path(*out) / "key.csv").string();
+	const auto previous = readKeyChecksums(keyPath);
+	std::vector<StimulusResult> results(n);
+	std::size_t ok = 0, skipped = 0, failed = 0;
+	const auto t0 = std::chrono::steady_clock::now();
+	for (const BatchRow& row : m.rows) {
+		StimulusResult& res = results[row.index];
+		res.file = ids[row.index] + ".mp4";
+		const std::string path = (fs::path(*out) / res.file).string();
+		if (row.index % shards != shard) {
+			// Another shard's row: kept as complete when another shard already made it in this folder.
+			auto p = previous.find(ids[row.index]);
+			const bool done = p != previous.end() && fs::is_regular_file(path, ec) && sha256File(path) == p->second;
+			res.status = done ? "ok" : "not-in-shard";
+			if (done) res.sha256 = p->second;
+			continue;
+		}
+		// Resume: a file whose checksum key.csv already holds is complete.
+		if (auto p = previous.find(ids[row.index]); p != previous.end() && fs::is_regular_file(path, ec) && sha256File(path) == p->second) {
+			res.status = "ok", res.sha256 = p->second;  // complete (the key does not say which run made it)
+			++skipped;
+			if (!quiet) std::fprintf(stderr, "batch: %s (row %ld) already complete\n", ids[row.index].c_str(), row.line);
+			continue;
+		}
+		std::vector<std::string> a{row.command};
+		a.insert(a.end(), row.args.begin(), row.args.end());
+		a.insert(a.end(), {"-o", path, "-q", "--threads", threads});
+		try {
+			std::string message;
+			const int rc = runChild(a, &message);
+			if (rc != 0) throw Error(message.empty() ? "exit code " + std::to_string(rc) : message);
+			res.status = "ok", res.sha256 = sha256File(path);
+			++ok;
+			if (!quiet) std::fprintf(stderr, "batch: [%zu/%zu] %s (row %ld) rendered\n", row.index + 1, n, ids[row.index].c_str(), row.line);
+		} catch (const std::exception& e) {
+			res.status = "failed", res.message = e.what();
+			++failed;
+			std::fprintf(stderr, "talkhead: error: %s:%ld: %s\n", m.path.c_str(), row.line, e.what());
+		}
+		// After every stimulus, so a batch stopped half-way resumes from where it was.
+		writeFileAtomically(keyPath, keyCsv(m, ids, results));
+	}
+	writeFileAtomically(keyPath, keyCsv(m, ids, results));
+	const int width = participants >= 100 ? 3 : 2;
+	for (std::size_t q = 0; q < orders.size(); ++q) {
+		char name[32];
+		std::snprintf(name, sizeof name, "order-%0*zu.csv", width, q + 1);
+		writeFileAtomically((fs::path(*out) / name).string(), orderCsv(orders[q], ids, results));
+	}
+	if (!quiet) {
+		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		std::fprintf(stderr, "batch: %zu stimuli%s: %zu rendered, %zu already complete, %zu failed in %.1f s; key.csv and %zu orders in %s\n", n,
+		             shards > 1 ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str() : "", ok, skipped, failed, secs,
+		             orders.size(), out->c_str());
+	}
+	return failed ? 1 : 0;
+}
+
+}  // namespace talkhead::cli

@@ -1,0 +1,335 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "render/batch.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <numeric>
+#include <set>
+
+#include "base/error.h"
+#include "base/frame_rate.h"
+#include "base/json.h"
+#include "base/text.h"
+#include "phonetics/labels.h"
+
+namespace fs = std::filesystem;
+
+namespace talkhead {
+
+ManifestErrors::ManifestErrors(std::vector<std::string> m)
+    : std::runtime_error(m.empty() ? "manifest errors" : m.front()), messages(std::move(m)) {}
+
+namespace {
+
+std::uint64_t splitmix(std::uint64_t x) {
+	x += 0x9E3779B97F4A7C15ull;
+	x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+	x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+	return x ^ (x >> 31);
+}
+
+// Columns that become options of the row's command: column → (option, say, render). Flags are below.
+struct Column {
+	const char* name;
+	const char* option;  // "" = handled specially
+	bool say, render;
+};
+const std::vector<Column>& columns() {
+	static const std::vector<Column> c = {
+	    {"text", "", true, true},           {"transcript", "--transcript", false, true}, {"audio", "--audio", false, true},
+	    {"lang", "--lang", true, true},      {"voice", "--voice", true, false},           {"model", "--model", true, true},
+	    {"emotion", "", true, true},         {"intensity", "", true, true},               {"muted", "", true, true},
+	    {"fps", "--fps", true, true},        {"size", "--size", true, true},              {"trajectory", "--trajectory", true, true},
+	    {"dissolve", "--dissolve", true, true}, {"warp", "--warp", true, true},           {"pauses", "--pauses", true, true},
+	    {"blinks", "--blinks", true, true},  {"head-motion", "--head-motion", true, true}, {"speech-brows", "--speech-brows", true, true},
+	    {"emotion-source", "--emotion-source", true, true}, {"controls", "--controls", true, true}, {"seed", "--seed", true, true},
+	    {"rate", "--rate", true, false},     {"pitch", "--pitch", true, false},           {"crf", "--crf", true, true},
+	    {"condition", "", true, true}};
+	return c;
+}
+const Column* findColumn(const std::string& name) {
+	for (const auto& c : columns())
+		if (name == c.name) return &c;
+	return nullptr;
+}
+bool isAnnotation(const std::string& name) { return name == "condition" || startsWith(name, "x-"); }
+
+std::string knownColumns() {
+	std::string s;
+	for (const auto& c : columns()) s += (s.empty() ? "" : ", ") + std::string(c.name);
+	return s + ", x-…";
+}
+
+// The manifest as (line, column → value) records, CSV or JSON.
+struct Record {
+	long line;
+	std::vector<std::pair<std::string, std::string>> fields;
+};
+
+std::vector<Record> readRecords(const std::string& text, const std::string& path, std::vector<std::string>& header, long& headerLine,
+                                std::vector<std::string>& errors) {
+	std::vector<Record> out;
+	const std::string_view t = trim(text);
+	if (!t.empty() && (t.front() == '[' || t.front() == '{')) {
+		const JsonValue root = parseJson(text, path);
+		const JsonValue* items = &root;
+		if (root.kind == JsonValue::Kind::Object) {
+			items = root.find("stimuli");
+			if (!items) throw Error(path, 0, "a JSON manifest is an array of stimuli or {\"stimuli\": [...]}");
+		}
+		if (items->kind != JsonValue::Kind::Array) throw Error(path, 0, "\"stimuli\" must be an array");
+		for (std::size_t i = 0; i < items->array.size(); ++i) {
+			const JsonValue& o = items->array[i];
+			Record r{long(i + 1), {}};
+			if (o.kind != JsonValue::Kind::Object) {
+				errors.push_back(path + ":" + std::to_string(i + 1) + ": a stimulus must be an object");
+				continue;
+			}
+			for (const auto& [k, v] : o.object) {
+				std::string value;
+				if (v.kind == JsonValue::Kind::String) value = v.string;
+				else if (v.kind == JsonValue::Kind::Number) {
+					char b[32];
+					std::snprintf(b, sizeof b, "%.10g", v.number);
+					value = b;
+				} else if (v.kind == JsonValue::Kind::Bool) value = v.boolean ? "yes" : "no";
+				else if (v.kind != JsonValue::Kind::Null) {
+					errors.push_back(path + ":" + std::to_string(i + 1) + ":" + k + ": must be a string, number or boolean");
+					continue;
+				}
+				r.fields.emplace_back(k, value);
+				if (std::find(header.begin(), header.end(), k) == header.end()) header.push_back(k);
+			}
+			out.push_back(std::move(r));
+		}
+		return out;
+	}
+	long lineNo = 0;
+	bool haveHeader = false;
+	for (std::string line : split(text, '\n')) {
+		++lineNo;
+		if (!line.empty() && line.back() == '\r') line.pop_back();
+		if (lineNo == 1 && startsWith(line, "\xEF\xBB\xBF")) line.erase(0, 3);
+		if (trim(line).empty() || trim(line).front() == '#') continue;
+		std::vector<std::string> f = splitCsvRecord(line);
+		for (auto& x : f) x = std::string(trim(x));
+		if (!haveHeader) {
+			header = f;
+			headerLine = lineNo;
+			haveHeader = true;
+			std::set<std::string> seen;
+			for (const auto& h : header)
+				if (!seen.insert(h).second) errors.push_back(path + ":" + std::to_string(lineNo) + ":" + h + ": column named twice");
+			continue;
+		}
+		if (f.size() != header.size()) {
+			errors.push_back(path + ":" + std::to_string(lineNo) + ": " + std::to_string(f.size()) + " fields, the header has " + std::to_string(header.size()));
+			continue;
+		}
+		Record r{lineNo, {}};
+		for (std::size_t i = 0; i < f.size(); ++i) r.fields.emplace_back(header[i], f[i]);
+		out.push_back(std::move(r));
+	}
+	if (!haveHeader) throw Error(path, 0, "empty manifest (a CSV header row, then one row per stimulus)");
+	return out;
+}
+
+}  // namespace
+
+Manifest parseManifest(const std::string& text, const std::string& path) {
+	Manifest m;
+	m.path = path;
+	std::vector<std::string> errors;
+	long headerLine = 1;  // JSON: the columns are named in every item; their errors say line 1
+	const std::vector<Record> records = readRecords(text, path, m.columns, headerLine, errors);
+	const fs::path dir = fs::path(path).parent_path();
+	for (const auto& c : m.columns)
+		if (!findColumn(c) && !isAnnotation(c))
+			errors.push_back(path + ":" + std::to_string(headerLine) + ":" + c + ": unknown column (known: " + knownColumns() + ")");
+	for (const Record& rec : records) {
+		BatchRow row;
+		row.index = m.rows.size();
+		row.line = rec.line;
+		auto fail = [&](const std::string& column, const std::string& what) {
+			errors.push_back(path + ":" + std::to_string(rec.line) + ":" + column + ": " + what);
+		};
+		for (const auto& [k, v] : rec.fields)
+			if (!v.empty()) row.fields[k] = v;
+		auto get = [&](const char* k) -> std::string {
+			auto it = row.fields.find(k);
+			return it == row.fields.end() ? std::string() : it->second;
+		};
+		// Files resolve against the manifest's folder (the key keeps them as written).
+		std::map<std::string, std::string> resolved;
+		for (const char* k : {"transcript", "audio", "model", "controls"}) {
+			auto it = row.fields.find(k);
+			if (it == row.fields.end()) continue;
+			const fs::path p = fs::path(it->second).is_absolute() ? fs::path(it->second) : dir / it->second;
+			std::error_code ec;
+			if (!fs::is_regular_file(p, ec)) fail(k, "no such file '" + it->second + "'");
+			resolved[k] = p.string();
+		}
+		const bool text = !get("text").empty(), transcript = !get("transcript").empty(), audio = !get("audio").empty();
+		if (!text && !transcript) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
+		if (text && transcript) fail("transcript", "text and transcript both given: one or the other");
+		row.command = transcript || (text && audio) ? "render" : "say";
+		if (row.command == "say" && text) row.args.push_back(get("text"));
+		if (row.command == "render" && text) row.args.insert(row.args.end(), {"--text", get("text")});
+		// Emotion (and intensity).
+		std::string emotion = get("emotion"), intensity = get("intensity");
+		if (auto colon = emotion.find(':'); colon != std::string::npos) {
+			if (!intensity.empty()) fail("intensity", "given twice (emotion '" + emotion + "' has one)");
+			intensity = emotion.substr(colon + 1);
+			emotion = emotion.substr(0, colon);
+		}
+		if (!emotion.empty()) {
+			if (auto c = canonicalEmotion(emotion)) row.emotion = *c;
+			else fail("emotion", "unknown emotion '" + emotion + "' (known: " + emotionList() + ")");
+		}
+		double level = 1;
+		if (!intensity.empty() && (!parseDouble(intensity, level) || !(level >= 0 && level <= 1.5)))
+			fail("intensity", "'" + intensity + "' is not a number from 0 to 1.5");
+		row.args.insert(row.args.end(), {"--emotion", row.emotion + (intensity.empty() ? "" : ":" + intensity)});
+		// Muted.
+		if (auto muted = toLower(get("muted")); !muted.empty()) {
+			if (muted == "yes" || muted == "true" || muted == "1") row.args.push_back("--no-audio");
+			else if (muted != "no" && muted != "false" && muted != "0") fail("muted", "'" + get("muted") + "' is not yes or no");
+		}
+		if (auto fps = get("fps"); !fps.empty() && !FrameRate::parse(fps)) fail("fps", "'" + fps + "' is not a frame rate (30, 25, 29.97, 30000/1001)");
+		for (const auto& [k, v] : row.fields) {
+			const Column* c = findColumn(k);
+			if (!c || !*c->option) continue;
+			if (row.command == "say" && !c->say) fail(k, "only for a stimulus with a transcript (render)");
+			else if (row.command == "render" && !c->render) fail(k, "only for a stimulus spoken from text (say)");
+			else row.args.insert(row.args.end(), {c->option, resolved.count(k) ? resolved.at(k) : v});
+		}
+		m.rows.push_back(std::move(row));
+	}
+	if (m.rows.empty() && errors.empty()) errors.push_back(path + ": no stimuli");
+	if (!errors.empty()) throw ManifestErrors(errors);
+	return m;
+}
+
+Manifest loadManifest(const std::string& path) { return parseManifest(readTextFile(path), path); }
+
+std::vector<std::string> blindIds(std::size_t rows, std::uint64_t seed) {
+	static const char* alphabet = "ABCDEFGHJKLMNPQRSTUVWXYZ23456789";  // no I, O, 0, 1
+	std::vector<std::string> ids;
+	std::set<std::string> seen;
+	for (std::size_t i = 0; i < rows; ++i) {
+		std::uint64_t h = splitmix(seed ^ splitmix(0x51A7ull + i));
+		for (;;) {
+			std::string id = "S";
+			std::uint64_t v = h;
+			for (int k = 0; k < 6; ++k, v >>= 5) id += alphabet[v & 31];
+			if (seen.insert(id).second) {
+				ids.push_back(id);
+				break;
+			}
+			h = splitmix(h);
+		}
+	}
+	return ids;
+}
+
+std::vector<std::vector<std::size_t>> presentationOrders(std::size_t n, std::size_t participants, std::uint64_t seed,
+                                                         const std::vector<std::string>* noRepeat, std::string* warning) {
+	std::vector<std::vector<std::size_t>> out;
+	if (n == 0 || participants == 0) return out;
+	// Williams design: first row 0, 1, n−1, 2, n−2, …; row r adds r (mod n); for odd n the mirrored rows too.
+	std::vector<std::size_t> first{0};
+	for (std::size_t k = 1, lo = 1, hi = n - 1; k < n; ++k) first.push_back(k % 2 ? lo++ : hi--);
+	std::vector<std::vector<std::size_t>> square;
+	for (std::size_t r = 0; r < n; ++r) {
+		std::vector<std::size_t> row;
+		for (std::size_t v : first) row.push_back((v + r) % n);
+		square.push_back(row);
+	}
+	if (n % 2 == 1)
+		for (std::size_t r = 0; r < n; ++r) square.emplace_back(square[r].rbegin(), square[r].rend());
+	// The stimuli relabelled by a seeded permutation; with a constraint, the first of 500 candidates that
+	// keeps it in every order used, else the one that breaks it least.
+	auto permutation = [&](std::uint64_t k) {
+		std::vector<std::size_t> p(n);
+		std::iota(p.begin(), p.end(), 0);
+		std::uint64_t s = splitmix(seed ^ splitmix(0x0DE5ull + k));
+		for (std::size_t i = n; i > 1; --i) {
+			s = splitmix(s);
+			std::swap(p[i - 1], p[std::size_t(s % i)]);
+		}
+		return p;
+	};
+	auto repeats = [&](const std::vector<std::size_t>& p) {
+		std::size_t bad = 0;
+		if (!noRepeat) return bad;
+		for (std::size_t q = 0; q < participants; ++q) {
+			const auto& row = square[q % square.size()];
+			for (std::size_t k = 1; k < n; ++k) bad += (*noRepeat)[p[row[k]]] == (*noRepeat)[p[row[k - 1]]];
+		}
+		return bad;
+	};
+	std::vector<std::size_t> best = permutation(0);
+	std::size_t bestBad = repeats(best);
+	for (std::uint64_t k = 1; k < 500 && bestBad > 0; ++k) {
+		auto p = permutation(k);
+		const std::size_t bad = repeats(p);
+		if (bad < bestBad) best = p, bestBad = bad;
+	}
+	if (bestBad > 0 && warning)
+		*warning = std::to_string(bestBad) + " places where two neighbours share a label remain (too many stimuli share one)";
+	for (std::size_t q = 0; q < participants; ++q) {
+		std::vector<std::size_t> order;
+		for (std::size_t v : square[q % square.size()]) order.push_back(best[v]);
+		out.push_back(order);
+	}
+	return out;
+}
+
+namespace {
+std::string csvField(const std::string& s) {
+	if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+	std::string q = "\"";
+	for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+	return q + "\"";
+}
+}  // namespace
+
+std::string keyCsv(const Manifest& m, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results) {
+	std::string s = "id,row,status,sha256,file";
+	for (const auto& c : m.columns) s += "," + csvField(c);
+	s += "\n";
+	for (const auto& r : m.rows) {
+		const StimulusResult& res = results[r.index];
+		s += ids[r.index] + "," + std::to_string(r.line) + "," + res.status + "," + res.sha256 + "," + csvField(res.file);
+		for (const auto& c : m.columns) {
+			auto it = r.fields.find(c);
+			s += "," + csvField(it == r.fields.end() ? std::string() : it->second);
+		}
+		s += "\n";
+	}
+	return s;
+}
+
+std::map<std::string, std::string> readKeyChecksums(const std::string& path) {
+	std::map<std::string, std::string> out;
+	std::error_code ec;
+	if (!fs::is_regular_file(path, ec)) return out;
+	bool header = true;
+	for (const auto& line : split(readTextFile(path), '\n')) {
+		if (header || line.empty()) {
+			header = false;
+			continue;
+		}
+		const auto f = splitCsvRecord(line);
+		if (f.size() >= 4 && f[2] == "ok" && f[3].size() == 64) out[f[0]] = f[3];
+	}
+	return out;
+}
+
+std::string orderCsv(const std::vector<std::size_t>& order, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results) {
+	std::string s = "position,id,file\n";
+	for (std::size_t k = 0; k < order.size(); ++k) s += std::to_string(k + 1) + "," + ids[order[k]] + "," + csvField(results[order[k]].file) + "\n";
+	return s;
+}
+
+}  // namespace talkhead

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <cstdint>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace talkhead {
+
+// Perceptual-test stimuli (issue 14; decision D51): a manifest of stimuli, their blind IDs, the key and
+// balanced presentation orders. Rendering each row is the CLI's `talkhead batch` (it runs the row's
+// `say` or `render` in process).
+//
+// A manifest is CSV (a header row, then one row per stimulus) or JSON (an array of objects, or
+// {"stimuli": [...]}); the columns (README "Perceptual-test stimuli"):
+//   text, transcript, audio, lang, voice, model, emotion (LABEL or LABEL:I), intensity, muted, fps, size,
+//   trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
+//   rate, pitch, crf; and free annotations: condition, and any column starting with "x-" (kept in the key).
+// A row with a transcript (or text + audio) is a `render`, one with text alone a `say`.
+struct BatchRow {
+	std::size_t index = 0;  // 0-based
+	long line = 0;          // CSV line / JSON item number (1-based), for messages
+	std::map<std::string, std::string> fields;  // column → value (empty values left out)
+	std::string command;                        // "say" or "render"
+	std::vector<std::string> args;              // the command's arguments, without -o
+	std::string emotion = "neutral";            // canonical
+};
+
+struct Manifest {
+	std::string path;
+	std::vector<std::string> columns;  // in file order
+	std::vector<BatchRow> rows;
+};
+
+// Every problem of a manifest at once: each message "MANIFEST:LINE:COLUMN: what".
+struct ManifestErrors : std::runtime_error {
+	std::vector<std::string> messages;
+	explicit ManifestErrors(std::vector<std::string> m);
+};
+
+// Parses and validates a manifest: unknown columns, emotions and values, missing files (relative paths
+// resolve against the manifest's folder), rows without text or transcript. Throws ManifestErrors.
+Manifest parseManifest(const std::string& text, const std::string& path);
+Manifest loadManifest(const std::string& path);
+
+// Blind IDs: "S" + 6 base-32 characters per row, from the seed and the row's position only (never from
+// its conditions), all distinct.
+std::vector<std::string> blindIds(std::size_t rows, std::uint64_t seed);
+
+// One presentation order per participant (indices into the rows): a Williams design (Williams 1949; each
+// row of a balanced Latin square: every stimulus equally often in every position over each n participants
+// — 2n for odd n — and every ordered pair of neighbours equally often), its stimuli relabelled by a seeded
+// permutation. With `noRepeat` (one label per stimulus, e.g. the emotion) the permutation is chosen among
+// seeded candidates so that no order shows the same label twice in a row; *warning says when none could.
+std::vector<std::vector<std::size_t>> presentationOrders(std::size_t n, std::size_t participants, std::uint64_t seed,
+                                                         const std::vector<std::string>* noRepeat = nullptr, std::string* warning = nullptr);
+
+// key.csv: id, row, status, sha256, file, then every manifest column (RFC 4180 quoting).
+struct StimulusResult {
+	std::string status;  // ok (complete, now or before), failed, not-in-shard
+	std::string sha256, file, message;
+};
+std::string keyCsv(const Manifest& m, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results);
+// Reads a key.csv written before: id → sha256 (for resuming); empty when the file is missing.
+std::map<std::string, std::string> readKeyChecksums(const std::string& path);
+// order-NN.csv: position (1-based), id, file.
+std::string orderCsv(const std::vector<std::size_t>& order, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results);
+
+}  // namespace talkhead

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Issue 14: talkhead batch. A small manifest renders under blind IDs with a key whose SHA-256s are the
+# files'; the same seed gives a byte-identical key and orders, another seed other IDs; a rerun skips what
+# is complete; a failing row leaves the others rendered and exits 1; shards 0/2 + 1/2 give the unsharded
+# run's checksums; a bad manifest renders nothing.
+set -euo pipefail
+TH=$1
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+# A transcript whose phone is unknown: that row fails at render time (the manifest itself is valid).
+printf '0.0\t0.3\tp\n0.3\t0.6\tq!\n' >"$T/bad.tsv"
+cat >"$T/m.csv" <<'CSV'
+text,transcript,emotion,muted,size,condition
+Bom dia.,,joy,yes,160x90,a
+Bom dia.,,anger,yes,160x90,b
+,bad.tsv,neutral,yes,160x90,c
+Boa noite.,,fear:0.5,yes,160x90,d
+CSV
+set +e
+"$TH" batch "$T/m.csv" -o "$T/a" --seed 5 -q; rc=$?
+set -e
+test $rc = 1  # one row failed
+test "$(grep -c ',ok,' "$T/a/key.csv")" = 3
+grep -q ',failed,' "$T/a/key.csv"
+# The key's checksums are the files'.
+tail -n +2 "$T/a/key.csv" | grep ',ok,' | while IFS=, read -r id row status sha file rest; do
+	test "$(sha256sum "$T/a/$file" | cut -d' ' -f1)" = "$sha"
+	test "$file" = "$id.mp4"
+done
+# 4 stimuli: a Williams design of 4 orders, each a permutation of the 4 IDs.
+test "$(ls "$T/a"/order-*.csv | wc -l)" = 4
+for o in "$T/a"/order-*.csv; do test "$(tail -n +2 "$o" | cut -d, -f2 | sort -u | wc -l)" = 4; done
+# The failing row's file is not there; the others are.
+test "$(ls "$T/a"/*.mp4 | wc -l)" = 3
+# Fix the failing row's transcript: the rerun renders it and skips the three complete ones.
+printf '0.0\t0.3\tp\n0.3\t0.6\ta\n' >"$T/bad.tsv"
+"$TH" batch "$T/m.csv" -o "$T/a" --seed 5 2>"$T/rerun.log"
+test "$(grep -c ') already complete' "$T/rerun.log")" = 3
+test "$(grep -c ',ok,' "$T/a/key.csv")" = 4
+# Same seed, another folder: byte-identical key and orders (and so the same checksums); another seed: other IDs.
+"$TH" batch "$T/m.csv" -o "$T/b" --seed 5 -q
+cmp "$T/a/key.csv" "$T/b/key.csv"
+for o in "$T/a"/order-*.csv; do cmp "$o" "$T/b/$(basename "$o")"; done
+"$TH" batch "$T/m.csv" -o "$T/c" --seed 6 -q
+test "$(cut -d, -f1 "$T/a/key.csv" | tail -n +2)" != "$(cut -d, -f1 "$T/c/key.csv" | tail -n +2)"
+# Shards: each renders its rows only; together they have the unsharded run's files.
+"$TH" batch "$T/m.csv" -o "$T/s" --seed 5 --shard 0/2 -q
+test "$(ls "$T/s"/*.mp4 | wc -l)" = 2
+"$TH" batch "$T/m.csv" -o "$T/s" --seed 5 --shard 1/2 -q
+for f in "$T/a"/*.mp4; do cmp "$f" "$T/s/$(basename "$f")"; done
+cmp "$T/a/key.csv" "$T/s/key.csv"  # both shards' stimuli complete in one folder: the unsharded key
+# A bad manifest: every error named, nothing rendered.
+printf 'text,emotion,colour\nOi.,glee,red\n' >"$T/bad.csv"
+set +e
+"$TH" batch "$T/bad.csv" -o "$T/d" 2>"$T/err"; rc=$?
+set -e
+test $rc = 1
+grep -q "bad.csv:1:colour: unknown column" "$T/err"
+grep -q "bad.csv:2:emotion: unknown emotion 'glee'" "$T/err"
+test ! -e "$T/d"
+echo "batch: ok"

@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "base/sha256.h"
+#include "render/batch.h"
+#include "test_support.h"
+
+using namespace talkhead;
+
+namespace {
+std::vector<std::string> errorsOf(const std::string& text, const std::string& path = "m.csv") {
+	try {
+		parseManifest(text, path);
+	} catch (const ManifestErrors& e) {
+		return e.messages;
+	}
+	return {};
+}
+}  // namespace
+
+TEST(Batch, manifestRowsBecomeCommandsAndEveryErrorIsNamedAtOnce) {
+	const Manifest m = parseManifest("# a comment\ntext,emotion,muted,size,condition\nBom dia.,joy:0.5,yes,320x180,a\n\"Olá, tudo bem?\",Sadness,no,,b\n", "m.csv");
+	ASSERT_EQ(m.rows.size(), 2u);
+	EXPECT_EQ(m.rows[0].line, 3);
+	EXPECT_EQ(m.rows[0].command, "say");
+	EXPECT_EQ(m.rows[0].args, (std::vector<std::string>{"Bom dia.", "--emotion", "joy:0.5", "--no-audio", "--size", "320x180"}));
+	EXPECT_EQ(m.rows[1].emotion, "distress");  // an alias, canonical
+	EXPECT_EQ(m.rows[1].args[0], "Olá, tudo bem?");
+	EXPECT_EQ(m.rows[1].fields.at("condition"), "b");
+	// JSON: an array of objects (numbers and booleans welcome).
+	const Manifest j = parseManifest(R"({"stimuli": [{"text": "Oi.", "emotion": "fear", "intensity": 0.8, "muted": true, "fps": 25}]})", "m.json");
+	ASSERT_EQ(j.rows.size(), 1u);
+	EXPECT_EQ(j.rows[0].args, (std::vector<std::string>{"Oi.", "--emotion", "fear:0.8", "--no-audio", "--fps", "25"}));
+	// Every problem at once, each with its line and column.
+	const auto errors = errorsOf("text,emotion,colour,model,muted\nBom dia.,glee,red,nofile.thm,maybe\n,joy,,,\n");
+	ASSERT_EQ(errors.size(), 5u);
+	EXPECT_EQ(errors[0].rfind("m.csv:1:colour: unknown column (known: text, transcript, ", 0), 0u);
+	EXPECT_EQ(errors[1], "m.csv:2:model: no such file 'nofile.thm'");
+	EXPECT_EQ(errors[2].rfind("m.csv:2:emotion: unknown emotion 'glee' (known: neutral, joy, ", 0), 0u);
+	EXPECT_EQ(errors[3], "m.csv:2:muted: 'maybe' is not yes or no");
+	EXPECT_EQ(errors[4], "m.csv:3:text: a stimulus needs text (spoken by espeak-ng) or a transcript");
+	EXPECT_EQ(errorsOf("text,voice\nOi.,pt\n", "m.csv").size(), 0u);
+	EXPECT_EQ(errorsOf("text\nOi.,extra\n")[0], "m.csv:2: 2 fields, the header has 1");
+	EXPECT_EQ(errorsOf("text,fps\nOi.,31.5x\n")[0], "m.csv:2:fps: '31.5x' is not a frame rate (30, 25, 29.97, 30000/1001)");
+}
+
+TEST(Batch, blindIdsComeFromTheSeedAndThePositionOnly) {
+	const auto a = blindIds(300, 7), b = blindIds(300, 7), c = blindIds(300, 8);
+	EXPECT_EQ(a, b);
+	EXPECT_NE(a, c);
+	EXPECT_EQ(std::set<std::string>(a.begin(), a.end()).size(), 300u);  // all distinct
+	EXPECT_EQ(a[0].size(), 7u);
+	EXPECT_EQ(a[0][0], 'S');
+}
+
+TEST(Batch, ordersArePermutationsBalancedInPositionAndCarryOver) {
+	for (std::size_t n : {6u, 5u, 23u}) {
+		const std::size_t rows = n % 2 ? 2 * n : n;
+		const auto orders = presentationOrders(n, rows, 3);
+		ASSERT_EQ(orders.size(), rows);
+		std::map<std::pair<std::size_t, std::size_t>, int> position, neighbours;
+		for (const auto& o : orders) {
+			ASSERT_EQ(o.size(), n);
+			EXPECT_EQ(std::set<std::size_t>(o.begin(), o.end()).size(), n);  // a permutation
+			for (std::size_t k = 0; k < n; ++k) ++position[{o[k], k}];
+			for (std::size_t k = 1; k < n; ++k) ++neighbours[{o[k - 1], o[k]}];
+		}
+		// Each stimulus equally often in each position (once, twice for odd n), each ordered pair of
+		// neighbours equally often (once, twice for odd n).
+		for (const auto& [key, count] : position) EXPECT_EQ(count, n % 2 ? 2 : 1) << n;
+		EXPECT_EQ(position.size(), n * n);
+		for (const auto& [key, count] : neighbours) EXPECT_EQ(count, n % 2 ? 2 : 1) << n;
+		EXPECT_EQ(neighbours.size(), n * (n - 1));
+		EXPECT_EQ(presentationOrders(n, rows, 3), orders);  // seeded
+		EXPECT_NE(presentationOrders(n, rows, 4), orders);
+	}
+	// No two neighbours with the same label, when that is possible.
+	const std::vector<std::string> labels = {"joy", "joy", "joy", "anger", "anger", "anger", "fear", "fear", "fear", "hate", "hate", "hate"};
+	std::string warning;
+	const auto orders = presentationOrders(labels.size(), 3, 1, &labels, &warning);
+	EXPECT_TRUE(warning.empty()) << warning;
+	for (const auto& o : orders)
+		for (std::size_t k = 1; k < o.size(); ++k) EXPECT_NE(labels[o[k]], labels[o[k - 1]]);
+}
+
+TEST(Batch, keyAndOrdersAreCsvAndTheKeyResumes) {
+	const Manifest m = parseManifest("text,condition\nOi.,\"a,b\"\nTchau.,c\n", "m.csv");
+	const auto ids = blindIds(2, 1);
+	std::vector<StimulusResult> results = {{"ok", std::string(64, 'a'), ids[0] + ".mp4", ""}, {"failed", "", ids[1] + ".mp4", "boom"}};
+	const std::string key = keyCsv(m, ids, results);
+	EXPECT_EQ(key, "id,row,status,sha256,file,text,condition\n" + ids[0] + ",2,ok," + std::string(64, 'a') + "," + ids[0] + ".mp4,Oi.,\"a,b\"\n" + ids[1] +
+	                   ",3,failed,," + ids[1] + ".mp4,Tchau.,c\n");
+	const std::string path = test::tempDir("batchkey") + "/key.csv";
+	std::ofstream(path) << key;
+	const auto sums = readKeyChecksums(path);
+	ASSERT_EQ(sums.size(), 1u);  // only the complete one
+	EXPECT_EQ(sums.at(ids[0]), std::string(64, 'a'));
+	EXPECT_EQ(orderCsv({1, 0}, ids, results), "position,id,file\n1," + ids[1] + "," + ids[1] + ".mp4\n2," + ids[0] + "," + ids[0] + ".mp4\n");
+	EXPECT_EQ(sha256("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");  // FIPS 180-2
+}
+
+TEST(Batch, anUnknownColumnNamesTheHeadersLine) {
+	const auto e = errorsOf("# stimuli for the pilot\n\ntext,mood\nOi.,x\n");
+	ASSERT_EQ(e.size(), 1u);
+	EXPECT_EQ(e[0].rfind("m.csv:3:mood: unknown column", 0), 0u);
+}
