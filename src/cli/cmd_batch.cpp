@@ -157,7 +157,8 @@ int runBatch(const std::vector<std::string>& argv) {
 		}
 		std::vector<std::string> a{row.command};
 		a.insert(a.end(), row.args.begin(), row.args.end());
-		a.insert(a.end(), {"-o", path, "-q", "--threads", threads});
+		const std::string timeline = (fs::path(*out) / (ids[row.index] + ".json")).string();
+		a.insert(a.end(), {"-o", path, "-q", "--threads", threads, "--timeline-out", timeline});
 		try {
 			std::string message;
 			const int rc = runChild(a, &message);

@@ -172,10 +172,13 @@ int runSay(const std::vector<std::string>& argv) {
 	if (cmd.controls) applyControls(perf, *cmd.controls);
 	char prefix[64];
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
-	runVideoCommand(cmd, perf, clipSource(audio), t0, prefix);
+	const std::vector<Keypose> keys = perf.keys;  // the speech's own times, for --save-transcript
+	auto sound = applyStimulusTiming(cmd, perf, clipSource(audio));
+	runVideoCommand(cmd, perf, std::move(sound), t0, prefix);
 	// The speech and its timeline only once the video is complete: a failed render leaves nothing behind.
 	if (saveAudio) writeWav(*saveAudio, audio);
-	if (saveTranscript) writeFileAtomically(*saveTranscript, formatVisemes(phones, perf.keys, "textgrid", lang.tag(), "espeak-ng"));
+	if (saveTranscript) writeFileAtomically(*saveTranscript, formatVisemes(phones, keys, "textgrid", lang.tag(), "espeak-ng"));
+	writeTimeline(cmd, perf, phones);
 	return 0;
 }
 

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "phonetics/labels.h"
@@ -117,6 +118,10 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--control-tier", "NAME", "with a TextGrid --controls: the tier whose labels are the events"},
 	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
 	        {"--head-motion", "on|off|X", "small smooth head motion (default on; X scales its amplitude, 0–3)"},
+	        {"--lead-in", "MS", "still face and silence before the speech (default 0; for experiment software that drifts at a clip's start)"},
+	        {"--tail", "MS", "still face and silence after it (default 0)"},
+	        {"--av-offset", "MS", "audio later than the video by MS (negative: earlier), for asynchrony designs (default 0)"},
+	        {"--timeline-out", "F.json", "write the stimulus's timeline: frames, speech onset and offset, every phone and keypose (seconds of the video)"},
 	        {"--speech-brows", "on|off|X", "raise the brows on each phrase's most prominent (longest) vowel (default off; X scales the raise, 0–3)"},
 	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
 	        {"--debug-overlay", "", "draw the feature points, the keyposes around each frame and the lids and head on every frame"},
@@ -190,6 +195,13 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.speechBrows = brows == "on" ? 1.0 : 0.0;
 	if (brows != "on" && brows != "off" && (!parseDouble(brows, c.speechBrows) || !(c.speechBrows >= 0 && c.speechBrows <= 3)))
 		throw UsageError(command + ": --speech-brows takes on, off or an amount from 0 to 3");
+	c.leadIn = ticksFromSeconds(args.number("--lead-in", 0, 0, 600000) / 1000);
+	c.tail = ticksFromSeconds(args.number("--tail", 0, 0, 600000) / 1000);
+	c.avOffset = ticksFromSeconds(args.number("--av-offset", 0, -10000, 10000) / 1000);
+	if (auto t = args.get("--timeline-out")) {
+		c.timelineOut = *t;
+		checkWritableFolder(*t);
+	}
 	if (args.has("--control-tier") && !args.has("--controls")) throw UsageError(command + ": --control-tier needs --controls F.TextGrid");
 	if (auto f = args.get("--controls")) c.controls = args.has("--control-tier") ? loadControlTier(*f, *args.get("--control-tier")) : loadControls(*f);
 	c.render.debugOverlay = args.has("--debug-overlay");
@@ -232,6 +244,17 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %s fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
 		             cmd.output.c_str(), (long long)st.frames, st.width, st.height, perf.rate.str().c_str(), toSeconds(perf.duration),
 		             withAudio ? "audio" : "transcript", st.keyposes, perf.emotion.c_str(), secs, double(st.frames) / secs, toSeconds(perf.duration) / secs);
+}
+
+std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio) {
+	if (cmd.leadIn == Ticks(0) && cmd.tail == Ticks(0) && cmd.avOffset == Ticks(0)) return audio;
+	addLeadInAndTail(perf, cmd.leadIn, cmd.tail);
+	if (!audio) return audio;
+	return shiftedSource(std::move(audio), cmd.leadIn + cmd.avOffset, perf.duration);
+}
+
+void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones) {
+	if (cmd.timelineOut) writeFileAtomically(*cmd.timelineOut, timelineJson(perf, phones, cmd.leadIn, cmd.tail, cmd.avOffset));
 }
 
 }  // namespace talkhead::cli

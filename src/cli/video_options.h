@@ -34,7 +34,16 @@ struct VideoCommand {
 	Mp4Settings mp4;
 	RenderOptions render;
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
+	Ticks leadIn{0}, tail{0}, avOffset{0};     // --lead-in, --tail, --av-offset (issue 14)
+	std::optional<std::string> timelineOut;    // --timeline-out F.json
 };
+
+// --lead-in / --tail / --av-offset on a performance whose duration is set: keyposes and events later by
+// the lead-in, the video longer by lead-in + tail, the audio (when there is one) shifted by lead-in +
+// offset inside silence.
+std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio);
+// --timeline-out: the sidecar JSON (render/performance.h timelineJson), after the video is complete.
+void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones);
 
 // The language of --lang (default `defaultTag`), for the commands that take it: its viseme table; with
 // --generic-visemes, a language without a table maps IPA through phonetics/generic, with one warning line

@@ -108,4 +108,63 @@ void writeWav(const std::string& path, const AudioClip& clip) {
 	writeFileAtomically(path, b);
 }
 
+namespace {
+class ShiftedSource final : public AudioSource {
+public:
+	ShiftedSource(std::unique_ptr<AudioSource> inner, Ticks offset, Ticks total) : inner_(std::move(inner)) {
+		const std::int64_t rate = inner_->sampleRate();
+		auto frames = [&](Ticks t) {  // rounded to the nearest frame, either sign
+			const __int128 q = __int128(t.count()) * rate;
+			return std::int64_t(q >= 0 ? (q + kTicksPerSecond / 2) / kTicksPerSecond : -((-q + kTicksPerSecond / 2) / kTicksPerSecond));
+		};
+		silenceFirst_ = std::max<std::int64_t>(0, frames(offset));
+		skip_ = std::max<std::int64_t>(0, -frames(offset));
+		left_ = std::max<std::int64_t>(0, frames(total));
+	}
+	int sampleRate() const override { return inner_->sampleRate(); }
+	int channels() const override { return inner_->channels(); }
+	std::size_t read(float* out, std::size_t frames) override {
+		const std::size_t ch = std::size_t(channels());
+		std::size_t done = 0;
+		while (skip_ > 0) {  // a negative offset: the inner source's first samples go
+			std::vector<float> drop(std::size_t(std::min<std::int64_t>(skip_, 4096)) * ch);
+			const std::size_t n = inner_->read(drop.data(), drop.size() / ch);
+			if (n == 0) {
+				skip_ = 0;
+				innerDone_ = true;
+				break;
+			}
+			skip_ -= std::int64_t(n);
+		}
+		while (done < frames && left_ > 0) {
+			std::size_t want = std::min<std::size_t>(frames - done, std::size_t(left_));
+			std::size_t got = 0;
+			if (silenceFirst_ > 0) {
+				got = std::min<std::size_t>(want, std::size_t(silenceFirst_));
+				std::fill(out + done * ch, out + (done + got) * ch, 0.f);
+				silenceFirst_ -= std::int64_t(got);
+			} else if (!innerDone_) {
+				got = inner_->read(out + done * ch, want);
+				if (got == 0) innerDone_ = true;
+			} else {
+				got = want;  // silence to the end
+				std::fill(out + done * ch, out + (done + got) * ch, 0.f);
+			}
+			done += got;
+			left_ -= std::int64_t(got);
+		}
+		return done;
+	}
+
+private:
+	std::unique_ptr<AudioSource> inner_;
+	std::int64_t silenceFirst_ = 0, skip_ = 0, left_ = 0;
+	bool innerDone_ = false;
+};
+}  // namespace
+
+std::unique_ptr<AudioSource> shiftedSource(std::unique_ptr<AudioSource> inner, Ticks offset, Ticks total) {
+	return std::make_unique<ShiftedSource>(std::move(inner), offset, total);
+}
+
 }  // namespace talkhead

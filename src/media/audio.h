@@ -38,6 +38,9 @@ std::unique_ptr<AudioSource> clipSource(const AudioClip& clip);
 // A source decoding `path` as it is read (same decoding as decodeAudio; sampleRate 0 keeps the file's own
 // rate). Throws Error naming the file.
 std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRate = 48000);
+// `inner` shifted by `offset` (positive: that much silence first; negative: its first samples dropped),
+// then silence, `total` long in all (issue 14: lead-in, tail and audio-visual offset of stimuli).
+std::unique_ptr<AudioSource> shiftedSource(std::unique_ptr<AudioSource> inner, Ticks offset, Ticks total);
 // The exact duration of an audio file, decoded once without keeping the samples (memory stays flat).
 // Zero-length audio is an error, as for decodeAudio.
 Ticks audioFileDuration(const std::string& path, int sampleRate = 48000);

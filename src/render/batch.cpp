@@ -44,6 +44,7 @@ const std::vector<Column>& columns() {
 	    {"blinks", "--blinks", true, true},  {"head-motion", "--head-motion", true, true}, {"speech-brows", "--speech-brows", true, true},
 	    {"emotion-source", "--emotion-source", true, true}, {"controls", "--controls", true, true}, {"seed", "--seed", true, true},
 	    {"rate", "--rate", true, false},     {"pitch", "--pitch", true, false},           {"crf", "--crf", true, true},
+	    {"lead-in", "--lead-in", true, true}, {"tail", "--tail", true, true},             {"av-offset", "--av-offset", true, true},
 	    {"condition", "", true, true}};
 	return c;
 }

@@ -16,7 +16,8 @@ namespace talkhead {
 // {"stimuli": [...]}); the columns (README "Perceptual-test stimuli"):
 //   text, transcript, audio, lang, voice, model, emotion (LABEL or LABEL:I), intensity, muted, fps, size,
 //   trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
-//   rate, pitch, crf; and free annotations: condition, and any column starting with "x-" (kept in the key).
+//   rate, pitch, crf, lead-in, tail, av-offset (ms); and free annotations: condition, and any column
+//   starting with "x-" (kept in the key).
 // A row with a transcript (or text + audio) is a `render`, one with text alone a `say`.
 struct BatchRow {
 	std::size_t index = 0;  // 0-based

@@ -27,4 +27,14 @@ struct Performance {
 	Ticks frameTime(std::int64_t n) const { return rate.time(n); }
 };
 
+// Still face before and after (issue 14: experiment software drifts at a clip's start): every keypose and
+// timed event moves `leadIn` later, and the video grows by leadIn + tail. The face holds its first and
+// last keypose there (blinks and head motion go on unless switched off).
+void addLeadInAndTail(Performance& p, Ticks leadIn, Ticks tail);
+
+// The sidecar of a stimulus (JSON): frame rate, frames, duration, lead-in, tail, audio-visual offset, the
+// speech's onset and offset, every phone (start, end, phone, CDV) and keypose (time, CDV, emotion), times
+// in seconds of the video. `phones` are the transcript's (before the lead-in).
+std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& phones, Ticks leadIn, Ticks tail, Ticks avOffset);
+
 }  // namespace talkhead

@@ -48,6 +48,21 @@ test "$(ls "$T/s"/*.mp4 | wc -l)" = 2
 "$TH" batch "$T/m.csv" -o "$T/s" --seed 5 --shard 1/2 -q
 for f in "$T/a"/*.mp4; do cmp "$f" "$T/s/$(basename "$f")"; done
 cmp "$T/a/key.csv" "$T/s/key.csv"  # both shards' stimuli complete in one folder: the unsharded key
+# Timing for experiment software: lead-in, tail and an audio-visual offset; each stimulus's timeline.
+printf 'text,muted,size,lead-in,tail,av-offset\nBom dia.,no,160x90,500,300,200\n' >"$T/t.csv"
+"$TH" batch "$T/t.csv" -o "$T/t" -q
+id=$(tail -n 1 "$T/t/key.csv" | cut -d, -f1)
+/usr/bin/python3 - "$T/t/$id.json" <<'PY'
+import json, sys
+t = json.load(open(sys.argv[1]))
+assert abs(t["lead_in"] - 0.5) < 1e-9 and abs(t["tail"] - 0.3) < 1e-9 and abs(t["av_offset"] - 0.2) < 1e-9, t
+assert 0.5 <= t["speech_onset"] < 0.6, t["speech_onset"]
+assert t["keyposes"][0]["time"] >= 0.5 and t["phones"][0]["start"] == 0.5, t["keyposes"][0]
+assert abs(t["duration"] - (t["speech_offset"] + 0.3)) < 0.02, (t["duration"], t["speech_offset"])
+PY
+# The audio starts at the speech's onset + the offset: silence until then.
+onset=$(/usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['speech_onset'])" "$T/t/$id.json")
+ffmpeg -nostdin -i "$T/t/$id.mp4" -af silencedetect=n=-50dB:d=0.1 -f null - 2>&1 | grep -o 'silence_end: [0-9.]*' | head -1 | awk -v o="$onset" '{ d = $2 - (o + 0.2); if (d < -0.02 || d > 0.02) { print "audio starts at " $2 ", expected " o + 0.2; exit 1 } }'
 # A bad manifest: every error named, nothing rendered.
 printf 'text,emotion,colour\nOi.,glee,red\n' >"$T/bad.csv"
 set +e

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "base/sha256.h"
+#include "media/audio.h"
 #include "render/batch.h"
 #include "test_support.h"
 
@@ -107,4 +108,21 @@ TEST(Batch, anUnknownColumnNamesTheHeadersLine) {
 	const auto e = errorsOf("# stimuli for the pilot\n\ntext,mood\nOi.,x\n");
 	ASSERT_EQ(e.size(), 1u);
 	EXPECT_EQ(e[0].rfind("m.csv:3:mood: unknown column", 0), 0u);
+}
+
+TEST(Batch, shiftedAudioStartsLaterOrEarlierInsideSilence) {
+	// --lead-in / --av-offset / --tail on the audio: a 10-sample ramp at 1000 Hz.
+	AudioClip clip;
+	clip.sampleRate = 1000;
+	clip.channels = 1;
+	for (int i = 1; i <= 10; ++i) clip.samples.push_back(float(i));
+	auto all = [](std::unique_ptr<AudioSource> s) {
+		std::vector<float> out, buf(4);
+		for (std::size_t n; (n = s->read(buf.data(), buf.size())) > 0;) out.insert(out.end(), buf.begin(), buf.begin() + long(n));
+		return out;
+	};
+	const Ticks ms3(3 * kTicksPerSecond / 1000), ms5(5 * kTicksPerSecond / 1000), ms15(15 * kTicksPerSecond / 1000);
+	EXPECT_EQ(all(shiftedSource(clipSource(clip), ms3, ms15)), (std::vector<float>{0, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 0, 0}));
+	EXPECT_EQ(all(shiftedSource(clipSource(clip), -ms3, ms5)), (std::vector<float>{4, 5, 6, 7, 8}));
+	EXPECT_EQ(all(shiftedSource(clipSource(clip), -ms15, ms3)), (std::vector<float>{0, 0, 0}));  // all dropped: silence
 }
