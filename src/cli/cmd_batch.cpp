@@ -78,13 +78,14 @@ int runChild(const std::vector<std::string>& args, std::string* message) {
 }  // namespace
 
 int runBatch(const std::vector<std::string>& argv) {
-	Args args("batch", "talkhead batch MANIFEST -o OUTDIR [options]",
+	Args args("batch", "talkhead batch MANIFEST -o OUTDIR [options]   |   talkhead batch --merge OUTDIR SHARD_DIR…",
 	          {{"--output", "OUTDIR", "folder for the stimuli (ID.mp4), key.csv and the orders (required)", "-o"},
 	           {"--seed", "N", "seed of the blind IDs and the orders (default 1)"},
 	           {"--participants", "N", "presentation orders to write, one per participant (default: one full design: n stimuli, 2n when n is odd)"},
 	           {"--no-repeat", "COLUMN", "no order shows two stimuli with the same value of this column in a row (e.g. emotion)"},
 	           {"--shard", "I/N", "render only the rows of shard I of N (rows I, I+N, …; IDs, key and orders come from the whole manifest)"},
 	           {"--threads", "N", "worker threads per stimulus (default: all cores)"},
+	           {"--merge", "OUTDIR", "join the folders of shards (positional arguments) into OUTDIR, checking every SHA-256"},
 	           {"--quiet", "", "no progress lines and no summary", "-q"}},
 	          "Renders one stimulus per manifest row (CSV with a header, or JSON) under a blind ID, and writes\n"
 	          "key.csv (ID → row, conditions, SHA-256) and one balanced presentation order per participant\n"
@@ -93,6 +94,13 @@ int runBatch(const std::vector<std::string>& argv) {
 	          "the others go on; the exit code is 0 only when every row of the shard succeeded. Columns: README\n"
 	          "'Perceptual-test stimuli'.");
 	if (!args.parse(argv)) return 0;
+	if (auto merge = args.get("--merge")) {
+		if (args.positionals().empty()) throw UsageError("batch --merge OUTDIR: name the shard folders to join");
+		const std::size_t missing = mergeShards(*merge, args.positionals());
+		if (missing) std::fprintf(stderr, "talkhead: error: %s: %zu stimuli are in no shard yet (key.csv says 'missing')\n", merge->c_str(), missing);
+		else if (!args.has("--quiet")) std::fprintf(stderr, "batch: %zu shards joined into %s\n", args.positionals().size(), merge->c_str());
+		return missing ? 1 : 0;
+	}
 	if (args.positionals().size() != 1) throw UsageError("batch: expected one MANIFEST (CSV or JSON)");
 	auto out = args.get("--output");
 	if (!out) throw UsageError("batch: -o OUTDIR is required");

@@ -7,7 +7,9 @@
 #include <set>
 
 #include "base/error.h"
+#include "base/atomic_file.h"
 #include "base/frame_rate.h"
+#include "base/sha256.h"
 #include "base/json.h"
 #include "base/text.h"
 #include "phonetics/labels.h"
@@ -331,6 +333,88 @@ std::string orderCsv(const std::vector<std::size_t>& order, const std::vector<st
 	std::string s = "position,id,file\n";
 	for (std::size_t k = 0; k < order.size(); ++k) s += std::to_string(k + 1) + "," + ids[order[k]] + "," + csvField(results[order[k]].file) + "\n";
 	return s;
+}
+
+std::size_t mergeShards(const std::string& outDir, const std::vector<std::string>& shardDirs) {
+	if (shardDirs.empty()) throw Error("batch --merge: no shard folders");
+	struct Key {
+		std::string header;
+		std::vector<std::vector<std::string>> rows;
+	};
+	auto readKey = [](const std::string& dir) {
+		const std::string path = (fs::path(dir) / "key.csv").string();
+		std::error_code ec;
+		if (!fs::is_regular_file(path, ec)) throw Error(path, 0, "no key.csv: not a batch output folder");
+		Key k;
+		bool first = true;
+		for (const auto& line : split(readTextFile(path), '\n')) {
+			if (line.empty()) continue;
+			if (first) k.header = line, first = false;
+			else k.rows.push_back(splitCsvRecord(line));
+		}
+		return k;
+	};
+	const Key base = readKey(shardDirs[0]);
+	std::vector<Key> keys{base};
+	for (std::size_t s = 1; s < shardDirs.size(); ++s) {
+		keys.push_back(readKey(shardDirs[s]));
+		const Key& k = keys.back();
+		bool same = k.header == base.header && k.rows.size() == base.rows.size();
+		for (std::size_t r = 0; same && r < k.rows.size(); ++r) {
+			same = k.rows[r].size() == base.rows[r].size() && k.rows[r].size() >= 5;
+			for (std::size_t c = 0; same && c < k.rows[r].size(); ++c)
+				if (c != 2 && c != 3) same = k.rows[r][c] == base.rows[r][c];  // all but status and sha256
+		}
+		if (!same) throw Error(shardDirs[s] + "/key.csv: not the same manifest and seed as " + shardDirs[0] + "/key.csv");
+	}
+	std::error_code ec;
+	fs::create_directories(outDir, ec);
+	if (ec) throw Error(outDir, 0, "cannot create folder: " + ec.message());
+	Key merged = base;
+	std::size_t missing = 0;
+	for (std::size_t r = 0; r < merged.rows.size(); ++r) {
+		auto& row = merged.rows[r];
+		row[2] = "missing", row[3].clear();
+		for (std::size_t s = 0; s < keys.size(); ++s) {
+			const auto& theirs = keys[s].rows[r];
+			if (theirs[2] != "ok") continue;
+			const fs::path from = fs::path(shardDirs[s]) / theirs[4];
+			if (!fs::is_regular_file(from, ec) || sha256File(from.string()) != theirs[3])
+				throw Error(from.string(), 0, "does not match its SHA-256 in " + shardDirs[s] + "/key.csv");
+			if (row[2] == "ok") {
+				if (row[3] != theirs[3]) throw Error(from.string(), 0, "differs from the same stimulus in another shard");
+				continue;
+			}
+			const fs::path to = fs::path(outDir) / theirs[4];
+			if (fs::absolute(from, ec) != fs::absolute(to, ec)) {
+				fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+				if (ec) throw Error(to.string(), 0, "cannot copy: " + ec.message());
+				const fs::path sidecar = fs::path(from).replace_extension(".json");
+				if (fs::is_regular_file(sidecar, ec)) fs::copy_file(sidecar, fs::path(to).replace_extension(".json"), fs::copy_options::overwrite_existing, ec);
+			}
+			row[2] = "ok", row[3] = theirs[3];
+		}
+		missing += row[2] != "ok";
+	}
+	// The orders: the same in every shard (they come from the whole manifest).
+	for (const auto& e : fs::directory_iterator(shardDirs[0])) {
+		const std::string name = e.path().filename().string();
+		if (!startsWith(name, "order-") || !endsWith(name, ".csv")) continue;
+		const std::string text = readTextFile(e.path().string());
+		for (std::size_t s = 1; s < shardDirs.size(); ++s) {
+			const fs::path other = fs::path(shardDirs[s]) / name;
+			if (!fs::is_regular_file(other, ec) || readTextFile(other.string()) != text)
+				throw Error(other.string(), 0, "not the same order as " + e.path().string());
+		}
+		if (fs::absolute(e.path(), ec) != fs::absolute(fs::path(outDir) / name, ec)) writeFileAtomically((fs::path(outDir) / name).string(), text);
+	}
+	std::string out = merged.header + "\n";
+	for (const auto& row : merged.rows) {
+		for (std::size_t c = 0; c < row.size(); ++c) out += (c ? "," : "") + csvField(row[c]);
+		out += "\n";
+	}
+	writeFileAtomically((fs::path(outDir) / "key.csv").string(), out);
+	return missing;
 }
 
 }  // namespace talkhead

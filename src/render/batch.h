@@ -65,6 +65,12 @@ struct StimulusResult {
 std::string keyCsv(const Manifest& m, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results);
 // Reads a key.csv written before: id → sha256 (for resuming); empty when the file is missing.
 std::map<std::string, std::string> readKeyChecksums(const std::string& path);
+// `talkhead batch --merge OUTDIR SHARD_DIR…`: the shards' key.csv must come from the same manifest and seed
+// (same rows, IDs and conditions) and their orders must agree; every stimulus complete in some shard is
+// checked against its SHA-256 and copied (with its sidecar) into OUTDIR, whose key.csv then holds them all.
+// Returns the number of stimuli no shard has (0: the merge is complete). Throws Error naming the shard.
+std::size_t mergeShards(const std::string& outDir, const std::vector<std::string>& shardDirs);
+
 // order-NN.csv: position (1-based), id, file.
 std::string orderCsv(const std::vector<std::size_t>& order, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results);
 

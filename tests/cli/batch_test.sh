@@ -48,6 +48,23 @@ test "$(ls "$T/s"/*.mp4 | wc -l)" = 2
 "$TH" batch "$T/m.csv" -o "$T/s" --seed 5 --shard 1/2 -q
 for f in "$T/a"/*.mp4; do cmp "$f" "$T/s/$(basename "$f")"; done
 cmp "$T/a/key.csv" "$T/s/key.csv"  # both shards' stimuli complete in one folder: the unsharded key
+# Shards in their own folders (machines), then --merge: the unsharded key and files.
+"$TH" batch "$T/m.csv" -o "$T/s0" --seed 5 --shard 0/2 -q
+set +e
+"$TH" batch --merge "$T/half" "$T/s0" 2>"$T/merge.err"; rc=$?
+set -e
+test $rc = 1 && grep -q "2 stimuli are in no shard yet" "$T/merge.err"
+"$TH" batch "$T/m.csv" -o "$T/s1" --seed 5 --shard 1/2 -q
+"$TH" batch --merge "$T/joined" "$T/s0" "$T/s1" -q
+cmp "$T/a/key.csv" "$T/joined/key.csv"
+for f in "$T/a"/*.mp4 "$T/a"/order-*.csv; do cmp "$f" "$T/joined/$(basename "$f")"; done
+test "$(ls "$T/joined"/*.json | wc -l)" = 4
+# A damaged file in a shard is caught.
+f=$(ls "$T/s1"/*.mp4 | head -1); printf 'x' >>"$f"
+set +e
+"$TH" batch --merge "$T/j2" "$T/s0" "$T/s1" 2>"$T/merge.err"; rc=$?
+set -e
+test $rc = 1 && grep -q "does not match its SHA-256" "$T/merge.err"
 # Timing for experiment software: lead-in, tail and an audio-visual offset; each stimulus's timeline.
 printf 'text,muted,size,lead-in,tail,av-offset\nBom dia.,no,160x90,500,300,200\n' >"$T/t.csv"
 "$TH" batch "$T/t.csv" -o "$T/t" -q
