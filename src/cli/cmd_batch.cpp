@@ -85,6 +85,9 @@ int runBatch(const std::vector<std::string>& argv) {
 	           {"--no-repeat", "COLUMN", "no order shows two stimuli with the same value of this column in a row (e.g. emotion)"},
 	           {"--shard", "I/N", "render only the rows of shard I of N (rows I, I+N, …; IDs, key and orders come from the whole manifest)"},
 	           {"--threads", "N", "worker threads per stimulus (default: all cores)"},
+	           {"--player", "", "also write index.html, a browser test player (the thesis's protocol; no server or network)"},
+	           {"--player-replays", "N", "extra plays of a clip per question in the player (default 0)"},
+	           {"--player-lang", "LANG", "the player's voting terms: en (default) or pt (the thesis's Portuguese)"},
 	           {"--merge", "OUTDIR", "join the folders of shards (positional arguments) into OUTDIR, checking every SHA-256"},
 	           {"--quiet", "", "no progress lines and no summary", "-q"}},
 	          "Renders one stimulus per manifest row (CSV with a header, or JSON) under a blind ID, and writes\n"
@@ -188,6 +191,12 @@ int runBatch(const std::vector<std::string>& argv) {
 		char name[32];
 		std::snprintf(name, sizeof name, "order-%0*zu.csv", width, q + 1);
 		writeFileAtomically((fs::path(*out) / name).string(), orderCsv(orders[q], ids, results));
+	}
+	if (args.has("--player") || args.has("--player-replays") || args.has("--player-lang")) {
+		const std::string lang = args.get("--player-lang", "en");
+		if (lang != "en" && lang != "pt") throw UsageError("batch: --player-lang takes en or pt");
+		const int replays = int(args.number("--player-replays", 0, 0, 10));
+		writeFileAtomically((fs::path(*out) / "index.html").string(), playerHtml(ids, results, orders, replays, lang));
 	}
 	if (!quiet) {
 		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -71,6 +71,16 @@ std::map<std::string, std::string> readKeyChecksums(const std::string& path);
 // Returns the number of stimuli no shard has (0: the merge is complete). Throws Error naming the shard.
 std::size_t mergeShards(const std::string& outDir, const std::vector<std::string>& shardDirs);
 
+// index.html, the browser test player (no server, network, external scripts or fonts): the thesis's
+// protocol (Costa 2015 §6.2) — a participant number picks the order; each stimulus plays, then the
+// valence question (negative / neutral / positive / no opinion), then it plays again and the emotion
+// question (the thesis's 22 voting terms, Table 6.1, or "none of the above"); answers only after the clip
+// ended, confirmed; `replays` extra plays allowed per question; response times from the clip's end; the
+// answers download as CSV (participant, position, id, valence, valence_ms, emotion, emotion_ms, with the
+// emotion as its canonical label). Keyboard only works (radio groups, arrows, Enter). lang: en or pt.
+std::string playerHtml(const std::vector<std::string>& ids, const std::vector<StimulusResult>& results,
+                       const std::vector<std::vector<std::size_t>>& orders, int replays, const std::string& lang);
+
 // order-NN.csv: position (1-based), id, file.
 std::string orderCsv(const std::vector<std::size_t>& order, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results);
 
