@@ -88,6 +88,8 @@ int runBatch(const std::vector<std::string>& argv) {
 	           {"--player", "", "also write index.html, a browser test player (the thesis's protocol; no server or network)"},
 	           {"--player-replays", "N", "extra plays of a clip per question in the player (default 0)"},
 	           {"--player-lang", "LANG", "the player's voting terms: en (default) or pt (the thesis's Portuguese)"},
+	           {"--score", "KEY.csv", "score the player's answer files (positional arguments) against this key: recognition per emotion and condition"},
+	           {"--confusion", "F.png", "with --score: also draw the confusion matrix (true emotion × answer)"},
 	           {"--merge", "OUTDIR", "join the folders of shards (positional arguments) into OUTDIR, checking every SHA-256"},
 	           {"--quiet", "", "no progress lines and no summary", "-q"}},
 	          "Renders one stimulus per manifest row (CSV with a header, or JSON) under a blind ID, and writes\n"
@@ -97,6 +99,13 @@ int runBatch(const std::vector<std::string>& argv) {
 	          "the others go on; the exit code is 0 only when every row of the shard succeeded. Columns: README\n"
 	          "'Perceptual-test stimuli'.");
 	if (!args.parse(argv)) return 0;
+	if (auto key = args.get("--score")) {
+		if (args.positionals().empty()) throw UsageError("batch --score KEY.csv: name the answer files (answers-NN.csv)");
+		const Score s = scoreAnswers(*key, args.positionals());
+		std::fputs(scoreReport(s).c_str(), stdout);
+		if (auto png = args.get("--confusion")) writeConfusionPng(s, *png);
+		return 0;
+	}
 	if (auto merge = args.get("--merge")) {
 		if (args.positionals().empty()) throw UsageError("batch --merge OUTDIR: name the shard folders to join");
 		const std::size_t missing = mergeShards(*merge, args.positionals());

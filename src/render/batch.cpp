@@ -2,6 +2,9 @@
 #include "render/batch.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
 #include <filesystem>
 #include <numeric>
 #include <set>
@@ -12,6 +15,7 @@
 #include "base/sha256.h"
 #include "base/json.h"
 #include "base/text.h"
+#include "media/image_io.h"
 #include "phonetics/labels.h"
 
 namespace fs = std::filesystem;
@@ -571,6 +575,128 @@ function finish() {
 </body>
 </html>
 )";
+}
+
+namespace {
+// The thesis's order of the 22 terms (Table 6.1), for the answers and the truths (neutral first).
+const std::vector<std::string>& thesisOrder() {
+	static const std::vector<std::string> o = {"happy-for", "joy", "hope", "satisfaction", "relief", "pride", "gratification", "gratitude",
+	                                           "admiration", "love", "pity", "distress", "fear", "resentment", "fears-confirmed", "shame",
+	                                           "reproach", "remorse", "gloating", "disappointment", "hate", "anger"};
+	return o;
+}
+std::vector<std::vector<std::string>> csvRows(const std::string& path) {
+	std::vector<std::vector<std::string>> rows;
+	for (const auto& line : split(readTextFile(path), '\n')) {
+		std::string l = line;
+		if (!l.empty() && l.back() == '\r') l.pop_back();
+		if (!l.empty()) rows.push_back(splitCsvRecord(l));
+	}
+	return rows;
+}
+std::size_t columnOf(const std::vector<std::string>& header, const std::string& name, const std::string& path, bool required) {
+	for (std::size_t c = 0; c < header.size(); ++c)
+		if (header[c] == name) return c;
+	if (required) throw Error(path, 1, "no column '" + name + "'");
+	return std::size_t(-1);
+}
+}  // namespace
+
+Score scoreAnswers(const std::string& keyPath, const std::vector<std::string>& answerPaths) {
+	const auto key = csvRows(keyPath);
+	if (key.empty()) throw Error(keyPath, 0, "empty key");
+	const std::size_t kid = columnOf(key[0], "id", keyPath, true), kem = columnOf(key[0], "emotion", keyPath, false),
+	                  kcond = columnOf(key[0], "condition", keyPath, false);
+	std::map<std::string, std::pair<std::string, std::string>> truth;  // id → (emotion, condition)
+	for (std::size_t r = 1; r < key.size(); ++r) {
+		std::string e = kem < key[r].size() ? key[r][kem] : "";
+		if (auto colon = e.find(':'); colon != std::string::npos) e = e.substr(0, colon);
+		const auto c = canonicalEmotion(e.empty() ? "neutral" : e);
+		if (!c) throw Error(keyPath, long(r + 1), "unknown emotion '" + e + "'");
+		truth[key[r][kid]] = {*c, kcond < key[r].size() ? key[r][kcond] : ""};
+	}
+	Score s;
+	s.truths = {"neutral"};
+	s.truths.insert(s.truths.end(), thesisOrder().begin(), thesisOrder().end());
+	s.answers = thesisOrder();
+	s.answers.push_back("none");
+	s.confusion.assign(s.truths.size(), std::vector<int>(s.answers.size(), 0));
+	for (const auto& path : answerPaths) {
+		const auto rows = csvRows(path);
+		if (rows.empty()) throw Error(path, 0, "empty answers file");
+		const std::size_t aid = columnOf(rows[0], "id", path, true), aem = columnOf(rows[0], "emotion", path, true);
+		for (std::size_t r = 1; r < rows.size(); ++r) {
+			if (aid >= rows[r].size() || aem >= rows[r].size()) throw Error(path, long(r + 1), "too few fields");
+			auto t = truth.find(rows[r][aid]);
+			if (t == truth.end()) throw Error(path, long(r + 1), "stimulus '" + rows[r][aid] + "' is not in " + keyPath);
+			const std::string& answer = rows[r][aem];
+			const auto col = std::find(s.answers.begin(), s.answers.end(), answer);
+			if (col == s.answers.end()) throw Error(path, long(r + 1), "unknown answer '" + answer + "'");
+			const auto row = std::find(s.truths.begin(), s.truths.end(), t->second.first);
+			++s.confusion[std::size_t(row - s.truths.begin())][std::size_t(col - s.answers.begin())];
+			// Neutral is right when the answer is "none of the above" (the thesis's terms have no neutral).
+			const bool right = answer == t->second.first || (t->second.first == "neutral" && answer == "none");
+			s.correct += right, ++s.answered;
+			auto& c = s.byCondition[t->second.second];
+			c.first += right, ++c.second;
+		}
+	}
+	return s;
+}
+
+std::string scoreReport(const Score& s) {
+	std::string out = "emotion            answers  recognised\n";
+	char b[128];
+	for (std::size_t r = 0; r < s.truths.size(); ++r) {
+		int n = 0;
+		for (int v : s.confusion[r]) n += v;
+		if (n == 0) continue;
+		const std::size_t col = s.truths[r] == "neutral" ? s.answers.size() - 1 : std::size_t(std::find(s.answers.begin(), s.answers.end(), s.truths[r]) - s.answers.begin());
+		std::snprintf(b, sizeof b, "%-18s %7d  %5.1f %%\n", s.truths[r].c_str(), n, 100.0 * s.confusion[r][col] / n);
+		out += b;
+	}
+	if (s.byCondition.size() > 1 || (s.byCondition.size() == 1 && !s.byCondition.begin()->first.empty())) {
+		out += "\ncondition          answers  recognised\n";
+		for (const auto& [c, v] : s.byCondition) {
+			std::snprintf(b, sizeof b, "%-18s %7d  %5.1f %%\n", c.empty() ? "(none)" : c.c_str(), v.second, v.second ? 100.0 * v.first / v.second : 0.0);
+			out += b;
+		}
+	}
+	std::snprintf(b, sizeof b, "\nall                %7d  %5.1f %%\n", s.answered, s.answered ? 100.0 * s.correct / s.answered : 0.0);
+	return out + b;
+}
+
+void writeConfusionPng(const Score& s, const std::string& path) {
+	const int cell = 26, left = 150, top = 130;
+	const int w = left + cell * int(s.answers.size()) + 10, h = top + cell * int(s.truths.size()) + 10;
+	cv::Mat m(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
+	for (std::size_t r = 0; r < s.truths.size(); ++r) {
+		int n = 0;
+		for (int v : s.confusion[r]) n += v;
+		cv::putText(m, s.truths[r], {6, top + int(r) * cell + 18}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+		for (std::size_t c = 0; c < s.answers.size(); ++c) {
+			const double share = n ? double(s.confusion[r][c]) / n : 0.0;
+			const int shade = int(std::lround(255 * (1 - share)));
+			const cv::Rect box(left + int(c) * cell, top + int(r) * cell, cell - 1, cell - 1);
+			cv::rectangle(m, box, cv::Scalar(255, shade, shade), cv::FILLED);  // blue, BGR (converted below)
+			cv::rectangle(m, box, cv::Scalar(225, 225, 225), 1);
+			if (s.confusion[r][c] > 0)
+				cv::putText(m, std::to_string(s.confusion[r][c]), {box.x + 3, box.y + 17}, cv::FONT_HERSHEY_SIMPLEX, 0.38,
+				            share > 0.5 ? cv::Scalar(255, 255, 255) : cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+		}
+	}
+	// Column labels, written vertically.
+	for (std::size_t c = 0; c < s.answers.size(); ++c) {
+		cv::Mat label(cell, top - 6, CV_8UC3, cv::Scalar(255, 255, 255));
+		cv::putText(label, s.answers[c], {2, 18}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+		cv::Mat up;
+		cv::rotate(label, up, cv::ROTATE_90_COUNTERCLOCKWISE);
+		up.copyTo(m(cv::Rect(left + int(c) * cell, 2, cell, top - 6)));
+	}
+	Image8 img(w, h, 3);
+	cv::Mat rgb(h, w, CV_8UC3, img.data.data());
+	cv::cvtColor(m, rgb, cv::COLOR_BGR2RGB);
+	writeImage(path, img);
 }
 
 }  // namespace talkhead

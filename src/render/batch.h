@@ -81,6 +81,22 @@ std::size_t mergeShards(const std::string& outDir, const std::vector<std::string
 std::string playerHtml(const std::vector<std::string>& ids, const std::vector<StimulusResult>& results,
                        const std::vector<std::vector<std::size_t>>& orders, int replays, const std::string& lang);
 
+// `talkhead batch --score ANSWERS.csv… --key key.csv`: the player's answers against the key. Per true
+// emotion (the key's emotion column; neutral where empty) and per condition (the key's condition column,
+// if any): answers, and how many named the emotion; the confusion counts (true emotion × answer, the
+// answers being the 22 terms or "none"). Throws Error naming the file and line of a bad answer.
+struct Score {
+	std::vector<std::string> truths, answers;           // row and column labels, in the thesis's order
+	std::vector<std::vector<int>> confusion;            // truths × answers
+	std::map<std::string, std::pair<int, int>> byCondition;  // condition → (correct, answered)
+	int correct = 0, answered = 0;
+};
+Score scoreAnswers(const std::string& keyPath, const std::vector<std::string>& answerPaths);
+// The report (plain text): recognition per emotion and per condition, and overall.
+std::string scoreReport(const Score& s);
+// The confusion matrix as a picture (rows: true emotion; columns: answer; shade = share of the row).
+void writeConfusionPng(const Score& s, const std::string& path);
+
 // order-NN.csv: position (1-based), id, file.
 std::string orderCsv(const std::vector<std::size_t>& order, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results);
 

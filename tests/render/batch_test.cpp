@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 
+#include "base/error.h"
 #include "base/sha256.h"
 #include "media/audio.h"
 #include "render/batch.h"
@@ -125,4 +128,39 @@ TEST(Batch, shiftedAudioStartsLaterOrEarlierInsideSilence) {
 	EXPECT_EQ(all(shiftedSource(clipSource(clip), ms3, ms15)), (std::vector<float>{0, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 0, 0}));
 	EXPECT_EQ(all(shiftedSource(clipSource(clip), -ms3, ms5)), (std::vector<float>{4, 5, 6, 7, 8}));
 	EXPECT_EQ(all(shiftedSource(clipSource(clip), -ms15, ms3)), (std::vector<float>{0, 0, 0}));  // all dropped: silence
+}
+
+TEST(Batch, answersAreScoredAgainstTheKey) {
+	const std::string dir = test::tempDir("batchscore");
+	std::ofstream(dir + "/key.csv") << "id,row,status,sha256,file,text,emotion,condition\n"
+	                                   "SA,2,ok,x,SA.mp4,Oi.,joy,full\nSB,3,ok,x,SB.mp4,Oi.,anger:0.5,weak\nSC,4,ok,x,SC.mp4,Oi.,,full\n";
+	std::ofstream(dir + "/a1.csv") << "participant,position,id,valence,valence_ms,emotion,emotion_ms\n"
+	                                  "1,1,SA,positive,900,joy,1200\n1,2,SB,negative,800,hate,1500\n1,3,SC,neutral,700,none,1000\n";
+	std::ofstream(dir + "/a2.csv") << "participant,position,id,valence,valence_ms,emotion,emotion_ms\n"
+	                                  "2,1,SB,negative,900,anger,1100\n2,2,SA,positive,600,hope,900\n2,3,SC,neutral,650,joy,800\n";
+	const Score s = scoreAnswers(dir + "/key.csv", {dir + "/a1.csv", dir + "/a2.csv"});
+	EXPECT_EQ(s.answered, 6);
+	EXPECT_EQ(s.correct, 3);  // joy → joy, anger → anger, neutral → none of the above
+	EXPECT_EQ(s.byCondition.at("full"), std::make_pair(2, 4));
+	EXPECT_EQ(s.byCondition.at("weak"), std::make_pair(1, 2));
+	auto cell = [&](const char* t, const char* a) {
+		return s.confusion[std::size_t(std::find(s.truths.begin(), s.truths.end(), t) - s.truths.begin())]
+		                  [std::size_t(std::find(s.answers.begin(), s.answers.end(), a) - s.answers.begin())];
+	};
+	EXPECT_EQ(cell("anger", "hate"), 1);
+	EXPECT_EQ(cell("joy", "hope"), 1);
+	const std::string report = scoreReport(s);
+	EXPECT_NE(report.find("anger                    2   50.0 %"), std::string::npos) << report;
+	EXPECT_NE(report.find("weak                     2   50.0 %"), std::string::npos) << report;
+	EXPECT_NE(report.find("all                      6   50.0 %"), std::string::npos) << report;
+	writeConfusionPng(s, dir + "/confusion.png");
+	EXPECT_GT(std::filesystem::file_size(dir + "/confusion.png"), 1000u);
+	// A stimulus the key lacks, or an unknown answer: the file and line.
+	std::ofstream(dir + "/bad.csv") << "participant,position,id,valence,valence_ms,emotion,emotion_ms\n1,1,SZ,positive,1,joy,1\n";
+	try {
+		scoreAnswers(dir + "/key.csv", {dir + "/bad.csv"});
+		ADD_FAILURE() << "no error";
+	} catch (const Error& e) {
+		EXPECT_EQ(std::string(e.what()), dir + "/bad.csv:2: stimulus 'SZ' is not in " + dir + "/key.csv");
+	}
 }
