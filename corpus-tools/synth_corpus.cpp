@@ -15,6 +15,7 @@
 #include "base/atomic_file.h"
 #include "base/data_dirs.h"
 #include "base/error.h"
+#include "base/hash.h"
 #include "base/parallel.h"
 #include "base/text.h"
 #include "base/tsv.h"
@@ -32,13 +33,7 @@ std::string dataFile(const std::string& rel) {
 	throw Error("data file '" + rel + "' not found");
 }
 
-// SplitMix64: a well-mixed deterministic hash for the per-image jitter.
-std::uint64_t splitmix(std::uint64_t x) {
-	x += 0x9E3779B97F4A7C15ull;
-	x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-	x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-	return x ^ (x >> 31);
-}
+std::uint64_t splitmix(std::uint64_t x) { return splitmix64(x); }  // the per-image jitter's hash
 std::uint64_t hashString(const std::string& s) {
 	std::uint64_t h = 1469598103934665603ull;
 	for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;

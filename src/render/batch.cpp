@@ -12,6 +12,7 @@
 #include "base/error.h"
 #include "base/atomic_file.h"
 #include "base/frame_rate.h"
+#include "base/hash.h"
 #include "base/sha256.h"
 #include "base/json.h"
 #include "base/text.h"
@@ -23,16 +24,11 @@ namespace fs = std::filesystem;
 namespace talkhead {
 
 ManifestErrors::ManifestErrors(std::vector<std::string> m)
-    : std::runtime_error(m.empty() ? "manifest errors" : m.front()), messages(std::move(m)) {}
+    : Error(m.empty() ? "manifest errors" : m.front()), messages(std::move(m)) {}
 
 namespace {
 
-std::uint64_t splitmix(std::uint64_t x) {
-	x += 0x9E3779B97F4A7C15ull;
-	x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-	x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-	return x ^ (x >> 31);
-}
+std::uint64_t splitmix(std::uint64_t x) { return splitmix64(x); }
 
 // Columns that become options of the row's command: column → (option, say, render). Flags are below.
 struct Column {

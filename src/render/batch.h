@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <map>
 #include <stdexcept>
+
+#include "base/error.h"
 #include <string>
 #include <vector>
 
@@ -35,7 +37,7 @@ struct Manifest {
 };
 
 // Every problem of a manifest at once: each message "MANIFEST:LINE:COLUMN: what".
-struct ManifestErrors : std::runtime_error {
+struct ManifestErrors : Error {
 	std::vector<std::string> messages;
 	explicit ManifestErrors(std::vector<std::string> m);
 };

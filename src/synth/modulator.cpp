@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/hash.h"
 #include "phonetics/labels.h"
 
 namespace talkhead {
@@ -15,10 +16,9 @@ namespace {
 struct Random {
 	std::uint64_t state;
 	std::uint64_t next() {
-		std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-		z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-		z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-		return z ^ (z >> 31);
+		const std::uint64_t z = splitmix64(state);
+		state += 0x9E3779B97F4A7C15ull;
+		return z;
 	}
 	double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
 };

@@ -756,11 +756,11 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 			// goes back to the mean shape, gets its lids there, and is warped forward again (blink frames only).
 			PiecewiseAffineWarp back(mesh_, meanSource_, model_.width, model_.height);
 			back.setSource(anchored(points, false));
-			Image8 mean(model_.width, model_.height, 3);
-			back.apply(out, mean);
-			drawClosedLids(nullptr, nullptr, mean.data.data(), f.closure);
+			if (ws.meanRgb.width != model_.width || ws.meanRgb.height != model_.height) ws.meanRgb = Image8(model_.width, model_.height, 3);
+			back.apply(out, ws.meanRgb);  // the direct path's buffer, unused by this order
+			drawClosedLids(nullptr, nullptr, ws.meanRgb.data.data(), f.closure);
 			ws.warp->setSource(meanSource_);
-			ws.warp->apply(mean, out);
+			ws.warp->apply(ws.meanRgb, out);
 		}
 		ws.warpSeconds += threadCpuSeconds() - t0;
 		return;
