@@ -6,6 +6,10 @@
 #include <atomic>
 #include <csignal>
 #include <cstring>
+#include <sys/types.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <time.h>
 
 namespace talkhead {
 
@@ -20,12 +24,21 @@ struct Slot {
 	char path[kPathMax];
 };
 Slot slots[kSlots];
+std::atomic<pid_t> child{0};
 
 void onSignal(int sig) {
+	// The child process working for this one (batch) stops too, and removes its own temporaries.
+	// Waited for up to 0.4 s, so that its files are gone before the folders they are in are removed.
+	if (const pid_t c = child.load(std::memory_order_acquire); c > 0) {
+		::kill(c, sig);
+		const struct timespec tick {0, 10 * 1000 * 1000};
+		for (int i = 0; i < 40 && ::waitpid(c, nullptr, WNOHANG) == 0; ++i) ::nanosleep(&tick, nullptr);
+	}
+	// Files first, then folders (emptied by then), whatever order they were registered in.
 	for (Slot& s : slots)
-		if (s.state.load(std::memory_order_acquire) == 2) {
-			if (::unlink(s.path) != 0) ::rmdir(s.path);  // async-signal-safe
-		}
+		if (s.state.load(std::memory_order_acquire) == 2) ::unlink(s.path);  // async-signal-safe
+	for (Slot& s : slots)
+		if (s.state.load(std::memory_order_acquire) == 2) ::rmdir(s.path);
 	static const char message[] = "talkhead: interrupted\n";
 	const ssize_t written = ::write(STDERR_FILENO, message, sizeof message - 1);
 	(void)written;
@@ -46,6 +59,8 @@ void installInterruptHandlers() {
 		sigaction(sig, &sa, nullptr);
 	}
 }
+
+void setInterruptChild(int pid) { child.store(pid, std::memory_order_release); }
 
 void registerTemporary(const std::string& path) {
 	if (path.size() >= kPathMax) return;

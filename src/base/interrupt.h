@@ -15,5 +15,7 @@ void installInterruptHandlers();
 // Registers a temporary path (a file or an empty-after-use folder); released once renamed or removed.
 void registerTemporary(const std::string& path);
 void releaseTemporary(const std::string& path);
+// A child process working for this one (0: none): a signal is passed on to it before this process exits.
+void setInterruptChild(int pid);
 
 }  // namespace talkhead

@@ -17,7 +17,11 @@
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "base/interrupt.h"
+#include "base/json.h"
+#include "base/progress.h"
 #include "render/batch.h"
+#include "render/side_by_side.h"
 
 namespace fs = std::filesystem;
 
@@ -47,6 +51,7 @@ int runChild(const std::vector<std::string>& args, std::string* message) {
 	pid_t pid = 0;
 	const int rc = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
 	posix_spawn_file_actions_destroy(&actions);
+	if (rc == 0) setInterruptChild(pid);
 	::close(pipefd[1]);
 	if (rc != 0) {
 		::close(pipefd[0]);
@@ -65,6 +70,7 @@ int runChild(const std::vector<std::string>& args, std::string* message) {
 	int status = 0;
 	while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
 	}
+	setInterruptChild(0);
 	while (!err.empty() && err.back() == '\n') err.pop_back();
 	const auto nl = err.rfind('\n');
 	std::string last = nl == std::string::npos ? err : err.substr(nl + 1);
@@ -73,6 +79,46 @@ int runChild(const std::vector<std::string>& args, std::string* message) {
 	if (WIFEXITED(status)) return WEXITSTATUS(status);
 	if (message && WIFSIGNALED(status)) *message = "killed by signal " + std::to_string(WTERMSIG(status)) + (last.empty() ? "" : " (" + last + ")");
 	return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+// A side-by-side stimulus: both sides rendered as y4m (lossless) in a temporary folder beside the output —
+// the row's sound track from its own side — then composed into one MP4 (render/side_by_side.h).
+template <class Run>
+void renderSideBySide(const BatchRow& row, const std::string& path, const std::string& timeline, const std::string& threads, Run&& run) {
+	const std::string dir = temporaryNameFor(path + ".d");
+	std::error_code ec;
+	fs::create_directory(dir, ec);
+	if (ec) throw Error(dir, 0, "cannot create folder: " + ec.message());
+	struct Cleanup {
+		std::string dir;
+		~Cleanup() {
+			std::error_code e;
+			fs::remove_all(dir, e);
+			releaseTemporary(dir);
+		}
+	} cleanup{dir};
+	const std::string own = dir + "/row.y4m", other = dir + "/versus.y4m", wav = dir + "/row.wav";
+	for (const auto& f : {own, other, wav}) registerTemporary(f);
+	struct Release {
+		std::vector<std::string> files;
+		~Release() {
+			for (const auto& f : files) releaseTemporary(f);
+		}
+	} release{{own, other, wav}};
+	const bool muted = std::find(row.args.begin(), row.args.end(), "--no-audio") != row.args.end();
+	std::vector<std::string> a{row.command};
+	a.insert(a.end(), row.args.begin(), row.args.end());
+	a.insert(a.end(), {"--format", "y4m", "-o", own, "-q", "--threads", threads, "--timeline-out", timeline});
+	if (!muted) a.insert(a.end(), {"--audio-out", wav});
+	run(a);
+	std::vector<std::string> b{row.command};
+	b.insert(b.end(), row.versusArgs.begin(), row.versusArgs.end());
+	b.insert(b.end(), {"--format", "y4m", "-o", other, "-q", "--threads", threads});
+	if (!muted) b.push_back("--no-audio");
+	run(b);
+	SideBySideOptions o;
+	if (auto crf = row.fields.find("crf"); crf != row.fields.end()) o.mp4.crf = std::stoi(crf->second);
+	writeSideBySide(row.versusLeft ? other : own, row.versusLeft ? own : other, muted ? "" : wav, path, o);
 }
 
 }  // namespace
@@ -91,7 +137,8 @@ int runBatch(const std::vector<std::string>& argv) {
 	           {"--score", "KEY.csv", "score the player's answer files (positional arguments) against this key: recognition per emotion and condition"},
 	           {"--confusion", "F.png", "with --score: also draw the confusion matrix (true emotion × answer)"},
 	           {"--merge", "OUTDIR", "join the folders of shards (positional arguments) into OUTDIR, checking every SHA-256"},
-	           {"--quiet", "", "no progress lines and no summary", "-q"}},
+	           {"--progress", "MODE", "bar (default on a terminal), json (default otherwise: one JSON line per stimulus, then a summary line) or none"},
+	           {"--quiet", "", "no progress and no summary", "-q"}},
 	          "Renders one stimulus per manifest row (CSV with a header, or JSON) under a blind ID, and writes\n"
 	          "key.csv (ID → row, conditions, SHA-256) and one balanced presentation order per participant\n"
 	          "(order-NN.csv, a Williams design). The whole manifest is checked before anything renders; a rerun\n"
@@ -127,10 +174,13 @@ int runBatch(const std::vector<std::string>& argv) {
 	}
 	const std::string threads = std::to_string(long(args.number("--threads", 0, 0, 256)));
 	const bool quiet = args.has("--quiet");
+	const std::string progressMode = quiet ? "none" : args.get("--progress", ::isatty(2) ? "bar" : "json");
+	if (progressMode != "bar" && progressMode != "json" && progressMode != "none") throw UsageError("batch: --progress takes bar, json or none");
 
 	Manifest m;
 	try {
 		m = loadManifest(args.positionals()[0]);
+		checkManifestModels(m);
 	} catch (const ManifestErrors& e) {
 		for (const auto& msg : e.messages) std::fprintf(stderr, "talkhead: error: %s\n", msg.c_str());
 		return 1;
@@ -155,7 +205,25 @@ int runBatch(const std::vector<std::string>& argv) {
 	const auto previous = readKeyChecksums(keyPath);
 	std::vector<StimulusResult> results(n);
 	std::size_t ok = 0, skipped = 0, failed = 0;
+	const std::size_t inShard = n / shards + (shard < n % shards ? 1 : 0);
+	ProgressBar bar(progressMode != "bar");
 	const auto t0 = std::chrono::steady_clock::now();
+	auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+	// One progress event per stimulus of the shard: a JSON line, or the bar.
+	auto report = [&](const BatchRow& row, const char* status, double seconds, const std::string& message) {
+		const std::size_t done = ok + skipped + failed;
+		if (progressMode == "json") {
+			std::fprintf(stderr, "{\"type\": \"stimulus\", \"done\": %zu, \"total\": %zu, \"id\": \"%s\", \"row\": %ld, \"status\": \"%s\", \"seconds\": %.3f%s%s}\n",
+			             done, inShard, ids[row.index].c_str(), row.line, status, seconds, message.empty() ? "" : ", \"message\": ",
+			             message.empty() ? "" : jsonQuote(message).c_str());
+			std::fflush(stderr);
+		} else if (progressMode == "bar") {
+			bar.report(inShard ? double(done) / double(inShard) : 1.0,
+			           std::to_string(done) + "/" + std::to_string(inShard) + (failed ? ", " + std::to_string(failed) + " failed" : ""));
+		}
+	};
+	std::vector<std::pair<long, std::string>> failures;  // row line, message
+	assignSides(m, seed);
 	for (const BatchRow& row : m.rows) {
 		StimulusResult& res = results[row.index];
 		res.file = ids[row.index] + ".mp4";
@@ -172,28 +240,40 @@ int runBatch(const std::vector<std::string>& argv) {
 		if (auto p = previous.find(ids[row.index]); p != previous.end() && fs::is_regular_file(path, ec) && sha256File(path) == p->second) {
 			res.status = "ok", res.sha256 = p->second;  // complete (the key does not say which run made it)
 			++skipped;
-			if (!quiet) std::fprintf(stderr, "batch: %s (row %ld) already complete\n", ids[row.index].c_str(), row.line);
+			report(row, "complete", 0, "");
 			continue;
 		}
-		std::vector<std::string> a{row.command};
-		a.insert(a.end(), row.args.begin(), row.args.end());
+		const auto started = std::chrono::steady_clock::now();
 		const std::string timeline = (fs::path(*out) / (ids[row.index] + ".json")).string();
-		a.insert(a.end(), {"-o", path, "-q", "--threads", threads, "--timeline-out", timeline});
 		try {
 			std::string message;
-			const int rc = runChild(a, &message);
-			if (rc != 0) throw Error(message.empty() ? "exit code " + std::to_string(rc) : message);
+			auto run = [&](std::vector<std::string> a) {
+				const int rc = runChild(a, &message);
+				if (rc != 0) throw Error(message.empty() ? "exit code " + std::to_string(rc) : message);
+			};
+			if (!row.sideBySide) {
+				std::vector<std::string> a{row.command};
+				a.insert(a.end(), row.args.begin(), row.args.end());
+				a.insert(a.end(), {"-o", path, "-q", "--threads", threads, "--timeline-out", timeline});
+				run(a);
+			} else {
+				renderSideBySide(row, path, timeline, threads, run);
+			}
 			res.status = "ok", res.sha256 = sha256File(path);
 			++ok;
-			if (!quiet) std::fprintf(stderr, "batch: [%zu/%zu] %s (row %ld) rendered\n", row.index + 1, n, ids[row.index].c_str(), row.line);
+			report(row, "rendered", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), "");
 		} catch (const std::exception& e) {
 			res.status = "failed", res.message = e.what();
 			++failed;
+			failures.emplace_back(row.line, e.what());
+			bar.finish();
 			std::fprintf(stderr, "talkhead: error: %s:%ld: %s\n", m.path.c_str(), row.line, e.what());
+			report(row, "failed", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), e.what());
 		}
 		// After every stimulus, so a batch stopped half-way resumes from where it was.
 		writeFileAtomically(keyPath, keyCsv(m, ids, results));
 	}
+	bar.finish();
 	writeFileAtomically(keyPath, keyCsv(m, ids, results));
 	const int width = participants >= 100 ? 3 : 2;
 	for (std::size_t q = 0; q < orders.size(); ++q) {
@@ -207,11 +287,16 @@ int runBatch(const std::vector<std::string>& argv) {
 		const int replays = int(args.number("--player-replays", 0, 0, 10));
 		writeFileAtomically((fs::path(*out) / "index.html").string(), playerHtml(ids, results, orders, replays, lang));
 	}
-	if (!quiet) {
-		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-		std::fprintf(stderr, "batch: %zu stimuli%s: %zu rendered, %zu already complete, %zu failed in %.1f s; key.csv and %zu orders in %s\n", n,
-		             shards > 1 ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str() : "", ok, skipped, failed, secs,
-		             orders.size(), out->c_str());
+	if (progressMode == "json")
+		std::fprintf(stderr, "{\"type\": \"summary\", \"stimuli\": %zu, \"in_shard\": %zu, \"rendered\": %zu, \"complete\": %zu, \"failed\": %zu, \"seconds\": %.3f}\n", n,
+		             inShard, ok, skipped, failed, elapsed());
+	else if (!quiet) {
+		// The summary table: counts per outcome, then every failed row.
+		std::fprintf(stderr, "batch: %zu stimuli%s in %.1f s; key.csv and %zu orders in %s\n", n,
+		             shards > 1 ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str() : "", elapsed(), orders.size(), out->c_str());
+		std::fprintf(stderr, "  %-18s %6zu\n  %-18s %6zu\n  %-18s %6zu\n", "rendered", ok, "already complete", skipped, "failed", failed);
+		if (shards > 1) std::fprintf(stderr, "  %-18s %6zu\n", "other shards", n - inShard);
+		for (const auto& [line, message] : failures) std::fprintf(stderr, "  failed: %s:%ld: %s\n", m.path.c_str(), line, message.c_str());
 	}
 	return failed ? 1 : 0;
 }

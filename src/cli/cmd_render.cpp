@@ -64,6 +64,7 @@ int runRender(const std::vector<std::string>& argv) {
 	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
 	AudioClip audio;
 	Transcript tr;
+	std::vector<Interval> words;  // for the timeline sidecar, when known
 	if (text) {
 		// Forced alignment of the text to the audio (align/align.h), as `talkhead align` does.
 		audio = decodeAudio(*args.get("--audio"));
@@ -78,9 +79,12 @@ int runRender(const std::vector<std::string>& argv) {
 		for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s: %s\n", args.get("--audio")->c_str(), w.c_str());
 		if (!cmd.quiet) std::fprintf(stderr, "aligned: %s\n", alignmentSummary(al).c_str());
 		tr = al.phones;
+		words = al.words.intervals;
 		transcriptPath = *args.get("--audio");
 	} else {
 		tr = readTranscript(*transcriptPath, ro);
+		if (tr.level == LabelLevel::Word) words = tr.intervals;
+		else if (cmd.timelineOut && tr.format == "textgrid" && *transcriptPath != "-") words = textGridWords(*transcriptPath, tr.tier);
 	}
 	const std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, text ? Notation::Ipa : *notation);  // an alignment's phones are canonical IPA
 	Performance perf;
@@ -119,7 +123,7 @@ int runRender(const std::vector<std::string>& argv) {
 	if (!tr.tier.empty() && !cmd.quiet) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", transcriptPath->c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	sound = applyStimulusTiming(cmd, perf, std::move(sound));
 	runVideoCommand(cmd, perf, std::move(sound), t0);
-	writeTimeline(cmd, perf, phones);
+	writeTimeline(cmd, perf, phones, words);
 	return 0;
 }
 

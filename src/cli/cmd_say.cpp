@@ -178,7 +178,7 @@ int runSay(const std::vector<std::string>& argv) {
 	// The speech and its timeline only once the video is complete: a failed render leaves nothing behind.
 	if (saveAudio) writeWav(*saveAudio, audio);
 	if (saveTranscript) writeFileAtomically(*saveTranscript, formatVisemes(phones, keys, "textgrid", lang.tag(), "espeak-ng"));
-	writeTimeline(cmd, perf, phones);
+	writeTimeline(cmd, perf, phones, speech.words.intervals);
 	return 0;
 }
 

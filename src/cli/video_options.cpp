@@ -121,8 +121,10 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--lead-in", "MS", "still face and silence before the speech (default 0; for experiment software that drifts at a clip's start)"},
 	        {"--tail", "MS", "still face and silence after it (default 0)"},
 	        {"--av-offset", "MS", "audio later than the video by MS (negative: earlier), for asynchrony designs (default 0)"},
+	        {"--audio-out", "F.wav", "also write the sound track exactly as muxed (lead-in, offset and tail applied), also with --no-audio or --format y4m"},
 	        {"--timeline-out", "F.json", "write the stimulus's timeline: frames, speech onset and offset, every phone and keypose (seconds of the video)"},
 	        {"--speech-brows", "on|off|X", "raise the brows on each phrase's most prominent (longest) vowel (default off; X scales the raise, 0–3)"},
+	        {"--components", "R=N,…", "components kept per model region, e.g. face=20,cheeks_lips=90%,lips=all (default: all; the thesis's Appendix C reductions, appearance only)"},
 	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
 	        {"--debug-overlay", "", "draw the feature points, the keyposes around each frame and the lids and head on every frame"},
 	        {"--threads", "N", "worker threads (default: all cores)"},
@@ -202,8 +204,19 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 		c.timelineOut = *t;
 		checkWritableFolder(*t);
 	}
+	if (auto a = args.get("--audio-out")) {
+		c.audioOut = *a;
+		checkWritableFolder(*a);
+	}
 	if (args.has("--control-tier") && !args.has("--controls")) throw UsageError(command + ": --control-tier needs --controls F.TextGrid");
 	if (auto f = args.get("--controls")) c.controls = args.has("--control-tier") ? loadControlTier(*f, *args.get("--control-tier")) : loadControls(*f);
+	if (auto comps = args.get("--components")) {
+		try {
+			c.components = parseComponentLevels(*comps);
+		} catch (const Error& e) {
+			throw UsageError(command + ": " + e.what());
+		}
+	}
 	c.render.debugOverlay = args.has("--debug-overlay");
 	c.render.threads = unsigned(args.number("--threads", 0, 0, 256));
 	c.quiet = args.has("--quiet");
@@ -220,8 +233,19 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
                      const std::string& timingPrefix) {
 	using Clock = std::chrono::steady_clock;
 	const auto tLoad = Clock::now();
-	const FaceModel model = loadRenderModel(cmd.modelPath);
+	const FaceModel model = loadRenderModel(cmd.modelPath, cmd.components);
 	const double loadSeconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
+	// --audio-out: the track read once into memory, written as WAV once the video is complete and muxed from there.
+	AudioClip track;
+	if (cmd.audioOut) {
+		if (!audio) throw Error(*cmd.audioOut, 0, "--audio-out: this " + cmd.command + " has no sound track (give --audio)");
+		track.sampleRate = audio->sampleRate();
+		track.channels = audio->channels();
+		std::vector<float> block(std::size_t(4096) * std::size_t(track.channels));
+		for (std::size_t n; (n = audio->read(block.data(), 4096)) > 0;)
+			track.samples.insert(track.samples.end(), block.begin(), block.begin() + std::ptrdiff_t(n * std::size_t(track.channels)));
+		audio = clipSource(track);
+	}
 	const bool withAudio = audio && !cmd.noAudio;
 	std::vector<std::unique_ptr<FrameSink>> owned;
 	if (cmd.format == "mp4") owned.push_back(makeMp4Sink(cmd.output, cmd.mp4, withAudio ? std::move(audio) : nullptr));
@@ -233,6 +257,7 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	CliProgress progress(cmd);
 	const double beforeRender = std::chrono::duration<double>(Clock::now() - started).count();
 	const RenderStats st = renderPerformance(model, perf, cmd.render, sinks, &progress);
+	if (cmd.audioOut) writeWav(*cmd.audioOut, track);
 	if (cmd.timing)
 		std::fprintf(stderr,
 		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s CPU); "
@@ -253,8 +278,8 @@ std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Perfor
 	return shiftedSource(std::move(audio), cmd.leadIn + cmd.avOffset, perf.duration);
 }
 
-void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones) {
-	if (cmd.timelineOut) writeFileAtomically(*cmd.timelineOut, timelineJson(perf, phones, cmd.leadIn, cmd.tail, cmd.avOffset));
+void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones, const std::vector<Interval>& words) {
+	if (cmd.timelineOut) writeFileAtomically(*cmd.timelineOut, timelineJson(perf, phones, cmd.leadIn, cmd.tail, cmd.avOffset, words));
 }
 
 }  // namespace talkhead::cli

@@ -36,6 +36,8 @@ struct VideoCommand {
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
 	Ticks leadIn{0}, tail{0}, avOffset{0};     // --lead-in, --tail, --av-offset (issue 14)
 	std::optional<std::string> timelineOut;    // --timeline-out F.json
+	ComponentLevels components;                // --components REGION=N,… (Appendix C reductions)
+	std::optional<std::string> audioOut;       // --audio-out F.wav: the sound track as muxed
 };
 
 // --lead-in / --tail / --av-offset on a performance whose duration is set: keyposes and events later by
@@ -43,7 +45,7 @@ struct VideoCommand {
 // offset inside silence.
 std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio);
 // --timeline-out: the sidecar JSON (render/performance.h timelineJson), after the video is complete.
-void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones);
+void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones, const std::vector<Interval>& words = {});
 
 // The language of --lang (default `defaultTag`), for the commands that take it: its viseme table; with
 // --generic-visemes, a language without a table maps IPA through phonetics/generic, with one warning line

@@ -14,6 +14,7 @@ extern "C" {
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <filesystem>
 #include <memory>
 
@@ -370,12 +371,13 @@ struct VideoDecoder {
 		frame = av_frame_alloc();
 	}
 
-	// 1 = a frame in `rgb`, 0 = end.
-	int read(Image8& rgb, double& seconds) {
+	// 1 = a frame in `rgb` (or `yuv`), 0 = end.
+	int read(Image8* rgb, YuvImage* yuv, double& seconds) {
 		for (;;) {
 			int r = avcodec_receive_frame(ctx, frame);
 			if (r == 0) {
-				convert(rgb);
+				if (rgb) convert(*rgb);
+				else convertYuv(*yuv);
 				const AVStream* st = fmt->streams[stream];
 				std::int64_t pts = frame->best_effort_timestamp;
 				double t = pts != AV_NOPTS_VALUE ? double(pts - (st->start_time != AV_NOPTS_VALUE ? st->start_time : 0)) * av_q2d(st->time_base) : -1;
@@ -424,6 +426,27 @@ struct VideoDecoder {
 		if (rgb.width != width || rgb.height != height || rgb.channels != 3) rgb = Image8(width, height, 3);
 		uint8_t* dst[1] = {rgb.data.data()};
 		int stride[1] = {3 * width};
+		sws_scale(sws, frame->data, frame->linesize, 0, frame->height, dst, stride);
+	}
+
+	// `yuv` comes sized (width × height) by the caller (YuvImage::resize lives outside the plugin).
+	void convertYuv(YuvImage& yuv) {
+		if (yuv.width != width || yuv.height != height) throw std::logic_error("readVideoYuv: the frame is not sized");
+		const AVPixelFormat f = AVPixelFormat(frame->format);
+		if ((f == AV_PIX_FMT_YUV420P || f == AV_PIX_FMT_YUVJ420P) && frame->width == width && frame->height == height) {
+			auto copy = [](const std::uint8_t* src, int srcStride, std::uint8_t* dst, int w, int h) {
+				for (int r = 0; r < h; ++r) std::memcpy(dst + std::size_t(r) * std::size_t(w), src + std::ptrdiff_t(r) * srcStride, std::size_t(w));
+			};
+			copy(frame->data[0], frame->linesize[0], yuv.y.data(), width, height);
+			copy(frame->data[1], frame->linesize[1], yuv.u.data(), yuv.chromaWidth(), yuv.chromaHeight());
+			copy(frame->data[2], frame->linesize[2], yuv.v.data(), yuv.chromaWidth(), yuv.chromaHeight());
+			return;
+		}
+		sws = sws_getCachedContext(sws, frame->width, frame->height, f, width, height, AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND | SWS_BITEXACT,
+		                           nullptr, nullptr, nullptr);
+		if (!sws) throw Error(path, 0, "cannot convert the video's pixel format");
+		uint8_t* dst[3] = {yuv.y.data(), yuv.u.data(), yuv.v.data()};
+		int stride[3] = {width, yuv.chromaWidth(), yuv.chromaWidth()};
 		sws_scale(sws, frame->data, frame->linesize, 0, frame->height, dst, stride);
 	}
 
@@ -491,14 +514,20 @@ void* openVideoEntry(const std::string& path, VideoInfo& info, std::string& erro
 
 int readVideoEntry(void* h, Image8& rgb, double& seconds, std::string& error) {
 	int r = -1;
-	guarded(error, [&] { r = static_cast<VideoDecoder*>(h)->read(rgb, seconds); });
+	guarded(error, [&] { r = static_cast<VideoDecoder*>(h)->read(&rgb, nullptr, seconds); });
+	return r;
+}
+
+int readVideoYuvEntry(void* h, YuvImage& yuv, double& seconds, std::string& error) {
+	int r = -1;
+	guarded(error, [&] { r = static_cast<VideoDecoder*>(h)->read(nullptr, &yuv, seconds); });
 	return r;
 }
 
 void closeVideoEntry(void* h) { delete static_cast<VideoDecoder*>(h); }
 
 const AvModule kModule{kAvModuleAbi, decodeAudioEntry, openAudioEntry, readAudioEntry, closeAudioEntry, openMp4Entry, writeMp4Entry, finishMp4Entry, closeMp4Entry,
-                       openVideoEntry, readVideoEntry, closeVideoEntry};
+                       openVideoEntry, readVideoEntry, closeVideoEntry, readVideoYuvEntry};
 
 }  // namespace
 

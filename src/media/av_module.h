@@ -13,7 +13,7 @@
 
 namespace talkhead {
 
-constexpr int kAvModuleAbi = 4;  // 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource)
+constexpr int kAvModuleAbi = 5;  // 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource); 5: readVideoYuv
 
 struct AvModule {
 	int abi;  // kAvModuleAbi
@@ -34,6 +34,9 @@ struct AvModule {
 	// The next frame as RGB (resized to info's size) with its time in seconds; 0 at the end, −1 on error.
 	int (*readVideo)(void* decoder, Image8& rgb, double& seconds, std::string& error);
 	void (*closeVideo)(void* decoder);
+	// The next frame as YUV 4:2:0 planes (copied as they are from a 4:2:0 stream of the info's size,
+	// converted otherwise); 0 at the end, −1 on error.
+	int (*readVideoYuv)(void* decoder, YuvImage& yuv, double& seconds, std::string& error);
 };
 
 // The loaded plugin (throws Error when it cannot be loaded).

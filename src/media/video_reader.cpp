@@ -29,4 +29,16 @@ bool VideoReader::read(Image8& frame, Ticks& time, std::int64_t& index) {
 	return true;
 }
 
+bool VideoReader::readYuv(YuvImage& frame, Ticks& time, std::int64_t& index) {
+	std::string error;
+	double seconds = 0;
+	frame.resize(info_.width, info_.height);
+	const int r = avModule().readVideoYuv(handle_, frame, seconds, error);
+	if (r < 0) throw Error(error);
+	if (r == 0) return false;
+	time = ticksFromSeconds(seconds);
+	index = next_++;
+	return true;
+}
+
 }  // namespace talkhead

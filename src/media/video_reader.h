@@ -6,6 +6,7 @@
 
 #include "base/ticks.h"
 #include "image/image.h"
+#include "image/yuv.h"
 
 namespace talkhead {
 
@@ -32,6 +33,8 @@ public:
 	const std::string& path() const { return path_; }
 	// The next frame (RGB, the video's size) and its time and 0-based index; false at the end.
 	bool read(Image8& frame, Ticks& time, std::int64_t& index);
+	// The same as YUV 4:2:0 planes: a 4:2:0 stream's (a y4m or H.264 file talkhead wrote) exactly as stored.
+	bool readYuv(YuvImage& frame, Ticks& time, std::int64_t& index);
 
 private:
 	std::string path_;

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "model/model_file.h"
 
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fcntl.h>
@@ -213,6 +215,15 @@ public:
 		skipped_ = true;
 	}
 	bool skipped() const { return skipped_; }
+	// Reads n bytes of the current record only to hash them (its checksum stays verifiable).
+	void readThrough(std::size_t n) {
+		std::vector<char> buf(std::min<std::size_t>(n, 1 << 20));
+		while (n > 0) {
+			const std::size_t c = std::min(n, buf.size());
+			raw(buf.data(), c);
+			n -= c;
+		}
+	}
 	template <class T>
 	std::vector<T> array(const std::string& name, Type t) {
 		std::vector<T> v;
@@ -296,6 +307,28 @@ private:
 	std::size_t size_;
 	std::vector<std::uint64_t> sums_;
 	std::string region_;
+};
+
+// A region's keypose appearances from its first k components (ComponentLevels): ā + σ ∘ (D_a α), 8-bit
+// with the same rounding as the build's cache.
+class ReducedAppearanceSource : public AppearanceSource {
+public:
+	// basis: n × k or wider (its first k columns and q3 rows are used); coefficients: samples × ≥ k.
+	ReducedAppearanceSource(Eigen::VectorXf mean, Eigen::VectorXf sigma, Eigen::MatrixXf basis, Eigen::MatrixXf coefficients, Eigen::Index q3, Eigen::Index k)
+	    : mean_(mean.head(q3)), sigma_(sigma.head(q3)), basis_(std::move(basis)), coefficients_(coefficients.leftCols(k)), q3_(q3), k_(k) {}
+	void read(std::size_t sample, std::uint8_t* out) const override {
+		if (Eigen::Index(sample) >= coefficients_.rows()) throw std::out_of_range("appearance sample out of range");
+		const Eigen::VectorXf a = mean_ + sigma_.cwiseProduct(basis_.topLeftCorner(q3_, k_) * coefficients_.row(Eigen::Index(sample)).transpose());
+		for (Eigen::Index j = 0; j < a.size(); ++j) {
+			const float v = a(j) + 0.5f;
+			out[j] = std::uint8_t(v <= 0.f ? 0.f : (v >= 255.f ? 255.f : v));
+		}
+	}
+
+private:
+	Eigen::VectorXf mean_, sigma_;
+	Eigen::MatrixXf basis_, coefficients_;
+	Eigen::Index q3_, k_;
 };
 
 void writePoints(Writer& w, const std::string& name, const Points& p) { w.f64(name, p.data(), std::size_t(p.size())); }
@@ -432,7 +465,7 @@ void saveModel(const FaceModel& model, const std::string& path) {
 
 namespace {
 
-FaceModel readRecords(Reader& r, bool bases, std::uint32_t version);
+FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const ComponentLevels& levels);
 
 // The checksum of the payload from `offset` to the end, read in chunks (used to tell corruption from
 // a format problem when parsing stops early).
@@ -447,7 +480,42 @@ std::uint64_t payloadChecksum(std::FILE* f) {
 
 }  // namespace
 
-FaceModel loadModel(const std::string& path, ModelParts parts) {
+ComponentLevels parseComponentLevels(const std::string& spec) {
+	ComponentLevels out;
+	if (spec == "all") return out;  // every region at full quality
+	auto bad = [&](const std::string& what) -> Error {
+		return Error("--components '" + spec.substr(0, 80) + "': " + what + " (expected REGION=N, REGION=P% or REGION=all, comma-separated, e.g. face=20,lips=all)");
+	};
+	std::size_t at = 0;
+	while (at <= spec.size()) {
+		std::size_t end = spec.find(',', at);
+		if (end == std::string::npos) end = spec.size();
+		const std::string item = spec.substr(at, end - at);
+		const std::size_t eq = item.find('=');
+		if (eq == std::string::npos || eq == 0 || eq + 1 == item.size()) throw bad("'" + item.substr(0, 40) + "' is not REGION=LEVEL");
+		const std::string region = item.substr(0, eq), value = item.substr(eq + 1);
+		if (out.count(region)) throw bad("region '" + region.substr(0, 40) + "' is named twice");
+		ComponentLevel level;
+		char* e = nullptr;
+		if (value == "all") {
+			level.evr = 1.0;
+		} else if (value.back() == '%') {
+			const double p = std::strtod(value.c_str(), &e);
+			if (e != value.c_str() + value.size() - 1 || !(p > 0 && p <= 100)) throw bad("'" + value.substr(0, 20) + "' is not a percentage in (0, 100]");
+			level.evr = p / 100;
+		} else {
+			const long n = std::strtol(value.c_str(), &e, 10);
+			if (e != value.c_str() + value.size() || n < 1 || n > 10000000 || !std::isdigit(static_cast<unsigned char>(value[0])))
+				throw bad("'" + value.substr(0, 20) + "' is not a component count ≥ 1");
+			level.count = n;
+		}
+		out[region] = level;
+		at = end + 1;
+	}
+	return out;
+}
+
+FaceModel loadModel(const std::string& path, ModelParts parts, const ComponentLevels& levels) {
 	std::FILE* f = std::fopen(path.c_str(), "rb");
 	if (!f) throw Error(path, 0, std::string("cannot open model: ") + std::strerror(errno));
 	struct Closer {
@@ -474,7 +542,7 @@ FaceModel loadModel(const std::string& path, ModelParts parts) {
 	Reader r(f, size, path);
 	FaceModel m;
 	try {
-		m = readRecords(r, parts == ModelParts::All, version);
+		m = readRecords(r, parts == ModelParts::All, version, levels);
 	} catch (const Error& e) {
 		// A damaged record says so itself; anything else that stops the parse is reported as damage
 		// when the payload's checksum disagrees (a flipped byte in a length field, say).
@@ -488,7 +556,7 @@ FaceModel loadModel(const std::string& path, ModelParts parts) {
 
 namespace {
 
-FaceModel readRecords(Reader& r, bool bases, std::uint32_t version) {
+FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const ComponentLevels& levels) {
 	FaceModel m;
 	Scheme& s = m.scheme;
 	auto one = [&](const std::string& name) {
@@ -591,9 +659,11 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version) {
 		const Eigen::Index n = 3 * rm.pixelCount() + 2 * k;
 		if (rm.alpha.size() != rm.pixels.size()) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
 		// The mean and scale of the combined vectors serve projection and the basis product only: a render
-		// load (which uses the appearance cache) skips them.
+		// load (which uses the appearance cache) skips them, unless the region is reduced.
+		const auto level = levels.find(rm.name);
+		const bool reduce = level != levels.end();
 		auto vectorInto = [&](const std::string& name, Eigen::VectorXf& v) {
-			if (!bases) {
+			if (!bases && !reduce) {
 				r.skip(name, Type::F32, 4);
 				return;
 			}
@@ -608,15 +678,37 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version) {
 		auto eig = r.f64("eigenvalues");
 		const Eigen::Index l = Eigen::Index(count("components", 1e7));
 		if (Eigen::Index(eig.size()) < l) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
-		if (!bases) {
+		rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
+		Eigen::Index kept = l;  // basis columns held
+		if (reduce) {
+			const ComponentLevel& lv = level->second;
+			if (lv.count > 0) {
+				if (lv.count > l)
+					throw Error(r.path(), 0, "--components asks for " + std::to_string(lv.count) + " components of region '" + rm.name + "', which keeps " +
+					                             std::to_string(l));
+				kept = Eigen::Index(lv.count);
+			} else {
+				kept = lv.evr >= 1.0 ? l : std::min(l, std::max<Eigen::Index>(1, rm.pca.componentsFor(lv.evr)));
+			}
+		}
+		if (!bases && !reduce) {
 			r.skip("basis", Type::F32, 4);
 			r.skip("coefficients", Type::F32, 4);
 		} else {
-			r.arrayInto<float>("basis", Type::F32, [&](std::size_t count) {
+			if (bases) {
+				r.arrayInto<float>("basis", Type::F32, [&](std::size_t count) {
+					if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
+					rm.pca.basis.resize(n, l);
+					return rm.pca.basis.data();
+				});
+			} else {  // the first `kept` columns (column-major: a prefix), the rest only hashed
+				const std::size_t count = r.expect("basis", Type::F32, 4);
 				if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
-				rm.pca.basis.resize(n, l);
-				return rm.pca.basis.data();
-			});
+				rm.pca.basis.resize(n, kept);
+				r.raw(rm.pca.basis.data(), std::size_t(n * kept) * 4);
+				r.readThrough(std::size_t(n * (l - kept)) * 4);
+				r.endRecord();
+			}
 			r.arrayInto<float>("coefficients", Type::F32, [&](std::size_t count) {
 				if (count != samples * std::size_t(l)) r.fail("region '" + rm.name + "' coefficients have the wrong size");
 				rm.pca.trainingCoefficients.resize(Eigen::Index(samples), l);
@@ -651,10 +743,28 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version) {
 			}
 			rm.appearanceSource = std::make_shared<FileAppearanceSource>(fd, r.path(), cacheOffset, q3, std::move(sums), rm.name);
 		}
-		rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
+		if (reduce) {
+			if (bases) {  // a full load keeps its PCA; the source gets copies
+				rm.appearanceSource = std::make_shared<ReducedAppearanceSource>(rm.pca.mean, rm.pca.sigma, rm.pca.basis.leftCols(kept),
+				                                                                rm.pca.trainingCoefficients, Eigen::Index(q3), kept);
+			} else {  // a render holds only the reduced source (the kept columns move into it)
+				rm.appearanceSource = std::make_shared<ReducedAppearanceSource>(std::move(rm.pca.mean), std::move(rm.pca.sigma), std::move(rm.pca.basis),
+				                                                                std::move(rm.pca.trainingCoefficients), Eigen::Index(q3), kept);
+				rm.pca = CorrelationPca{};
+				rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
+			}
+			rm.sampleAppearances.clear();
+			rm.sampleAppearances.shrink_to_fit();
+		}
 		m.regions.push_back(std::move(rm));
 	}
 	if (!r.atEnd()) r.fail("trailing data after the last record");
+	for (const auto& [name, level] : levels) {
+		if (m.regionIndex(name) >= 0) continue;
+		std::string names;
+		for (const auto& rg : m.regions) names += (names.empty() ? "" : ", ") + rg.name;
+		throw Error(r.path(), 0, "--components names region '" + name.substr(0, 40) + "', which this model does not have (regions: " + names + ")");
+	}
 	return m;
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 
 #include "model/face_model.h"
@@ -19,8 +20,23 @@ void saveModel(const FaceModel& model, const std::string& path);
 // time), so a 1.4 GB model loads ~15 MB; every record and every sample read is checksum-verified.
 enum class ModelParts { All, Render };
 
+// Components kept per region at render time (costa-spec §6.6, the thesis's Appendix C reductions): the
+// named regions' keypose appearances are reconstructed from their first `count` components (or the
+// fewest whose cumulative EVR reaches `evr`) instead of read from the full-quality cache. Shapes are the
+// corpus's, as in the thesis's test (only the appearance is reduced).
+struct ComponentLevel {
+	long count = 0;   // > 0: this many components
+	double evr = 0;   // else: the fewest reaching this EVR (0, 1]
+};
+using ComponentLevels = std::map<std::string, ComponentLevel>;
+// "face=20,cheeks_lips=90%,lips=all" (all = every kept component; "all" alone: no reduction). Throws Error on bad syntax.
+ComponentLevels parseComponentLevels(const std::string& spec);
+
 // Throws Error("PATH: …") for a missing, truncated, corrupted (checksum) or wrong-version file.
-FaceModel loadModel(const std::string& path, ModelParts parts = ModelParts::All);
+// `levels`: reduce those regions (an unknown region or more components than the model keeps is an Error
+// naming the model). With ModelParts::Render only the kept basis columns are held (the rest of the
+// basis record is read through to verify its checksum).
+FaceModel loadModel(const std::string& path, ModelParts parts = ModelParts::All, const ComponentLevels& levels = {});
 
 // 64-bit checksum of a byte range (four interleaved multiply–xor lanes; any single changed byte changes it).
 std::uint64_t checksum64(const void* data, std::size_t size, std::uint64_t seed = 0x9E3779B97F4A7C15ull);

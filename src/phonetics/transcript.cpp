@@ -875,4 +875,12 @@ Transcript readTranscript(const std::string& path, const ReadOptions& o) {
 	return parseTranscript(readTextFile(path), path, o);
 }
 
+std::vector<Interval> textGridWords(const std::string& path, const std::string& readTier) {
+	for (auto& t : readTextGridTiers(readTextFile(path), path)) {
+		if (t.cls != "IntervalTier" || t.name == readTier) continue;
+		if (toLower(t.name).find("word") != std::string::npos) return std::move(t.intervals);
+	}
+	return {};
+}
+
 }  // namespace talkhead

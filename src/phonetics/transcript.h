@@ -69,6 +69,9 @@ struct TextGridTier {
 	std::vector<Interval> intervals;
 };
 std::vector<TextGridTier> readTextGridTiers(const std::string& text, const std::string& path);
+// The word tier of a TextGrid file beside the tier `readTier` that was read: the first other interval
+// tier whose name has "word" in it ("words", "IVR - words", "ORT-Word"); empty when there is none.
+std::vector<Interval> textGridWords(const std::string& path, const std::string& readTier);
 
 // Detects the format from the content (nullopt when nothing matches).
 std::optional<std::string> detectTranscriptFormat(const std::string& text);

@@ -18,6 +18,7 @@
 #include "base/text.h"
 #include "media/image_io.h"
 #include "phonetics/labels.h"
+#include "render/render.h"
 
 namespace fs = std::filesystem;
 
@@ -47,7 +48,7 @@ const std::vector<Column>& columns() {
 	    {"emotion-source", "--emotion-source", true, true}, {"controls", "--controls", true, true}, {"seed", "--seed", true, true},
 	    {"rate", "--rate", true, false},     {"pitch", "--pitch", true, false},           {"crf", "--crf", true, true},
 	    {"lead-in", "--lead-in", true, true}, {"tail", "--tail", true, true},             {"av-offset", "--av-offset", true, true},
-	    {"condition", "", true, true}};
+	    {"components", "--components", true, true}, {"condition", "", true, true}};
 	return c;
 }
 const Column* findColumn(const std::string& name) {
@@ -137,6 +138,77 @@ std::vector<Record> readRecords(const std::string& text, const std::string& path
 	return out;
 }
 
+const std::string kVersus = "versus:";
+// Columns a side-by-side row's other side may change: what is drawn, never the speech, timing or frame.
+bool versusColumn(const std::string& c) {
+	static const std::set<std::string> allowed = {"model", "emotion", "intensity", "trajectory", "dissolve", "warp", "pauses", "blinks", "head-motion",
+	                                              "speech-brows", "emotion-source", "controls", "seed", "components"};
+	return allowed.count(c) > 0;
+}
+
+// A row's command ("say" or "render"; "" when it has neither text nor transcript) and its arguments, from
+// its fields; every problem goes to fail(column, what). Files resolve against the manifest's folder.
+template <class Fail>
+std::string rowArguments(const std::map<std::string, std::string>& fields, const fs::path& dir, std::vector<std::string>& args, std::string& canonical,
+                         Fail&& fail) {
+	auto get = [&](const char* k) -> std::string {
+		auto it = fields.find(k);
+		return it == fields.end() ? std::string() : it->second;
+	};
+	std::map<std::string, std::string> resolved;
+	for (const char* k : {"transcript", "audio", "model", "controls"}) {
+		auto it = fields.find(k);
+		if (it == fields.end()) continue;
+		const fs::path p = fs::path(it->second).is_absolute() ? fs::path(it->second) : dir / it->second;
+		std::error_code ec;
+		if (!fs::is_regular_file(p, ec)) fail(k, "no such file '" + it->second + "'");
+		resolved[k] = p.string();
+	}
+	const bool text = !get("text").empty(), transcript = !get("transcript").empty(), audio = !get("audio").empty();
+	if (!text && !transcript) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
+	if (text && transcript) fail("transcript", "text and transcript both given: one or the other");
+	const std::string command = transcript || (text && audio) ? "render" : "say";
+	if (command == "say" && text) args.push_back(get("text"));
+	if (command == "render" && text) args.insert(args.end(), {"--text", get("text")});
+	// Emotion (and intensity).
+	std::string emotion = get("emotion"), intensity = get("intensity");
+	if (auto colon = emotion.find(':'); colon != std::string::npos) {
+		if (!intensity.empty()) fail("intensity", "given twice (emotion '" + emotion + "' has one)");
+		intensity = emotion.substr(colon + 1);
+		emotion = emotion.substr(0, colon);
+	}
+	canonical = "neutral";
+	if (!emotion.empty()) {
+		if (auto c = canonicalEmotion(emotion)) canonical = *c;
+		else fail("emotion", "unknown emotion '" + emotion + "' (known: " + emotionList() + ")");
+	}
+	double level = 1;
+	if (!intensity.empty() && (!parseDouble(intensity, level) || !(level >= 0 && level <= 1.5)))
+		fail("intensity", "'" + intensity + "' is not a number from 0 to 1.5");
+	args.insert(args.end(), {"--emotion", canonical + (intensity.empty() ? "" : ":" + intensity)});
+	// Muted.
+	if (auto muted = toLower(get("muted")); !muted.empty()) {
+		if (muted == "yes" || muted == "true" || muted == "1") args.push_back("--no-audio");
+		else if (muted != "no" && muted != "false" && muted != "0") fail("muted", "'" + get("muted") + "' is not yes or no");
+	}
+	if (auto comps = get("components"); !comps.empty()) {
+		try {
+			parseComponentLevels(comps);
+		} catch (const Error& e) {
+			fail("components", e.what());
+		}
+	}
+	if (auto fps = get("fps"); !fps.empty() && !FrameRate::parse(fps)) fail("fps", "'" + fps + "' is not a frame rate (30, 25, 29.97, 30000/1001)");
+	for (const auto& [k, v] : fields) {
+		const Column* c = findColumn(k);
+		if (!c || !*c->option) continue;
+		if (command == "say" && !c->say) fail(k, "only for a stimulus with a transcript (render)");
+		else if (command == "render" && !c->render) fail(k, "only for a stimulus spoken from text (say)");
+		else args.insert(args.end(), {c->option, resolved.count(k) ? resolved.at(k) : v});
+	}
+	return (!text && !transcript) ? std::string() : command;
+}
+
 }  // namespace
 
 Manifest parseManifest(const std::string& text, const std::string& path) {
@@ -146,9 +218,16 @@ Manifest parseManifest(const std::string& text, const std::string& path) {
 	long headerLine = 1;  // JSON: the columns are named in every item; their errors say line 1
 	const std::vector<Record> records = readRecords(text, path, m.columns, headerLine, errors);
 	const fs::path dir = fs::path(path).parent_path();
-	for (const auto& c : m.columns)
-		if (!findColumn(c) && !isAnnotation(c))
-			errors.push_back(path + ":" + std::to_string(headerLine) + ":" + c + ": unknown column (known: " + knownColumns() + ")");
+	for (const auto& c : m.columns) {
+		if (startsWith(c, kVersus)) {
+			if (!versusColumn(c.substr(kVersus.size())))
+				errors.push_back(path + ":" + std::to_string(headerLine) + ":" + c +
+				                 ": the two sides of a side-by-side stimulus share the speech, timing and frame; versus: columns may change model, emotion, "
+				                 "intensity, trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed, components");
+		} else if (!findColumn(c) && !isAnnotation(c)) {
+			errors.push_back(path + ":" + std::to_string(headerLine) + ":" + c + ": unknown column (known: " + knownColumns() + ", versus:…)");
+		}
+	}
 	for (const Record& rec : records) {
 		BatchRow row;
 		row.index = m.rows.size();
@@ -158,53 +237,28 @@ Manifest parseManifest(const std::string& text, const std::string& path) {
 		};
 		for (const auto& [k, v] : rec.fields)
 			if (!v.empty()) row.fields[k] = v;
-		auto get = [&](const char* k) -> std::string {
-			auto it = row.fields.find(k);
-			return it == row.fields.end() ? std::string() : it->second;
-		};
-		// Files resolve against the manifest's folder (the key keeps them as written).
-		std::map<std::string, std::string> resolved;
-		for (const char* k : {"transcript", "audio", "model", "controls"}) {
-			auto it = row.fields.find(k);
-			if (it == row.fields.end()) continue;
-			const fs::path p = fs::path(it->second).is_absolute() ? fs::path(it->second) : dir / it->second;
-			std::error_code ec;
-			if (!fs::is_regular_file(p, ec)) fail(k, "no such file '" + it->second + "'");
-			resolved[k] = p.string();
-		}
-		const bool text = !get("text").empty(), transcript = !get("transcript").empty(), audio = !get("audio").empty();
-		if (!text && !transcript) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
-		if (text && transcript) fail("transcript", "text and transcript both given: one or the other");
-		row.command = transcript || (text && audio) ? "render" : "say";
-		if (row.command == "say" && text) row.args.push_back(get("text"));
-		if (row.command == "render" && text) row.args.insert(row.args.end(), {"--text", get("text")});
-		// Emotion (and intensity).
-		std::string emotion = get("emotion"), intensity = get("intensity");
-		if (auto colon = emotion.find(':'); colon != std::string::npos) {
-			if (!intensity.empty()) fail("intensity", "given twice (emotion '" + emotion + "' has one)");
-			intensity = emotion.substr(colon + 1);
-			emotion = emotion.substr(0, colon);
-		}
-		if (!emotion.empty()) {
-			if (auto c = canonicalEmotion(emotion)) row.emotion = *c;
-			else fail("emotion", "unknown emotion '" + emotion + "' (known: " + emotionList() + ")");
-		}
-		double level = 1;
-		if (!intensity.empty() && (!parseDouble(intensity, level) || !(level >= 0 && level <= 1.5)))
-			fail("intensity", "'" + intensity + "' is not a number from 0 to 1.5");
-		row.args.insert(row.args.end(), {"--emotion", row.emotion + (intensity.empty() ? "" : ":" + intensity)});
-		// Muted.
-		if (auto muted = toLower(get("muted")); !muted.empty()) {
-			if (muted == "yes" || muted == "true" || muted == "1") row.args.push_back("--no-audio");
-			else if (muted != "no" && muted != "false" && muted != "0") fail("muted", "'" + get("muted") + "' is not yes or no");
-		}
-		if (auto fps = get("fps"); !fps.empty() && !FrameRate::parse(fps)) fail("fps", "'" + fps + "' is not a frame rate (30, 25, 29.97, 30000/1001)");
+		// Side-by-side: the `versus:` columns replace the row's own for the other side ("default" drops one).
+		std::map<std::string, std::string> versus = row.fields;
+		std::set<std::string> overridden;
 		for (const auto& [k, v] : row.fields) {
-			const Column* c = findColumn(k);
-			if (!c || !*c->option) continue;
-			if (row.command == "say" && !c->say) fail(k, "only for a stimulus with a transcript (render)");
-			else if (row.command == "render" && !c->render) fail(k, "only for a stimulus spoken from text (say)");
-			else row.args.insert(row.args.end(), {c->option, resolved.count(k) ? resolved.at(k) : v});
+			if (!startsWith(k, kVersus)) continue;
+			const std::string base = k.substr(kVersus.size());
+			if (!versusColumn(base)) continue;  // reported with the header
+			row.sideBySide = true;
+			overridden.insert(base);
+			versus.erase(k);
+			if (v == "default") versus.erase(base);
+			else versus[base] = v;
+		}
+		for (auto it = versus.begin(); it != versus.end();) it = startsWith(it->first, kVersus) ? versus.erase(it) : std::next(it);
+		const std::string command = rowArguments(row.fields, dir, row.args, row.emotion, fail);
+		row.command = command.empty() ? "say" : command;
+		if (row.sideBySide && !command.empty()) {
+			auto failVersus = [&](const std::string& column, const std::string& what) {
+				if (overridden.count(column)) fail(kVersus + column, what);
+			};
+			std::string emotion;
+			rowArguments(versus, dir, row.versusArgs, emotion, failVersus);
 		}
 		m.rows.push_back(std::move(row));
 	}
@@ -214,6 +268,36 @@ Manifest parseManifest(const std::string& text, const std::string& path) {
 }
 
 Manifest loadManifest(const std::string& path) { return parseManifest(readTextFile(path), path); }
+
+void checkManifestModels(const Manifest& m) {
+	std::vector<std::string> errors;
+	std::map<std::string, std::vector<std::string>> regionsOf;  // model path ("" = default) → region names
+	for (const BatchRow& row : m.rows) {
+		auto comps = row.fields.find("components");
+		if (comps == row.fields.end()) continue;
+		std::string model;
+		for (std::size_t i = 0; i + 1 < row.args.size(); ++i)
+			if (row.args[i] == "--model") model = row.args[i + 1];
+		auto it = regionsOf.find(model);
+		if (it == regionsOf.end()) {
+			std::vector<std::string> names;
+			try {
+				for (const auto& r : loadRenderModel(model).regions) names.push_back(r.name);
+			} catch (const Error& e) {
+				errors.push_back(m.path + ":" + std::to_string(row.line) + ":model: " + e.what());
+			}
+			it = regionsOf.emplace(model, names).first;
+		}
+		if (it->second.empty()) continue;
+		std::string regionList;
+		for (const auto& n : it->second) regionList += (regionList.empty() ? "" : ", ") + n;
+		for (const auto& [region, level] : parseComponentLevels(comps->second))
+			if (std::find(it->second.begin(), it->second.end(), region) == it->second.end())
+				errors.push_back(m.path + ":" + std::to_string(row.line) + ":components: the model has no region '" + region.substr(0, 40) +
+				                 "' (regions: " + regionList + ")");
+	}
+	if (!errors.empty()) throw ManifestErrors(errors);
+}
 
 std::vector<std::string> blindIds(std::size_t rows, std::uint64_t seed) {
 	static const char* alphabet = "ABCDEFGHJKLMNPQRSTUVWXYZ23456789";  // no I, O, 0, 1
@@ -297,13 +381,33 @@ std::string csvField(const std::string& s) {
 }
 }  // namespace
 
+void assignSides(Manifest& m, std::uint64_t seed) {
+	// Balanced: the side-by-side rows in a seeded random order, the first half with the versus side left
+	// (an odd one out by a seeded coin), so each variant is on each side equally often.
+	std::vector<std::size_t> rows;
+	for (auto& r : m.rows) {
+		r.versusLeft = false;
+		if (r.sideBySide) rows.push_back(r.index);
+	}
+	std::uint64_t s = splitmix(seed ^ 0x51DE51DEull);
+	for (std::size_t i = rows.size(); i > 1; --i) {
+		s = splitmix(s);
+		std::swap(rows[i - 1], rows[std::size_t(s % i)]);
+	}
+	const std::size_t half = rows.size() / 2 + (rows.size() % 2 && (splitmix(s) >> 32) % 2);
+	for (std::size_t i = 0; i < half; ++i) m.rows[rows[i]].versusLeft = true;
+}
+
 std::string keyCsv(const Manifest& m, const std::vector<std::string>& ids, const std::vector<StimulusResult>& results) {
+	const bool sides = std::any_of(m.rows.begin(), m.rows.end(), [](const BatchRow& r) { return r.sideBySide; });
 	std::string s = "id,row,status,sha256,file";
+	if (sides) s += ",left,right";
 	for (const auto& c : m.columns) s += "," + csvField(c);
 	s += "\n";
 	for (const auto& r : m.rows) {
 		const StimulusResult& res = results[r.index];
 		s += ids[r.index] + "," + std::to_string(r.line) + "," + res.status + "," + res.sha256 + "," + csvField(res.file);
+		if (sides) s += !r.sideBySide ? "," : (r.versusLeft ? ",versus,row" : ",row,versus");
 		for (const auto& c : m.columns) {
 			auto it = r.fields.find(c);
 			s += "," + csvField(it == r.fields.end() ? std::string() : it->second);

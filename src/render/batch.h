@@ -19,7 +19,10 @@ namespace talkhead {
 //   text, transcript, audio, lang, voice, model, emotion (LABEL or LABEL:I), intensity, muted, fps, size,
 //   trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
 //   rate, pitch, crf, lead-in, tail, av-offset (ms); and free annotations: condition, and any column
-//   starting with "x-" (kept in the key).
+//   starting with "x-" (kept in the key). `versus:COLUMN` columns (model, emotion, intensity, trajectory,
+//   dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
+//   components; "default" = the option's default) make the row a side-by-side stimulus: the row as
+//   written on one side, with those columns replaced on the other.
 // A row with a transcript (or text + audio) is a `render`, one with text alone a `say`.
 struct BatchRow {
 	std::size_t index = 0;  // 0-based
@@ -28,6 +31,11 @@ struct BatchRow {
 	std::string command;                        // "say" or "render"
 	std::vector<std::string> args;              // the command's arguments, without -o
 	std::string emotion = "neutral";            // canonical
+	// Side-by-side (any `versus:COLUMN`): the other side's arguments (the row's with those columns
+	// replaced), and which side it is on (assignSides).
+	bool sideBySide = false;
+	std::vector<std::string> versusArgs;
+	bool versusLeft = false;
 };
 
 struct Manifest {
@@ -46,6 +54,9 @@ struct ManifestErrors : Error {
 // resolve against the manifest's folder), rows without text or transcript. Throws ManifestErrors.
 Manifest parseManifest(const std::string& text, const std::string& path);
 Manifest loadManifest(const std::string& path);
+// What needs the models: every `components` region exists in its row's model (each model's render parts
+// loaded once). Throws ManifestErrors.
+void checkManifestModels(const Manifest& m);
 
 // Blind IDs: "S" + 6 base-32 characters per row, from the seed and the row's position only (never from
 // its conditions), all distinct.
@@ -59,7 +70,12 @@ std::vector<std::string> blindIds(std::size_t rows, std::uint64_t seed);
 std::vector<std::vector<std::size_t>> presentationOrders(std::size_t n, std::size_t participants, std::uint64_t seed,
                                                          const std::vector<std::string>* noRepeat = nullptr, std::string* warning = nullptr);
 
-// key.csv: id, row, status, sha256, file, then every manifest column (RFC 4180 quoting).
+// The side of each side-by-side row's `versus` variant, from the seed and the rows' positions only,
+// balanced: the versus variant is on the left in half of the side-by-side rows (± 1), chosen at random.
+void assignSides(Manifest& m, std::uint64_t seed);
+
+// key.csv: id, row, status, sha256, file, (left, right: "row" or "versus", when the manifest has
+// side-by-side rows), then every manifest column (RFC 4180 quoting).
 struct StimulusResult {
 	std::string status;  // ok (complete, now or before), failed, not-in-shard
 	std::string sha256, file, message;

@@ -33,8 +33,10 @@ struct Performance {
 void addLeadInAndTail(Performance& p, Ticks leadIn, Ticks tail);
 
 // The sidecar of a stimulus (JSON): frame rate, frames, duration, lead-in, tail, audio-visual offset, the
-// speech's onset and offset, every phone (start, end, phone, CDV) and keypose (time, CDV, emotion), times
-// in seconds of the video. `phones` are the transcript's (before the lead-in).
-std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& phones, Ticks leadIn, Ticks tail, Ticks avOffset);
+// speech's onset and offset, every word (start, end, word; when the words are known), phone (start, end,
+// phone, CDV) and keypose (time, CDV, emotion), times in seconds of the video. `phones` and `words` are
+// the transcript's (before the lead-in); pauses among the words (empty, "sil", "sp", "_") are left out.
+std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& phones, Ticks leadIn, Ticks tail, Ticks avOffset,
+                         const std::vector<Interval>& words = {});
 
 }  // namespace talkhead

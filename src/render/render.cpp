@@ -18,6 +18,7 @@
 #include "base/json.h"
 #include "base/parallel.h"
 #include "base/progress.h"
+#include "base/text.h"
 #include "model/model_file.h"
 #include "render/overlay.h"
 
@@ -66,16 +67,16 @@ private:
 std::unique_ptr<RenderProgress> makeTerminalProgress() { return std::make_unique<TerminalProgress>(); }
 std::unique_ptr<RenderProgress> makeJsonProgress(std::FILE* out) { return std::make_unique<JsonProgress>(out); }
 
-FaceModel loadRenderModel(const std::string& path) {
+FaceModel loadRenderModel(const std::string& path, const ComponentLevels& levels) {
 	std::string modelPath = path;
 	if (modelPath.empty()) {
 		auto d = findDefaultModel();
 		if (!d) throw Error("no default face model found; build it with scripts/demo (target default_model) or give --model");
 		modelPath = *d;
 	}
-	FaceModel model = loadModel(modelPath, ModelParts::Render);
+	FaceModel model = loadModel(modelPath, ModelParts::Render, levels);
 	for (const auto& r : model.regions)
-		if (!r.hasAppearanceCache()) return loadModel(modelPath);  // no appearance cache: the keyposes need the bases
+		if (!r.hasAppearanceCache()) return loadModel(modelPath, ModelParts::All, levels);  // no appearance cache: the keyposes need the bases
 	return model;
 }
 
@@ -367,7 +368,8 @@ void addLeadInAndTail(Performance& p, Ticks leadIn, Ticks tail) {
 	p.duration += leadIn + tail;
 }
 
-std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& phones, Ticks leadIn, Ticks tail, Ticks avOffset) {
+std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& phones, Ticks leadIn, Ticks tail, Ticks avOffset,
+                         const std::vector<Interval>& words) {
 	auto sec = [](Ticks t) {
 		char b[32];
 		std::snprintf(b, sizeof b, "%.6f", toSeconds(t));
@@ -382,7 +384,15 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 	std::string s = "{\n  \"fps\": " + jsonQuote(p.rate.str()) + ",\n  \"frames\": " + std::to_string(p.frameCount()) + ",\n  \"duration\": " + sec(p.duration) +
 	                ",\n  \"lead_in\": " + sec(leadIn) + ",\n  \"tail\": " + sec(tail) + ",\n  \"av_offset\": " + sec(avOffset) + ",\n  \"speech_onset\": " +
 	                (onset < Ticks(0) ? std::string("null") : sec(onset + leadIn)) + ",\n  \"speech_offset\": " + (onset < Ticks(0) ? std::string("null") : sec(offset + leadIn)) +
-	                ",\n  \"emotion\": " + jsonQuote(p.emotion) + ",\n  \"phones\": [";
+	                ",\n  \"emotion\": " + jsonQuote(p.emotion) + ",\n  \"words\": [";
+	bool first = true;
+	for (const auto& w : words) {
+		const std::string l = toLower(w.label);
+		if (l.empty() || l == "sil" || l == "sp" || l == "_" || l == "<p:>" || l == "#") continue;
+		s += std::string(first ? "\n" : ",\n") + "    {\"start\": " + sec(w.start + leadIn) + ", \"end\": " + sec(w.end + leadIn) + ", \"word\": " + jsonQuote(w.label) + "}";
+		first = false;
+	}
+	s += std::string(first ? "" : "\n  ") + "],\n  \"phones\": [";
 	for (std::size_t i = 0; i < phones.size(); ++i)
 		s += std::string(i ? ",\n" : "\n") + "    {\"start\": " + sec(phones[i].start + leadIn) + ", \"end\": " + sec(phones[i].end + leadIn) +
 		     ", \"phone\": " + jsonQuote(phones[i].phone) + ", \"cdv\": " + jsonQuote(phones[i].cdv) + "}";

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "model/face_model.h"
+#include "model/model_file.h"
 #include "render/frame_sink.h"
 #include "render/performance.h"
 #include "synth/synthesizer.h"
@@ -66,8 +67,9 @@ std::unique_ptr<RenderProgress> makeTerminalProgress();
 std::unique_ptr<RenderProgress> makeJsonProgress(std::FILE* out);
 
 // The face model for rendering: `path`, or the default face when empty (throws Error when none is found).
-// Loads only what rendering needs when the model has an appearance cache.
-FaceModel loadRenderModel(const std::string& path);
+// Loads only what rendering needs when the model has an appearance cache. `levels`: components kept per
+// region (the thesis's Appendix C reductions; model/model_file.h).
+FaceModel loadRenderModel(const std::string& path, const ComponentLevels& levels = {});
 
 // Renders every frame of the performance and hands it to the sinks: keyposes made batch by batch as the
 // timeline needs them (the first batch is small, so a stream starts after a frame or two), frames drawn in

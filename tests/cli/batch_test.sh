@@ -34,7 +34,9 @@ test "$(ls "$T/a"/*.mp4 | wc -l)" = 3
 # Fix the failing row's transcript: the rerun renders it and skips the three complete ones.
 printf '0.0\t0.3\tp\n0.3\t0.6\ta\n' >"$T/bad.tsv"
 "$TH" batch "$T/m.csv" -o "$T/a" --seed 5 2>"$T/rerun.log"
-test "$(grep -c ') already complete' "$T/rerun.log")" = 3
+test "$(grep -c '"status": "complete"' "$T/rerun.log")" = 3
+test "$(grep -c '"status": "rendered"' "$T/rerun.log")" = 1
+grep -q '{"type": "summary", "stimuli": 4, "in_shard": 4, "rendered": 1, "complete": 3, "failed": 0' "$T/rerun.log"
 test "$(grep -c ',ok,' "$T/a/key.csv")" = 4
 # Same seed, another folder: byte-identical key and orders (and so the same checksums); another seed: other IDs.
 "$TH" batch "$T/m.csv" -o "$T/b" --seed 5 -q

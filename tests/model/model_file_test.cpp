@@ -160,3 +160,75 @@ TEST(ModelFile, renderLoadSkipsTheBasesButVerifiesWhatItReads) {
 	EXPECT_NO_THROW(loadModel(dir + "/b.thm", ModelParts::Render));
 	EXPECT_NE(errorOf(dir + "/b.thm").find("checksum mismatch in record 'basis'"), std::string::npos);
 }
+
+TEST(ModelFile, componentLevelsParse) {
+	const ComponentLevels l = parseComponentLevels("face=20,cheeks_lips=90%,lips=all");
+	ASSERT_EQ(l.size(), 3u);
+	EXPECT_EQ(l.at("face").count, 20);
+	EXPECT_DOUBLE_EQ(l.at("cheeks_lips").evr, 0.9);
+	EXPECT_DOUBLE_EQ(l.at("lips").evr, 1.0);
+	EXPECT_TRUE(parseComponentLevels("all").empty());
+	for (const char* bad : {"", "face", "face=", "=3", "face=0", "face=-2", "face=2x", "face=120%", "face=0%", "face=3,face=4", "face=3,,lips=2", "face= 3"})
+		EXPECT_THROW(parseComponentLevels(bad), Error) << bad;
+}
+
+TEST(ModelFile, renderLoadReducesComponents) {
+	SKIP_WITHOUT_IMM();
+	const FaceModel& m = test::immModel(6);
+	std::string dir = test::tempDir("reduced"), path = dir + "/m.thm";
+	saveModel(m, path);
+	const std::string region = m.regions.back().name;
+	const Eigen::Index l = m.regions.back().pca.components();
+	ASSERT_GE(l, 3);
+	const std::size_t q3 = std::size_t(m.regions.back().appearanceSize());
+	// Every component: the build's cache, byte for byte.
+	FaceModel all = loadModel(path, ModelParts::Render, {{region, {0, 1.0}}});
+	for (std::size_t i = 0; i < m.sampleCount(); ++i) EXPECT_EQ(all.regions.back().cachedAppearance(i), m.regions.back().cachedAppearance(i));
+	// k components: ā + σ ∘ (D_a α) over the first k, rounded; only k basis columns read into memory; the
+	// other regions untouched. Fewer components, further from the full appearance.
+	double lastError = -1;
+	for (Eigen::Index k = l; k >= 1; k -= std::max<Eigen::Index>(1, l / 3)) {
+		FaceModel r = loadModel(path, ModelParts::Render, {{region, {long(k), 0}}});
+		const Eigen::VectorXf want = synthesizeAppearances(m.regions.back(), m.regions.back().pca.trainingCoefficients.row(2).head(k).transpose());
+		const Eigen::VectorXf got = r.regions.back().cachedAppearance(2);
+		ASSERT_EQ(std::size_t(got.size()), q3);
+		EXPECT_LE((got - want.array().round().max(0.f).min(255.f).matrix()).cwiseAbs().maxCoeff(), 1.f) << k;
+		EXPECT_EQ(r.regions.front().cachedAppearance(2), m.regions.front().cachedAppearance(2));
+		double error = 0;
+		for (std::size_t i = 0; i < m.sampleCount(); ++i) error += (r.regions.back().cachedAppearance(i) - m.regions.back().cachedAppearance(i)).squaredNorm();
+		EXPECT_GE(error, lastError) << k;
+		lastError = error;
+	}
+	EXPECT_GT(lastError, 0);
+	// An EVR level picks the model's count for it.
+	FaceModel e = loadModel(path, ModelParts::Render, {{region, {0, 0.8}}});
+	const Eigen::Index k80 = m.regions.back().pca.componentsFor(0.8);
+	FaceModel c = loadModel(path, ModelParts::Render, {{region, {long(k80), 0}}});
+	EXPECT_EQ(e.regions.back().cachedAppearance(1), c.regions.back().cachedAppearance(1));
+	// Errors name the model: an unknown region, more components than kept.
+	try {
+		loadModel(path, ModelParts::Render, {{"nose", {3, 0}}});
+		ADD_FAILURE() << "unknown region accepted";
+	} catch (const Error& x) {
+		EXPECT_NE(std::string(x.what()).find(path + ": --components names region 'nose'"), std::string::npos) << x.what();
+	}
+	EXPECT_THROW(loadModel(path, ModelParts::Render, {{region, {long(l) + 1, 0}}}), Error);
+	// The basis record is still verified though only its first columns are kept: a flipped byte in its
+	// last column is caught.
+	std::vector<char> bad = readAll(path);
+	const std::string needle = std::string("\0\0\0", 3) + "basis";
+	std::size_t at = 0;
+	for (std::size_t g = 0; g < m.regions.size(); ++g)
+		at = std::size_t(std::search(bad.begin() + std::ptrdiff_t(at) + 1, bad.end(), needle.begin(), needle.end()) - bad.begin());
+	const std::size_t dataStart = at + needle.size() + 4 + 8;
+	const std::size_t n = std::size_t(m.regions.back().pca.basis.rows());
+	bad[dataStart + (std::size_t(l) * n - 1) * 4] ^= 0x10;
+	writeAll(dir + "/d.thm", bad);
+	EXPECT_NO_THROW(loadModel(dir + "/d.thm", ModelParts::Render));
+	try {
+		loadModel(dir + "/d.thm", ModelParts::Render, {{region, {1, 0}}});
+		ADD_FAILURE() << "damaged basis accepted";
+	} catch (const Error& x) {
+		EXPECT_NE(std::string(x.what()).find("checksum mismatch in record 'basis'"), std::string::npos) << x.what();
+	}
+}
