@@ -290,7 +290,7 @@ int runBatch(const std::vector<std::string>& argv) {
 	if (progressMode == "json")
 		std::fprintf(stderr, "{\"type\": \"summary\", \"stimuli\": %zu, \"in_shard\": %zu, \"rendered\": %zu, \"complete\": %zu, \"failed\": %zu, \"seconds\": %.3f}\n", n,
 		             inShard, ok, skipped, failed, elapsed());
-	else if (!quiet) {
+	if (progressMode != "none") {
 		// The summary table: counts per outcome, then every failed row.
 		std::fprintf(stderr, "batch: %zu stimuli%s in %.1f s; key.csv and %zu orders in %s\n", n,
 		             shards > 1 ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str() : "", elapsed(), orders.size(), out->c_str());
