@@ -97,18 +97,20 @@ void renderSideBySide(const BatchRow& row, const std::string& path, const std::s
 			releaseTemporary(dir);
 		}
 	} cleanup{dir};
-	const std::string own = dir + "/row.y4m", other = dir + "/versus.y4m", wav = dir + "/row.wav";
-	for (const auto& f : {own, other, wav}) registerTemporary(f);
+	const std::string own = dir + "/row.y4m", other = dir + "/versus.y4m", wav = dir + "/row.wav", json = dir + "/row.json";
+	for (const auto& f : {own, other, wav, json}) registerTemporary(f);
 	struct Release {
 		std::vector<std::string> files;
 		~Release() {
 			for (const auto& f : files) releaseTemporary(f);
 		}
-	} release{{own, other, wav}};
-	const bool muted = std::find(row.args.begin(), row.args.end(), "--no-audio") != row.args.end();
+	} release{{own, other, wav, json}};
+	// A sound track: speech from text (say), or a render's audio, unless muted.
+	const bool muted = std::find(row.args.begin(), row.args.end(), "--no-audio") != row.args.end() ||
+	                   (row.command == "render" && std::find(row.args.begin(), row.args.end(), "--audio") == row.args.end());
 	std::vector<std::string> a{row.command};
 	a.insert(a.end(), row.args.begin(), row.args.end());
-	a.insert(a.end(), {"--format", "y4m", "-o", own, "-q", "--threads", threads, "--timeline-out", timeline});
+	a.insert(a.end(), {"--format", "y4m", "-o", own, "-q", "--threads", threads, "--timeline-out", json});
 	if (!muted) a.insert(a.end(), {"--audio-out", wav});
 	run(a);
 	std::vector<std::string> b{row.command};
@@ -119,6 +121,8 @@ void renderSideBySide(const BatchRow& row, const std::string& path, const std::s
 	SideBySideOptions o;
 	if (auto crf = row.fields.find("crf"); crf != row.fields.end()) o.mp4.crf = std::stoi(crf->second);
 	writeSideBySide(row.versusLeft ? other : own, row.versusLeft ? own : other, muted ? "" : wav, path, o);
+	fs::rename(json, timeline, ec);  // the sidecar once the stimulus is complete (same folder: atomic)
+	if (ec) throw Error(timeline, 0, "cannot write: " + ec.message());
 }
 
 }  // namespace

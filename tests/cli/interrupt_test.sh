@@ -41,6 +41,25 @@ os.execvp(sys.argv[1], sys.argv[1:])' "$@" --json-progress 2>"$dir.err" &
 stop INT 130 "$T/a" -- "$TH" render --transcript "$T/long.tsv" -o "$T/a/out.mp4" --landmarks-out "$T/a/points.tsv"
 stop TERM 143 "$T/b" -- "$TH" render --transcript "$T/long.tsv" --format y4m -o "$T/b/out.y4m"
 stop HUP 129 "$T/c" -- "$TH" say "$(printf 'Bom dia, vamos ver o resultado amanhã. %.0s' {1..12})" -o "$T/c/out.mp4" --save-audio "$T/c/speech.wav"
+# batch: a side-by-side row (two children, a folder of y4m sides) stopped mid-render: the child stops too
+# and no file is left (the output folder itself may stay, empty).
+mkdir -p "$T/d"
+printf 'transcript,versus:trajectory,size\n%s,linear,320x180\n' "$T/long.tsv" >"$T/d.csv"
+/usr/bin/python3 -c 'import os, signal, sys
+for s in (signal.SIGINT, signal.SIGHUP): signal.signal(s, signal.SIG_DFL)
+os.execvp(sys.argv[1], sys.argv[1:])' "$TH" batch "$T/d.csv" -o "$T/d/out" 2>"$T/d.err" &
+pid=$!; i=0
+until [ -n "$(find "$T/d/out" -name '.tmp-*' -type d 2>/dev/null)" ] && [ -n "$(find "$T/d/out" -name '.tmp-*.y4m' 2>/dev/null)" ]; do
+	sleep 0.05; i=$((i + 1)); [ $i -lt 600 ] || { echo "batch: no side being rendered within 30 s"; kill -9 $pid; exit 1; }
+done
+sleep 0.3
+kill -s INT $pid
+rc=0; wait $pid || rc=$?
+[ "$rc" = 130 ] || { echo "batch: exit $rc, expected 130"; cat "$T/d.err"; exit 1; }
+sleep 0.2
+left=$(find "$T/d" -mindepth 1 ! -type d)
+[ -z "$left" ] && [ -z "$(find "$T/d/out" -mindepth 1 2>/dev/null)" ] || { echo "batch: left behind: $left $(find "$T/d/out" -mindepth 1)"; exit 1; }
+pgrep -f "$T/d/out" >/dev/null && { echo "batch: a child is still running"; exit 1; }
 # An ignored SIGINT (a background job) stays ignored: the render goes on and completes.
 "$TH" render --transcript "$T/long.tsv" --size 320x180 -o "$T/ignored.mp4" --json-progress 2>"$T/ignored.err" &
 pid=$!; i=0
