@@ -178,9 +178,8 @@ std::string chUnicampCsvRow(const SynthItem& it, const Points& p) {
 void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, ProgressSink& progress) {
 	if (o.width < 64 || o.height < 64 || o.width > 7680 || o.height > 4320)
 		throw Error("absurd corpus image size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " (64x64 to 7680x4320)");
-	std::error_code ec;
-	fs::create_directories(dir, ec);
-	if (ec) throw Error(dir, 0, "cannot create folder: " + ec.message());
+	// All or nothing: a staged folder that replaces `dir` (new, empty, or a corpus written before) at the end.
+	StagedFolder staged(dir, [](const std::string& n) { return n == "corpus.csv" || (n.size() > 4 && n.compare(n.size() - 4, 4, ".png") == 0); });
 	std::vector<SynthItem> items = synthCorpusItems(o);
 	// D50: with neutral, one more image: the neutral face at rest with its eyes shut, an unlabelled row that
 	// the CSV names with "# closed-eyes:" (blinks take the closed lid's skin from it).
@@ -192,7 +191,7 @@ void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, Progr
 	std::mutex m;
 	parallelFor(items.size(), o.threads, [&](std::size_t i) {
 		SynthFace face = renderer.render(items[i].articulation, items[i].actionUnits, items[i].pose);
-		writeImage((fs::path(dir) / items[i].fileName).string(), face.image, o.pngCompression);
+		staged.writeFile(items[i].fileName, [&](const std::string& p) { writeImage(p, face.image, o.pngCompression); });
 		rows[i] = chUnicampCsvRow(items[i], face.points);
 		std::size_t d = ++done;
 		std::lock_guard<std::mutex> lock(m);
@@ -200,7 +199,8 @@ void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, Progr
 	});
 	std::string csv = closedEyes ? "# closed-eyes: neutral_closed.png\n" : "";
 	for (const auto& r : rows) csv += r + '\n';
-	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), csv);
+	staged.writeFile("corpus.csv", [&](const std::string& p) { writeFileAtomically(p, csv); });
+	staged.commit();
 }
 
 }  // namespace talkhead

@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "base/interrupt.h"
 
+#include <fcntl.h>
+#include <sys/syscall.h>
 #include <unistd.h>
+
+#include <cstdint>
 
 #include <atomic>
 #include <csignal>
@@ -21,8 +25,38 @@ constexpr int kSlots = 512;
 constexpr std::size_t kPathMax = 4096;
 struct Slot {
 	std::atomic<int> state{0};
+	bool tree = false;  // a folder whose files are removed too
 	char path[kPathMax];
 };
+
+// Removes the files of a flat folder with raw system calls only (async-signal-safe: no opendir, whose
+// malloc could deadlock in a handler).
+void emptyFolder(const char* path) {
+	const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+	if (fd < 0) return;
+	alignas(8) char buf[8192];
+	for (int round = 0; round < 100000; ++round) {
+		::lseek(fd, 0, SEEK_SET);
+		const long n = ::syscall(SYS_getdents64, fd, buf, sizeof buf);
+		if (n <= 0) break;
+		bool removed = false;
+		for (long at = 0; at < n;) {
+			struct Entry {
+				std::uint64_t ino;
+				std::int64_t off;
+				unsigned short reclen;
+				unsigned char type;
+				char name[1];
+			};
+			const Entry* e = reinterpret_cast<const Entry*>(buf + at);
+			at += e->reclen;
+			if (e->name[0] == '.' && (e->name[1] == 0 || (e->name[1] == '.' && e->name[2] == 0))) continue;
+			if (::unlinkat(fd, e->name, 0) == 0 || ::unlinkat(fd, e->name, AT_REMOVEDIR) == 0) removed = true;
+		}
+		if (!removed) break;
+	}
+	::close(fd);
+}
 Slot slots[kSlots];
 std::atomic<pid_t> child{0};
 
@@ -36,7 +70,10 @@ void onSignal(int sig) {
 	}
 	// Files first, then folders (emptied by then), whatever order they were registered in.
 	for (Slot& s : slots)
-		if (s.state.load(std::memory_order_acquire) == 2) ::unlink(s.path);  // async-signal-safe
+		if (s.state.load(std::memory_order_acquire) == 2) {
+			if (s.tree) emptyFolder(s.path);
+			else ::unlink(s.path);  // async-signal-safe
+		}
 	for (Slot& s : slots)
 		if (s.state.load(std::memory_order_acquire) == 2) ::rmdir(s.path);
 	static const char message[] = "talkhead: interrupted\n";
@@ -60,13 +97,19 @@ void installInterruptHandlers() {
 	}
 }
 
+void registerSlot(const std::string& path, bool tree);
+
 void setInterruptChild(int pid) { child.store(pid, std::memory_order_release); }
 
-void registerTemporary(const std::string& path) {
+void registerTemporary(const std::string& path) { registerSlot(path, false); }
+void registerTemporaryFolder(const std::string& path) { registerSlot(path, true); }
+
+void registerSlot(const std::string& path, bool tree) {
 	if (path.size() >= kPathMax) return;
 	for (Slot& s : slots) {
 		int expected = 0;
 		if (s.state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
+			s.tree = tree;
 			std::memcpy(s.path, path.c_str(), path.size() + 1);
 			s.state.store(2, std::memory_order_release);
 			return;

@@ -15,6 +15,9 @@ void installInterruptHandlers();
 // Registers a temporary path (a file or an empty-after-use folder); released once renamed or removed.
 void registerTemporary(const std::string& path);
 void releaseTemporary(const std::string& path);
+// A temporary folder whose contents (files, empty subfolders) are removed on a signal too; released
+// with releaseTemporary.
+void registerTemporaryFolder(const std::string& path);
 // A child process working for this one (0: none): a signal is passed on to it before this process exits.
 void setInterruptChild(int pid);
 

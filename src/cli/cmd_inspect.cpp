@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "base/data_dirs.h"
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/parallel.h"
 #include "cli/args.h"
@@ -139,14 +140,12 @@ int runInspect(const std::vector<std::string>& argv) {
 	if (!args.has("--quiet")) printSummary(model, path);
 	if (auto dir = args.get("--output")) {
 		namespace fs = std::filesystem;
-		std::error_code ec;
-		fs::create_directories(*dir, ec);
-		if (ec) throw Error(*dir, 0, "cannot create folder: " + ec.message());
+		// All or nothing: the pictures go to a staged folder that replaces DIR once all are written.
+		StagedFolder staged(*dir, [](const std::string& n) { return n.size() > 4 && n.compare(n.size() - 4, 4, ".png") == 0; });
 		std::vector<std::string> written;
 		auto write = [&](const std::string& name, const Image8& img) {
-			std::string p = (fs::path(*dir) / name).string();
-			writeImage(p, img);
-			written.push_back(p);
+			staged.writeFile(name, [&](const std::string& p) { writeImage(p, img); });
+			written.push_back((fs::path(*dir) / name).string());
 		};
 		write("baseface_mesh.png", drawBasefaceMesh(model));
 		for (std::size_t r = 0; r < model.regions.size(); ++r) write("modes_" + model.regions[r].name + ".png", drawRegionModes(model, int(r)));
@@ -159,6 +158,7 @@ int runInspect(const std::vector<std::string>& argv) {
 					      if (v.label == *c) cdv = v.ascii;
 			      return (s.emotion == "-" ? std::string() : s.emotion + " ") + cdv;
 		      }));
+		staged.commit();
 		for (const auto& w : written) std::printf("wrote %s\n", w.c_str());
 	}
 	if (auto corpus = args.get("--recon")) return reconstruct(model, *corpus, args);

@@ -122,8 +122,7 @@ int runRender(const std::vector<std::string>& argv) {
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).
 	if (!tr.tier.empty() && !cmd.quiet) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", transcriptPath->c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	sound = applyStimulusTiming(cmd, perf, std::move(sound));
-	runVideoCommand(cmd, perf, std::move(sound), t0);
-	writeTimeline(cmd, perf, phones, words);
+	runVideoCommand(cmd, perf, std::move(sound), t0, "", timelineOutput(cmd, perf, phones, words));
 	return 0;
 }
 

@@ -174,11 +174,14 @@ int runSay(const std::vector<std::string>& argv) {
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
 	const std::vector<Keypose> keys = perf.keys;  // the speech's own times, for --save-transcript
 	auto sound = applyStimulusTiming(cmd, perf, clipSource(audio));
-	runVideoCommand(cmd, perf, std::move(sound), t0, prefix);
-	// The speech and its timeline only once the video is complete: a failed render leaves nothing behind.
-	if (saveAudio) writeWav(*saveAudio, audio);
-	if (saveTranscript) writeFileAtomically(*saveTranscript, formatVisemes(phones, keys, "textgrid", lang.tag(), "espeak-ng"));
-	writeTimeline(cmd, perf, phones, speech.words.intervals);
+	// The speech, its timeline and the sidecar appear only with the video (a failed render leaves none).
+	std::vector<SideOutput> side = timelineOutput(cmd, perf, phones, speech.words.intervals);
+	if (saveAudio) side.push_back({*saveAudio, [&audio](const std::string& p) { writeWav(p, audio); }});
+	if (saveTranscript) {
+		std::string tg = formatVisemes(phones, keys, "textgrid", lang.tag(), "espeak-ng");
+		side.push_back({*saveTranscript, [tg](const std::string& p) { writeFileAtomically(p, tg); }});
+	}
+	runVideoCommand(cmd, perf, std::move(sound), t0, prefix, std::move(side));
 	return 0;
 }
 

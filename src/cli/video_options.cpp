@@ -230,7 +230,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 }
 
 void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::unique_ptr<AudioSource> audio, std::chrono::steady_clock::time_point started,
-                     const std::string& timingPrefix) {
+                     const std::string& timingPrefix, std::vector<SideOutput> side) {
 	using Clock = std::chrono::steady_clock;
 	const auto tLoad = Clock::now();
 	const FaceModel model = loadRenderModel(cmd.modelPath, cmd.components);
@@ -245,6 +245,13 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 		for (std::size_t n; (n = audio->read(block.data(), 4096)) > 0;)
 			track.samples.insert(track.samples.end(), block.begin(), block.begin() + std::ptrdiff_t(n * std::size_t(track.channels)));
 		audio = clipSource(track);
+		side.push_back({*cmd.audioOut, [&track](const std::string& p) { writeWav(p, track); }});
+	}
+	// The side outputs written now (a full disk fails before the render), put in place after it.
+	std::vector<std::unique_ptr<StagedFile>> staged;
+	for (const auto& s : side) {
+		staged.push_back(std::make_unique<StagedFile>(s.path));
+		staged.back()->write(s.write);
 	}
 	const bool withAudio = audio && !cmd.noAudio;
 	std::vector<std::unique_ptr<FrameSink>> owned;
@@ -257,7 +264,7 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	CliProgress progress(cmd);
 	const double beforeRender = std::chrono::duration<double>(Clock::now() - started).count();
 	const RenderStats st = renderPerformance(model, perf, cmd.render, sinks, &progress);
-	if (cmd.audioOut) writeWav(*cmd.audioOut, track);
+	for (auto& s : staged) s->commit();
 	if (cmd.timing)
 		std::fprintf(stderr,
 		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s CPU); "
@@ -278,8 +285,11 @@ std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Perfor
 	return shiftedSource(std::move(audio), cmd.leadIn + cmd.avOffset, perf.duration);
 }
 
-void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones, const std::vector<Interval>& words) {
-	if (cmd.timelineOut) writeFileAtomically(*cmd.timelineOut, timelineJson(perf, phones, cmd.leadIn, cmd.tail, cmd.avOffset, words));
+std::vector<SideOutput> timelineOutput(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones,
+                                       const std::vector<Interval>& words) {
+	if (!cmd.timelineOut) return {};
+	std::string json = timelineJson(perf, phones, cmd.leadIn, cmd.tail, cmd.avOffset, words);
+	return {{*cmd.timelineOut, [json = std::move(json)](const std::string& p) { writeFileAtomically(p, json); }}};
 }
 
 }  // namespace talkhead::cli

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,8 +45,15 @@ struct VideoCommand {
 // the lead-in, the video longer by lead-in + tail, the audio (when there is one) shifted by lead-in +
 // offset inside silence.
 std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio);
-// --timeline-out: the sidecar JSON (render/performance.h timelineJson), after the video is complete.
-void writeTimeline(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones, const std::vector<Interval>& words = {});
+// A file written with the video (speech, sidecar): written to a temporary name before the render and
+// put in place only once the video is complete, so a failed or interrupted command leaves none of them.
+struct SideOutput {
+	std::string path;
+	std::function<void(const std::string& temporaryPath)> write;
+};
+// --timeline-out: the sidecar JSON (render/performance.h timelineJson), or nothing.
+std::vector<SideOutput> timelineOutput(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones,
+                                       const std::vector<Interval>& words = {});
 
 // The language of --lang (default `defaultTag`), for the commands that take it: its viseme table; with
 // --generic-visemes, a language without a table maps IPA through phonetics/generic, with one warning line
@@ -66,7 +74,8 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 // --timing, the stages; `timingPrefix` names the stages before rendering, e.g. "speech 0.020 s; ").
 // `started`: when the command began, for the first-frame time.
 // `audio` (optional) becomes the MP4's sound track, pulled as the video advances.
+// `side`: files written with the video (SideOutput); --audio-out is one too.
 void runVideoCommand(const VideoCommand& cmd, const Performance& performance, std::unique_ptr<AudioSource> audio, std::chrono::steady_clock::time_point started,
-                     const std::string& timingPrefix = "");
+                     const std::string& timingPrefix = "", std::vector<SideOutput> side = {});
 
 }  // namespace talkhead::cli

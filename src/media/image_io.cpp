@@ -34,21 +34,11 @@ Image8 readImage(const std::string& path) {
 }
 
 void writeImage(const std::string& path, const Image8& image, int pngCompression) {
-	const ImageIoModule& m = module();
-	fs::path target(path);
-	fs::path tmp = temporaryNameFor(path);
-	// The format comes from the real name; the temporary is renamed into place when complete.
+	// Encoded in memory (the format from the name), then written with checked I/O through a temporary name.
+	thread_local std::vector<unsigned char> bytes;  // reused: frames are written by the drawing threads
 	std::string error;
-	if (!m.writeImage(tmp.string(), target.filename().string(), image, pngCompression, error)) {
-		std::remove(tmp.string().c_str());
-		releaseTemporary(tmp.string());
-		throw Error(path, 0, error);
-	}
-	std::error_code ec;
-	fs::rename(tmp, target, ec);
-	if (ec) std::remove(tmp.string().c_str());
-	releaseTemporary(tmp.string());
-	if (ec) throw Error(path, 0, "cannot write image: " + ec.message());
+	if (!module().encodeImage(fs::path(path).filename().string(), image, pngCompression, bytes, error)) throw Error(path, 0, error);
+	writeFileAtomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace talkhead

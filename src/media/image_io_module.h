@@ -5,20 +5,22 @@
 // written. Commands that touch no image file (render to MP4, say) never load it. Built from the same
 // tree with the same compiler, so C++ types cross the boundary; errors come back as strings.
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 
 namespace talkhead {
 
-constexpr int kImageIoModuleAbi = 1;
+constexpr int kImageIoModuleAbi = 2;  // 2: encodeImage (to memory) instead of writeImage
 
 struct ImageIoModule {
 	int abi;  // kImageIoModuleAbi
 	// Each returns false and sets `error` (the message without the path) on failure; never throws.
 	bool (*imageSize)(const std::string& path, int& width, int& height, std::string& error);
 	bool (*readImage)(const std::string& path, Image8& out, std::string& error);
-	// Writes `path` in the format that `formatName`'s extension names.
-	bool (*writeImage)(const std::string& path, const std::string& formatName, const Image8& image, int pngCompression, std::string& error);
+	// Encodes the image in memory in the format that `formatName`'s extension names (the caller writes the
+	// bytes with checked I/O: libpng's failed writes to a full disk went unreported through OIIO's files).
+	bool (*encodeImage)(const std::string& formatName, const Image8& image, int pngCompression, std::vector<unsigned char>& out, std::string& error);
 };
 
 }  // namespace talkhead

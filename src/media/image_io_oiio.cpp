@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The OpenImageIO plugin (libtalkhead-oiio.so): see image_io_module.h.
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -76,15 +77,21 @@ bool readImageImpl(const std::string& path, Image8& out, std::string& error) try
 	return false;
 }
 
-bool writeImageImpl(const std::string& path, const std::string& formatName, const Image8& image, int pngCompression, std::string& error) try {
-	auto out = OIIO::ImageOutput::create(formatName);
+bool encodeImageImpl(const std::string& formatName, const Image8& image, int pngCompression, std::vector<unsigned char>& bytes, std::string& error) try {
+	bytes.clear();
+	OIIO::Filesystem::IOVecOutput proxy(bytes);
+	auto out = OIIO::ImageOutput::create(formatName, &proxy);
 	if (!out) {
 		error = "cannot write images of this type: " + oiioError("unknown extension");
 		return false;
 	}
+	if (!out->supports("ioproxy")) {
+		error = "cannot write images of this type (its writer cannot write to memory); use .png";
+		return false;
+	}
 	OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
 	if (pngCompression >= 0) spec.attribute("png:compressionLevel", std::min(9, pngCompression));
-	if (!out->open(path, spec)) {
+	if (!out->open(formatName, spec)) {
 		error = "cannot write image: " + oiioError(out->geterror());
 		return false;
 	}
@@ -97,7 +104,7 @@ bool writeImageImpl(const std::string& path, const std::string& formatName, cons
 	return false;
 }
 
-const ImageIoModule kModule{kImageIoModuleAbi, imageSizeImpl, readImageImpl, writeImageImpl};
+const ImageIoModule kModule{kImageIoModuleAbi, imageSizeImpl, readImageImpl, encodeImageImpl};
 }  // namespace
 
 }  // namespace talkhead

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "media/video_writer.h"
 
+#include <cerrno>
+#include <cstring>
+
 
 #include <algorithm>
 #include <cstring>
@@ -61,8 +64,15 @@ void Mp4Writer::finish() {
 	if (!impl_->av->finishMp4(impl_->encoder, error)) throw Error(error);
 }
 
-Y4mWriter::Y4mWriter(std::FILE* out, const VideoOptions& o) : out_(out), o_(o) {
-	std::fprintf(out_, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 C420jpeg XCOLORRANGE=LIMITED\n", o.width, o.height, o.rate.num, o.rate.den);
+Y4mWriter::Y4mWriter(std::FILE* out, const VideoOptions& o, std::string name) : out_(out), o_(o), name_(std::move(name)) {
+	if (std::fprintf(out_, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 C420jpeg XCOLORRANGE=LIMITED\n", o.width, o.height, o.rate.num, o.rate.den) < 0) fail();
+}
+
+void Y4mWriter::fail() const {
+	const int e = errno;
+	if (name_ == "-")
+		throw Error(e == EPIPE ? "standard output: the reader closed the pipe; y4m stream stopped" : std::string("standard output: cannot write the y4m stream: ") + std::strerror(e));
+	throw Error(name_, 0, std::string("cannot write: ") + std::strerror(e));
 }
 
 void Y4mWriter::write(const Image8& img) {
@@ -72,11 +82,10 @@ void Y4mWriter::write(const Image8& img) {
 
 void Y4mWriter::write(const YuvImage& f) {
 	if (f.width != o_.width || f.height != o_.height) throw std::logic_error("Y4mWriter: frame size differs");
-	std::fputs("FRAME\n", out_);
-	if (std::fwrite(f.y.data(), 1, f.y.size(), out_) != f.y.size() || std::fwrite(f.u.data(), 1, f.u.size(), out_) != f.u.size() ||
-	    std::fwrite(f.v.data(), 1, f.v.size(), out_) != f.v.size())
-		throw Error("-", 0, "cannot write the y4m stream (closed pipe?)");
-	std::fflush(out_);
+	errno = 0;
+	if (std::fputs("FRAME\n", out_) < 0 || std::fwrite(f.y.data(), 1, f.y.size(), out_) != f.y.size() ||
+	    std::fwrite(f.u.data(), 1, f.u.size(), out_) != f.u.size() || std::fwrite(f.v.data(), 1, f.v.size(), out_) != f.v.size() || std::fflush(out_) != 0)
+		fail();
 }
 
 }  // namespace talkhead

@@ -46,14 +46,17 @@ private:
 // range, declared with XCOLORRANGE=LIMITED), e.g. to standard output for `| ffplay -`.
 class Y4mWriter {
 public:
-	Y4mWriter(std::FILE* out, const VideoOptions& options);
+	// `name`: the file's name for messages ("-" = standard output).
+	Y4mWriter(std::FILE* out, const VideoOptions& options, std::string name = "-");
 	void write(const Image8& frame);
 	void write(const YuvImage& frame);  // limited range (YuvRange::Limited)
 
 private:
 	std::FILE* out_;
 	VideoOptions o_;
+	std::string name_;
 	YuvImage yuv_;
+	[[noreturn]] void fail() const;  // throws Error naming the file and errno's reason
 };
 
 }  // namespace talkhead

@@ -2,6 +2,7 @@
 #include "model/model_file.h"
 
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -90,7 +91,10 @@ class Writer {
 public:
 	Writer(std::FILE* f) : f_(f) {}
 	void raw(const void* p, std::size_t n) {
-		if (n && std::fwrite(p, 1, n, f_) != n) ok_ = false;
+		if (n && std::fwrite(p, 1, n, f_) != n && ok_) {
+			ok_ = false;
+			errno_ = errno;
+		}
 		sum_.update(p, n);
 		record_.update(p, n);
 		size_ += n;
@@ -150,6 +154,7 @@ public:
 		endRecord();
 	}
 	bool ok() const { return ok_; }
+	int error() const { return errno_; }  // errno of the first failed write
 	std::uint64_t size() const { return size_; }
 	std::uint64_t checksum() const { return sum_.finish(); }
 
@@ -158,6 +163,7 @@ private:
 	Checksum64 sum_, record_;
 	std::uint64_t size_ = 0;
 	bool ok_ = true;
+	int errno_ = 0;
 };
 
 // Reads records from the payload, hashing as it goes. Sizes are checked against the bytes left before
@@ -452,14 +458,20 @@ void saveModel(const FaceModel& model, const std::string& path) {
 	Writer w(f);
 	writeRecords(w, model);
 	const std::uint64_t size = w.size(), sum = w.checksum();
+	int err = w.ok() ? 0 : w.error();
 	ok = ok && w.ok() && std::fseek(f, 16, SEEK_SET) == 0 && std::fwrite(&size, 8, 1, f) == 1 && std::fwrite(&sum, 8, 1, f) == 1;
-	ok = (std::fclose(f) == 0) && ok;
+	if (!ok && !err) err = errno;
+	errno = 0;
+	if (std::fclose(f) != 0) {
+		if (ok || !err) err = errno;
+		ok = false;
+	}
 	std::error_code ec;
 	if (ok) fs::rename(tmp, target, ec);
 	if (!ok || ec) std::remove(tmp.c_str());
 	releaseTemporary(tmp.string());
 	if (!ok || ec) {
-		throw Error(path, 0, "cannot write model" + (ec ? ": " + ec.message() : std::string(" (disk full?)")));
+		throw Error(path, 0, "cannot write model: " + (ec ? ec.message() : std::string(std::strerror(err ? err : EIO))));
 	}
 }
 
@@ -732,6 +744,11 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const Compon
 		if (cacheCount != 0 && cacheCount != samples * q3) r.fail("region '" + rm.name + "' appearance cache has the wrong size");
 		auto sums = r.u64("appearanceChecksums");
 		if (sums.size() != (cacheCount ? samples : 0)) r.fail("region '" + rm.name + "' appearance checksums have the wrong size");
+		// A full load verifies every sample against its own checksum too, as a render does for the samples it
+		// reads: both loads agree on what is damaged.
+		for (std::size_t i = 0; bases && i < sums.size(); ++i)
+			if (checksum64(&rm.sampleAppearances[i * q3], q3) != sums[i])
+				r.fail("checksum mismatch in the cached appearance of sample " + std::to_string(i) + " (region " + rm.name + ")");
 		if (!bases && cacheCount) {
 			if (!fd) {
 				const int raw = ::open(r.path().c_str(), O_RDONLY | O_CLOEXEC);

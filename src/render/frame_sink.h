@@ -61,8 +61,10 @@ std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Setting
 std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, std::unique_ptr<AudioSource> audio);
 // YUV4MPEG2 to a file (temporary name, renamed on commit) or, for "-", to standard output as frames come.
 std::unique_ptr<FrameSink> makeY4mSink(const std::string& path);
-// Every frame as DIR/frame_NNNNNN.png (RGB), compressed on the drawing threads. The folder is created;
-// on failure the frames written so far are removed.
+// Every frame as DIR/frame_NNNNNN.png (RGB), compressed on the drawing threads. All or nothing: written
+// into a temporary folder beside DIR that replaces it when the render completes (DIR may be new, empty or
+// a previous run's frames; anything else in it is an Error before any work). A failed or interrupted
+// render leaves DIR as it was.
 std::unique_ptr<FrameSink> makePngFramesSink(const std::string& dir);
 // Feature points per frame: TSV `frame  time  <point>_x  <point>_y …` (time in seconds, 6 decimals;
 // points in output pixels, 3 decimals), temporary name renamed on commit.

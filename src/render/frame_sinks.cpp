@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The frame sinks: MP4, y4m, PNG frames, landmarks TSV and a callback. File outputs go to temporary names
 // and appear under their own names only on commit; errors name the output, never its temporary.
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -88,11 +91,11 @@ public:
 		vo.width = info.width, vo.height = info.height, vo.rate = info.rate;
 		if (out_) {
 			file_ = std::fopen(out_->temp.c_str(), "wb");
-			if (!file_) throw Error(out_->path, 0, "cannot write");
+			if (!file_) throw Error(out_->path, 0, std::string("cannot write: ") + std::strerror(errno));
 		} else {
 			file_ = stdout;
 		}
-		writer_ = std::make_unique<Y4mWriter>(file_, vo);
+		writer_ = std::make_unique<Y4mWriter>(file_, vo, out_ ? out_->path : "-");
 	}
 	void frame(const RenderedFrame& f) override { writer_->write(*f.yuv); }
 	void finish() override {
@@ -100,9 +103,10 @@ public:
 		if (file_ == stdout) {
 			std::fflush(stdout);
 		} else if (file_) {
+			errno = 0;
 			const bool bad = std::fclose(file_) != 0;
 			file_ = nullptr;
-			if (bad) throw Error(out_->path, 0, "cannot write");
+			if (bad) throw Error(out_->path, 0, std::string("cannot write: ") + std::strerror(errno));
 		}
 	}
 	void commit() override {
@@ -115,64 +119,70 @@ private:
 	std::unique_ptr<Y4mWriter> writer_;
 };
 
+bool isFrameFile(const std::string& name) {
+	return name.size() == 16 && name.compare(0, 6, "frame_") == 0 && name.compare(12, 4, ".png") == 0 &&
+	       std::all_of(name.begin() + 6, name.begin() + 12, [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// All-or-nothing: the frames go to a staged folder that replaces `dir` on commit (base/atomic_file.h).
 class PngFramesSink final : public FrameSink {
 public:
-	explicit PngFramesSink(std::string dir) : dir_(std::move(dir)) {}
-	~PngFramesSink() override {
-		if (committed_ || !created_) return;
-		std::error_code ec;  // a failed render leaves no frames behind
-		fs::remove_all(dir_, ec);
-	}
-	void begin(const StreamInfo&) override {
-		std::error_code ec;
-		created_ = !fs::exists(dir_, ec);
-		fs::create_directories(dir_, ec);
-		if (ec) throw Error(dir_, 0, "cannot create folder: " + ec.message());
-	}
+	explicit PngFramesSink(std::string dir) : dir_(std::move(dir)) { checkReplaceableFolder(dir_, isFrameFile); }
+	void begin(const StreamInfo&) override { staged_ = std::make_unique<StagedFolder>(dir_, isFrameFile); }
 	bool needsRgb() const override { return true; }
 	bool anyThread() const override { return true; }
 	void frame(const RenderedFrame& f) override {
 		char name[64];  // PNG compression is the slow part: done by the drawing threads
 		std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)f.index);
-		writeImage((fs::path(dir_) / name).string(), *f.rgb, 1);
+		staged_->writeFile(name, [&](const std::string& p) { writeImage(p, *f.rgb, 1); });
 	}
-	void commit() override { committed_ = true; }
+	void commit() override { staged_->commit(); }
 
 private:
 	std::string dir_;
-	bool created_ = false, committed_ = false;
+	std::unique_ptr<StagedFolder> staged_;
 };
 
 class LandmarksSink final : public FrameSink {
 public:
 	explicit LandmarksSink(const std::string& path) : out_(path) {}
+	~LandmarksSink() override {
+		if (file_) std::fclose(file_);
+	}
 	void begin(const StreamInfo& info) override {
-		file_.open(out_.temp);
-		if (!file_) throw Error(out_.path, 0, "cannot write");
-		file_ << "frame\ttime";
-		for (const auto& n : info.pointNames) file_ << '\t' << n << "_x\t" << n << "_y";
-		file_ << '\n';
+		file_ = std::fopen(out_.temp.c_str(), "wb");
+		if (!file_) fail();
+		std::string header = "frame\ttime";
+		for (const auto& n : info.pointNames) header += "\t" + n + "_x\t" + n + "_y";
+		header += '\n';
+		put(header.data(), header.size());
 	}
 	void frame(const RenderedFrame& f) override {
+		line_.clear();
 		char buf[64];
-		std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)f.index, toSeconds(f.time));
-		file_ << buf;
+		line_ += std::string(buf, std::size_t(std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)f.index, toSeconds(f.time))));
 		const Points& p = *f.points;
-		for (Eigen::Index i = 0; i < p.rows(); ++i) {
-			std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", p(i, 0), p(i, 1));
-			file_ << buf;
-		}
-		file_ << '\n';
+		for (Eigen::Index i = 0; i < p.rows(); ++i) line_.append(buf, std::size_t(std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", p(i, 0), p(i, 1))));
+		line_ += '\n';
+		put(line_.data(), line_.size());
 	}
 	void finish() override {
-		file_.close();
-		if (!file_) throw Error(out_.path, 0, "cannot write");
+		std::FILE* f = file_;
+		file_ = nullptr;
+		errno = 0;
+		if (std::fclose(f) != 0) fail();
 	}
 	void commit() override { out_.commit(); }
 
 private:
 	TempOutput out_;
-	std::ofstream file_;
+	std::FILE* file_ = nullptr;
+	std::string line_;
+	void put(const char* p, std::size_t n) {
+		errno = 0;
+		if (std::fwrite(p, 1, n, file_) != n) fail();
+	}
+	[[noreturn]] void fail() const { throw Error(out_.path, 0, std::string("cannot write: ") + std::strerror(errno ? errno : EIO)); }
 };
 
 class CallbackSink final : public FrameSink {

@@ -38,7 +38,7 @@ os.execvp(sys.argv[1], sys.argv[1:])' "$@" --json-progress 2>"$dir.err" &
 	local left; left=$(ls -A "$dir")
 	if [ -n "$left" ]; then echo "$sig: left behind in $dir: $left"; exit 1; fi
 }
-stop INT 130 "$T/a" -- "$TH" render --transcript "$T/long.tsv" -o "$T/a/out.mp4" --landmarks-out "$T/a/points.tsv"
+stop INT 130 "$T/a" -- "$TH" render --transcript "$T/long.tsv" -o "$T/a/out.mp4" --landmarks-out "$T/a/points.tsv" --frames "$T/a/frames"
 stop TERM 143 "$T/b" -- "$TH" render --transcript "$T/long.tsv" --format y4m -o "$T/b/out.y4m"
 stop HUP 129 "$T/c" -- "$TH" say "$(printf 'Bom dia, vamos ver o resultado amanhã. %.0s' {1..12})" -o "$T/c/out.mp4" --save-audio "$T/c/speech.wav"
 # batch: a side-by-side row (two children, a folder of y4m sides) stopped mid-render: the child stops too
@@ -60,6 +60,19 @@ sleep 0.2
 left=$(find "$T/d" -mindepth 1 ! -type d)
 [ -z "$left" ] && [ -z "$(find "$T/d/out" -mindepth 1 2>/dev/null)" ] || { echo "batch: left behind: $left $(find "$T/d/out" -mindepth 1)"; exit 1; }
 pgrep -f "$T/d/out" >/dev/null && { echo "batch: a child is still running"; exit 1; }
+# corpus synth: all or nothing (its staged folder goes, with the images already in it).
+/usr/bin/python3 -c 'import os, signal, sys
+for s in (signal.SIGINT, signal.SIGHUP): signal.signal(s, signal.SIG_DFL)
+os.execvp(sys.argv[1], sys.argv[1:])' "$TH" corpus synth -o "$T/e/corpus" --size 512x512 2>"$T/e.err" &
+pid=$!; i=0
+mkdir -p "$T/e"
+until [ "$(find "$T/e" -name '*.png' 2>/dev/null | head -3 | wc -l)" -ge 3 ]; do
+	sleep 0.05; i=$((i + 1)); [ $i -lt 600 ] || { echo "corpus synth: no image within 30 s"; kill -9 $pid; exit 1; }
+done
+kill -s TERM $pid
+rc=0; wait $pid || rc=$?
+[ "$rc" = 143 ] || { echo "corpus synth: exit $rc, expected 143"; cat "$T/e.err"; exit 1; }
+[ -z "$(ls -A "$T/e")" ] || { echo "corpus synth: left behind: $(ls -A "$T/e")"; exit 1; }
 # An ignored SIGINT (a background job) stays ignored: the render goes on and completes.
 "$TH" render --transcript "$T/long.tsv" --size 320x180 -o "$T/ignored.mp4" --json-progress 2>"$T/ignored.err" &
 pid=$!; i=0
