@@ -1,8 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+// JSON through nlohmann/json (Debian nlohmann-json3-dev, header-only): its SAX parser builds JsonValue
+// directly, so member order and repeated names are kept (readers report them) and no intermediate DOM is
+// made; its errors become "path:line: malformed JSON: column C: …".
 #include "base/json.h"
 
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 
 #include "base/error.h"
 #include "base/text.h"
@@ -17,156 +22,121 @@ const JsonValue* JsonValue::find(const std::string& key) const {
 
 namespace {
 
-class Parser {
+constexpr std::size_t kMaxDepth = 64;
+
+class Builder : public nlohmann::json_sax<nlohmann::json> {
 public:
-	Parser(const std::string& t, const std::string& path, long line) : t_(t), path_(path), line_(line) {}
-	JsonValue document() {
-		JsonValue v = value(0);
-		skip();
-		if (i_ != t_.size()) fail("unexpected text after the JSON value");
-		return v;
+	JsonValue root;
+	std::string error;        // set when parsing stopped
+	std::size_t errorAt = 0;  // byte offset (1-based, nlohmann's) of the error, 0 = unknown
+
+	bool null() override { return put(JsonValue{}); }
+	bool boolean(bool b) override {
+		JsonValue v;
+		v.kind = JsonValue::Kind::Bool;
+		v.boolean = b;
+		return put(std::move(v));
+	}
+	bool number_integer(number_integer_t n) override { return number(double(n)); }
+	bool number_unsigned(number_unsigned_t n) override { return number(double(n)); }
+	bool number_float(number_float_t n, const string_t&) override { return number(double(n)); }
+	bool string(string_t& s) override {
+		JsonValue v;
+		v.kind = JsonValue::Kind::String;
+		v.string = std::move(s);
+		return put(std::move(v));
+	}
+	bool binary(binary_t&) override { return put(JsonValue{}); }  // not produced by the text parser
+	bool start_object(std::size_t) override { return open(JsonValue::Kind::Object); }
+	bool key(string_t& k) override {
+		key_ = std::move(k);
+		return true;
+	}
+	bool end_object() override {
+		stack_.pop_back();
+		return true;
+	}
+	bool start_array(std::size_t) override { return open(JsonValue::Kind::Array); }
+	bool end_array() override {
+		stack_.pop_back();
+		return true;
+	}
+	bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) override {
+		errorAt = position;
+		// "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error …" → "syntax error …"
+		std::string m = e.what();
+		if (auto colon = m.find(": "); m.rfind("[json.exception.", 0) == 0 && colon != std::string::npos) {
+			const auto at = m.find("column ");
+			const auto second = at == std::string::npos ? std::string::npos : m.find(": ", at);
+			m = m.substr(second != std::string::npos ? second + 2 : colon + 2);
+		}
+		error = m;
+		return false;
 	}
 
 private:
-	[[noreturn]] void fail(const std::string& what) const { throw Error(path_, line_, "malformed JSON: " + what); }
-	void skip() {
-		while (i_ < t_.size() && (t_[i_] == ' ' || t_[i_] == '\t' || t_[i_] == '\n' || t_[i_] == '\r')) {
-			if (t_[i_] == '\n') ++line_;
-			++i_;
-		}
-	}
-	bool eat(char c) {
-		skip();
-		if (i_ < t_.size() && t_[i_] == c) {
-			++i_;
-			return true;
-		}
-		return false;
-	}
-	JsonValue value(int depth) {
-		if (depth > 64) fail("nested too deeply");
-		skip();
-		if (i_ >= t_.size()) fail("unexpected end");
+	std::vector<JsonValue*> stack_;
+	std::string key_;
+	bool number(double d) {
 		JsonValue v;
-		const char c = t_[i_];
-		if (c == '{') {
-			++i_;
-			v.kind = JsonValue::Kind::Object;
-			if (eat('}')) return v;
-			do {
-				skip();
-				if (i_ >= t_.size() || t_[i_] != '"') fail("expected a member name");
-				std::string key = string();
-				if (!eat(':')) fail("expected ':'");
-				v.object.emplace_back(std::move(key), value(depth + 1));
-			} while (eat(','));
-			if (!eat('}')) fail("expected ',' or '}'");
-		} else if (c == '[') {
-			++i_;
-			v.kind = JsonValue::Kind::Array;
-			if (eat(']')) return v;
-			do v.array.push_back(value(depth + 1));
-			while (eat(','));
-			if (!eat(']')) fail("expected ',' or ']'");
-		} else if (c == '"') {
-			v.kind = JsonValue::Kind::String;
-			v.string = string();
-		} else if (t_.compare(i_, 4, "true") == 0) {
-			v.kind = JsonValue::Kind::Bool;
-			v.boolean = true;
-			i_ += 4;
-		} else if (t_.compare(i_, 5, "false") == 0) {
-			v.kind = JsonValue::Kind::Bool;
-			i_ += 5;
-		} else if (t_.compare(i_, 4, "null") == 0) {
-			i_ += 4;
-		} else if (c == '-' || (c >= '0' && c <= '9')) {
-			const char* start = t_.c_str() + i_;
-			char* end = nullptr;
-			v.number = std::strtod(start, &end);
-			if (end == start) fail("bad number");
-			v.kind = JsonValue::Kind::Number;
-			i_ += std::size_t(end - start);
-		} else {
-			fail(std::string("unexpected character '") + c + "'");
-		}
-		return v;
+		v.kind = JsonValue::Kind::Number;
+		v.number = d;
+		return put(std::move(v));
 	}
-	unsigned hex4() {
-		if (i_ + 4 > t_.size()) fail("bad \\u escape");
-		unsigned v = 0;
-		for (int k = 0; k < 4; ++k) {
-			char h = t_[i_++];
-			v <<= 4;
-			if (h >= '0' && h <= '9') v |= unsigned(h - '0');
-			else if (h >= 'a' && h <= 'f') v |= unsigned(h - 'a' + 10);
-			else if (h >= 'A' && h <= 'F') v |= unsigned(h - 'A' + 10);
-			else fail("bad \\u escape");
+	// Places a value: the root, an array element or an object member; returns where it went.
+	JsonValue* place(JsonValue&& v) {
+		if (stack_.empty()) {
+			root = std::move(v);
+			return &root;
 		}
-		return v;
-	}
-	std::string string() {
-		++i_;  // opening quote
-		std::string out;
-		while (i_ < t_.size() && t_[i_] != '"') {
-			char c = t_[i_++];
-			if (c == '\n') fail("newline in a string");
-			if (c != '\\') {
-				out += c;
-				continue;
-			}
-			if (i_ >= t_.size()) break;
-			char e = t_[i_++];
-			switch (e) {
-				case '"': out += '"'; break;
-				case '\\': out += '\\'; break;
-				case '/': out += '/'; break;
-				case 'b': out += '\b'; break;
-				case 'f': out += '\f'; break;
-				case 'n': out += '\n'; break;
-				case 'r': out += '\r'; break;
-				case 't': out += '\t'; break;
-				case 'u': {
-					unsigned cp = hex4();
-					if (cp >= 0xD800 && cp < 0xDC00 && t_.compare(i_, 2, "\\u") == 0) {
-						i_ += 2;
-						unsigned lo = hex4();
-						cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
-					}
-					appendUtf8(cp, out);
-					break;
-				}
-				default: fail("bad escape");
-			}
+		JsonValue& top = *stack_.back();
+		if (top.kind == JsonValue::Kind::Array) {
+			top.array.push_back(std::move(v));
+			return &top.array.back();
 		}
-		if (i_ >= t_.size()) fail("unterminated string");
-		++i_;
-		return out;
+		top.object.emplace_back(std::move(key_), std::move(v));
+		return &top.object.back().second;
 	}
-	const std::string& t_;
-	const std::string& path_;
-	long line_;
-	std::size_t i_ = 0;
+	bool put(JsonValue&& v) {
+		place(std::move(v));
+		return true;
+	}
+	bool open(JsonValue::Kind kind) {
+		if (stack_.size() >= kMaxDepth) {
+			error = "nested too deeply (more than " + std::to_string(kMaxDepth) + " levels)";
+			return false;
+		}
+		JsonValue v;
+		v.kind = kind;
+		stack_.push_back(place(std::move(v)));  // children are added through the pointer: parents never move
+		return true;
+	}
 };
 
 }  // namespace
 
-JsonValue parseJson(const std::string& text, const std::string& path, long line) { return Parser(text, path, line).document(); }
+JsonValue parseJson(const std::string& text, const std::string& path, long line) {
+	Builder b;
+	bool ok = false;
+	try {
+		ok = nlohmann::json::sax_parse(text, &b, nlohmann::json::input_format_t::json, true, false);
+	} catch (const std::exception& e) {  // sax_parse reports through parse_error; anything else is a bug of the input too
+		b.error = e.what();
+	}
+	if (ok) return std::move(b.root);
+	// Line and column of the error, counted from the text's first line (JSON lines: `line`).
+	const std::size_t at = std::min(b.errorAt > 0 ? b.errorAt - 1 : text.size(), text.size());
+	const long lines = long(std::count(text.begin(), text.begin() + std::ptrdiff_t(at), '\n'));
+	const std::size_t lineStart = text.rfind('\n', at == 0 ? 0 : at - 1);
+	const std::size_t column = at - (lineStart == std::string::npos || at == 0 ? 0 : lineStart + 1) + 1;
+	std::string what = b.error.empty() ? "malformed" : b.error;
+	if (what.size() > 160) what = safeQuote(what, 160);
+	throw Error(path, line + lines, "malformed JSON: " + (b.errorAt > 0 ? "column " + std::to_string(column) + ": " : std::string()) + what);
+}
 
 std::string jsonQuote(const std::string& s) {
-	std::string o = "\"";
-	for (unsigned char c : s) {
-		if (c == '"') o += "\\\"";
-		else if (c == '\\') o += "\\\\";
-		else if (c == '\n') o += "\\n";
-		else if (c == '\t') o += "\\t";
-		else if (c < 0x20) {
-			char buf[8];
-			std::snprintf(buf, sizeof buf, "\\u%04x", c);
-			o += buf;
-		} else o += char(c);
-	}
-	return o + "\"";
+	// Invalid UTF-8 is replaced (U+FFFD) rather than written as bytes no JSON reader accepts.
+	return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace talkhead

@@ -48,7 +48,7 @@ int runAlign(const std::vector<std::string>& argv) {
 	const std::string grid = alignmentTextGrid(al, al.phones.intervals.empty() ? Ticks(0) : al.phones.intervals.back().end);
 	if (*output == "-") std::fwrite(grid.data(), 1, grid.size(), stdout);
 	else writeFileAtomically(*output, grid);
-	for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s: %s\n", input.c_str(), w.c_str());
+	for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(input + ": " + w).c_str());
 	if (!args.has("--quiet")) std::fprintf(stderr, "%s: %s\n", input.c_str(), alignmentSummary(al).c_str());
 	return 0;
 }

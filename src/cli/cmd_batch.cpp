@@ -186,7 +186,7 @@ int runBatch(const std::vector<std::string>& argv) {
 		m = loadManifest(args.positionals()[0]);
 		checkManifestModels(m);
 	} catch (const ManifestErrors& e) {
-		for (const auto& msg : e.messages) std::fprintf(stderr, "talkhead: error: %s\n", msg.c_str());
+		for (const auto& msg : e.messages) std::fprintf(stderr, "talkhead: error: %s\n", safeLine(msg).c_str());
 		return 1;
 	}
 	const std::size_t n = m.rows.size();
@@ -271,7 +271,7 @@ int runBatch(const std::vector<std::string>& argv) {
 			++failed;
 			failures.emplace_back(row.line, e.what());
 			bar.finish();
-			std::fprintf(stderr, "talkhead: error: %s:%ld: %s\n", m.path.c_str(), row.line, e.what());
+			std::fprintf(stderr, "talkhead: error: %s\n", safeLine(m.path + ":" + std::to_string(row.line) + ": " + e.what()).c_str());
 			report(row, "failed", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), e.what());
 		}
 		// After every stimulus, so a batch stopped half-way resumes from where it was.

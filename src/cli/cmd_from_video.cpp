@@ -92,7 +92,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 			AlignOptions ao;
 			ao.languageTag = lang.tag();
 			Alignment a = alignSpeechFile(audio, text, ao);
-			for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", w.c_str());
+			for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
 			if (!quiet) std::fprintf(stderr, "aligned the text to %s (confidence %.2f)\n", audio.c_str(), a.confidence);
 			phoneTranscript = a.phones;
 			words = a.words.intervals;

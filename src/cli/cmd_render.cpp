@@ -76,7 +76,7 @@ int runRender(const std::vector<std::string>& argv) {
 		} catch (const Error& e) {
 			throw Error(*args.get("--audio"), 0, e.what());
 		}
-		for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s: %s\n", args.get("--audio")->c_str(), w.c_str());
+		for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*args.get("--audio") + ": " + w).c_str());
 		if (!cmd.quiet) std::fprintf(stderr, "aligned: %s\n", alignmentSummary(al).c_str());
 		tr = al.phones;
 		words = al.words.intervals;

@@ -117,7 +117,7 @@ int runSay(const std::vector<std::string>& argv) {
 	std::vector<Ticks> eventTimes;
 	const auto tSpeech = std::chrono::steady_clock::now();
 	Speech speech = ssml ? espeakSpeakSsml(*ssml, voice, eventTimes, rate, pitch) : espeakSpeak(text, voice, rate, pitch);
-	for (const auto& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", w.c_str());
+	for (const auto& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
 	const double speechSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tSpeech).count();
 	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone (said
 	// once on stderr: the tables are meant to know every name their voice uses).

@@ -10,6 +10,7 @@
 
 #include "base/error.h"
 #include "base/interrupt.h"
+#include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 
@@ -72,21 +73,15 @@ int main(int argc, char** argv) {
 		if (command == "batch") return cli::runBatch(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", e.what(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "batch" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "batch" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");
 		return 1;
 	} catch (const std::exception& e) {
-		// One line, whatever the message quotes (a label read from a file may hold a newline), and no other
-		// control characters (a NUL byte of a binary or misread file shows as \0).
-		std::string message;
-		for (char c : describeException(e)) {
-			if (c == '\n' || c == '\r' || c == '\t') message += ' ';
-			else if (c == '\0') message += "\\0";
-			else if ((unsigned char)c < 0x20 || c == 0x7F) message += '?';
-			else message += c;
-		}
+		// One line, valid UTF-8 and bounded, whatever the message quotes (a label with a newline, raw bytes,
+		// a 200 KB line): base/text.h safeLine.
+		const std::string message = safeLine(describeException(e));
 		std::fprintf(stderr, "talkhead: error: %s\n", message.c_str());
 		return 1;
 	}

@@ -142,15 +142,7 @@ std::size_t editDistance(const std::vector<std::string>& a, const std::vector<st
 }
 
 // A label as an error message quotes it: one line, at most 40 characters (whole code points).
-std::string quotedLabel(const std::string& label) {
-	std::string out;
-	std::size_t n = 0;
-	for (const auto& c : codePointsOf(std::string(trim(label)))) {
-		if (++n > 40) return out + "…";
-		out += (c == "\n" || c == "\r" || c == "\t") ? std::string(" ") : c;
-	}
-	return out;
-}
+std::string quotedLabel(const std::string& label) { return safeQuote(trim(label), 80); }
 
 std::string dataDirFor(const std::string& tag) {
 	if (auto p = findDataFile("phonetics/" + tag + "/inventory.tsv")) return std::filesystem::path(*p).parent_path().string();

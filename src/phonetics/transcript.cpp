@@ -28,46 +28,6 @@ namespace {
 constexpr std::int64_t kTicksPerMs = kTicksPerSecond / 1000;
 constexpr std::int64_t kTicksPerGridUnit = kTicksPerSecond / 25000;  // 1/1000 of a 25 fps frame = 40 µs
 
-// UTF-16 (with a BOM, or without one: see below) → UTF-8; UTF-8 BOM stripped; anything else unchanged.
-std::string toUtf8(const std::string& in) {
-	if (in.size() >= 3 && (unsigned char)in[0] == 0xEF && (unsigned char)in[1] == 0xBB && (unsigned char)in[2] == 0xBF) return in.substr(3);
-	if (in.size() < 2) return in;
-	const unsigned char b0 = in[0], b1 = in[1];
-	bool le = b0 == 0xFF && b1 == 0xFE, be = b0 == 0xFE && b1 == 0xFF;
-	std::size_t first = 2;
-	if (!le && !be) {
-		// No BOM: UTF-16 when, in the first 512 bytes, most code units have a NUL high byte (ASCII text:
-		// TextGrid headers, times) and the other byte is (almost) never NUL; LE has the NUL second, BE first.
-		const std::size_t n = std::min<std::size_t>(in.size(), 512) & ~std::size_t(1), units = n / 2;
-		std::size_t nulFirst = 0, nulSecond = 0;
-		for (std::size_t i = 0; i < n; i += 2) {
-			nulFirst += in[i] == '\0';
-			nulSecond += in[i + 1] == '\0';
-		}
-		le = units >= 2 && nulSecond * 10 >= units * 6 && nulFirst * 20 <= units;
-		be = units >= 2 && nulFirst * 10 >= units * 6 && nulSecond * 20 <= units;
-		if (!le && !be) return in;
-		first = 0;
-	}
-	std::string out;
-	auto unit = [&](std::size_t i) -> unsigned {
-		const unsigned char a = in[i], b = in[i + 1];
-		return le ? unsigned(a | (b << 8)) : unsigned((a << 8) | b);
-	};
-	for (std::size_t i = first; i + 1 < in.size(); i += 2) {
-		unsigned cp = unit(i);
-		if (cp >= 0xD800 && cp < 0xDC00 && i + 3 < in.size()) {
-			unsigned lo = unit(i + 2);
-			if (lo >= 0xDC00 && lo < 0xE000) {
-				cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
-				i += 2;
-			}
-		}
-		appendUtf8(cp, out);
-	}
-	return out;
-}
-
 struct Line {
 	long no;
 	std::string text;  // trimmed, CR removed
@@ -170,13 +130,8 @@ std::vector<Token> textGridTokens(const std::string& t, const std::string& path)
 	return out;
 }
 
-// A token as quoted in an error message: one line, at most 40 characters.
-std::string shown(const std::string& s) {
-	std::string o;
-	for (char c : s) o += (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
-	if (o.size() > 40) o = o.substr(0, 40) + "…";
-	return o;
-}
+// A token as quoted in an error message (base/text.h quoted).
+std::string shown(const std::string& s) { return safeQuote(s, 40); }
 
 class TokenReader {
 public:
@@ -286,7 +241,7 @@ TierLook lookAt(const std::vector<Interval>& intervals, const ReadOptions& o) {
 }  // namespace
 
 std::vector<TextGridTier> readTextGridTiers(const std::string& bytes, const std::string& path) {
-	const std::string text = toUtf8(bytes);
+	const std::string text = decodeText(bytes);
 	TokenReader r(textGridTokens(text, path), path);
 	if (r.next(Token::String, "\"ooTextFile\"").text != "ooTextFile") throw Error(path, 1, "not a Praat text file (expected File type = \"ooTextFile\")");
 	if (r.next(Token::String, "\"TextGrid\"").text != "TextGrid") throw Error(path, 2, "not a TextGrid (Object class is not \"TextGrid\")");
@@ -739,7 +694,7 @@ bool isPauseLabel(std::string_view label) {
 }
 
 std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
-	const std::string text = toUtf8(raw);
+	const std::string text = decodeText(raw);
 	std::string_view t = trim(text);
 	if (t.empty()) return std::nullopt;
 	if (t.find("ooTextFile") != std::string_view::npos && t.find("TextGrid") != std::string_view::npos) return "textgrid";
@@ -807,7 +762,7 @@ std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 }
 
 Transcript parseTranscript(const std::string& bytes, const std::string& path, const ReadOptions& o) {
-	const std::string text = toUtf8(bytes);
+	const std::string text = decodeText(bytes);
 	if (trim(text).empty()) throw Error(path, 0, "empty transcript");
 	if (const auto z = text.find('\0'); z != std::string::npos)
 		throw Error(path, 0, "NUL bytes (the first at byte " + std::to_string(z) + "): not a text transcript (UTF-8 and UTF-16 are read)");

@@ -26,27 +26,8 @@ std::string formatNumber(double v) {
 	return b;
 }
 
-// Input quoted in a message: control bytes escaped, at most 40 bytes, never cut inside a UTF-8 character.
-std::string shown(const std::string& s) {
-	std::string o;
-	std::size_t i = 0;
-	for (; i < s.size() && o.size() < 40; ++i) {
-		const unsigned char c = static_cast<unsigned char>(s[i]);
-		if (c < 0x20 || c == 0x7f) {
-			char b[8];
-			std::snprintf(b, sizeof b, "\\x%02x", c);
-			o += b;
-		} else {
-			o += char(c);
-		}
-	}
-	if (i < s.size()) {
-		while (!o.empty() && (static_cast<unsigned char>(o.back()) & 0xC0) == 0x80) o.pop_back();  // continuation bytes
-		if (!o.empty() && static_cast<unsigned char>(o.back()) >= 0xC0) o.pop_back();             // a lead byte left alone
-		o += "…";
-	}
-	return o;
-}
+// Input quoted in a message (base/text.h quoted).
+std::string shown(const std::string& s) { return safeQuote(s, 40); }
 
 struct EventReader {
 	const JsonValue& v;

@@ -51,7 +51,7 @@ TEST(Controls, eventsAreReadAndBadOnesNamed) {
 	          "c.json: event 2: unknown emotion 'gl");
 	EXPECT_EQ(failure(R"([{"type": "nod", "time": -1}])"), "c.json: event 1: \"time\" -1 is outside 0–86400");
 	EXPECT_EQ(failure(R"([{"type": "blink", "time": 1, "colour": 3}])"), "c.json: event 1: unknown field \"colour\" for a \"blink\" event");
-	EXPECT_EQ(failure("{\"events\": [\n{\"type\": \"blink\", \"time\": 1,}]}"), "c.json:2: malformed JSON: expected a member name");
+	EXPECT_EQ(failure("{\"events\": [\n{\"type\": \"blink\", \"time\": 1,}]}"), "c.json:2: malformed JSON: column 29: syntax error while parsing object key - unexpected '}'; expected string literal");
 	// Past the end of the video: named when applied.
 	Performance p = fourSeconds();
 	try {
