@@ -29,12 +29,12 @@ struct Slot {
 	char path[kPathMax];
 };
 
-// Removes the files of a flat folder with raw system calls only (async-signal-safe: no opendir, whose
-// malloc could deadlock in a handler).
-void emptyFolder(const char* path) {
-	const int fd = ::open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+// Removes what a folder holds (files, and folders up to `depth` levels down) with raw system calls only
+// (async-signal-safe: no opendir, whose malloc could deadlock in a handler).
+void emptyFolderAt(int dirfd, const char* path, int depth) {
+	const int fd = ::openat(dirfd, path, O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
 	if (fd < 0) return;
-	alignas(8) char buf[8192];
+	alignas(8) char buf[4096];
 	for (int round = 0; round < 100000; ++round) {
 		::lseek(fd, 0, SEEK_SET);
 		const long n = ::syscall(SYS_getdents64, fd, buf, sizeof buf);
@@ -51,12 +51,19 @@ void emptyFolder(const char* path) {
 			const Entry* e = reinterpret_cast<const Entry*>(buf + at);
 			at += e->reclen;
 			if (e->name[0] == '.' && (e->name[1] == 0 || (e->name[1] == '.' && e->name[2] == 0))) continue;
-			if (::unlinkat(fd, e->name, 0) == 0 || ::unlinkat(fd, e->name, AT_REMOVEDIR) == 0) removed = true;
+			if (::unlinkat(fd, e->name, 0) == 0) {
+				removed = true;
+				continue;
+			}
+			if (depth > 0) emptyFolderAt(fd, e->name, depth - 1);
+			if (::unlinkat(fd, e->name, AT_REMOVEDIR) == 0) removed = true;
 		}
 		if (!removed) break;
 	}
 	::close(fd);
 }
+void emptyFolder(const char* path) { emptyFolderAt(AT_FDCWD, path, 3); }
+
 Slot slots[kSlots];
 std::atomic<pid_t> child{0};
 

@@ -13,7 +13,14 @@ namespace talkhead {
 using Ticks = std::chrono::duration<std::int64_t, std::ratio<1, 705600000>>;
 constexpr std::int64_t kTicksPerSecond = 705600000;
 
-inline Ticks ticksFromSeconds(double s) { return Ticks(std::llround(s * double(kTicksPerSecond))); }
+// Readers bound their times (a day for transcripts); this conversion itself never overflows: beyond
+// ±10⁹ s (±7·10¹⁷ ticks, well inside int64) it saturates, and NaN gives 0 — never undefined behaviour.
+constexpr double kMaxTickSeconds = 1e9;
+inline Ticks ticksFromSeconds(double s) {
+	if (!(s == s)) return Ticks(0);
+	s = s < -kMaxTickSeconds ? -kMaxTickSeconds : (s > kMaxTickSeconds ? kMaxTickSeconds : s);
+	return Ticks(std::llround(s * double(kTicksPerSecond)));
+}
 inline double toSeconds(Ticks t) { return double(t.count()) / double(kTicksPerSecond); }
 
 }  // namespace talkhead

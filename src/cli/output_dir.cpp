@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "base/error.h"
+#include "base/interrupt.h"
 #include "cli/args.h"
 
 namespace talkhead::cli {
@@ -19,9 +20,13 @@ OutputDir::OutputDir(const std::string& target) : target_(target) {
 	fs::path parent = t.parent_path().empty() ? fs::path(".") : t.parent_path();
 	std::error_code ec;
 	fs::create_directories(parent, ec);
-	staging_ = (parent / ("." + t.filename().string() + ".partial-" + std::to_string(::getpid()))).string();
+	staging_ = (parent / (".tmp-" + std::to_string(::getpid()) + "-" + t.filename().string())).string();
+	registerTemporaryFolder(staging_);  // emptied and removed on a signal (base/interrupt.h)
 	fs::remove_all(staging_, ec);
-	if (!fs::create_directories(staging_, ec) || ec) throw Error(target, 0, "cannot create the output folder (" + ec.message() + ")");
+	if (!fs::create_directories(staging_, ec) || ec) {
+		releaseTemporary(staging_);
+		throw Error(target, 0, "cannot create the output folder (" + ec.message() + ")");
+	}
 }
 
 OutputDir::~OutputDir() {
@@ -29,6 +34,7 @@ OutputDir::~OutputDir() {
 		std::error_code ec;
 		fs::remove_all(staging_, ec);
 	}
+	releaseTemporary(staging_);
 }
 
 std::string OutputDir::path(const std::string& name) const { return (fs::path(staging_) / name).string(); }

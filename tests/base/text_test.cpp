@@ -6,6 +6,9 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/text.h"
+#include "base/ticks.h"
+
+#include <cmath>
 
 using namespace talkhead;
 
@@ -103,4 +106,13 @@ TEST(Json, errorsNameLineAndColumn) {
 	EXPECT_NE(jsonError("\"\xff\"").find("x.json:1: malformed JSON: column 2:"), std::string::npos) << jsonError("\"\xff\"");
 	EXPECT_NE(jsonError("").find("x.json:1: malformed JSON"), std::string::npos);
 	EXPECT_NE(jsonError("1e999").find("malformed JSON"), std::string::npos) << jsonError("1e999");
+}
+
+TEST(Ticks, conversionSaturatesInsteadOfOverflowing) {
+	EXPECT_EQ(ticksFromSeconds(1.5).count(), 1058400000);
+	EXPECT_EQ(ticksFromSeconds(1e20), ticksFromSeconds(1e9));
+	EXPECT_EQ(ticksFromSeconds(-1e300), ticksFromSeconds(-1e9));
+	EXPECT_GT(ticksFromSeconds(1e20).count(), 0);
+	EXPECT_EQ(ticksFromSeconds(std::nan("")).count(), 0);
+	EXPECT_EQ(ticksFromSeconds(HUGE_VAL), ticksFromSeconds(1e9));
 }

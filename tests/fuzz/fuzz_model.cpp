@@ -89,6 +89,15 @@ void exercise(const std::string& path) {
 			for (std::size_t s = 0; s < m.sampleCount(); ++s) r.readCachedAppearance(s, buf.data());
 		}
 	});
+	// Render-time component reduction (issue 14): the first region's first component, and every one (EVR 1).
+	for (const ComponentLevel level : {ComponentLevel{1, 0}, ComponentLevel{0, 1.0}})
+		fuzz::expectOnlyErrors([&] {
+			const FaceModel head = loadModel(path, ModelParts::Render);
+			if (head.regions.empty()) return;
+			const FaceModel m = loadModel(path, ModelParts::Render, {{head.regions[0].name, level}});
+			std::vector<std::uint8_t> buf(std::size_t(m.regions[0].appearanceSize()));
+			for (std::size_t s = 0; s < m.sampleCount(); ++s) m.regions[0].readCachedAppearance(s, buf.data());
+		});
 }
 
 }  // namespace
