@@ -18,27 +18,26 @@ VideoReader::~VideoReader() {
 	if (handle_) avModule().closeVideo(handle_);
 }
 
-bool VideoReader::read(Image8& frame, Ticks& time, std::int64_t& index) {
+namespace {
+// One decoded frame through a plugin entry (RGB or YUV): false at the end, Error on failure.
+template <class Frame, class Entry>
+bool readWith(void* handle, Entry entry, Frame& frame, Ticks& time, std::int64_t& index, std::int64_t& next) {
 	std::string error;
 	double seconds = 0;
-	const int r = avModule().readVideo(handle_, frame, seconds, error);
+	const int r = entry(handle, frame, seconds, error);
 	if (r < 0) throw Error(error);
 	if (r == 0) return false;
 	time = ticksFromSeconds(seconds);
-	index = next_++;
+	index = next++;
 	return true;
 }
+}  // namespace
+
+bool VideoReader::read(Image8& frame, Ticks& time, std::int64_t& index) { return readWith(handle_, avModule().readVideo, frame, time, index, next_); }
 
 bool VideoReader::readYuv(YuvImage& frame, Ticks& time, std::int64_t& index) {
-	std::string error;
-	double seconds = 0;
 	frame.resize(info_.width, info_.height);
-	const int r = avModule().readVideoYuv(handle_, frame, seconds, error);
-	if (r < 0) throw Error(error);
-	if (r == 0) return false;
-	time = ticksFromSeconds(seconds);
-	index = next_++;
-	return true;
+	return readWith(handle_, avModule().readVideoYuv, frame, time, index, next_);
 }
 
 }  // namespace talkhead

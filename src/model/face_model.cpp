@@ -172,7 +172,7 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 				const float* src = a.col(Eigen::Index(k)).data();
 				for (std::size_t j = 0; j < q3; ++j) {
 					const float v = src[j] + 0.5f;
-					dst[j] = std::uint8_t(v <= 0.f ? 0.f : (v >= 255.f ? 255.f : v));
+					dst[j] = std::uint8_t(!(v > 0.f) ? 0.f : (v >= 255.f ? 255.f : v))  /* NaN (a damaged model) → 0 */;
 				}
 			}
 		}

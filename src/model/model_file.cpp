@@ -327,7 +327,7 @@ public:
 		const Eigen::VectorXf a = mean_ + sigma_.cwiseProduct(basis_.topLeftCorner(q3_, k_) * coefficients_.row(Eigen::Index(sample)).transpose());
 		for (Eigen::Index j = 0; j < a.size(); ++j) {
 			const float v = a(j) + 0.5f;
-			out[j] = std::uint8_t(v <= 0.f ? 0.f : (v >= 255.f ? 255.f : v));
+			out[j] = std::uint8_t(!(v > 0.f) ? 0.f : (v >= 255.f ? 255.f : v))  /* NaN (a damaged model) → 0 */;
 		}
 	}
 
