@@ -124,7 +124,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--audio-out", "F.wav", "also write the sound track exactly as muxed (lead-in, offset and tail applied), also with --no-audio or --format y4m"},
 	        {"--timeline-out", "F.json", "write the stimulus's timeline: frames, speech onset and offset, every phone and keypose (seconds of the video)"},
 	        {"--speech-brows", "on|off|X", "raise the brows on each phrase's most prominent (longest) vowel (default off; X scales the raise, 0–3)"},
-	        {"--components", "R=N,…", "components kept per model region, e.g. face=20,cheeks_lips=90%,lips=all (default: all; the thesis's Appendix C reductions, appearance only)"},
+	        {"--components", "R=N,...", "components kept per model region, e.g. face=20,cheeks_lips=90%,lips=all (default: all; the thesis's Appendix C reductions, appearance only)"},
 	        {"--seed", "N", "seed for blinks and head motion (default 1): the same seed gives the same video"},
 	        {"--debug-overlay", "", "draw the feature points, the keyposes around each frame and the lids and head on every frame"},
 	        {"--threads", "N", "worker threads (default: all cores)"},
