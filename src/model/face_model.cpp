@@ -169,16 +169,19 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 			    region, region.pca.trainingCoefficients.middleRows(Eigen::Index(first), Eigen::Index(count)).transpose());
 			for (std::size_t k = 0; k < count; ++k) {
 				std::uint8_t* dst = &region.sampleAppearances[(first + k) * q3];
-				const float* src = a.col(Eigen::Index(k)).data();
-				for (std::size_t j = 0; j < q3; ++j) {
-					const float v = src[j] + 0.5f;
-					dst[j] = std::uint8_t(!(v > 0.f) ? 0.f : (v >= 255.f ? 255.f : v))  /* NaN (a damaged model) → 0 */;
-				}
+				quantizeAppearance(a.col(Eigen::Index(k)).data(), q3, dst);
 			}
 		}
 	}
 	progress.report(1.0, "done");
 	return model;
+}
+
+void quantizeAppearance(const float* values, std::size_t count, std::uint8_t* out) {
+	for (std::size_t j = 0; j < count; ++j) {
+		const float v = values[j] + 0.5f;
+		out[j] = std::uint8_t(!(v > 0.f) ? 0.f : (v >= 255.f ? 255.f : v));  // NaN (a damaged model) → 0
+	}
 }
 
 bool RegionModel::readCachedAppearance(std::size_t sample, std::uint8_t* out) const {

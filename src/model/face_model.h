@@ -121,6 +121,9 @@ Points synthesizeShape(const FaceModel& model, const Eigen::Ref<const Eigen::Vec
 // Appearance of a training sample (its stored coefficients), per region.
 Eigen::VectorXf sampleCoefficients(const RegionModel& region, std::size_t sample);
 
+// Appearance values → 8-bit as the render-time cache stores them: rounded, clamped to [0, 255], NaN → 0.
+void quantizeAppearance(const float* values, std::size_t count, std::uint8_t* out);
+
 // Appearances of many coefficient vectors at once (one GEMM): coefficients l × count → 3q × count.
 Eigen::MatrixXf synthesizeAppearances(const RegionModel& region, const Eigen::Ref<const Eigen::MatrixXf>& coefficients);
 

@@ -325,10 +325,7 @@ public:
 	void read(std::size_t sample, std::uint8_t* out) const override {
 		if (Eigen::Index(sample) >= coefficients_.rows()) throw std::out_of_range("appearance sample out of range");
 		const Eigen::VectorXf a = mean_ + sigma_.cwiseProduct(basis_.topLeftCorner(q3_, k_) * coefficients_.row(Eigen::Index(sample)).transpose());
-		for (Eigen::Index j = 0; j < a.size(); ++j) {
-			const float v = a(j) + 0.5f;
-			out[j] = std::uint8_t(!(v > 0.f) ? 0.f : (v >= 255.f ? 255.f : v))  /* NaN (a damaged model) → 0 */;
-		}
+		quantizeAppearance(a.data(), std::size_t(a.size()), out);
 	}
 
 private:
