@@ -17,5 +17,7 @@ int runCompare(const std::vector<std::string>& args);
 int runCorpusLandmarks(const std::vector<std::string>& args);
 int runCorpusFromVideo(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);
+int runServe(const std::vector<std::string>& args);
+int runLive(const std::vector<std::string>& args);
 
 }  // namespace talkhead::cli

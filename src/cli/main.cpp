@@ -35,6 +35,8 @@ const char* kUsage =
     "  compare   lip-sync measures of a synthesized video against a real speaker's video\n"
     "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
     "  batch     perceptual-test stimuli from a manifest: blind IDs, key, balanced orders, resumable, shards\n"
+    "  serve     live streams for chatbots and voice assistants: WebSocket in, fragmented MP4 + JSON events out\n"
+    "  live      render a live session's script (serve --record) offline, frame for frame\n"
     "\n"
     "  talkhead <command> --help   options of one command\n"
     "  talkhead --version          version\n";
@@ -71,9 +73,11 @@ int main(int argc, char** argv) {
 		if (command == "align") return cli::runAlign(rest);
 		if (command == "compare") return cli::runCompare(rest);
 		if (command == "batch") return cli::runBatch(rest);
+		if (command == "serve") return cli::runServe(rest);
+		if (command == "live") return cli::runLive(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "batch" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "batch" || command == "serve" || command == "live" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

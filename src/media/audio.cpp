@@ -163,6 +163,20 @@ private:
 };
 }  // namespace
 
+std::unique_ptr<AudioSource> borrowedSource(AudioSource& inner) {
+	class Borrowed : public AudioSource {
+	public:
+		explicit Borrowed(AudioSource& s) : s_(s) {}
+		int sampleRate() const override { return s_.sampleRate(); }
+		int channels() const override { return s_.channels(); }
+		std::size_t read(float* out, std::size_t frames) override { return s_.read(out, frames); }
+
+	private:
+		AudioSource& s_;
+	};
+	return std::make_unique<Borrowed>(inner);
+}
+
 std::unique_ptr<AudioSource> shiftedSource(std::unique_ptr<AudioSource> inner, Ticks offset, Ticks total) {
 	return std::make_unique<ShiftedSource>(std::move(inner), offset, total);
 }

@@ -41,6 +41,8 @@ std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRa
 // `inner` shifted by `offset` (positive: that much silence first; negative: its first samples dropped),
 // then silence, `total` long in all (issue 14: lead-in, tail and audio-visual offset of stimuli).
 std::unique_ptr<AudioSource> shiftedSource(std::unique_ptr<AudioSource> inner, Ticks offset, Ticks total);
+// A source reading `inner` (which must outlive it), e.g. to bound a never-ending one with shiftedSource.
+std::unique_ptr<AudioSource> borrowedSource(AudioSource& inner);
 // The exact duration of an audio file, decoded once without keeping the samples (memory stays flat).
 // Zero-length audio is an error, as for decodeAudio.
 Ticks audioFileDuration(const std::string& path, int sampleRate = 48000);

@@ -177,9 +177,23 @@ struct Mp4Encoder {
 	std::int64_t frameIndex = 0;
 	std::int64_t audioPos = 0;  // next audio sample frame to encode
 	bool finished = false;
+	// Live (openMp4Live): fragmented MP4 handed to `sink` as it is made, a fragment per frame.
+	std::function<bool(const std::uint8_t*, std::size_t)> sink;
+	bool sinkFailed = false;
+	std::string codecs;  // RFC 6381, for a Media Source Extensions SourceBuffer
+
+	static int writeToSink(void* opaque, std::uint8_t* data, int size) {
+		auto* self = static_cast<Mp4Encoder*>(opaque);
+		if (self->sinkFailed || !self->sink(data, std::size_t(size))) {
+			self->sinkFailed = true;
+			return AVERROR(EPIPE);
+		}
+		return size;
+	}
 
 	void open() {
-		checkAv(avformat_alloc_output_context2(&fmt, nullptr, "mp4", path.c_str()), path, "cannot create the MP4 muxer");
+		const bool live = bool(sink);
+		checkAv(avformat_alloc_output_context2(&fmt, nullptr, "mp4", live ? nullptr : path.c_str()), path, "cannot create the MP4 muxer");
 		const AVCodec* h264 = avcodec_find_encoder_by_name("libx264");
 		if (!h264) throw Error(path, 0, "this libav has no libx264 encoder");
 		vst = avformat_new_stream(fmt, nullptr);
@@ -194,6 +208,12 @@ struct Mp4Encoder {
 		if (fmt->oformat->flags & AVFMT_GLOBALHEADER) venc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
 		av_opt_set(venc->priv_data, "preset", o.preset.c_str(), 0);
 		av_opt_set(venc->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
+		if (live) {
+			// Every frame out as soon as it is in: no B-frames, no lookahead, sliced threads; a keyframe
+			// every 2 s.
+			av_opt_set(venc->priv_data, "tune", "zerolatency", 0);
+			venc->gop_size = 2 * o.rate.num / std::max(1, o.rate.den);
+		}
 		checkAv(avcodec_open2(venc, h264, nullptr), path, "cannot open the H.264 encoder");
 		checkAv(avcodec_parameters_from_context(vst->codecpar, venc), path, "H.264 parameters");
 		vst->time_base = venc->time_base;
@@ -220,9 +240,27 @@ struct Mp4Encoder {
 			aframe->nb_samples = aenc->frame_size;
 			checkAv(av_frame_get_buffer(aframe, 0), path, "audio frame");
 		}
-		checkAv(avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot write the video");
 		AVDictionary* opts = nullptr;
-		av_dict_set(&opts, "movflags", "+faststart", 0);
+		if (live) {
+			const int size = 1 << 16;
+			auto* buffer = static_cast<unsigned char*>(av_malloc(size));
+			if (!buffer) throw Error(path, 0, "out of memory");
+			fmt->pb = avio_alloc_context(buffer, size, 1, this, nullptr, &Mp4Encoder::writeToSink, nullptr);
+			if (!fmt->pb) {
+				av_free(buffer);
+				throw Error(path, 0, "out of memory");
+			}
+			fmt->flags |= AVFMT_FLAG_CUSTOM_IO;
+			av_dict_set(&opts, "movflags", "+empty_moov+default_base_moof+frag_custom", 0);
+			// RFC 6381 codec names: avc1.PPCCLL from the avcC record, AAC-LC.
+			const std::uint8_t* x = venc->extradata;
+			char name[32] = "avc1.42e01f";
+			if (x && venc->extradata_size >= 4 && x[0] == 1) std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[1], x[2], x[3]);
+			codecs = std::string(name) + (audio ? ",mp4a.40.2" : "");
+		} else {
+			checkAv(avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot write the video");
+			av_dict_set(&opts, "movflags", "+faststart", 0);
+		}
 		fmt->flags |= AVFMT_FLAG_BITEXACT;  // no library version strings: the same input gives the same file
 		const int r = avformat_write_header(fmt, &opts);
 		av_dict_free(&opts);
@@ -298,6 +336,11 @@ struct Mp4Encoder {
 		drain(venc, vst);
 		if (released != 3) throw std::logic_error("Mp4Writer: the encoder kept a reference to a frame it was lent");
 		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.rate.den, o.rate.num}, AVRational{1, audio->sampleRate()}), false);
+		if (sink) {  // live: this frame's fragment out now
+			checkAv(av_write_frame(fmt, nullptr), path, "cannot write the stream");
+			avio_flush(fmt->pb);
+			if (sinkFailed) throw Error(path, 0, "the stream's reader is gone");
+		}
 	}
 
 	void finish() {
@@ -311,7 +354,8 @@ struct Mp4Encoder {
 			drain(aenc, ast);
 		}
 		checkAv(av_write_trailer(fmt), path, "cannot finish the MP4");
-		checkAv(avio_closep(&fmt->pb), path, "cannot close the video file");
+		if (sink) avio_flush(fmt->pb);
+		else checkAv(avio_closep(&fmt->pb), path, "cannot close the video file");
 	}
 
 	~Mp4Encoder() {
@@ -321,7 +365,12 @@ struct Mp4Encoder {
 		avcodec_free_context(&venc);
 		avcodec_free_context(&aenc);
 		if (fmt) {
-			if (fmt->pb) avio_closep(&fmt->pb);
+			if (fmt->pb && (fmt->flags & AVFMT_FLAG_CUSTOM_IO)) {
+				av_freep(&fmt->pb->buffer);
+				avio_context_free(&fmt->pb);
+			} else if (fmt->pb) {
+				avio_closep(&fmt->pb);
+			}
 			avformat_free_context(fmt);
 		}
 	}
@@ -501,6 +550,21 @@ bool finishMp4Entry(void* h, std::string& error) {
 	return guarded(error, [&] { static_cast<Mp4Encoder*>(h)->finish(); });
 }
 
+void* openMp4LiveEntry(const std::function<bool(const std::uint8_t*, std::size_t)>& write, const VideoOptions& o, AudioSource* audio,
+                       std::string& codecs, std::string& error) {
+	auto enc = std::make_unique<Mp4Encoder>();
+	const bool ok = guarded(error, [&] {
+		enc->path = "live stream";
+		enc->o = o;
+		enc->audio = audio;
+		enc->sink = write;
+		av_log_set_level(AV_LOG_ERROR);
+		enc->open();
+		codecs = enc->codecs;
+	});
+	return ok ? enc.release() : nullptr;
+}
+
 void closeMp4Entry(void* h) { delete static_cast<Mp4Encoder*>(h); }
 
 void* openVideoEntry(const std::string& path, VideoInfo& info, std::string& error) {
@@ -527,7 +591,7 @@ int readVideoYuvEntry(void* h, YuvImage& yuv, double& seconds, std::string& erro
 void closeVideoEntry(void* h) { delete static_cast<VideoDecoder*>(h); }
 
 const AvModule kModule{kAvModuleAbi, decodeAudioEntry, openAudioEntry, readAudioEntry, closeAudioEntry, openMp4Entry, writeMp4Entry, finishMp4Entry, closeMp4Entry,
-                       openVideoEntry, readVideoEntry, closeVideoEntry, readVideoYuvEntry};
+                       openVideoEntry, readVideoEntry, closeVideoEntry, readVideoYuvEntry, openMp4LiveEntry};
 
 }  // namespace
 

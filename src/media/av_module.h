@@ -4,6 +4,8 @@
 // start-up, so decoding audio and writing MP4 live in libtalkhead-av.so, loaded on first use; a y4m
 // stream (say … --format y4m -o -) never loads it. Built from the same tree with the same compiler, so
 // C++ types cross the boundary; errors come back as strings (the full "PATH: what" message).
+#include <cstdint>
+#include <functional>
 #include <string>
 
 #include "image/yuv.h"
@@ -13,7 +15,8 @@
 
 namespace talkhead {
 
-constexpr int kAvModuleAbi = 5;  // 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource); 5: readVideoYuv
+// 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource); 5: readVideoYuv; 6: openMp4Live
+constexpr int kAvModuleAbi = 6;
 
 struct AvModule {
 	int abi;  // kAvModuleAbi
@@ -37,6 +40,10 @@ struct AvModule {
 	// The next frame as YUV 4:2:0 planes (copied as they are from a 4:2:0 stream of the info's size,
 	// converted otherwise); 0 at the end, −1 on error.
 	int (*readVideoYuv)(void* decoder, YuvImage& yuv, double& seconds, std::string& error);
+	// A live fragmented MP4 encoder (Mp4LiveWriter): the bytes go to `write` as they are made; `codecs` gets
+	// the RFC 6381 codec string. writeMp4/finishMp4/closeMp4 as for openMp4.
+	void* (*openMp4Live)(const std::function<bool(const std::uint8_t*, std::size_t)>& write, const VideoOptions& options, AudioSource* audio,
+	                     std::string& codecs, std::string& error);
 };
 
 // The loaded plugin (throws Error when it cannot be loaded).

@@ -64,6 +64,28 @@ void Mp4Writer::finish() {
 	if (!impl_->av->finishMp4(impl_->encoder, error)) throw Error(error);
 }
 
+Mp4LiveWriter::Mp4LiveWriter(Write write, const VideoOptions& o, AudioSource* audio) : write_(std::move(write)) {
+	checkSize("live stream", o);
+	av_ = &avModule();
+	std::string error;
+	encoder_ = av_->openMp4Live(write_, o, audio, codecs_, error);
+	if (!encoder_) throw Error(error);
+}
+
+Mp4LiveWriter::~Mp4LiveWriter() {
+	if (encoder_) av_->closeMp4(encoder_);
+}
+
+void Mp4LiveWriter::write(const YuvImage& frame) {
+	std::string error;
+	if (!av_->writeMp4(encoder_, frame, error)) throw Error(error);
+}
+
+void Mp4LiveWriter::finish() {
+	std::string error;
+	if (!av_->finishMp4(encoder_, error)) throw Error(error);
+}
+
 Y4mWriter::Y4mWriter(std::FILE* out, const VideoOptions& o, std::string name) : out_(out), o_(o), name_(std::move(name)) {
 	if (std::fprintf(out_, "YUV4MPEG2 W%d H%d F%d:%d Ip A1:1 C420jpeg XCOLORRANGE=LIMITED\n", o.width, o.height, o.rate.num, o.rate.den) < 0) fail();
 }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,6 +42,29 @@ private:
 	std::unique_ptr<AudioSource> ownSource_;  // a clip's source (declared first: outlives the encoder)
 	std::unique_ptr<Impl> impl_;
 	void open(const std::string& path, const VideoOptions& options, AudioSource* audio);
+};
+
+// A live stream (talkhead serve): H.264 (x264, zerolatency) + AAC as fragmented MP4 for Media Source
+// Extensions — an init segment (ftyp + empty moov), then a fragment (moof + mdat) per frame — handed to
+// `write` as it is made (`write` returns false when its reader is gone: the next write throws). The audio
+// is pulled up to each frame's end as frames are written.
+class Mp4LiveWriter {
+public:
+	using Write = std::function<bool(const std::uint8_t* data, std::size_t size)>;
+	Mp4LiveWriter(Write write, const VideoOptions& options, AudioSource* audio);
+	~Mp4LiveWriter();
+	Mp4LiveWriter(const Mp4LiveWriter&) = delete;
+	Mp4LiveWriter& operator=(const Mp4LiveWriter&) = delete;
+	// The codecs, RFC 6381 ("avc1.64001f,mp4a.40.2"): the MIME type is video/mp4; codecs="…".
+	const std::string& codecs() const { return codecs_; }
+	void write(const YuvImage& frame);  // limited range, the options' size
+	void finish();
+
+private:
+	const struct AvModule* av_ = nullptr;
+	void* encoder_ = nullptr;
+	Write write_;
+	std::string codecs_;
 };
 
 // YUV4MPEG2 stream (C420jpeg: chroma centred on its 2×2 block, as rgbToYuv420 makes it; BT.601 limited

@@ -110,13 +110,6 @@ void placePlane(const std::uint8_t* inner, int iw, int ih, std::uint8_t* out, in
 	}
 }
 
-void placeYuv(const YuvImage& inner, YuvImage& out, int w, int h, int x, int y) {
-	out.resize(w, h);
-	placePlane(inner.y.data(), inner.width, inner.height, out.y.data(), w, h, x, y);
-	placePlane(inner.u.data(), inner.chromaWidth(), inner.chromaHeight(), out.u.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
-	placePlane(inner.v.data(), inner.chromaWidth(), inner.chromaHeight(), out.v.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
-}
-
 void placeRgb(const Image8& inner, Image8& out, int w, int h, int x, int y) {
 	if (out.width != w || out.height != h || out.channels != 3) out = Image8(w, h, 3);
 	for (int r = 0; r < h; ++r) {
@@ -130,6 +123,13 @@ void placeRgb(const Image8& inner, Image8& out, int w, int h, int x, int y) {
 }
 
 }  // namespace
+
+void placeFitted(const YuvImage& inner, YuvImage& out, int w, int h, int x, int y) {
+	out.resize(w, h);
+	placePlane(inner.y.data(), inner.width, inner.height, out.y.data(), w, h, x, y);
+	placePlane(inner.u.data(), inner.chromaWidth(), inner.chromaHeight(), out.u.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
+	placePlane(inner.v.data(), inner.chromaWidth(), inner.chromaHeight(), out.v.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
+}
 
 RenderStats renderPerformance(const FaceModel& model, const Performance& perf, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
                               RenderProgress* progress) {
@@ -285,7 +285,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 					}
 					bt.drawn[k] = !options.debugOverlay;  // the overlay writes over the static background
 					if (place) {  // into the output frame: crop or pad, points moved with it
-						placeYuv(yuv, bt.yuv[k], st.width, st.height, box.x, box.y);
+						placeFitted(yuv, bt.yuv[k], st.width, st.height, box.x, box.y);
 						if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, box.x, box.y);
 						bt.pts[k].col(0).array() += box.x;
 						bt.pts[k].col(1).array() += box.y;

@@ -34,6 +34,9 @@ struct FitBox {
 	int innerWidth = 0, innerHeight = 0, x = 0, y = 0;
 };
 FitBox fitBox(int modelWidth, int modelHeight, int width, int height, Fit fit);
+// `inner` placed into `out` (resized to width × height) with its corner at (x, y): what overflows is cut,
+// what is left is filled by repeating the nearest edge pixel.
+void placeFitted(const YuvImage& inner, YuvImage& out, int width, int height, int x, int y);
 
 // What a render did, for summaries and benchmarks (seconds are wall time unless said otherwise).
 struct RenderStats {

@@ -78,30 +78,8 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 	const double length = std::max(0.0, toSeconds(duration));
 	if (o.blinks) {
 		const double rate = o.blinkRate > 0 ? o.blinkRate : blinkRateFor(emotion);
-		const double mean = 60.0 / rate, total = kClosing + kClosed + kOpening;
-		double t = 0.3 + rng.uniform() * mean, lastEnd = -1e9;
-		while (t + total < length - 0.1) {
-			// During speech a blink moves to the nearest pause within a second, if there is one (speakers
-			// blink at phrase boundaries), but never closer than 0.8 s to the one before.
-			if (speaking(ticksFromSeconds(t))) {
-				double best = t, bestDistance = 1.0;
-				for (const auto& [a, b] : speech_) {
-					for (double c : {toSeconds(a) - total - 0.05, toSeconds(b) + 0.05})
-						if (std::abs(c - t) < bestDistance && c > lastEnd + 0.8 && c > 0.1 && c + total < length - 0.1 &&
-						    !speaking(ticksFromSeconds(c)) && !speaking(ticksFromSeconds(c + total)))
-							best = c, bestDistance = std::abs(c - t);
-				}
-				t = best;
-			}
-			BlinkEvent b;
-			b.start = ticksFromSeconds(t);
-			b.closing = ticksFromSeconds(kClosing);
-			b.closed = ticksFromSeconds(kClosed);
-			b.opening = ticksFromSeconds(kOpening);
-			blinks_.push_back(b);
-			lastEnd = t + total;
-			t = lastEnd + std::max(0.8, -std::log(1 - rng.uniform()) * mean - total);
-		}
+		const double mean = 60.0 / rate;
+		drawBlinks(rng.state, mean, 0.3 + rng.uniform() * mean, -1e9, length);
 	}
 	// Blinks a control track asks for: at their times, the drawn ones within 0.8 s of them dropped.
 	for (Ticks t : o.forcedBlinks) {
@@ -129,12 +107,8 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 		}
 	}
 	factor_ = o.headMotion ? std::max(0.0, o.headAmplitude) * headFactorFor(emotion) : 0.0;
-	double gesture = 0, gestureAngle = 0;
-	for (const HeadGesture& g : o.gestures) {
-		const double shift = g.kind == HeadGesture::Kind::Nod ? kNod : (g.kind == HeadGesture::Kind::Shake ? kShake : kTurn);
-		gesture = std::max(gesture, std::abs(g.amount) * shift);
-		if (g.kind == HeadGesture::Kind::Turn) gestureAngle = std::max(gestureAngle, std::abs(g.amount) * kTurnTilt);
-	}
+	double gestureAngle = 0;
+	const double gesture = gestureShift(o, gestureAngle);
 	maxAngle_ = kPeakAngle * factor_ + gestureAngle;
 	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_ + gesture;
 	// Speaking activity: 1 in speech, 0 in pauses, smoothed over ±0.4 s (the head settles in a pause).
@@ -148,6 +122,123 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 		const long a = std::max(0L, long(i) - w), b = std::min(long(n), long(i) + w + 1);
 		activity_[i] = float((prefix[std::size_t(b)] - prefix[std::size_t(a)]) / double(b - a));
 	}
+}
+
+void ShapeModulator::drawBlinks(std::uint64_t& state, double mean, double t, double lastEnd, double length) {
+	Random rng{state};
+	const double total = kClosing + kClosed + kOpening;
+	while (t + total < length - 0.1) {
+		// During speech a blink moves to the nearest pause within a second, if there is one (speakers
+		// blink at phrase boundaries), but never closer than 0.8 s to the one before.
+		if (speaking(ticksFromSeconds(t))) {
+			double best = t, bestDistance = 1.0;
+			for (const auto& [a, b] : speech_) {
+				for (double c : {toSeconds(a) - total - 0.05, toSeconds(b) + 0.05})
+					if (std::abs(c - t) < bestDistance && c > lastEnd + 0.8 && c > 0.1 && c + total < length - 0.1 &&
+					    !speaking(ticksFromSeconds(c)) && !speaking(ticksFromSeconds(c + total)))
+						best = c, bestDistance = std::abs(c - t);
+			}
+			t = best;
+		}
+		BlinkEvent b;
+		b.start = ticksFromSeconds(t);
+		b.closing = ticksFromSeconds(kClosing);
+		b.closed = ticksFromSeconds(kClosed);
+		b.opening = ticksFromSeconds(kOpening);
+		blinks_.push_back(b);
+		lastEnd = t + total;
+		t = lastEnd + std::max(0.8, -std::log(1 - rng.uniform()) * mean - total);
+	}
+	state = rng.state;
+}
+
+double ShapeModulator::gestureShift(const ModulatorOptions& o, double& gestureAngle) {
+	double gesture = 0;
+	gestureAngle = 0;
+	for (const HeadGesture& g : o.gestures) {
+		const double shift = g.kind == HeadGesture::Kind::Nod ? kNod : (g.kind == HeadGesture::Kind::Shake ? kShake : kTurn);
+		gesture = std::max(gesture, std::abs(g.amount) * shift);
+		if (g.kind == HeadGesture::Kind::Turn) gestureAngle = std::max(gestureAngle, std::abs(g.amount) * kTurnTilt);
+	}
+	return gesture;
+}
+
+namespace {
+ModulatorOptions withoutBlinks(ModulatorOptions o) {
+	o.blinks = false;
+	o.forcedBlinks.clear();
+	return o;
+}
+}  // namespace
+
+ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& o, const std::string& emotion, Ticks duration,
+                               const std::vector<Keypose>& keys)
+    : ShapeModulator(withoutBlinks(o), emotion, duration, keys) {
+	o_ = o;
+	std::copy(&previous.freq_[0][0], &previous.freq_[0][0] + 9, &freq_[0][0]);
+	std::copy(&previous.phase_[0][0], &previous.phase_[0][0] + 9, &phase_[0][0]);
+	const double length = std::max(0.0, toSeconds(duration)), at = toSeconds(from);
+	// Blinks: previous's up to `from` (one under way finishes), then new ones.
+	double lastEnd = -1e9;
+	for (const BlinkEvent& b : previous.blinks_)
+		if (b.start < from) {
+			blinks_.push_back(b);
+			lastEnd = std::max(lastEnd, toSeconds(b.end()));
+		}
+	if (o.blinks) {
+		const double rate = o.blinkRate > 0 ? o.blinkRate : blinkRateFor(emotion);
+		const double mean = 60.0 / rate;
+		Random rng{splitmix64(o.seed * 0x2545F4914F6CDD1Dull + std::uint64_t(from.count()))};
+		drawBlinks(rng.state, mean, std::max(at + rng.uniform() * mean, lastEnd + 0.8), lastEnd, length);
+	}
+	for (Ticks t : o.forcedBlinks) {
+		const double ft = toSeconds(t);
+		blinks_.erase(std::remove_if(blinks_.begin(), blinks_.end(),
+		                             [&](const BlinkEvent& b) { return b.start >= from && std::abs(toSeconds(b.start) - ft) < 0.8; }),
+		              blinks_.end());
+		BlinkEvent b;
+		b.start = t;
+		b.closing = ticksFromSeconds(kClosing);
+		b.closed = ticksFromSeconds(kClosed);
+		b.opening = ticksFromSeconds(kOpening);
+		blinks_.push_back(b);
+	}
+	std::sort(blinks_.begin(), blinks_.end(), [](const BlinkEvent& a, const BlinkEvent& b) { return a.start < b.start; });
+	// The amplitude from `from` on: previous's, moved to this plan's over 0.4 s.
+	ampFirst_ = std::size_t(std::max(0.0, at / kGrid));
+	const std::size_t last = std::size_t(length / kGrid) + 2;
+	amp_.resize(last > ampFirst_ ? last - ampFirst_ : 1);
+	for (std::size_t i = 0; i < amp_.size(); ++i) {
+		const Ticks t = ticksFromSeconds(double(ampFirst_ + i) * kGrid);
+		const double w = smoothstep((toSeconds(t) - at) / 0.4);
+		amp_[i] = float((1 - w) * previous.amplitude(t) + w * amplitude(t));
+	}
+	activity_.clear();
+	double gestureAngle = 0;
+	const double gesture = gestureShift(o, gestureAngle);
+	double peak = 0;
+	for (float a : amp_) peak = std::max(peak, double(a));
+	maxAngle_ = kPeakAngle * peak + gestureAngle;
+	maxShift_ = std::hypot(kPeakDx, kPeakDy) * peak + gesture;
+}
+
+double ShapeModulator::amplitude(Ticks t) const {
+	const double s = toSeconds(t);
+	if (!amp_.empty()) {
+		const double g = std::clamp(s / kGrid - double(ampFirst_), 0.0, double(amp_.size() - 1));
+		const std::size_t i = std::min(amp_.size() - 1, std::size_t(g));
+		const std::size_t j = std::min(amp_.size() - 1, i + 1);
+		return amp_[i] + (g - double(i)) * (amp_[j] - amp_[i]);
+	}
+	if (factor_ <= 0) return 0;
+	double act = 0;
+	if (!activity_.empty()) {
+		const double g = std::clamp(s / kGrid, 0.0, double(activity_.size() - 1));
+		const std::size_t i = std::min(activity_.size() - 1, std::size_t(g));
+		const std::size_t j = std::min(activity_.size() - 1, i + 1);
+		act = activity_[i] + (g - double(i)) * (activity_[j] - activity_[i]);
+	}
+	return factor_ * (0.5 + 0.5 * act);  // half the amplitude at rest
 }
 
 bool ShapeModulator::speaking(Ticks t) const {
@@ -211,15 +302,9 @@ HeadMotion ShapeModulator::head(Ticks t) const {
 			p.angle += g.amount * kTurnTilt * g.directionX * e;
 		}
 	}
-	if (factor_ <= 0) return p;
-	double act = 0;
-	if (!activity_.empty()) {
-		const double g = std::clamp(s / kGrid, 0.0, double(activity_.size() - 1));
-		const std::size_t i = std::min(activity_.size() - 1, std::size_t(g));
-		const std::size_t j = std::min(activity_.size() - 1, i + 1);
-		act = activity_[i] + (g - double(i)) * (activity_[j] - activity_[i]);
-	}
-	const double m = factor_ * (0.5 + 0.5 * act);  // half the amplitude at rest
+	if (amp_.empty() && factor_ <= 0) return p;
+	const double m = amplitude(t);
+	if (m <= 0) return p;
 	auto channel = [&](int c) {
 		const double w[3] = {0.5, 0.3, 0.2};
 		double v = 0;

@@ -83,6 +83,13 @@ struct HeadMotion {
 class ShapeModulator {
 public:
 	ShapeModulator(const ModulatorOptions& options, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys);
+	// A live stream's next plan (render/live.h: its timeline changed at `from`): `previous`'s up to `from`,
+	// then a plan of the new timeline that goes on from it without a jump — the same head sinusoids, the
+	// blinks that started before `from` kept (new ones drawn after them, seeded by options.seed and
+	// `from`), and the head's amplitude (emotion × speaking activity) moved from previous's to the new one
+	// over 0.4 s. Forced blinks, gestures, brow and AU events are the options' own.
+	ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& options, const std::string& emotion, Ticks duration,
+	               const std::vector<Keypose>& keys);
 
 	// Lid closure at t: 0 open … 1 shut.
 	double eyeClosure(Ticks t) const;
@@ -94,6 +101,9 @@ public:
 	std::vector<std::pair<const AuEvent*, double>> actionUnits(Ticks t) const;
 	const std::vector<AuEvent>& auEvents() const { return o_.auEvents; }
 	const std::vector<BlinkEvent>& blinks() const { return blinks_; }
+	// The head motion's amplitude at t (× the peak values): the emotion's factor × (0.5 + 0.5 × speaking
+	// activity).
+	double amplitude(Ticks t) const;
 	// Largest rotation (radians) and translation (face sizes) head() can return.
 	double maxAngle() const { return maxAngle_; }
 	double maxShift() const { return maxShift_; }
@@ -111,6 +121,14 @@ private:
 	std::vector<float> activity_;                  // smoothed speaking indicator, every 10 ms
 	double phase_[3][3] = {}, freq_[3][3] = {};    // per channel (angle, dx, dy): three sinusoids
 	double maxAngle_ = 0, maxShift_ = 0, factor_ = 1;
+	// A continued plan: the amplitude itself every 10 ms from grid index ampFirst_ (replaces factor_ ×
+	// activity_).
+	std::vector<float> amp_;
+	std::size_t ampFirst_ = 0;
+	// Draws blinks from `t` (seconds) to the end `length`, none within 0.8 s of `lastEnd`, moving those in
+	// speech to a nearby pause; `state` is the generator's.
+	void drawBlinks(std::uint64_t& state, double mean, double t, double lastEnd, double length);
+	static double gestureShift(const ModulatorOptions& o, double& gestureAngle);
 };
 
 }  // namespace talkhead

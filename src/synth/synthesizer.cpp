@@ -2,6 +2,7 @@
 #include "synth/synthesizer.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -677,6 +678,18 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 	points.col(0) *= scaleX_;
 	points.col(1) *= scaleY_;
 	return f;
+}
+
+void Synthesizer::setModulator(std::shared_ptr<const ShapeModulator> m) {
+	const ShapeModulator* was = o_.modulator.get();
+	if (m) {
+		if (!was || m->maxAngle() > was->maxAngle() + 1e-12 || m->maxShift() > was->maxShift() + 1e-12)
+			throw std::logic_error("Synthesizer::setModulator: the new plan moves the head further than the face box allows");
+		if (!m->blinks().empty() && was->blinks().empty())
+			throw std::logic_error("Synthesizer::setModulator: blinks, but the synthesizer was made without");
+		if (!m->auEvents().empty()) throw std::logic_error("Synthesizer::setModulator: action-unit events are fixed at construction");
+	}
+	o_.modulator = std::move(m);
 }
 
 void Synthesizer::closeEyes(Points& points, double closure) const {

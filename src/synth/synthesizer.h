@@ -107,6 +107,10 @@ public:
 	// The substitutions a timeline will need, without computing any keypose.
 	std::vector<std::string> substitutionsFor(const std::vector<Keypose>& keys) const;
 	const SynthOptions& options() const { return o_; }
+	// Replaces the shape modulator (a live stream's next plan, render/live.h). Not while frames are being
+	// drawn. The face box was sized for the modulator given at construction: a plan that could move the head
+	// further, or that has blinks when that one had none, or action-unit events, is a logic_error.
+	void setModulator(std::shared_ptr<const ShapeModulator> modulator);
 
 	// Spec §5.5: the point-set at normalised time t between S and T.
 	static Points trajectory(const Points& s, const Points& t, double u, Trajectory kind);

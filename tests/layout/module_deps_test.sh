@@ -16,8 +16,9 @@ declare -A allowed=(
 	[align]="base media image geometry phonetics align"
 	[track]="base geometry image media phonetics align corpus track"
 	[render]="base geometry image warp model media phonetics synth render"
+	[serve]="base geometry image warp model media phonetics synth render serve"
 	[viz]="base geometry image warp model viz"
-	[cli]="base geometry image warp model media corpus viz phonetics synth align track render cli"
+	[cli]="base geometry image warp model media corpus viz phonetics synth align track render serve cli"
 )
 fail=0
 for dir in "$SRC"/*/; do

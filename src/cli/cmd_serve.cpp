@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// talkhead serve: live streams for chatbots and voice assistants (issue 16);
+// talkhead live: a session script (what serve --record writes) rendered offline, frame for frame.
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "base/atomic_file.h"
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/json.h"
+#include "base/text.h"
+#include "cli/args.h"
+#include "cli/commands.h"
+#include "cli/video_options.h"
+#include "media/video_writer.h"
+#include "render/frame_sink.h"
+#include "render/live.h"
+#include "render/render.h"
+#include "serve/server.h"
+
+namespace talkhead::cli {
+
+namespace {
+
+// Options both commands share: how the face looks and moves.
+std::vector<OptionSpec> liveOptionSpecs() {
+	return {{"--model", "M.thm", "face model (default: the embedded default face)"},
+	        {"--size", "WxH", "output size (default 1280x720)"},
+	        {"--fit", "MODE", "crop (default), pad or stretch when --size has another aspect than the model"},
+	        {"--fps", "RATE", "frame rate (default 30)"},
+	        {"--emotion", "LABEL[:I]", "the emotion at the start (default neutral)"},
+	        {"--lang", "LANG", "language of say requests without one (default en-US)"},
+	        {"--blinks", "on|off", "blink (default on)"},
+	        {"--head-motion", "on|off|X", "small head motion (default on; X scales it, 0–3)"},
+	        {"--speech-brows", "on|off|X", "brow raises with speech (default on)"},
+	        {"--seed", "N", "seed of blinks and head motion (default 1): the same seed and requests give the same frames"},
+	        {"--sample-rate", "HZ", "the stream's sound (default 22050, espeak-ng's own rate)"}};
+}
+
+LiveOptions liveOptions(const Args& args, const std::string& command) {
+	LiveOptions o;
+	const auto rate = FrameRate::parse(args.get("--fps", "30"));
+	if (!rate) throw UsageError(command + ": --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
+	o.rate = *rate;
+	parseSize(command + ": --size", args.get("--size", "1280x720"), o.render.synth.width, o.render.synth.height);
+	const std::string fit = args.get("--fit", "crop");
+	if (fit != "crop" && fit != "pad" && fit != "stretch") throw UsageError(command + ": --fit takes crop, pad or stretch");
+	o.render.fit = fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
+	std::string emotion = args.get("--emotion", "neutral");
+	if (const auto colon = emotion.rfind(':'); colon != std::string::npos) {
+		if (!parseDouble(emotion.substr(colon + 1), o.intensity) || !(o.intensity >= 0 && o.intensity <= 1.5))
+			throw UsageError(command + ": --emotion LABEL:INTENSITY takes an intensity from 0 to 1.5");
+		emotion = emotion.substr(0, colon);
+	}
+	o.emotion = emotion;  // checked by the session
+	const std::string blinks = args.get("--blinks", "on"), head = args.get("--head-motion", "on"), brows = args.get("--speech-brows", "on");
+	if (blinks != "on" && blinks != "off") throw UsageError(command + ": --blinks takes on or off");
+	o.modulation.blinks = blinks == "on";
+	double amplitude = 1;
+	if (head == "off") amplitude = 0;
+	else if (head != "on" && (!parseDouble(head, amplitude) || !(amplitude >= 0 && amplitude <= 3)))
+		throw UsageError(command + ": --head-motion takes on, off or an amplitude from 0 to 3");
+	o.modulation.headMotion = amplitude > 0;
+	o.modulation.headAmplitude = amplitude;
+	o.speechBrows = brows == "on" ? 1.0 : 0.0;
+	if (brows != "on" && brows != "off" && (!parseDouble(brows, o.speechBrows) || !(o.speechBrows >= 0 && o.speechBrows <= 3)))
+		throw UsageError(command + ": --speech-brows takes on, off or an amount from 0 to 3");
+	o.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
+	o.sampleRate = int(args.number("--sample-rate", 22050, 8000, 96000));
+	return o;
+}
+
+std::vector<OptionSpec> with(std::vector<OptionSpec> a, const std::vector<OptionSpec>& b) {
+	a.insert(a.end(), b.begin(), b.end());
+	return a;
+}
+
+}  // namespace
+
+int runServe(const std::vector<std::string>& argv) {
+	Args args("serve", "talkhead serve [--listen 127.0.0.1:8765] [--demo] [--model M.thm] [--size WxH] [--fps N]",
+	          with(liveOptionSpecs(),
+	               {{"--listen", "HOST:PORT", "address to listen on (default 127.0.0.1:8765; port 0: any free one, printed)"},
+	                {"--demo", "", "serve the browser demo (examples/live/index.html) at /"},
+	                {"--max-sessions", "N", "live sessions at once (default 4); more are refused with an error"},
+	                {"--crf", "N", "H.264 quality, 0–51 (default 23; 0 = lossless, which browsers do not play)"},
+	                {"--preset", "NAME", "x264 preset (default veryfast)"},
+	                {"--record", "DIR", "write each session's requests with the frame each took effect at (DIR/session-N.jsonl; 'talkhead live' replays one)"},
+	                {"--quiet", "", "no log lines", "-q"}}),
+	          "Live talking-head streams for chatbots and voice assistants. Each WebSocket connection to /live is a\n"
+	          "session: the face is always on (blinks, small head motion, the emotion) and speaks what it is sent —\n"
+	          "text (espeak-ng), or audio with its timing — streamed as fragmented MP4 (H.264 + AAC) for Media Source\n"
+	          "Extensions, with JSON events (utterance started and ended, marks, visemes). Requests are JSON text\n"
+	          "messages: say, speak, emotion, stop (docs/serve-protocol.md). Loopback only unless --listen says otherwise.");
+	if (!args.parse(argv)) return 0;
+	if (!args.positionals().empty()) throw UsageError("serve: no positional arguments");
+	ServeOptions o;
+	o.live = liveOptions(args, "serve");
+	const std::string listen = args.get("--listen", "127.0.0.1:8765");
+	const auto colon = listen.rfind(':');
+	double port = -1;
+	if (colon == std::string::npos || !parseDouble(listen.substr(colon + 1), port) || !(port >= 0 && port <= 65535) || port != std::floor(port))
+		throw UsageError("serve: --listen takes HOST:PORT, e.g. 127.0.0.1:8765");
+	o.host = listen.substr(0, colon);
+	if (o.host.size() > 2 && o.host.front() == '[' && o.host.back() == ']') o.host = o.host.substr(1, o.host.size() - 2);
+	o.port = int(port);
+	o.maxSessions = int(args.number("--max-sessions", 4, 1, 64));
+	o.crf = int(args.number("--crf", 23, 0, 51));
+	o.preset = args.get("--preset", "veryfast");
+	o.lang = args.get("--lang", "en-US");
+	Language::get(o.lang);  // checked now
+	const bool quiet = args.has("--quiet");
+	if (!quiet) o.log = [](const std::string& s) { std::fprintf(stderr, "talkhead: serve: %s\n", safeLine(s).c_str()); };
+	if (args.has("--demo")) {
+		const auto page = findDataFile("examples/live/index.html");
+		if (!page) throw Error("the demo page examples/live/index.html is not installed");
+		o.demo = true;
+		o.demoPage = *page;
+	}
+	if (auto dir = args.get("--record")) {
+		checkWritableFolder(*dir + "/x");
+		o.recordDir = *dir;
+	}
+	const bool loopback = o.host == "127.0.0.1" || o.host == "::1" || o.host == "localhost";
+	if (o.host == "localhost") o.host = "127.0.0.1";
+	const FaceModel model = loadRenderModel(args.get("--model", ""));
+	Server server(model, o);
+	if (!loopback)
+		std::fprintf(stderr, "talkhead: warning: serve listens on %s, not loopback: anyone who reaches it can open sessions (there is no authentication)\n",
+		             safeLine(o.host).c_str());
+	// The port line is the contract with scripts and tests (port 0 picks a free one).
+	std::printf("talkhead: serving on http://%s:%d/ (WebSocket ws://%s:%d/live)%s\n", o.host.c_str(), server.port(), o.host.c_str(), server.port(),
+	            o.demo ? ", demo page at /" : "");
+	std::fflush(stdout);
+	server.run();
+	return 0;
+}
+
+int runLive(const std::vector<std::string>& argv) {
+	Args args("live", "talkhead live SESSION.jsonl -o OUT.mp4|OUT.y4m [options]",
+	          with(liveOptionSpecs(),
+	               {{"--format", "FORMAT", "mp4 (default) or y4m (raw frames, e.g. to compare with a stream)"},
+	                {"--crf", "N", "H.264 quality of mp4 output, 0–51 (default 20)"},
+	                {"--frames-total", "N", "how many frames (default: the script's end line)"},
+	                {"--quiet", "", "no events on standard output", "-q"},
+	                {"--output", "OUT", "the video to write", "-o"}}),
+	          "Renders a live session offline, frame for frame: the requests of a session script (one JSON object per\n"
+	          "line: {\"frame\": N, \"request\": {…}}, as 'talkhead serve --record' writes them) applied before the frames\n"
+	          "they name. With the server's options and seed it gives the frames the stream had (say requests: as far\n"
+	          "as espeak-ng's in-process state allows, D51; speak requests exactly). Events go to standard output as\n"
+	          "JSON lines.");
+	if (!args.parse(argv)) return 0;
+	if (args.positionals().size() != 1) throw UsageError("live: give one session script");
+	const std::string script = args.positionals()[0];
+	const auto out = args.get("--output");
+	if (!out) throw UsageError("live: -o OUT is required");
+	const std::string format = args.get("--format", "mp4");
+	if (format != "mp4" && format != "y4m") throw UsageError("live: --format must be mp4 or y4m");
+	LiveOptions o = liveOptions(args, "live");
+	const std::string lang = args.get("--lang", "en-US");
+	Language::get(lang);
+	// The script: requests by frame, and its end.
+	struct Step {
+		std::int64_t frame;
+		std::string json;
+		long line;
+	};
+	std::vector<Step> steps;
+	std::int64_t total = -1;
+	{
+		const std::string text = readTextFile(script);
+		long no = 0;
+		for (const std::string& raw : split(text, '\n')) {
+			++no;
+			const std::string line(trim(raw));
+			if (line.empty()) continue;
+			const JsonValue v = parseJson(line, script, no);
+			if (v.kind != JsonValue::Kind::Object) throw Error(script, no, "each line is a JSON object");
+			const JsonValue* type = v.find("type");
+			const JsonValue* frame = v.find("frame");
+			auto frameOf = [&]() {
+				if (!frame || frame->kind != JsonValue::Kind::Number || !(frame->number >= 0 && frame->number <= 1e8) || frame->number != std::floor(frame->number))
+					throw Error(script, no, "'frame' must be a whole number from 0 to 100000000");
+				return std::int64_t(frame->number);
+			};
+			if (type && type->kind == JsonValue::Kind::String && type->string == "session") continue;
+			if (type && type->kind == JsonValue::Kind::String && type->string == "end") {
+				total = frameOf();
+				continue;
+			}
+			const JsonValue* request = v.find("request");
+			if (!request || request->kind != JsonValue::Kind::Object) throw Error(script, no, "a step needs 'frame' and 'request' (an object)");
+			// The request's own text, re-serialised by the JSON reader's rules: find it in the line.
+			const auto at = line.find("\"request\"");
+			const auto open = line.find('{', at);
+			std::string body = line.substr(open);
+			while (!body.empty() && body.back() != '}') body.pop_back();
+			body.pop_back();  // the step's closing brace
+			steps.push_back({frameOf(), std::string(trim(body)), no});
+		}
+	}
+	std::stable_sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) { return a.frame < b.frame; });
+	if (auto n = args.get("--frames-total")) total = std::int64_t(args.number("--frames-total", 0, 1, 1e7));
+	if (total < 0) throw Error(script, 0, "no end line ({\"type\": \"end\", \"frame\": N}): give --frames-total N");
+	const FaceModel model = loadRenderModel(args.get("--model", ""));
+	LiveSession session(model, o);
+	const StreamInfo& info = session.info();
+	VideoOptions vo;
+	vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = int(args.number("--crf", 20, 0, 51));
+	// Written under a temporary name, renamed when complete (nothing partial).
+	StagedFile staged(*out);
+	staged.write([&](const std::string& tmp) {
+		std::unique_ptr<Mp4Writer> mp4;
+		std::unique_ptr<Y4mWriter> y4m;
+		std::unique_ptr<std::FILE, int (*)(std::FILE*)> y4mFile(nullptr, &std::fclose);
+		// The session's sound never ends: the video's length of it.
+		const std::unique_ptr<AudioSource> sound = shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total));
+		if (format == "mp4") {
+			mp4 = std::make_unique<Mp4Writer>(tmp, vo, sound.get());
+		} else {
+			y4mFile.reset(std::fopen(tmp.c_str(), "wb"));
+			if (!y4mFile) throw Error(tmp, 0, "cannot write");
+			y4m = std::make_unique<Y4mWriter>(y4mFile.get(), vo, tmp);
+		}
+		const bool quiet = args.has("--quiet");
+		YuvImage frame;
+		Points points;
+		std::vector<LiveEvent> events;
+		std::size_t next = 0;
+		for (std::int64_t n = 0; n < total; ++n) {
+			for (; next < steps.size() && steps[next].frame <= n; ++next) {
+				const Step& s = steps[next];
+				try {
+					const LiveRequest r = parseLiveRequest(s.json);
+					std::optional<Utterance> u;
+					if (r.kind == LiveRequest::Kind::Say || r.kind == LiveRequest::Kind::Speak) u = prepareUtterance(r, lang, o.sampleRate);
+					applyLiveRequest(session, r, std::move(u));
+				} catch (const std::exception& e) {
+					throw Error(script, s.line, describeException(e));
+				}
+			}
+			events.clear();
+			session.drawNext(frame, points, events);
+			if (mp4) mp4->write(frame);
+			else y4m->write(frame);
+			if (!quiet)
+				for (const LiveEvent& e : events)
+					std::printf("{\"type\": \"%s\", \"frame\": %lld, \"time\": %.3f%s%s}\n", liveEventName(e.kind), static_cast<long long>(e.frame),
+					            toSeconds(e.time), e.id.empty() ? "" : (", \"id\": " + jsonQuote(e.id)).c_str(),
+					            e.name.empty() ? "" : (", \"name\": " + jsonQuote(e.name)).c_str());
+		}
+		if (mp4) mp4->finish();
+		if (y4mFile && std::fclose(y4mFile.release()) != 0) throw Error(tmp, 0, "cannot write");
+	});
+	staged.commit();
+	return 0;
+}
+
+}  // namespace talkhead::cli

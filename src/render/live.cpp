@@ -1,0 +1,409 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "render/live.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "base/error.h"
+#include "base/text.h"
+#include "phonetics/espeak.h"
+#include "phonetics/labels.h"
+#include "phonetics/ssml.h"
+#include "phonetics/transcript.h"
+
+namespace talkhead {
+
+namespace {
+
+constexpr double kStopClose = 0.12;     // s: a barge-in's silence keypose after the next frame (D54)
+constexpr double kStopFade = 0.010;     // s: the sound's fade-out at a barge-in
+constexpr double kPlanAhead = 60;       // s: the blink and head plan reaches this far past the queued speech
+constexpr double kReplanMargin = 20;    // s: replanned when the frames come this close to its end
+constexpr double kKeepBehind = 2;       // s: keyposes kept behind the last drawn frame
+
+// Linear resampling of mono PCM (espeak-ng speaks at 22050 Hz, the session's default rate, so say never
+// needs it).
+std::vector<float> resampled(const std::vector<float>& in, int from, int to) {
+	if (from == to || in.empty()) return in;
+	const std::size_t n = std::size_t(std::llround(double(in.size()) * to / from));
+	std::vector<float> out(n);
+	for (std::size_t i = 0; i < n; ++i) {
+		const double x = double(i) * from / to;
+		const std::size_t a = std::min(in.size() - 1, std::size_t(x));
+		const std::size_t b = std::min(in.size() - 1, a + 1);
+		out[i] = float(in[a] + (x - double(a)) * (in[b] - in[a]));
+	}
+	return out;
+}
+
+}  // namespace
+
+const char* liveEventName(LiveEvent::Kind kind) {
+	switch (kind) {
+	case LiveEvent::Kind::UtteranceStarted: return "utterance_started";
+	case LiveEvent::Kind::UtteranceEnded: return "utterance_ended";
+	case LiveEvent::Kind::Mark: return "mark";
+	case LiveEvent::Kind::Viseme: return "viseme";
+	case LiveEvent::Kind::Stopped: return "stopped";
+	case LiveEvent::Kind::Emotion: return "emotion";
+	}
+	return "?";
+}
+
+Ticks Utterance::duration() const {
+	Ticks d = audio.duration();
+	if (!phones.empty()) d = std::max(d, phones.back().end);
+	return d;
+}
+
+Utterance speakText(const std::string& text, const Language& language, const std::string& voiceName, int sampleRate, int rateWpm, int pitch) {
+	const std::string voice = voiceName.empty() ? espeakVoiceFor(language.tag()) : voiceName;
+	Utterance u;
+	Speech speech;
+	if (looksLikeSsml(text)) {
+		const SsmlText ssml = parseSsml(text, "text");
+		for (const auto& e : ssml.events)
+			if (e.kind == SsmlText::Event::Kind::EmotionStart)
+				throw Error("text", e.line, "column " + std::to_string(e.column) + ": an emotion element in live speech: send an emotion message instead");
+		std::vector<Ticks> times;
+		speech = espeakSpeakSsml(ssml, voice, times, rateWpm, pitch);
+		const Ticks end = speech.sampleRate ? Ticks(std::int64_t(speech.pcm.size()) * (kTicksPerSecond / speech.sampleRate)) : Ticks(0);
+		for (std::size_t i = 0; i < ssml.events.size(); ++i) {
+			const auto& e = ssml.events[i];
+			const Ticks t = std::min(times[i], end);
+			if (e.kind == SsmlText::Event::Kind::Mark) u.marks.push_back({e.name, t});
+			else if (e.kind == SsmlText::Event::Kind::Blink) u.blinks.push_back(t);
+			else if (e.kind == SsmlText::Event::Kind::Brows) u.brows.push_back(BrowEvent{t, ticksFromSeconds(0.8), e.intensity, e.frown});
+		}
+	} else {
+		speech = espeakSpeak(text, voice, rateWpm, pitch);
+	}
+	u.warnings = speech.warnings;
+	u.phones = phoneSegments(speech.phones, language, UnknownPhone::Nearest, Notation::Espeak);
+	std::vector<float> pcm(speech.pcm.size());
+	for (std::size_t i = 0; i < pcm.size(); ++i) pcm[i] = float(speech.pcm[i]) / 32768.f;
+	u.audio.sampleRate = sampleRate;
+	u.audio.channels = 1;
+	u.audio.samples = resampled(pcm, speech.sampleRate, sampleRate);
+	return u;
+}
+
+Utterance utteranceFromAudio(const std::string& audioPath, const std::string& transcript, const std::string& transcriptName, const Language& language,
+                             int sampleRate) {
+	Utterance u;
+	AudioClip clip = decodeAudio(audioPath, sampleRate);
+	u.audio.sampleRate = sampleRate;
+	u.audio.channels = 1;
+	const std::size_t n = clip.frameCount(), ch = std::size_t(std::max(1, clip.channels));
+	u.audio.samples.resize(n);
+	for (std::size_t i = 0; i < n; ++i) {
+		float s = 0;
+		for (std::size_t c = 0; c < ch; ++c) s += clip.samples[i * ch + c];
+		u.audio.samples[i] = s / float(ch);
+	}
+	if (!transcript.empty()) u.phones = phoneSegments(parseTranscript(transcript, transcriptName), language);
+	return u;
+}
+
+// The session's sound: utterances placed at sample positions, silence between; read in order.
+class LiveSession::Sound : public AudioSource {
+public:
+	explicit Sound(int rate) : rate_(rate) {}
+	int sampleRate() const override { return rate_; }
+	int channels() const override { return 1; }
+	std::size_t read(float* out, std::size_t n) override {
+		std::fill(out, out + n, 0.f);
+		const std::int64_t a = pos_, b = pos_ + std::int64_t(n);
+		for (const Segment& s : segments_) {
+			const std::int64_t s0 = std::max(a, s.start), s1 = std::min(b, s.start + std::int64_t(s.pcm.size()));
+			for (std::int64_t i = s0; i < s1; ++i) out[i - a] += s.pcm[std::size_t(i - s.start)];
+		}
+		pos_ = b;
+		while (!segments_.empty() && segments_.front().start + std::int64_t(segments_.front().pcm.size()) <= pos_) segments_.pop_front();
+		return n;
+	}
+	void add(std::int64_t start, std::vector<float> pcm) {
+		if (start < pos_) {  // read already (an encoder ran ahead): the start is lost
+			std::fprintf(stderr, "talkhead: live: %.3f s of speech were late for the sound and are dropped\n", double(pos_ - start) / rate_);
+			const std::size_t drop = std::min(pcm.size(), std::size_t(pos_ - start));
+			pcm.erase(pcm.begin(), pcm.begin() + std::ptrdiff_t(drop));
+			start = pos_;
+		}
+		if (!pcm.empty()) segments_.push_back({start, std::move(pcm)});
+	}
+	// Everything from `at` on goes, faded out over `fade` samples.
+	void cut(std::int64_t at, std::int64_t fade) {
+		at = std::max(at, pos_);
+		for (auto it = segments_.begin(); it != segments_.end();) {
+			Segment& s = *it;
+			if (s.start >= at) {
+				it = segments_.erase(it);
+				continue;
+			}
+			const std::int64_t end = s.start + std::int64_t(s.pcm.size());
+			if (end > at) {
+				const std::int64_t keep = std::min(end, at + fade) - s.start;
+				for (std::int64_t i = at - s.start; i < keep; ++i) s.pcm[std::size_t(i)] *= float(1.0 - double(i - (at - s.start) + 1) / double(fade + 1));
+				s.pcm.resize(std::size_t(keep));
+			}
+			++it;
+		}
+	}
+	std::int64_t position() const { return pos_; }
+
+private:
+	struct Segment {
+		std::int64_t start;
+		std::vector<float> pcm;
+	};
+	int rate_;
+	std::int64_t pos_ = 0;
+	std::deque<Segment> segments_;
+};
+
+LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : model_(model), o_(options) {
+	if (o_.rate.num < 1 || o_.rate.den < 1) throw Error("invalid frame rate " + o_.rate.str());
+	if (o_.sampleRate < 8000 || o_.sampleRate > 192000) throw Error("live: sample rate " + std::to_string(o_.sampleRate) + " Hz is out of range");
+	const auto e = canonicalEmotion(o_.emotion);
+	if (!e) throw Error("unknown emotion '" + safeQuote(o_.emotion) + "'");
+	emotion_ = *e;
+	intensity_ = o_.intensity;
+	SynthOptions so = o_.render.synth;
+	so.emotion = emotion_;
+	so.intensity = intensity_;
+	so.yuvRange = YuvRange::Limited;
+	if (so.width <= 0 && so.height <= 0 && (model.width % 2 || model.height % 2)) {
+		so.width = std::max(2, model.width & ~1);
+		so.height = std::max(2, model.height & ~1);
+	}
+	const int outWidth = so.width, outHeight = so.height;
+	if (so.width > 0 && so.height > 0) {
+		box_ = fitBox(model.width, model.height, so.width, so.height, o_.render.fit);
+		so.width = box_.innerWidth, so.height = box_.innerHeight;
+	}
+	keys_.push_back(rest(Ticks(0)));
+	modOptions_ = o_.modulation;
+	// The face box is sized once, for the liveliest head any emotion gets (head motion's largest factor).
+	ModulatorOptions envelope = o_.modulation;
+	envelope.forcedBlinks.clear(), envelope.gestures.clear(), envelope.browEvents.clear(), envelope.auEvents.clear();
+	double factor = 0;
+	for (const auto& label : emotionLabels()) factor = std::max(factor, ShapeModulator::headFactorFor(label.label));
+	so.modulator = std::make_shared<ShapeModulator>(envelope, "joy", ticksFromSeconds(kPlanAhead), keys_);
+	if (ShapeModulator::headFactorFor("joy") < factor) throw std::logic_error("LiveSession: the envelope's emotion is not the liveliest");
+	synth_ = std::make_unique<Synthesizer>(model, so);
+	place_ = box_.innerWidth > 0 && (box_.innerWidth != outWidth || box_.innerHeight != outHeight);
+	info_.width = place_ ? outWidth : synth_->width();
+	info_.height = place_ ? outHeight : synth_->height();
+	info_.rate = o_.rate;
+	info_.frames = 0;
+	info_.range = YuvRange::Limited;
+	info_.pointNames = model.scheme.pointNames;
+	sound_ = std::make_unique<Sound>(o_.sampleRate);
+	replan();
+}
+
+LiveSession::~LiveSession() = default;
+
+AudioSource& LiveSession::audio() { return *sound_; }
+
+Ticks LiveSession::lastDrawn() const { return next_ > 0 ? o_.rate.time(next_ - 1) : Ticks(-1); }
+
+std::size_t LiveSession::committed() const {
+	const Ticks t = lastDrawn();
+	std::size_t c = 0;
+	while (c < keys_.size() && keys_[c].time <= t) ++c;
+	return c;
+}
+
+Keypose LiveSession::rest(Ticks t) const {
+	Keypose k;
+	k.time = t;
+	k.cdv = "sil";
+	k.emotion = emotion_;
+	k.intensity = intensity_;
+	return k;
+}
+
+void LiveSession::addPending(Ticks t, LiveEvent e) {
+	e.time = t;
+	auto it = std::upper_bound(pending_.begin(), pending_.end(), t, [](Ticks v, const Pending& p) { return v < p.time; });
+	pending_.insert(it, Pending{t, std::move(e)});
+}
+
+Ticks LiveSession::enqueue(Utterance u) {
+	const Ticks start = std::max(nextTime(), queueEnd_);
+	std::vector<Keypose> fresh;
+	if (!u.phones.empty()) fresh = talkhead::keyposes(u.phones, o_.rate.frameLength(), o_.pauses);
+	for (Keypose& k : fresh) {
+		k.time += start;
+		if (k.emotion.empty()) k.emotion = emotion_;
+		if (k.intensity < 0) k.intensity = intensity_;
+	}
+	// What frames already drawn depend on stays: the keys up to the first one after the last drawn frame.
+	const std::size_t c = committed();
+	std::vector<Keypose> kept;
+	for (std::size_t i = 0; i < keys_.size(); ++i)
+		if (keys_[i].time < start || i == c) kept.push_back(keys_[i]);
+	// Holding (no key after the last drawn frame): the pose held stays until the utterance starts.
+	if (c >= keys_.size() && kept.back().time < start) {
+		Keypose hold = kept.back();
+		hold.time = start;
+		hold.breath = false;
+		kept.push_back(hold);
+	}
+	for (const Keypose& k : fresh)
+		if (k.time > kept.back().time) kept.push_back(k);
+	keys_ = std::move(kept);
+	const Ticks end = start + u.duration();
+	queueEnd_ = std::max(queueEnd_, end);
+	sound_->add(std::llround(toSeconds(start) * o_.sampleRate), std::move(u.audio.samples));
+	LiveEvent e;
+	e.id = u.id;
+	e.kind = LiveEvent::Kind::UtteranceStarted;
+	addPending(start, e);
+	for (const auto& m : u.marks) {
+		LiveEvent me = e;
+		me.kind = LiveEvent::Kind::Mark;
+		me.name = m.name;
+		addPending(start + m.time, me);
+	}
+	e.kind = LiveEvent::Kind::UtteranceEnded;
+	addPending(end, e);
+	if (o_.speechBrows > 0)
+		for (BrowEvent b : speechBrows(u.phones, o_.speechBrows)) {
+			b.time += start;
+			modOptions_.browEvents.push_back(b);
+		}
+	for (BrowEvent b : u.brows) {
+		b.time += start;
+		modOptions_.browEvents.push_back(b);
+	}
+	for (Ticks t : u.blinks) modOptions_.forcedBlinks.push_back(t + start);
+	replan();
+	return start;
+}
+
+void LiveSession::setEmotion(const std::string& label, double intensity, Ticks ramp) {
+	const auto e = canonicalEmotion(label);
+	if (!e) throw Error("unknown emotion '" + safeQuote(label) + "'");
+	if (!(intensity >= 0 && intensity <= 1.5)) throw Error("emotion intensity must be from 0 to 1.5");
+	const Ticks t = nextTime(), frame = o_.rate.frameLength();
+	const std::size_t c = committed();
+	if (c + 1 < keys_.size()) {
+		// Speaking: from the key after the one the face is moving to.
+		for (std::size_t i = c + 1; i < keys_.size(); ++i) keys_[i].emotion = *e, keys_[i].intensity = intensity;
+	} else {
+		// Holding, or moving to the last key: the last pose again in the new emotion, `ramp` later.
+		if (c >= keys_.size() && keys_.back().time < t) {
+			Keypose hold = keys_.back();
+			hold.time = t;
+			hold.breath = false;
+			keys_.push_back(hold);
+		}
+		Keypose k = keys_.back();
+		k.time = std::max(k.time + frame, t + std::max(ramp, frame));
+		k.emotion = *e;
+		k.intensity = intensity;
+		k.breath = false;
+		keys_.push_back(k);
+	}
+	emotion_ = *e;
+	intensity_ = intensity;
+	LiveEvent ev;
+	ev.kind = LiveEvent::Kind::Emotion;
+	ev.name = *e;
+	addPending(t, ev);
+	replan();
+}
+
+void LiveSession::stop() {
+	const Ticks t = nextTime(), frame = o_.rate.frameLength();
+	if (queueEnd_ > t) {
+		const Ticks closeAt = t + ticksFromSeconds(kStopClose);
+		const std::size_t c = committed();
+		std::vector<Keypose> kept(keys_.begin(), keys_.begin() + std::ptrdiff_t(c));
+		Ticks silAt = closeAt;
+		if (c < keys_.size() && keys_[c].time < closeAt) {
+			kept.push_back(keys_[c]);
+			silAt = std::max(closeAt, keys_[c].time + frame);
+		}
+		if (kept.empty() || kept.back().time < silAt) kept.push_back(rest(silAt));
+		keys_ = std::move(kept);
+		sound_->cut(std::llround(toSeconds(t) * o_.sampleRate), std::llround(kStopFade * o_.sampleRate));
+		// Utterances cut or never started end now; their marks and starts still to come are dropped.
+		std::deque<Pending> left;
+		for (Pending& p : pending_) {
+			if (p.time < t) {
+				left.push_back(std::move(p));
+			} else if (p.event.kind == LiveEvent::Kind::UtteranceEnded) {
+				p.event.interrupted = true;
+				p.time = p.event.time = t;
+				left.push_back(std::move(p));
+			} else if (p.event.kind != LiveEvent::Kind::UtteranceStarted && p.event.kind != LiveEvent::Kind::Mark) {
+				left.push_back(std::move(p));
+			}
+		}
+		pending_ = std::move(left);
+		auto& brows = modOptions_.browEvents;
+		brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time >= t; }), brows.end());
+		auto& blinks = modOptions_.forcedBlinks;
+		blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b >= t; }), blinks.end());
+		queueEnd_ = t;
+	}
+	LiveEvent ev;
+	ev.kind = LiveEvent::Kind::Stopped;
+	addPending(t, ev);
+	replan();
+}
+
+void LiveSession::replan() {
+	const Ticks t = nextTime(), behind = lastDrawn() - ticksFromSeconds(kKeepBehind);
+	horizon_ = std::max(queueEnd_, t) + ticksFromSeconds(kPlanAhead);
+	// Old keys go (all but the last before `behind`), and old timed events with them.
+	std::size_t drop = 0;
+	while (drop + 1 < keys_.size() && keys_[drop + 1].time <= behind) ++drop;
+	keys_.erase(keys_.begin(), keys_.begin() + std::ptrdiff_t(drop));
+	auto& brows = modOptions_.browEvents;
+	brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time + b.duration < behind; }), brows.end());
+	auto& blinks = modOptions_.forcedBlinks;
+	blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b < behind; }), blinks.end());
+	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, emotion_, horizon_, keys_);
+	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, emotion_, horizon_, keys_);
+	synth_->setModulator(modulator_);
+}
+
+void LiveSession::drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>& events) {
+	const Ticks t = nextTime();
+	if (t + ticksFromSeconds(kReplanMargin) > horizon_) replan();
+	while (!pending_.empty() && pending_.front().time <= t) {
+		LiveEvent e = std::move(pending_.front().event);
+		pending_.pop_front();
+		e.frame = next_;
+		events.push_back(std::move(e));
+	}
+	std::size_t i = 0;
+	while (i + 1 < keys_.size() && keys_[i + 1].time <= t) ++i;
+	if (keys_[i].cdv != lastViseme_) {
+		lastViseme_ = keys_[i].cdv;
+		LiveEvent e;
+		e.kind = LiveEvent::Kind::Viseme;
+		e.frame = next_;
+		e.time = keys_[i].time;
+		e.name = lastViseme_;
+		events.push_back(std::move(e));
+	}
+	synth_->prepare(Synthesizer::keyposesBetween(keys_, t, t));
+	synth_->renderFrameYuv(t, keys_, ws_, inner_, points, drawnBefore_);
+	drawnBefore_ = true;
+	if (place_) {
+		placeFitted(inner_, out, info_.width, info_.height, box_.x, box_.y);
+		points.col(0).array() += box_.x;
+		points.col(1).array() += box_.y;
+	} else {
+		out = inner_;
+	}
+	++next_;
+}
+
+}  // namespace talkhead

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "base/frame_rate.h"
+#include "base/ticks.h"
+#include "media/audio.h"
+#include "phonetics/language.h"
+#include "render/frame_sink.h"
+#include "render/render.h"
+#include "synth/synthesizer.h"
+
+namespace talkhead {
+
+// A live stream (issue 16, D54): one face, always on, whose timeline grows while it plays. Utterances are
+// spliced in as they arrive, an emotion changes on the fly, a barge-in closes the mouth; between them the
+// face idles (blinks, small head motion, the emotion). The session is driven frame by frame and is
+// deterministic: the same commands before the same frames give byte-identical frames and the same sound,
+// whatever the wall clock — `talkhead serve` paces it in real time, `talkhead live` replays a script
+// offline. Not thread-safe: one thread calls everything.
+
+// Something to say: the sound and the phones in it, times relative to the sound's first sample.
+struct Utterance {
+	std::string id;                     // the client's, echoed in the events
+	AudioClip audio;                    // mono at the session's sample rate (empty: a silent utterance)
+	std::vector<PhoneSegment> phones;   // with CDVs (phoneSegments), from 0
+	struct Mark {
+		std::string name;
+		Ticks time{0};
+	};
+	std::vector<Mark> marks;            // reported when reached
+	std::vector<BrowEvent> brows;       // SSML brow events (relative)
+	std::vector<Ticks> blinks;          // SSML blinks (relative)
+	std::vector<std::string> warnings;  // what was changed on the way (espeak-ng's text warnings)
+	Ticks duration() const;             // the sound's length, or the phones' end when longer
+};
+
+// The utterance espeak-ng speaks for `text` (plain or SSML: breaks, marks, blinks, brows; emotion
+// elements are refused — send an emotion command) in `voice` (empty: the language's default), resampled to
+// `sampleRate`. rateWpm 0 / pitch −1: the voice's defaults. Throws Error (unknown voice, nothing to say,
+// bad SSML).
+Utterance speakText(const std::string& text, const Language& language, const std::string& voice, int sampleRate, int rateWpm = 0,
+                    int pitch = -1);
+
+// An utterance from a sound the caller has (any format libav decodes, in `audioPath`) and its timing in any
+// transcript format talkhead reads (`transcript`, named `transcriptName` in errors). Throws Error.
+Utterance utteranceFromAudio(const std::string& audioPath, const std::string& transcript, const std::string& transcriptName,
+                             const Language& language, int sampleRate);
+
+struct LiveOptions {
+	RenderOptions render;              // output size and fit, trajectory, dissolve (threads: unused)
+	FrameRate rate{30, 1};
+	std::string emotion = "neutral";   // at the start
+	double intensity = 1;
+	ModulatorOptions modulation;       // blinks and head motion, idle and speaking (seeded)
+	int sampleRate = 22050;            // of the session's sound (espeak-ng's own rate: no resampling for say)
+	double speechBrows = 1;            // brow raises with speech (D49), 0 = none
+	PauseStyle pauses = PauseStyle::Natural;
+};
+
+// What happened at a frame, for the client.
+struct LiveEvent {
+	enum class Kind { UtteranceStarted, UtteranceEnded, Mark, Viseme, Stopped, Emotion } kind = Kind::Viseme;
+	std::int64_t frame = 0;
+	Ticks time{0};
+	std::string id;    // the utterance's
+	std::string name;  // the mark, the viseme (CDV) or the emotion
+	bool interrupted = false;  // UtteranceEnded by a stop
+};
+const char* liveEventName(LiveEvent::Kind kind);  // "utterance_started", "utterance_ended", "mark", …
+
+class LiveSession {
+public:
+	LiveSession(const FaceModel& model, const LiveOptions& options);
+	~LiveSession();
+	LiveSession(const LiveSession&) = delete;
+	LiveSession& operator=(const LiveSession&) = delete;
+
+	const StreamInfo& info() const { return info_; }  // frames = 0: unbounded
+	int sampleRate() const { return o_.sampleRate; }
+	std::int64_t nextFrame() const { return next_; }
+	Ticks nextTime() const { return o_.rate.time(next_); }
+	const std::string& emotion() const { return emotion_; }
+
+	// Queues an utterance: it starts at the next frame, or when the speech queued before it ends. Returns
+	// its start (stream time).
+	Ticks enqueue(Utterance u);
+	// The emotion from the next frame on, reached over `ramp` when idle (at the next keypose when
+	// speaking). Throws Error for an unknown label or an intensity outside 0–1.5.
+	void setEmotion(const std::string& label, double intensity, Ticks ramp);
+	// Barge-in: the speech under way and everything queued is dropped (the sound fades out over 10 ms) and
+	// the mouth closes — at rest within 150 ms of the next frame.
+	void stop();
+	// Speech under way or queued at the next frame.
+	bool speaking() const { return queueEnd_ > nextTime(); }
+
+	// Draws the next frame (YUV 4:2:0, limited range) and its feature points (output pixels); appends what
+	// happened by this frame to `events`.
+	void drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>& events);
+
+	// The session's sound (mono, sampleRate()): the utterances where they were placed, silence between. An
+	// encoder pulls it as the frames advance; never ends. Reads must not run ahead of the frames drawn by
+	// more than the encoder's block, or speech queued later would be missed (it is then dropped up to the
+	// read position and the stream says so on stderr).
+	AudioSource& audio();
+
+	// The keyposes from the last drawn frame on (for tests and the debug view).
+	const std::vector<Keypose>& keyposes() const { return keys_; }
+	// The current plan of blinks and head motion.
+	const ShapeModulator* modulator() const { return modulator_.get(); }
+
+private:
+	class Sound;
+	struct Pending {  // an event at a stream time
+		Ticks time{0};
+		LiveEvent event;
+	};
+	const FaceModel& model_;
+	LiveOptions o_;
+	std::unique_ptr<Synthesizer> synth_;
+	StreamInfo info_;
+	FitBox box_{};
+	bool place_ = false;
+	Synthesizer::Workspace ws_;
+	YuvImage inner_;
+	bool drawnBefore_ = false;
+	std::int64_t next_ = 0;
+	std::vector<Keypose> keys_;
+	std::string emotion_;
+	double intensity_ = 1;
+	Ticks queueEnd_{0};
+	std::deque<Pending> pending_;
+	std::string lastViseme_;
+	ModulatorOptions modOptions_;
+	std::shared_ptr<const ShapeModulator> modulator_;
+	Ticks horizon_{0};
+	std::unique_ptr<Sound> sound_;
+
+	Ticks lastDrawn() const;  // the time of the last drawn frame (−1 tick when none)
+	// Keeps what frames already drawn depend on (the keys up to the first one after the last drawn frame)
+	// and drops the rest from `from` on; returns the index of the first key after the last drawn frame, or
+	// keys_.size().
+	std::size_t committed() const;
+	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
+	void replan();
+	void addPending(Ticks t, LiveEvent e);
+};
+
+}  // namespace talkhead
