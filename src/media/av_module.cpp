@@ -252,10 +252,16 @@ struct Mp4Encoder {
 			}
 			fmt->flags |= AVFMT_FLAG_CUSTOM_IO;
 			av_dict_set(&opts, "movflags", "+empty_moov+default_base_moof+frag_custom", 0);
-			// RFC 6381 codec names: avc1.PPCCLL from the avcC record, AAC-LC.
+			// RFC 6381 codec names: avc1.PPCCLL (profile, constraints, level) from the sequence parameter set,
+			// found in an avcC record or in Annex B NAL units (what libx264 gives as extradata); AAC-LC.
 			const std::uint8_t* x = venc->extradata;
-			char name[32] = "avc1.42e01f";
-			if (x && venc->extradata_size >= 4 && x[0] == 1) std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[1], x[2], x[3]);
+			const int xs = venc->extradata_size;
+			char name[32] = "";
+			if (x && xs >= 4 && x[0] == 1) std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[1], x[2], x[3]);
+			for (int i = 0; x && !name[0] && i + 6 < xs; ++i)
+				if (x[i] == 0 && x[i + 1] == 0 && x[i + 2] == 1 && (x[i + 3] & 0x1f) == 7)
+					std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[i + 4], x[i + 5], x[i + 6]);
+			if (!name[0]) throw Error(path, 0, "the H.264 encoder gave no sequence parameter set");
 			codecs = std::string(name) + (audio ? ",mp4a.40.2" : "");
 		} else {
 			checkAv(avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot write the video");

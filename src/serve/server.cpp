@@ -23,6 +23,7 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/text.h"
+#include "phonetics/labels.h"
 #include "media/video_writer.h"
 
 namespace talkhead {
@@ -162,12 +163,13 @@ private:
 			vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = o_.crf, vo.preset = o_.preset, vo.threads = o_.encoderThreads;
 			Mp4LiveWriter writer([&bytes](const std::uint8_t* d, std::size_t n) { bytes.append(reinterpret_cast<const char*>(d), n); return true; }, vo,
 			                     &session->audio());
-			char hello[512];
-			std::snprintf(hello, sizeof hello,
-			              "{\"type\": \"hello\", \"session\": %d, \"width\": %d, \"height\": %d, \"fps\": %.6g, \"rate\": \"%s\", \"sample_rate\": %d, "
-			              "\"mime\": %s, \"emotion\": %s}",
-			              id_, info.width, info.height, info.rate.fps(), info.rate.str().c_str(), session->sampleRate(),
-			              jsonQuote("video/mp4; codecs=\"" + writer.codecs() + "\"").c_str(), jsonQuote(session->emotion()).c_str());
+			std::string emotions;
+			for (const auto& e : emotionLabels()) emotions += (emotions.empty() ? "" : ", ") + jsonQuote(e.label);
+			char head[256];
+			std::snprintf(head, sizeof head, "{\"type\": \"hello\", \"session\": %d, \"width\": %d, \"height\": %d, \"fps\": %.6g, \"rate\": \"%s\", \"sample_rate\": %d",
+			              id_, info.width, info.height, info.rate.fps(), info.rate.str().c_str(), session->sampleRate());
+			const std::string hello = std::string(head) + ", \"mime\": " + jsonQuote("video/mp4; codecs=\"" + writer.codecs() + "\"") +
+			                          ", \"emotion\": " + jsonQuote(session->emotion()) + ", \"emotions\": [" + emotions + "]}";
 			if (record_) record_ << "{\"type\": \"session\", \"width\": " << info.width << ", \"height\": " << info.height << ", \"rate\": \"" << info.rate.str()
 			                     << "\", \"emotion\": " << jsonQuote(session->emotion()) << ", \"lang\": " << jsonQuote(o_.lang) << "}\n";
 			if (!send_(false, hello) || !send_(true, std::move(bytes))) return;
