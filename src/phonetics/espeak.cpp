@@ -166,24 +166,42 @@ std::string splitLongTokens(const std::string& text) {
 }
 }  // namespace
 
-// Latin-script voices (the languages with viseme tables but for --generic-visemes ones): characters
-// outside Latin, its extensions, punctuation, currency and letter-like symbols become spaces. libespeak-ng
-// 1.51 reads freed memory on some (U+0D00, Malayalam; ASan; a release build silently says "nothing to
-// say"), issue 15 item 2; a Latin voice cannot say them anyway. Returns how many were replaced.
+// What libespeak-ng is given is valid UTF-8 (malformed sequences — a lone continuation byte, an overlong or
+// truncated sequence, a surrogate — become spaces: libespeak-ng 1.51 reads freed memory on some, found by
+// the words_espeak fuzz target), and for Latin-script voices (the languages with viseme tables but for
+// --generic-visemes ones) characters outside Latin, its extensions, punctuation, currency and
+// letter-like symbols become spaces too: libespeak-ng reads freed memory on some of those as well (U+0D00,
+// Malayalam; ASan; a release build silently says "nothing to say"), issue 15 item 2, and a Latin voice
+// cannot say them anyway. Returns how many were replaced.
 static int dropForeignScript(std::string& text, const std::string& voice) {
 	const std::string v = toLower(voice);
 	bool latin = false;
 	for (const char* p : {"pt", "en", "es", "fr", "de", "it", "mb-br", "mb-us", "mb-en", "mb-es", "mb-fr", "mb-de", "mb-it"})
 		latin |= v.rfind(p, 0) == 0;
-	if (!latin) return 0;
 	std::string out;
 	int dropped = 0;
 	for (std::size_t i = 0; i < text.size();) {
 		const unsigned char c = static_cast<unsigned char>(text[i]);
-		const std::size_t n = c < 0x80 ? 1 : c < 0xE0 ? 2 : c < 0xF0 ? 3 : 4;
-		std::uint32_t cp = n == 1 ? c : n == 2 ? c & 0x1F : n == 3 ? c & 0x0F : c & 0x07;
-		for (std::size_t k = 1; k < n && i + k < text.size(); ++k) cp = (cp << 6) | (static_cast<unsigned char>(text[i + k]) & 0x3F);
-		const bool keep = cp < 0x0250 || (cp >= 0x1E00 && cp <= 0x1EFF) || (cp >= 0x2000 && cp <= 0x20CF) || (cp >= 0x2100 && cp <= 0x214F) ||
+		// Strict UTF-8 (RFC 3629): the lead byte gives the length and the smallest code point allowed.
+		std::size_t n = 0;
+		std::uint32_t cp = 0, least = 0;
+		if (c < 0x80) n = 1, cp = c;
+		else if (c >= 0xC2 && c <= 0xDF) n = 2, cp = c & 0x1F, least = 0x80;
+		else if (c >= 0xE0 && c <= 0xEF) n = 3, cp = c & 0x0F, least = 0x800;
+		else if (c >= 0xF0 && c <= 0xF4) n = 4, cp = c & 0x07, least = 0x10000;
+		bool valid = n > 0 && i + n <= text.size();
+		for (std::size_t k = 1; valid && k < n; ++k) {
+			const unsigned char b = static_cast<unsigned char>(text[i + k]);
+			valid = (b & 0xC0) == 0x80;
+			cp = (cp << 6) | (b & 0x3F);
+		}
+		valid = valid && cp >= least && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
+		if (!valid) {  // one byte at a time: the next may start a good sequence
+			out += ' ', ++dropped;
+			++i;
+			continue;
+		}
+		const bool keep = !latin || cp < 0x0250 || (cp >= 0x1E00 && cp <= 0x1EFF) || (cp >= 0x2000 && cp <= 0x20CF) || (cp >= 0x2100 && cp <= 0x214F) ||
 		                  (cp >= 0x0300 && cp <= 0x036F);
 		if (keep) out.append(text, i, n);
 		else out += ' ', ++dropped;
@@ -206,7 +224,7 @@ Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rat
 	Speech sp;
 	sp.sampleRate = rate;
 	if (dropped > 0)
-		sp.warnings.push_back(std::to_string(dropped) + (dropped > 1 ? " characters" : " character") + " outside the " + voice + " voice's script " +
+		sp.warnings.push_back(std::to_string(dropped) + (dropped > 1 ? " characters" : " character") + " outside the " + voice + " voice's script (or not UTF-8) " +
 		                      (dropped > 1 ? "were" : "was") + " left out (read as spaces)");
 	Collector c;
 	c.pcm = &sp.pcm;
