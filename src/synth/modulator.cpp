@@ -207,12 +207,13 @@ ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const
 	// The amplitude from `from` on: previous's, moved to this plan's over 0.4 s.
 	ampFirst_ = std::size_t(std::max(0.0, at / kGrid));
 	const std::size_t last = std::size_t(length / kGrid) + 2;
-	amp_.resize(last > ampFirst_ ? last - ampFirst_ : 1);
-	for (std::size_t i = 0; i < amp_.size(); ++i) {
+	std::vector<float> amp(last > ampFirst_ ? last - ampFirst_ : 1);  // amplitude() reads this plan's activity while amp_ is empty
+	for (std::size_t i = 0; i < amp.size(); ++i) {
 		const Ticks t = ticksFromSeconds(double(ampFirst_ + i) * kGrid);
 		const double w = smoothstep((toSeconds(t) - at) / 0.4);
-		amp_[i] = float((1 - w) * previous.amplitude(t) + w * amplitude(t));
+		amp[i] = float((1 - w) * previous.amplitude(t) + w * amplitude(t));
 	}
+	amp_ = std::move(amp);
 	activity_.clear();
 	double gestureAngle = 0;
 	const double gesture = gestureShift(o, gestureAngle);

@@ -252,6 +252,10 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 		// anchors move out by as much.
 		double headRoom = 0;
 		if (o.modulator) {
+			sizedForHead_ = true;
+			headAngle_ = o.modulator->maxAngle();
+			headShift_ = o.modulator->maxShift();
+			sizedForBlinks_ = !o.modulator->blinks().empty();
 			double radius = 0;
 			for (Eigen::Index i = 0; i < model.meanShape.rows(); ++i) radius = std::max(radius, (model.meanShape.row(i) - centre_).norm());
 			headRoom = o.modulator->maxAngle() * radius * 1.5 + o.modulator->maxShift() * faceSize_;
@@ -681,12 +685,10 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 }
 
 void Synthesizer::setModulator(std::shared_ptr<const ShapeModulator> m) {
-	const ShapeModulator* was = o_.modulator.get();
 	if (m) {
-		if (!was || m->maxAngle() > was->maxAngle() + 1e-12 || m->maxShift() > was->maxShift() + 1e-12)
+		if (!sizedForHead_ || m->maxAngle() > headAngle_ + 1e-12 || m->maxShift() > headShift_ + 1e-12)
 			throw std::logic_error("Synthesizer::setModulator: the new plan moves the head further than the face box allows");
-		if (!m->blinks().empty() && was->blinks().empty())
-			throw std::logic_error("Synthesizer::setModulator: blinks, but the synthesizer was made without");
+		if (!m->blinks().empty() && !sizedForBlinks_) throw std::logic_error("Synthesizer::setModulator: blinks, but the synthesizer was made without");
 		if (!m->auEvents().empty()) throw std::logic_error("Synthesizer::setModulator: action-unit events are fixed at construction");
 	}
 	o_.modulator = std::move(m);

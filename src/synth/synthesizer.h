@@ -152,6 +152,9 @@ private:
 	std::vector<ClosedLidPatch> eyePatches_;
 	Eigen::RowVector2d centre_{0, 0};  // the mean shape's centre (head rotation), model pixels
 	double faceSize_ = 1;              // the mean shape's larger side, model pixels
+	// What the face box and the lid patches were made for (setModulator's limits).
+	bool sizedForHead_ = false, sizedForBlinks_ = false;
+	double headAngle_ = 0, headShift_ = 0;
 	void closeEyes(Points& points, double closure) const;
 	void drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const;
 	const KeyposeImage& cached(const Keypose& key) const;
