@@ -213,6 +213,8 @@ struct Mp4Encoder {
 			// every 2 s.
 			av_opt_set(venc->priv_data, "tune", "zerolatency", 0);
 			venc->gop_size = 2 * o.rate.num / std::max(1, o.rate.den);
+			// Without lookahead, crf 0 leaves P-frames a little lossy: lossless is qp 0.
+			if (o.crf == 0) av_opt_set(venc->priv_data, "qp", "0", 0);
 		}
 		checkAv(avcodec_open2(venc, h264, nullptr), path, "cannot open the H.264 encoder");
 		checkAv(avcodec_parameters_from_context(vst->codecpar, venc), path, "H.264 parameters");
@@ -239,6 +241,10 @@ struct Mp4Encoder {
 			av_channel_layout_copy(&aframe->ch_layout, &aenc->ch_layout);
 			aframe->nb_samples = aenc->frame_size;
 			checkAv(av_frame_get_buffer(aframe, 0), path, "audio frame");
+			if (live && aenc->initial_padding > 0) {
+				std::vector<float> skip(std::size_t(aenc->initial_padding) * std::size_t(audio->channels()));
+				audio->read(skip.data(), std::size_t(aenc->initial_padding));
+			}
 		}
 		AVDictionary* opts = nullptr;
 		if (live) {
@@ -280,6 +286,12 @@ struct Mp4Encoder {
 			int r = avcodec_receive_packet(enc, pkt);
 			if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
 			checkAv(r, path, "encoding failed");
+			if (sink && enc == aenc) {
+				// Live: no edit list to hide the AAC encoder's priming, so its packets start at 0 and the
+				// sound's first `initial_padding` samples were skipped (open): sample k plays at k / rate.
+				if (pkt->pts != AV_NOPTS_VALUE) pkt->pts += enc->initial_padding;
+				if (pkt->dts != AV_NOPTS_VALUE) pkt->dts += enc->initial_padding;
+			}
 			av_packet_rescale_ts(pkt, enc->time_base, st->time_base);
 			pkt->stream_index = st->index;
 			checkAv(av_interleaved_write_frame(fmt, pkt), path, "cannot write the video");
@@ -341,7 +353,11 @@ struct Mp4Encoder {
 		checkAv(sent, path, "H.264 encoding failed");
 		drain(venc, vst);
 		if (released != 3) throw std::logic_error("Mp4Writer: the encoder kept a reference to a frame it was lent");
-		if (audio) encodeAudio(av_rescale_q(frameIndex, AVRational{o.rate.den, o.rate.num}, AVRational{1, audio->sampleRate()}), false);
+		// The sound up to this frame's end (live: the source is `initial_padding` samples ahead of the
+		// packets, so no further: a live source must not be read past the frames drawn).
+		if (audio)
+			encodeAudio(av_rescale_q(frameIndex, AVRational{o.rate.den, o.rate.num}, AVRational{1, audio->sampleRate()}) - (sink ? aenc->initial_padding : 0),
+			            false);
 		if (sink) {  // live: this frame's fragment out now
 			checkAv(av_write_frame(fmt, nullptr), path, "cannot write the stream");
 			avio_flush(fmt->pb);

@@ -164,7 +164,8 @@ private:
 
 LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : model_(model), o_(options) {
 	if (o_.rate.num < 1 || o_.rate.den < 1) throw Error("invalid frame rate " + o_.rate.str());
-	if (o_.sampleRate < 8000 || o_.sampleRate > 192000) throw Error("live: sample rate " + std::to_string(o_.sampleRate) + " Hz is out of range");
+	if (o_.sampleRate < 8000 || o_.sampleRate > 192000 || kTicksPerSecond % o_.sampleRate != 0)
+		throw Error("live: sample rate " + std::to_string(o_.sampleRate) + " Hz is not one of the rates a sample lasts a whole number of ticks at (8000, 11025, 16000, 22050, 24000, 32000, 44100, 48000, 96000, …)");
 	const auto e = canonicalEmotion(o_.emotion);
 	if (!e) throw Error("unknown emotion '" + safeQuote(o_.emotion) + "'");
 	emotion_ = *e;

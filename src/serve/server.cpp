@@ -80,6 +80,7 @@ public:
 		speechCv_.notify_all();
 		if (frames_.joinable()) frames_.join();
 		if (speech_.joinable()) speech_.join();
+		if (record_) record_ << "{\"type\": \"end\", \"frame\": " << drawn_ << "}\n";
 	}
 
 	// A request's text (from the io thread): parsed here, errors answered at once.
@@ -125,6 +126,7 @@ private:
 	std::deque<Command> speechQueue_, frameQueue_;
 	std::thread frames_, speech_;
 	std::ofstream record_;
+	std::int64_t drawn_ = 0;  // frames drawn and encoded (the record's end)
 	std::map<std::string, Clock::time_point> requestTimes_;  // utterance id → when its request came
 
 	void speechLoop() {
@@ -200,6 +202,7 @@ private:
 				events.clear();
 				session->drawNext(frame, points, events);
 				writer.write(frame);
+				drawn_ = session->nextFrame();
 				const auto sent = Clock::now();
 				for (const LiveEvent& e : events) {
 					std::string j = eventJson(e);
@@ -220,7 +223,6 @@ private:
 					bytes.clear();
 				}
 			}
-			if (record_) record_ << "{\"type\": \"end\", \"frame\": " << session->nextFrame() << "}\n";
 		} catch (const std::exception& e) {
 			send_(false, errorJson(describeException(e)));
 			if (o_.log) o_.log("session " + std::to_string(id_) + ": " + describeException(e));

@@ -9,7 +9,9 @@
 #include <boost/beast/websocket.hpp>
 
 #include <chrono>
+#include <algorithm>
 #include <deque>
+#include <memory>
 #include <functional>
 #include <fstream>
 #include <iostream>
@@ -47,6 +49,7 @@ int main(int argc, char** argv) {
 		}
 		sends.push_back(std::move(s));
 	}
+	std::stable_sort(sends.begin(), sends.end(), [](const Send& a, const Send& b) { return a.at < b.at; });
 	try {
 		net::io_context ioc;
 		tcp::resolver resolver(ioc);
@@ -58,7 +61,7 @@ int main(int argc, char** argv) {
 		Clock::time_point hello{};
 		bool started = false;
 		std::size_t next = 0;
-		std::vector<std::unique_ptr<net::steady_timer>> timers;
+		std::vector<std::shared_ptr<net::steady_timer>> timers;
 		std::deque<const std::string*> queue;  // one write at a time
 		std::function<void()> write = [&] {
 			ws.text(true);
@@ -84,18 +87,27 @@ int main(int argc, char** argv) {
 					if (!started) {
 						started = true;
 						hello = now;
-						for (; next < sends.size(); ++next) {
-							auto t = std::make_unique<net::steady_timer>(ioc, hello + std::chrono::milliseconds(sends[next].at));
-							const std::string* text = &sends[next].text;
-							t->async_wait([&, text](beast::error_code e) {
+						// One timer at a time, in the order given (messages due at the same time keep their order).
+						auto timer = std::make_shared<net::steady_timer>(ioc);
+						auto schedule = std::make_shared<std::function<void()>>();
+						*schedule = [&, timer, schedule] {
+							if (next >= sends.size()) return;
+							timer->expires_at(hello + std::chrono::milliseconds(sends[next].at));
+							timer->async_wait([&, timer, schedule](beast::error_code e) {
 								if (e) return;
-								const double ms = std::chrono::duration<double, std::milli>(Clock::now() - hello).count();
-								events << ms << "\t>" << (text->size() > 300 ? text->substr(0, 300) + "…" : *text) << "\n";
-								queue.push_back(text);
-								if (queue.size() == 1) write();
+								const long due = sends[next].at;
+								for (; next < sends.size() && sends[next].at == due; ++next) {
+									const std::string* text = &sends[next].text;
+									const double ms = std::chrono::duration<double, std::milli>(Clock::now() - hello).count();
+									events << ms << "\t>" << (text->size() > 300 ? text->substr(0, 300) + "…" : *text) << "\n";
+									queue.push_back(text);
+									if (queue.size() == 1) write();
+								}
+								(*schedule)();
 							});
-							timers.push_back(std::move(t));
-						}
+						};
+						timers.push_back(timer);
+						(*schedule)();
 						end.expires_at(hello + std::chrono::milliseconds(long(seconds * 1000)));
 						end.async_wait([&](beast::error_code e) {
 							if (e) return;

@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# talkhead serve (issue 16) with a scripted WebSocket client: two sessions at once give, frame for frame,
+# what 'talkhead live' renders offline from their records (lossless H.264: the decoded stream is the drawn
+# frames); utterances back to back, a barge-in, bad requests (malformed JSON, an unknown emotion, audio in
+# no known format, a 100 MB message) each answered with an error while the session and the server go on;
+# a session over --max-sessions is refused.
+set -euo pipefail
+TH=$1 CLIENT=$2
+PY=/usr/bin/python3
+command -v ffmpeg >/dev/null || { echo "skipped: ffmpeg (the test's decoder) is not installed"; exit 77; }
+T=$(mktemp -d)
+server=0
+cleanup() { [ "$server" = 0 ] || kill "$server" 2>/dev/null || true; rm -rf "$T"; }
+[ -n "${KEEP:-}" ] && cleanup() { echo kept $T; }
+trap cleanup EXIT
+
+# Speech with its timing, for speak requests (the sound and the phones as say made them).
+"$TH" say "Bom dia, tudo bem?" -q --size 160x90 --no-audio -o "$T/x.mp4" --save-audio "$T/a.wav" --save-transcript "$T/a.TextGrid"
+"$TH" say "Boa noite." -q --size 160x90 --no-audio -o "$T/y.mp4" --save-audio "$T/b.wav" --save-transcript "$T/b.TextGrid"
+$PY - "$T" <<'EOF'
+import base64, json, sys
+t = sys.argv[1]
+for n in 'ab':
+    req = {'type': 'speak', 'id': 'speak-' + n, 'lang': 'pt-BR', 'audio': base64.b64encode(open(f'{t}/{n}.wav', 'rb').read()).decode(),
+           'transcript': open(f'{t}/{n}.TextGrid').read()}
+    open(f'{t}/speak-{n}.json', 'w').write(json.dumps(req))
+bad = {'type': 'speak', 'id': 'noise', 'audio': base64.b64encode(b'\x13\x37' * 3000).decode(), 'transcript': open(f'{t}/a.TextGrid').read()}
+open(f'{t}/bad-audio.json', 'w').write(json.dumps(bad))
+with open(f'{t}/huge.json', 'w') as f:  # 100 MB
+    f.write('{"type": "say", "text": "' + 'a' * (100 << 20) + '"}')
+EOF
+
+mkdir -p "$T/rec"
+"$TH" serve --listen 127.0.0.1:0 --size 320x180 --crf 0 --seed 5 --max-sessions 3 --record "$T/rec" -q >"$T/serve.out" 2>"$T/serve.err" &
+server=$!
+for _ in $(seq 50); do grep -q serving "$T/serve.out" 2>/dev/null && break; sleep 0.1; done
+port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/serve.out")
+[ -n "$port" ] || { cat "$T/serve.out" "$T/serve.err"; echo "serve did not start"; exit 1; }
+
+# Two sessions at once, different emotions, each speaking.
+"$CLIENT" "$port" "$T/s1" 3.5 '100:{"type":"emotion","emotion":"joy"}' "400:@$T/speak-a.json" &
+c1=$!
+"$CLIENT" "$port" "$T/s2" 3.5 '100:{"type":"emotion","emotion":"anger","ramp":0.2}' "600:@$T/speak-b.json" &
+c2=$!
+wait $c1 $c2
+for s in s1 s2; do
+	grep -q '"type": "hello"' "$T/$s.events"
+	grep -q '"type": "utterance_started", "frame": [0-9]*, "time": [0-9.]*, "id": "speak-' "$T/$s.events"
+	grep -q '"type": "utterance_ended"' "$T/$s.events"
+	! grep -q '"type": "error"' "$T/$s.events"
+done
+# Offline: the records replayed give the frames each stream had, bit for bit.
+sleep 0.3  # the sessions write their end lines as they close
+for n in 1 2; do
+	rec=$(grep -l "speak-$( [ $n = 1 ] && echo a || echo b)" "$T"/rec/session-*.jsonl)
+	grep -q '"type": "end"' "$rec"
+	"$TH" live "$rec" --size 320x180 --seed 5 --format y4m -o "$T/live$n.y4m" -q
+	ffmpeg -v error -i "$T/s$n.mp4" -vsync passthrough -f rawvideo -pix_fmt yuv420p "$T/stream$n.yuv"
+	ffmpeg -v error -i "$T/live$n.y4m" -f rawvideo -pix_fmt yuv420p "$T/live$n.yuv"
+	$PY - "$T/stream$n.yuv" "$T/live$n.yuv" <<'EOF'
+import sys
+frame = 320 * 180 * 3 // 2
+a, b = open(sys.argv[1], 'rb').read(), open(sys.argv[2], 'rb').read()
+n = min(len(a), len(b)) // frame
+assert n >= 60, f'only {n} frames to compare'
+bad = [i for i in range(n) if a[i * frame:(i + 1) * frame] != b[i * frame:(i + 1) * frame]]
+assert not bad, f'{len(bad)} of {n} frames differ, the first {bad[0]}'
+print(f'{sys.argv[1]}: {n} frames identical to the offline render')
+EOF
+done
+# The two sessions are different streams (their own emotions).
+! cmp -s "$T/stream1.yuv" "$T/stream2.yuv"
+
+# Back to back, then a barge-in.
+"$CLIENT" "$port" "$T/s3" 3.5 '200:{"type":"say","id":"one","text":"Hello there.","lang":"en-US"}' \
+	'200:{"type":"say","id":"two","text":"How are you?"}' \
+	'200:{"type":"say","id":"three","text":"I am going to talk for a long long time now, about many things."}' \
+	'2400:{"type":"stop"}'
+$PY - "$T/s3.events" <<'EOF'
+import json, sys
+ev = [json.loads(l.split('\t', 1)[1]) for l in open(sys.argv[1]) if '\t>' not in l]
+def one(t, i):
+    m = [e for e in ev if e['type'] == t and e.get('id') == i]
+    assert len(m) == 1, f'{t} {i}: {m}'
+    return m[0]
+assert one('utterance_ended', 'one')['frame'] == one('utterance_started', 'two')['frame'], 'a gap between one and two'
+assert one('utterance_ended', 'two')['frame'] == one('utterance_started', 'three')['frame'], 'a gap between two and three'
+three = one('utterance_ended', 'three')
+stop = [e for e in ev if e['type'] == 'stopped']
+assert stop and three['interrupted'] and three['frame'] == stop[0]['frame'], (three, stop)
+assert 'latency_ms' in one('utterance_started', 'one')
+print('back to back and barge-in: ok')
+EOF
+
+# Bad requests: an error each, and the session goes on (the say after them is spoken).
+"$CLIENT" "$port" "$T/s4" 6 '100:{"type": "say", "text": ' '200:{"type":"emotion","emotion":"grumpy"}' "300:@$T/bad-audio.json" \
+	"400:@$T/huge.json" '500:{"type":"dance"}' '700:{"type":"say","id":"after","text":"Still here."}'
+test "$(grep -c '"type": "error"' "$T/s4.events")" = 5 || { cat "$T/s4.events" | cut -c1-200; exit 1; }
+grep -q 'malformed JSON' "$T/s4.events"
+grep -q "unknown emotion 'grumpy'" "$T/s4.events"
+grep -q '"id": "noise"' "$T/s4.events"
+grep -q 'larger than 32 MiB' "$T/s4.events"
+grep -q "unknown request type 'dance'" "$T/s4.events"
+grep -q '"type": "utterance_started".*"id": "after"' "$T/s4.events"
+
+# At most --max-sessions; a closed session frees its place; the server is still up.
+pids=()
+for m in 1 2 3; do "$CLIENT" "$port" "$T/m$m" 2 & pids+=($!); done
+sleep 0.8
+"$CLIENT" "$port" "$T/m4" 1 || true
+wait "${pids[@]}"
+grep -q 'sessions already' "$T/m4.events"
+curl -sf "http://127.0.0.1:$port/health" | grep -q '"sessions": 0'
+"$CLIENT" "$port" "$T/m5" 0.5
+grep -q '"type": "hello"' "$T/m5.events"
+kill -0 "$server"
+echo "serve: ok"
