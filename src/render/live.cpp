@@ -232,6 +232,16 @@ void LiveSession::addPending(Ticks t, LiveEvent e) {
 	pending_.insert(it, Pending{t, std::move(e)});
 }
 
+void LiveSession::warm(const Utterance& u, const std::string& emotion, double intensity) const {
+	if (u.phones.empty()) return;
+	std::vector<Keypose> keys = talkhead::keyposes(u.phones, o_.rate.frameLength(), o_.pauses);
+	for (Keypose& k : keys) {
+		k.emotion = emotion.empty() ? o_.emotion : emotion;
+		k.intensity = intensity;
+	}
+	synth_->prepare(keys);  // thread-safe; what is there already is skipped
+}
+
 Ticks LiveSession::enqueue(Utterance u) {
 	const Ticks start = std::max(nextTime(), queueEnd_);
 	std::vector<Keypose> fresh;

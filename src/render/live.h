@@ -87,6 +87,10 @@ public:
 	Ticks nextTime() const { return o_.rate.time(next_); }
 	const std::string& emotion() const { return emotion_; }
 
+	// Computes ahead the keypose images `u` will need in `emotion` (empty: the session's at the start) —
+	// the one call that may come from another thread while frames are drawn (a server's speech thread),
+	// so that enqueue() then costs a frame nothing.
+	void warm(const Utterance& u, const std::string& emotion, double intensity) const;
 	// Queues an utterance: it starts at the next frame, or when the speech queued before it ends. Returns
 	// its start (stream time).
 	Ticks enqueue(Utterance u);

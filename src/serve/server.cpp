@@ -78,9 +78,15 @@ public:
 		}
 		cv_.notify_all();
 		speechCv_.notify_all();
+		if (speech_.joinable()) speech_.join();  // first: it may be warming the frame thread's session
 		if (frames_.joinable()) frames_.join();
-		if (speech_.joinable()) speech_.join();
 		if (record_) record_ << "{\"type\": \"end\", \"frame\": " << drawn_ << "}\n";
+		if (o_.log && drawn_ > 0) {
+			char b[200];
+			std::snprintf(b, sizeof b, "session %d: %lld frames, %.1f ms each to draw and encode, %lld late by more than a frame (latest %.0f ms after its time)", id_,
+			              static_cast<long long>(drawn_), 1000 * stats_.work / double(drawn_), static_cast<long long>(stats_.late), 1000 * std::max(0.0, stats_.worst));
+			o_.log(b);
+		}
 	}
 
 	// A request's text (from the io thread): parsed here, errors answered at once.
@@ -127,6 +133,14 @@ private:
 	std::thread frames_, speech_;
 	std::ofstream record_;
 	std::int64_t drawn_ = 0;  // frames drawn and encoded (the record's end)
+	std::atomic<LiveSession*> session_{nullptr};  // the frame thread's, while it lives
+	std::mutex warmMutex_;                         // held while the speech thread warms it
+	std::string emotion_;                          // the session's emotion and intensity (under m_)
+	double intensity_ = 1;
+	struct {
+		double work = 0, worst = 0;  // seconds drawing + encoding; the latest a frame went out after its time
+		std::int64_t late = 0;       // frames out more than a frame after their time
+	} stats_;
 	std::map<std::string, Clock::time_point> requestTimes_;  // utterance id → when its request came
 
 	void speechLoop() {
@@ -142,6 +156,16 @@ private:
 			if (c.request.kind == LiveRequest::Kind::Say || c.request.kind == LiveRequest::Kind::Speak) {
 				try {
 					c.utterance = prepareUtterance(c.request, o_.lang, o_.live.sampleRate);
+					// Its keypose images made here, not in the frame thread (a frame would be late).
+					std::string emotion;
+					double intensity = 1;
+					{
+						std::lock_guard<std::mutex> lock(m_);
+						emotion = c.request.emotion ? *c.request.emotion : emotion_;
+						intensity = c.request.emotion ? c.request.intensity : intensity_;
+					}
+					std::lock_guard<std::mutex> warming(warmMutex_);
+					if (LiveSession* s = session_.load()) s->warm(*c.utterance, emotion, intensity);
 					for (const auto& w : c.utterance->warnings)
 						send_(false, "{\"type\": \"warning\", \"message\": " + jsonQuote(safeLine(w)) + (c.request.id.empty() ? "" : ", \"id\": " + jsonQuote(c.request.id)) + "}");
 				} catch (const std::exception& e) {
@@ -159,6 +183,20 @@ private:
 	void frameLoop() {
 		try {
 			std::unique_ptr<LiveSession> session = std::make_unique<LiveSession>(model_, o_.live);
+			session_ = session.get();
+			{
+				std::lock_guard<std::mutex> lock(m_);
+				emotion_ = session->emotion();
+				intensity_ = o_.live.intensity;
+			}
+			struct Forget {  // before the session goes, and never while the speech thread warms it
+				std::atomic<LiveSession*>& p;
+				std::mutex& m;
+				~Forget() {
+					std::lock_guard<std::mutex> lock(m);
+					p = nullptr;
+				}
+			} forget{session_, warmMutex_};
 			const StreamInfo& info = session->info();
 			std::string bytes;  // what the encoder made since the last send
 			VideoOptions vo;
@@ -194,16 +232,28 @@ private:
 					try {
 						if (c.utterance && c.request.kind != LiveRequest::Kind::Stop) requestTimes_[c.request.id] = c.received;
 						applyLiveRequest(*session, c.request, std::move(c.utterance));
+						{
+							std::lock_guard<std::mutex> lock(m_);
+							emotion_ = session->emotion();
+							intensity_ = c.request.emotion ? c.request.intensity : intensity_;
+						}
 						if (record_) record_ << "{\"frame\": " << n << ", \"request\": " << c.json << "}\n";
 					} catch (const std::exception& e) {
 						send_(false, errorJson(describeException(e), c.request.id));
 					}
 				}
 				events.clear();
+				const auto due = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(n) * frameSeconds));
+				const auto t0 = Clock::now();
 				session->drawNext(frame, points, events);
 				writer.write(frame);
 				drawn_ = session->nextFrame();
 				const auto sent = Clock::now();
+				// Pace: a frame out later than one frame after its time is late (the stream falls behind).
+				const double late = std::chrono::duration<double>(sent - due).count();
+				stats_.work += std::chrono::duration<double>(sent - t0).count();
+				stats_.worst = std::max(stats_.worst, late);
+				if (late > frameSeconds) ++stats_.late;
 				for (const LiveEvent& e : events) {
 					std::string j = eventJson(e);
 					if (e.kind == LiveEvent::Kind::UtteranceStarted) {
