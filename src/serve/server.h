@@ -7,6 +7,7 @@
 
 #include "base/ticks.h"
 #include "model/face_model.h"
+#include "phonetics/transcript.h"
 #include "render/live.h"
 
 namespace talkhead {
@@ -26,7 +27,8 @@ struct LiveRequest {
 	double intensity = 1;
 	Ticks ramp{kTicksPerSecond * 3 / 10};
 	std::string audio;              // speak: the sound's bytes (any format libav reads)
-	std::string transcript;         // speak: its timing, any transcript format talkhead reads
+	std::string transcript;         // speak: its timing, any transcript format talkhead reads, or
+	std::optional<Transcript> timing;  // speak: Azure viseme events or ElevenLabs character timestamps
 };
 LiveRequest parseLiveRequest(const std::string& json);
 // The utterance of a say (espeak-ng, in process) or speak (the sound decoded, the transcript read)
