@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// talkhead serve's requests (src/serve/requests.cpp): any bytes a client sends are parsed into a request
+// or refused with an Error; Azure viseme and ElevenLabs character timings become sorted, non-overlapping
+// intervals.
+#include <string>
+
+#include "fuzz_support.h"
+#include "serve/server.h"
+
+using namespace talkhead;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+	const std::string text(reinterpret_cast<const char*>(data), size);
+	fuzz::expectOnlyErrors([&] {
+		const LiveRequest r = parseLiveRequest(text);
+		TALKHEAD_FUZZ_CHECK(r.intensity >= 0 && r.intensity <= 1.5, "intensity out of range");
+		TALKHEAD_FUZZ_CHECK(r.id.size() <= 200, "id longer than 200 bytes");
+		if (r.timing) {
+			const auto& iv = r.timing->intervals;
+			TALKHEAD_FUZZ_CHECK(!iv.empty(), "empty timing");
+			for (std::size_t i = 0; i < iv.size(); ++i) {
+				TALKHEAD_FUZZ_CHECK(iv[i].start <= iv[i].end, "interval ends before it starts");
+				if (i) TALKHEAD_FUZZ_CHECK(iv[i].start >= iv[i - 1].end, "intervals overlap");
+			}
+		}
+	});
+	return 0;
+}
