@@ -9,6 +9,7 @@
 
 #include "base/base64.h"
 #include "base/error.h"
+#include "base/interrupt.h"
 #include "base/json.h"
 #include "base/text.h"
 #include "phonetics/labels.h"
@@ -190,6 +191,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 		char path[] = "/tmp/talkhead-speak-XXXXXX";
 		const int fd = mkstemp(path);
 		if (fd < 0) throw Error("cannot make a temporary file for the audio");
+		registerTemporary(path);  // removed on a signal too
 		std::size_t done = 0;
 		while (done < r.audio.size()) {
 			const ssize_t n = ::write(fd, r.audio.data() + done, r.audio.size() - done);
@@ -217,6 +219,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 			}
 		} catch (const std::exception& e) {
 			::unlink(path);
+			releaseTemporary(path);
 			// The temporary name means nothing to the client.
 			std::string m = describeException(e);
 			const std::string p = std::string(path) + ": ";
@@ -224,6 +227,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 			throw Error(m);
 		}
 		::unlink(path);
+		releaseTemporary(path);
 		if (u.phones.empty()) throw Error("transcript: no phones");
 	}
 	u.id = r.id;
