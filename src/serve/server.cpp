@@ -521,6 +521,9 @@ void Server::Impl::accept() {
 Server::Server(const FaceModel& model, ServeOptions options) : impl_(std::make_unique<Impl>(model, std::move(options))) {
 	Impl& s = *impl_;
 	if (s.o.maxSessions < 1) throw Error("--max-sessions must be at least 1");
+	// A session's options (emotion, size, sample rate) and the model checked before anyone connects, and
+	// what a session reads of the model in the page cache.
+	LiveSession(model, s.o.live);
 	if (s.o.demo) {
 		std::ifstream f(s.o.demoPage, std::ios::binary);
 		if (!f) throw Error(s.o.demoPage, 0, "cannot read the demo page");

@@ -14,6 +14,13 @@ cleanup() { [ "$server" = 0 ] || kill "$server" 2>/dev/null || true; rm -rf "$T"
 [ -n "${KEEP:-}" ] && cleanup() { echo kept $T; }
 trap cleanup EXIT
 
+# Bad options are one error line before anything listens.
+for bad in "--emotion grumpy" "--sample-rate 12345" "--listen nowhere:1" "--listen 127.0.0.1:99999" "--model $T/none.thm"; do
+	if timeout 20 "$TH" serve $bad >"$T/bad.out" 2>"$T/bad.err"; then echo "serve $bad: exit 0"; exit 1; fi
+	test "$(wc -l <"$T/bad.err")" = 1 || { echo "serve $bad:"; cat "$T/bad.err"; exit 1; }
+	grep -q '^talkhead: ' "$T/bad.err"
+done
+
 # Speech with its timing, for speak requests (the sound and the phones as say made them).
 "$TH" say "Bom dia, tudo bem?" -q --size 160x90 --no-audio -o "$T/x.mp4" --save-audio "$T/a.wav" --save-transcript "$T/a.TextGrid"
 "$TH" say "Boa noite." -q --size 160x90 --no-audio -o "$T/y.mp4" --save-audio "$T/b.wav" --save-transcript "$T/b.TextGrid"
@@ -102,6 +109,10 @@ grep -q '"id": "noise"' "$T/s4.events"
 grep -q 'larger than 32 MiB' "$T/s4.events"
 grep -q "unknown request type 'dance'" "$T/s4.events"
 grep -q '"type": "utterance_started".*"id": "after"' "$T/s4.events"
+
+# The port in use: an error naming it.
+if timeout 20 "$TH" serve --listen "127.0.0.1:$port" 2>"$T/busy.err"; then echo "a second server on the same port"; exit 1; fi
+grep -q "cannot listen on 127.0.0.1:$port: Address already in use" "$T/busy.err"
 
 # At most --max-sessions; a closed session frees its place; the server is still up.
 pids=()
