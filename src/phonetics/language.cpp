@@ -173,6 +173,9 @@ Language::Language(const std::string& tag, const std::string& dir) : tag_(tag) {
 		order_.push_back(p.phone);
 		inventory_[p.phone] = p;
 	}
+	// Pauses ("", "sil", "sp", "_", …) normalise to "_": every table must have it (found by the language
+	// fuzz target: a table without it made every pause an internal error).
+	if (!inventory_.count("_")) throw Error(inv.path, 0, "no pause: the inventory needs the phone '_' (kind pause, CDV sil)");
 	TsvTable sym = readTsv(dir + "/symbols.tsv");
 	const auto cs = sym.column("symbol"), cph = sym.column("phones"), cn = sym.column("notation");
 	for (const auto& r : sym.rows) {
