@@ -54,19 +54,8 @@ LiveOptions liveOptions(const Args& args, const std::string& command) {
 		emotion = emotion.substr(0, colon);
 	}
 	o.emotion = emotion;  // checked by the session
-	const std::string blinks = args.get("--blinks", "on"), head = args.get("--head-motion", "on"), brows = args.get("--speech-brows", "on");
-	if (blinks != "on" && blinks != "off") throw UsageError(command + ": --blinks takes on or off");
-	o.modulation.blinks = blinks == "on";
-	double amplitude = 1;
-	if (head == "off") amplitude = 0;
-	else if (head != "on" && (!parseDouble(head, amplitude) || !(amplitude >= 0 && amplitude <= 3)))
-		throw UsageError(command + ": --head-motion takes on, off or an amplitude from 0 to 3");
-	o.modulation.headMotion = amplitude > 0;
-	o.modulation.headAmplitude = amplitude;
-	o.speechBrows = brows == "on" ? 1.0 : 0.0;
-	if (brows != "on" && brows != "off" && (!parseDouble(brows, o.speechBrows) || !(o.speechBrows >= 0 && o.speechBrows <= 3)))
-		throw UsageError(command + ": --speech-brows takes on, off or an amount from 0 to 3");
-	o.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
+	o.modulation = parseModulation(args, command);
+	o.speechBrows = parseSpeechBrows(args, command, "on");
 	o.sampleRate = int(args.number("--sample-rate", 22050, 8000, 96000));
 	return o;
 }

@@ -134,6 +134,29 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}};
 }
 
+ModulatorOptions parseModulation(const Args& args, const std::string& command) {
+	ModulatorOptions m;
+	const std::string blinks = args.get("--blinks", "on"), head = args.get("--head-motion", "on");
+	if (blinks != "on" && blinks != "off") throw UsageError(command + ": --blinks takes on or off");
+	m.blinks = blinks == "on";
+	double amplitude = 1;
+	if (head == "off") amplitude = 0;
+	else if (head != "on" && (!parseDouble(head, amplitude) || !(amplitude >= 0 && amplitude <= 3)))
+		throw UsageError(command + ": --head-motion takes on, off or an amplitude from 0 to 3");
+	m.headMotion = amplitude > 0;
+	m.headAmplitude = amplitude;
+	m.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
+	return m;
+}
+
+double parseSpeechBrows(const Args& args, const std::string& command, const std::string& fallback) {
+	const std::string brows = args.get("--speech-brows", fallback);
+	double amount = brows == "on" ? 1.0 : 0.0;
+	if (brows != "on" && brows != "off" && (!parseDouble(brows, amount) || !(amount >= 0 && amount <= 3)))
+		throw UsageError(command + ": --speech-brows takes on, off or an amount from 0 to 3");
+	return amount;
+}
+
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired) {
 	VideoCommand c;
 	c.command = command;
@@ -183,20 +206,8 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	const std::string source = args.get("--emotion-source", "corpus");
 	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
 	c.render.synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);
-	const std::string blinks = args.get("--blinks", "on"), head = args.get("--head-motion", "on");
-	if (blinks != "on" && blinks != "off") throw UsageError(command + ": --blinks takes on or off");
-	c.modulation.blinks = blinks == "on";
-	double amplitude = 1;
-	if (head == "off") amplitude = 0;
-	else if (head != "on" && (!parseDouble(head, amplitude) || !(amplitude >= 0 && amplitude <= 3)))
-		throw UsageError(command + ": --head-motion takes on, off or an amplitude from 0 to 3");
-	c.modulation.headMotion = amplitude > 0;
-	c.modulation.headAmplitude = amplitude;
-	c.modulation.seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
-	const std::string brows = args.get("--speech-brows", "off");
-	c.speechBrows = brows == "on" ? 1.0 : 0.0;
-	if (brows != "on" && brows != "off" && (!parseDouble(brows, c.speechBrows) || !(c.speechBrows >= 0 && c.speechBrows <= 3)))
-		throw UsageError(command + ": --speech-brows takes on, off or an amount from 0 to 3");
+	c.modulation = parseModulation(args, command);
+	c.speechBrows = parseSpeechBrows(args, command, "off");
 	c.leadIn = ticksFromSeconds(args.number("--lead-in", 0, 0, 600000) / 1000);
 	c.tail = ticksFromSeconds(args.number("--tail", 0, 0, 600000) / 1000);
 	c.avOffset = ticksFromSeconds(args.number("--av-offset", 0, -10000, 10000) / 1000);

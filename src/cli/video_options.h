@@ -69,6 +69,10 @@ OptionSpec genericVisemesOption();
 // Reads and checks every shared option (and that the output folders exist and are writable) before any
 // work is done; throws UsageError / Error. `outputRequired`: -o must be given.
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired = true);
+// --blinks, --head-motion, --seed (render, say, serve, live).
+ModulatorOptions parseModulation(const Args& args, const std::string& command);
+// --speech-brows on|off|X (default `fallback`): 0 off, else the raise amount.
+double parseSpeechBrows(const Args& args, const std::string& command, const std::string& fallback);
 
 // Loads the model, renders the performance to the command's outputs and prints the summary (and, with
 // --timing, the stages; `timingPrefix` names the stages before rendering, e.g. "speech 0.020 s; ").

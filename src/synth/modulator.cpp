@@ -40,6 +40,16 @@ constexpr double kGrid = 0.01;
 // tilt the same way.
 constexpr double kNod = 0.035, kShake = 0.025, kTurn = 0.04, kTurnTilt = 3 * kPi / 180;
 
+// A blink starting at t with the standard phases.
+BlinkEvent blinkAt(Ticks t) {
+	BlinkEvent b;
+	b.start = t;
+	b.closing = ticksFromSeconds(kClosing);
+	b.closed = ticksFromSeconds(kClosed);
+	b.opening = ticksFromSeconds(kOpening);
+	return b;
+}
+
 }  // namespace
 
 double ShapeModulator::blinkRateFor(const std::string& emotion) {
@@ -88,14 +98,7 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 		                             [&](const BlinkEvent& b) { return std::abs(toSeconds(b.start) - at) < 0.8; }),
 		              blinks_.end());
 	}
-	for (Ticks t : o.forcedBlinks) {
-		BlinkEvent b;
-		b.start = t;
-		b.closing = ticksFromSeconds(kClosing);
-		b.closed = ticksFromSeconds(kClosed);
-		b.opening = ticksFromSeconds(kOpening);
-		blinks_.push_back(b);
-	}
+	for (Ticks t : o.forcedBlinks) blinks_.push_back(blinkAt(t));
 	std::sort(blinks_.begin(), blinks_.end(), [](const BlinkEvent& a, const BlinkEvent& b) { return a.start < b.start; });
 	// Head motion: per channel three sinusoids of slowly rising frequency and decreasing weight, seeded
 	// phases and frequencies; the sum stays within ±1.
@@ -140,12 +143,7 @@ void ShapeModulator::drawBlinks(std::uint64_t& state, double mean, double t, dou
 			}
 			t = best;
 		}
-		BlinkEvent b;
-		b.start = ticksFromSeconds(t);
-		b.closing = ticksFromSeconds(kClosing);
-		b.closed = ticksFromSeconds(kClosed);
-		b.opening = ticksFromSeconds(kOpening);
-		blinks_.push_back(b);
+		blinks_.push_back(blinkAt(ticksFromSeconds(t)));
 		lastEnd = t + total;
 		t = lastEnd + std::max(0.8, -std::log(1 - rng.uniform()) * mean - total);
 	}
@@ -196,12 +194,7 @@ ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const
 		blinks_.erase(std::remove_if(blinks_.begin(), blinks_.end(),
 		                             [&](const BlinkEvent& b) { return b.start >= from && std::abs(toSeconds(b.start) - ft) < 0.8; }),
 		              blinks_.end());
-		BlinkEvent b;
-		b.start = t;
-		b.closing = ticksFromSeconds(kClosing);
-		b.closed = ticksFromSeconds(kClosed);
-		b.opening = ticksFromSeconds(kOpening);
-		blinks_.push_back(b);
+		blinks_.push_back(blinkAt(t));
 	}
 	std::sort(blinks_.begin(), blinks_.end(), [](const BlinkEvent& a, const BlinkEvent& b) { return a.start < b.start; });
 	// The amplitude from `from` on: previous's, moved to this plan's over 0.4 s.

@@ -4,13 +4,7 @@
 # the video plays and its time advances, the events arrive.
 set -euo pipefail
 TH=$1; HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-for tool in chromium node npm; do command -v $tool >/dev/null || { echo "skipped: $tool not installed (scripts/setup-deps installs it)"; exit 77; }; done
-cache="${XDG_CACHE_HOME:-$HOME/.cache}/talkhead-tests/playwright"
-if [ ! -d "$cache/node_modules/playwright-core" ]; then
-	mkdir -p "$cache"
-	(cd "$cache" && npm install --no-audit --no-fund --loglevel=error playwright-core@1.65.1 >&2) ||
-		{ echo "skipped: npm could not install playwright-core"; exit 77; }
-fi
+. "$HERE/../support/playwright.sh"
 T=$(mktemp -d)
 server=0
 trap '[ "$server" = 0 ] || kill "$server" 2>/dev/null; rm -rf "$T"' EXIT
@@ -22,4 +16,4 @@ port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/out")
 # Self-contained: no external script, stylesheet or font.
 curl -sf "http://127.0.0.1:$port/" >"$T/index.html"
 ! grep -Eq 'https?://|<script src|<link ' "$T/index.html"
-NODE_PATH="$cache/node_modules" timeout 180 node "$HERE/demo_test.js" "http://127.0.0.1:$port/"
+NODE_PATH="$PLAYWRIGHT_MODULES" timeout 180 node "$HERE/demo_test.js" "http://127.0.0.1:$port/"
