@@ -132,6 +132,21 @@ Transcript characterAlignment(const JsonValue& a) {
 	return t;
 }
 
+// A 44-byte RIFF/WAVE header for 16-bit PCM.
+std::string wavHeader(int rate, int channels, std::size_t frames) {
+	std::string h;
+	auto u32 = [&](std::uint32_t v) { for (int i = 0; i < 4; ++i) h.push_back(char((v >> (8 * i)) & 0xFF)); };
+	auto u16 = [&](std::uint16_t v) { for (int i = 0; i < 2; ++i) h.push_back(char((v >> (8 * i)) & 0xFF)); };
+	const std::uint32_t data = std::uint32_t(frames * std::size_t(channels) * 2);
+	h += "RIFF";
+	u32(36 + data);
+	h += "WAVEfmt ";
+	u32(16), u16(1), u16(std::uint16_t(channels)), u32(std::uint32_t(rate)), u32(std::uint32_t(rate * channels * 2)), u16(std::uint16_t(channels * 2)), u16(16);
+	h += "data";
+	u32(data);
+	return h;
+}
+
 }  // namespace
 
 LiveRequest parseLiveRequest(const std::string& json) {
@@ -170,6 +185,17 @@ LiveRequest parseLiveRequest(const std::string& json) {
 		if (audio->empty()) throw Error("'audio' is empty (zero-length audio)");
 		r.audio = *audio;
 		r.lang = stringMember(v, "lang", false);
+		// Raw PCM as TTS services stream it (16-bit little-endian, interleaved), or a file libav reads.
+		const std::string& encoding = stringMember(v, "encoding", false);
+		if (encoding == "pcm_s16le") {
+			const auto rate = numberMember(v, "sample_rate", 8000, 192000);
+			if (!rate) throw Error("'encoding': 'pcm_s16le' needs 'sample_rate'");
+			r.pcmRate = int(*rate);
+			r.pcmChannels = int(numberMember(v, "channels", 1, 2).value_or(1));
+			if (r.audio.size() % std::size_t(2 * r.pcmChannels) != 0) throw Error("'audio' is not a whole number of 16-bit sample frames");
+		} else if (!encoding.empty() && encoding != "file") {
+			throw Error("unknown 'encoding' '" + safeQuote(encoding) + "' (pcm_s16le, or none for a file libav reads)");
+		}
 		const JsonValue* visemes = v.find("visemes");
 		const JsonValue* alignment = v.find("alignment");
 		if (int(v.find("transcript") != nullptr) + int(visemes != nullptr) + int(alignment != nullptr) != 1)
@@ -186,6 +212,14 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 	Utterance u;
 	if (r.kind == LiveRequest::Kind::Say) {
 		u = speakText(r.text, lang, r.voice, sampleRate, r.rate, r.pitch);
+	} else if (r.pcmRate > 0) {
+		// Raw PCM: mono mix, resampled to the session's rate (a WAV header on it, through libav's resampler).
+		const std::size_t frames = r.audio.size() / std::size_t(2 * r.pcmChannels);
+		std::string wav = wavHeader(r.pcmRate, r.pcmChannels, frames) + r.audio;
+		LiveRequest file = r;
+		file.pcmRate = 0;
+		file.audio = std::move(wav);
+		return prepareUtterance(file, defaultLang, sampleRate);
 	} else {
 		// libav reads files: the sound goes through a private temporary file, removed at once.
 		char path[] = "/tmp/talkhead-speak-XXXXXX";

@@ -26,7 +26,8 @@ struct LiveRequest {
 	std::optional<std::string> emotion;  // emotion, or say/speak: the emotion from this utterance on
 	double intensity = 1;
 	Ticks ramp{kTicksPerSecond * 3 / 10};
-	std::string audio;              // speak: the sound's bytes (any format libav reads)
+	std::string audio;              // speak: the sound's bytes (any format libav reads, or raw PCM:)
+	int pcmRate = 0, pcmChannels = 1;  // speak: "encoding": "pcm_s16le" with "sample_rate" (and "channels")
 	std::string transcript;         // speak: its timing, any transcript format talkhead reads, or
 	std::optional<Transcript> timing;  // speak: Azure viseme events or ElevenLabs character timestamps
 };

@@ -31,6 +31,11 @@ for n in 'ab':
     req = {'type': 'speak', 'id': 'speak-' + n, 'lang': 'pt-BR', 'audio': base64.b64encode(open(f'{t}/{n}.wav', 'rb').read()).decode(),
            'transcript': open(f'{t}/{n}.TextGrid').read()}
     open(f'{t}/speak-{n}.json', 'w').write(json.dumps(req))
+# Raw 16-bit PCM as TTS services stream it: a's samples without the WAV header.
+w = open(f'{t}/a.wav', 'rb').read()
+pcm = w[w.index(b'data') + 8:]
+json.dump({'type': 'speak', 'id': 'pcm', 'lang': 'pt-BR', 'encoding': 'pcm_s16le', 'sample_rate': 22050, 'audio': base64.b64encode(pcm).decode(),
+           'transcript': open(f'{t}/a.TextGrid').read()}, open(f'{t}/speak-pcm.json', 'w'))
 bad = {'type': 'speak', 'id': 'noise', 'audio': base64.b64encode(b'\x13\x37' * 3000).decode(), 'transcript': open(f'{t}/a.TextGrid').read()}
 open(f'{t}/bad-audio.json', 'w').write(json.dumps(bad))
 with open(f'{t}/huge.json', 'w') as f:  # 100 MB
@@ -101,7 +106,7 @@ EOF
 
 # Bad requests: an error each, and the session goes on (the say after them is spoken).
 "$CLIENT" "$port" "$T/s4" 6 '100:{"type": "say", "text": ' '200:{"type":"emotion","emotion":"grumpy"}' "300:@$T/bad-audio.json" \
-	"400:@$T/huge.json" '500:{"type":"dance"}' '700:{"type":"say","id":"after","text":"Still here."}'
+	"400:@$T/huge.json" '500:{"type":"dance"}' '700:{"type":"say","id":"after","text":"Still here."}' "800:@$T/speak-pcm.json"
 test "$(grep -c '"type": "error"' "$T/s4.events")" = 5 || { cat "$T/s4.events" | cut -c1-200; exit 1; }
 grep -q 'malformed JSON' "$T/s4.events"
 grep -q "unknown emotion 'grumpy'" "$T/s4.events"
@@ -109,6 +114,7 @@ grep -q '"id": "noise"' "$T/s4.events"
 grep -q 'larger than 32 MiB' "$T/s4.events"
 grep -q "unknown request type 'dance'" "$T/s4.events"
 grep -q '"type": "utterance_started".*"id": "after"' "$T/s4.events"
+grep -q '"type": "utterance_started".*"id": "pcm"' "$T/s4.events"
 
 # The port in use: an error naming it.
 if timeout 20 "$TH" serve --listen "127.0.0.1:$port" 2>"$T/busy.err"; then echo "a second server on the same port"; exit 1; fi
