@@ -72,6 +72,9 @@ double ShapeModulator::headFactorFor(const std::string& emotion) {
 }
 
 ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys)
+    : ShapeModulator(o, emotion, duration, keys, Ticks(0)) {}
+
+ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom)
     : o_(o) {
 	// Speech runs: consecutive keyposes that are phones (not silence, not the in-breath).
 	for (std::size_t i = 0; i < keys.size();) {
@@ -114,12 +117,16 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 	const double gesture = gestureShift(o, gestureAngle);
 	maxAngle_ = kPeakAngle * factor_ + gestureAngle;
 	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_ + gesture;
-	// Speaking activity: 1 in speech, 0 in pauses, smoothed over ±0.4 s (the head settles in a pause).
-	const std::size_t n = std::size_t(length / kGrid) + 2;
-	std::vector<double> raw(n), prefix(n + 1, 0.0);
-	for (std::size_t i = 0; i < n; ++i) raw[i] = speaking(ticksFromSeconds(double(i) * kGrid)) ? 1.0 : 0.0;
-	for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + raw[i];
+	// Speaking activity: 1 in speech, 0 in pauses, smoothed over ±0.4 s (the head settles in a pause). From
+	// grid index activityFirst_ on (0; a continued plan starts 0.4 s before its splice, so a live session's
+	// replan costs the same after hours as after seconds).
 	const long w = long(0.4 / kGrid);
+	const std::size_t total = std::size_t(length / kGrid) + 2;
+	activityFirst_ = std::min(total - 1, std::size_t(std::max(0L, long(toSeconds(activityFrom) / kGrid) - w)));
+	const std::size_t n = total - activityFirst_;
+	std::vector<double> raw(n), prefix(n + 1, 0.0);
+	for (std::size_t i = 0; i < n; ++i) raw[i] = speaking(ticksFromSeconds(double(activityFirst_ + i) * kGrid)) ? 1.0 : 0.0;
+	for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + raw[i];
 	activity_.resize(n);
 	for (std::size_t i = 0; i < n; ++i) {
 		const long a = std::max(0L, long(i) - w), b = std::min(long(n), long(i) + w + 1);
@@ -171,7 +178,7 @@ ModulatorOptions withoutBlinks(ModulatorOptions o) {
 
 ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& o, const std::string& emotion, Ticks duration,
                                const std::vector<Keypose>& keys)
-    : ShapeModulator(withoutBlinks(o), emotion, duration, keys) {
+    : ShapeModulator(withoutBlinks(o), emotion, duration, keys, from) {
 	o_ = o;
 	std::copy(&previous.freq_[0][0], &previous.freq_[0][0] + 9, &freq_[0][0]);
 	std::copy(&previous.phase_[0][0], &previous.phase_[0][0] + 9, &phase_[0][0]);
@@ -227,7 +234,7 @@ double ShapeModulator::amplitude(Ticks t) const {
 	if (factor_ <= 0) return 0;
 	double act = 0;
 	if (!activity_.empty()) {
-		const double g = std::clamp(s / kGrid, 0.0, double(activity_.size() - 1));
+		const double g = std::clamp(s / kGrid - double(activityFirst_), 0.0, double(activity_.size() - 1));
 		const std::size_t i = std::min(activity_.size() - 1, std::size_t(g));
 		const std::size_t j = std::min(activity_.size() - 1, i + 1);
 		act = activity_[i] + (g - double(i)) * (activity_[j] - activity_[i]);

@@ -125,6 +125,8 @@ private:
 	// activity_).
 	std::vector<float> amp_;
 	std::size_t ampFirst_ = 0;
+	std::size_t activityFirst_ = 0;  // activity_[0] is grid index activityFirst_
+	ShapeModulator(const ModulatorOptions& options, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom);
 	// Draws blinks from `t` (seconds) to the end `length`, none within 0.8 s of `lastEnd`, moving those in
 	// speech to a nearby pause; `state` is the generator's.
 	void drawBlinks(std::uint64_t& state, double mean, double t, double lastEnd, double length);
