@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <tuple>
 
 #include "base/atomic_file.h"
 #include "base/data_dirs.h"
@@ -40,20 +41,10 @@ std::vector<OptionSpec> liveOptionSpecs() {
 
 LiveOptions liveOptions(const Args& args, const std::string& command) {
 	LiveOptions o;
-	const auto rate = FrameRate::parse(args.get("--fps", "30"));
-	if (!rate) throw UsageError(command + ": --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
-	o.rate = *rate;
+	o.rate = parseFps(args, command);
 	parseSize(command + ": --size", args.get("--size", "1280x720"), o.render.synth.width, o.render.synth.height);
-	const std::string fit = args.get("--fit", "crop");
-	if (fit != "crop" && fit != "pad" && fit != "stretch") throw UsageError(command + ": --fit takes crop, pad or stretch");
-	o.render.fit = fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
-	std::string emotion = args.get("--emotion", "neutral");
-	if (const auto colon = emotion.rfind(':'); colon != std::string::npos) {
-		if (!parseDouble(emotion.substr(colon + 1), o.intensity) || !(o.intensity >= 0 && o.intensity <= 1.5))
-			throw UsageError(command + ": --emotion LABEL:INTENSITY takes an intensity from 0 to 1.5");
-		emotion = emotion.substr(0, colon);
-	}
-	o.emotion = emotion;  // checked by the session
+	o.render.fit = parseFit(args, command);
+	std::tie(o.emotion, o.intensity) = parseEmotionOption(args, command);
 	o.modulation = parseModulation(args, command);
 	o.speechBrows = parseSpeechBrows(args, command, "on");
 	o.sampleRate = int(args.number("--sample-rate", 22050, 8000, 96000));
@@ -234,10 +225,7 @@ int runLive(const std::vector<std::string>& argv) {
 			if (mp4) mp4->write(frame);
 			else y4m->write(frame);
 			if (!quiet)
-				for (const LiveEvent& e : events)
-					std::printf("{\"type\": \"%s\", \"frame\": %lld, \"time\": %.3f%s%s}\n", liveEventName(e.kind), static_cast<long long>(e.frame),
-					            toSeconds(e.time), e.id.empty() ? "" : (", \"id\": " + jsonQuote(e.id)).c_str(),
-					            e.name.empty() ? "" : (", \"name\": " + jsonQuote(e.name)).c_str());
+				for (const LiveEvent& e : events) std::printf("%s\n", liveEventJson(e).c_str());
 		}
 		if (mp4) mp4->finish();
 		if (y4mFile && std::fclose(y4mFile.release()) != 0) throw Error(tmp, 0, "cannot write");

@@ -3,6 +3,7 @@
 // render library (src/render) with its sinks and progress.
 #include "cli/video_options.h"
 
+#include <tuple>
 #include <unistd.h>
 
 #include <cerrno>
@@ -134,6 +135,35 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}};
 }
 
+FrameRate parseFps(const Args& args, const std::string& command) {
+	const auto rate = FrameRate::parse(args.get("--fps", "30"));
+	if (!rate) throw UsageError(command + ": --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
+	return *rate;
+}
+
+Fit parseFit(const Args& args, const std::string& command) {
+	const std::string fit = args.get("--fit", "crop");
+	if (fit != "crop" && fit != "pad" && fit != "stretch") throw UsageError(command + ": --fit takes crop, pad or stretch");
+	return fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
+}
+
+std::pair<std::string, double> parseEmotionOption(const Args& args, const std::string& command) {
+	double intensity = 1;
+	// --emotion LABEL[:INTENSITY]: 0 = neutral, 1 = the corpus (default), up to 1.5 (extrapolated, with a warning).
+	std::string emotionArg = args.get("--emotion", "neutral");
+	if (const auto colon = emotionArg.rfind(':'); colon != std::string::npos) {
+		const std::string value = emotionArg.substr(colon + 1);
+		if (!parseDouble(value, intensity) || !(intensity >= 0 && intensity <= 1.5))
+			throw UsageError(command + ": --emotion LABEL:INTENSITY takes an intensity from 0 to 1.5, not '" + value + "'");
+		emotionArg = emotionArg.substr(0, colon);
+		if (intensity > 1)
+			std::fprintf(stderr, "talkhead: warning: intensity %g is beyond the corpus's emotion: shapes and appearances are extrapolated\n", intensity);
+	}
+	const auto emotion = canonicalEmotion(emotionArg);
+	if (!emotion) throw Error("unknown emotion '" + emotionArg + "' (known: " + emotionList() + "; aliases such as sadness, disgust)");
+	return {*emotion, intensity};
+}
+
 ModulatorOptions parseModulation(const Args& args, const std::string& command) {
 	ModulatorOptions m;
 	const std::string blinks = args.get("--blinks", "on"), head = args.get("--head-motion", "on");
@@ -168,29 +198,13 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	if (c.output == "-" && c.format != "y4m") throw UsageError(command + ": -o - needs --format y4m");
 	c.framesDir = args.get("--frames");
 	c.landmarksOut = args.get("--landmarks-out");
-	const auto rate = FrameRate::parse(args.get("--fps", "30"));
-	if (!rate) throw UsageError(command + ": --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
-	c.rate = *rate;
+	c.rate = parseFps(args, command);
 	if (auto s = args.get("--size")) parseSize(command + ": --size", *s, c.render.synth.width, c.render.synth.height);
-	const std::string fit = args.get("--fit", "crop");
-	if (fit != "crop" && fit != "pad" && fit != "stretch") throw UsageError(command + ": --fit takes crop, pad or stretch");
-	c.render.fit = fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
+	c.render.fit = parseFit(args, command);
 	c.mp4.crf = int(args.number("--crf", 20, 0, 51));
 	c.mp4.preset = args.get("--preset", "veryfast");
 	c.noAudio = args.has("--no-audio");
-	// --emotion LABEL[:INTENSITY]: 0 = neutral, 1 = the corpus (default), up to 1.5 (extrapolated, with a warning).
-	std::string emotionArg = args.get("--emotion", "neutral");
-	if (const auto colon = emotionArg.rfind(':'); colon != std::string::npos) {
-		const std::string value = emotionArg.substr(colon + 1);
-		if (!parseDouble(value, c.intensity) || !(c.intensity >= 0 && c.intensity <= 1.5))
-			throw UsageError(command + ": --emotion LABEL:INTENSITY takes an intensity from 0 to 1.5, not '" + value + "'");
-		emotionArg = emotionArg.substr(0, colon);
-		if (c.intensity > 1)
-			std::fprintf(stderr, "talkhead: warning: intensity %g is beyond the corpus's emotion: shapes and appearances are extrapolated\n", c.intensity);
-	}
-	const auto emotion = canonicalEmotion(emotionArg);
-	if (!emotion) throw Error("unknown emotion '" + emotionArg + "' (known: " + emotionList() + "; aliases such as sadness, disgust)");
-	c.emotion = *emotion;
+	std::tie(c.emotion, c.intensity) = parseEmotionOption(args, command);
 	c.modelPath = args.get("--model", "");
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
 	if (!pauses) throw UsageError(command + ": --pauses takes natural or thesis");

@@ -69,6 +69,10 @@ OptionSpec genericVisemesOption();
 // Reads and checks every shared option (and that the output folders exist and are writable) before any
 // work is done; throws UsageError / Error. `outputRequired`: -o must be given.
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired = true);
+// --fps, --fit, and --emotion LABEL[:INTENSITY] (canonical label; an unknown one is an Error).
+FrameRate parseFps(const Args& args, const std::string& command);
+Fit parseFit(const Args& args, const std::string& command);
+std::pair<std::string, double> parseEmotionOption(const Args& args, const std::string& command);
 // --blinks, --head-motion, --seed (render, say, serve, live).
 ModulatorOptions parseModulation(const Args& args, const std::string& command);
 // --speech-brows on|off|X (default `fallback`): 0 off, else the raise amount.

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "base/error.h"
+#include "base/json.h"
 #include "base/text.h"
 #include "phonetics/espeak.h"
 #include "phonetics/labels.h"
@@ -49,6 +50,16 @@ const char* liveEventName(LiveEvent::Kind kind) {
 	case LiveEvent::Kind::Emotion: return "emotion";
 	}
 	return "?";
+}
+
+std::string liveEventJson(const LiveEvent& e) {
+	char b[96];
+	std::snprintf(b, sizeof b, ", \"frame\": %lld, \"time\": %.3f", static_cast<long long>(e.frame), toSeconds(e.time));
+	std::string j = std::string("{\"type\": \"") + liveEventName(e.kind) + "\"" + b;
+	if (!e.id.empty()) j += ", \"id\": " + jsonQuote(e.id);
+	if (!e.name.empty()) j += std::string(e.kind == LiveEvent::Kind::Viseme ? ", \"viseme\": " : (e.kind == LiveEvent::Kind::Emotion ? ", \"emotion\": " : ", \"name\": ")) + jsonQuote(e.name);
+	if (e.kind == LiveEvent::Kind::UtteranceEnded) j += e.interrupted ? ", \"interrupted\": true" : ", \"interrupted\": false";
+	return j + "}";
 }
 
 Ticks Utterance::duration() const {

@@ -73,6 +73,9 @@ struct LiveEvent {
 	bool interrupted = false;  // UtteranceEnded by a stop
 };
 const char* liveEventName(LiveEvent::Kind kind);  // "utterance_started", "utterance_ended", "mark", …
+// One event as JSON (docs/serve-protocol.md): {"type", "frame", "time", and "id", "viseme", "emotion",
+// "name", "interrupted" as the kind has them}.
+std::string liveEventJson(const LiveEvent& e);
 
 class LiveSession {
 public:
@@ -86,6 +89,7 @@ public:
 	std::int64_t nextFrame() const { return next_; }
 	Ticks nextTime() const { return o_.rate.time(next_); }
 	const std::string& emotion() const { return emotion_; }
+	double intensity() const { return intensity_; }
 
 	// Computes ahead the keypose images `u` will need in `emotion` (empty: the session's at the start) —
 	// the one call that may come from another thread while frames are drawn (a server's speech thread),

@@ -197,9 +197,10 @@ LiveRequest parseLiveRequest(const std::string& json) {
 			throw Error("unknown 'encoding' '" + safeQuote(encoding) + "' (pcm_s16le, or none for a file libav reads)");
 		}
 		const JsonValue* visemes = v.find("visemes");
-		const JsonValue* alignment = v.find("alignment");
+		// ElevenLabs answers with both; either may be given (normalized_alignment spells numbers out).
+		const JsonValue* alignment = v.find("alignment") ? v.find("alignment") : v.find("normalized_alignment");
 		if (int(v.find("transcript") != nullptr) + int(visemes != nullptr) + int(alignment != nullptr) != 1)
-			throw Error("a speak request gives its timing as one of 'transcript', 'visemes' (Azure) or 'alignment' (ElevenLabs)");
+			throw Error("a speak request gives its timing as one of 'transcript', 'visemes' (Azure) or 'alignment' / 'normalized_alignment' (ElevenLabs)");
 		if (visemes) r.timing = azureVisemes(*visemes);
 		else if (alignment) r.timing = characterAlignment(*alignment);
 		else r.transcript = stringMember(v, "transcript", true);

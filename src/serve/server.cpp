@@ -45,15 +45,6 @@ std::string errorJson(const std::string& message, const std::string& id = "") {
 	return j + "}";
 }
 
-std::string eventJson(const LiveEvent& e) {
-	char b[96];
-	std::snprintf(b, sizeof b, ", \"frame\": %lld, \"time\": %.3f", static_cast<long long>(e.frame), toSeconds(e.time));
-	std::string j = std::string("{\"type\": \"") + liveEventName(e.kind) + "\"" + b;
-	if (!e.id.empty()) j += ", \"id\": " + jsonQuote(e.id);
-	if (!e.name.empty()) j += std::string(e.kind == LiveEvent::Kind::Viseme ? ", \"viseme\": " : (e.kind == LiveEvent::Kind::Emotion ? ", \"emotion\": " : ", \"name\": ")) + jsonQuote(e.name);
-	if (e.kind == LiveEvent::Kind::UtteranceEnded) j += e.interrupted ? ", \"interrupted\": true" : ", \"interrupted\": false";
-	return j + "}";
-}
 
 }  // namespace
 
@@ -187,7 +178,7 @@ private:
 			{
 				std::lock_guard<std::mutex> lock(m_);
 				emotion_ = session->emotion();
-				intensity_ = o_.live.intensity;
+				intensity_ = session->intensity();
 			}
 			struct Forget {  // before the session goes, and never while the speech thread warms it
 				std::atomic<LiveSession*>& p;
@@ -235,7 +226,7 @@ private:
 						{
 							std::lock_guard<std::mutex> lock(m_);
 							emotion_ = session->emotion();
-							intensity_ = c.request.emotion ? c.request.intensity : intensity_;
+							intensity_ = session->intensity();
 						}
 						if (record_) record_ << "{\"frame\": " << n << ", \"request\": " << c.json << "}\n";
 					} catch (const std::exception& e) {
@@ -255,7 +246,7 @@ private:
 				stats_.worst = std::max(stats_.worst, late);
 				if (late > frameSeconds) ++stats_.late;
 				for (const LiveEvent& e : events) {
-					std::string j = eventJson(e);
+					std::string j = liveEventJson(e);
 					if (e.kind == LiveEvent::Kind::UtteranceStarted) {
 						auto it = requestTimes_.find(e.id);
 						if (it != requestTimes_.end()) {
