@@ -8,6 +8,8 @@
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/drive_options.h"
+#include "media/video_reader.h"
 #include "cli/video_options.h"
 #include "media/audio.h"
 #include "phonetics/language.h"
@@ -26,7 +28,11 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--level", "LEVEL", "what the transcript's labels are: auto (default), phones, or words (phonemised with espeak-ng)"},
 	    {"--sample-rate", "HZ", "TIMIT .phn: the sample rate its times count in (default 16000)"},
 	    {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
-	    {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa, espeak, praat, br1"}};
+	    {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa, espeak, praat, br1"},
+	    {"--drive", "VIDEO", "a person's video drives the face: head motion, brows, eyes and blinks from it (the mouth from the transcript); its audio unless --audio"},
+	    {"--parts", "LIST", "with --drive: what the video drives (default head,brows,eyes)"},
+	    {"--drive-model", "F.dat", "with --drive: dlib 68-point predictor"}};
+	for (auto& o : nonVerbalOptionSpecs()) options.push_back(o);
 	for (auto& o : videoOptionSpecs()) options.push_back(o);
 	Args args("render", "talkhead render (--transcript T [--audio A] | --audio A --text \"…\") [--emotion LABEL] -o OUT.mp4 [options]", options,
 	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint (pauses: rest, then\n"
@@ -39,11 +45,20 @@ int runRender(const std::vector<std::string>& argv) {
 	if (!args.positionals().empty()) throw UsageError("render: unexpected argument '" + args.positionals()[0] + "'");
 	// Every option is checked before any file is read.
 	auto transcriptPath = args.get("--transcript");
+	const auto drive = args.get("--drive");
+	if (!drive && (args.get("--parts") || args.get("--drive-model") || args.get("--neutral-frames") || args.get("--neutral-seconds") || args.get("--max-turn")))
+		throw UsageError("render: --parts, --drive-model, --neutral-frames, --neutral-seconds and --max-turn go with --drive VIDEO");
+	const NonVerbalOptions driveOptions = parseNonVerbalOptions(args, "render", "head,brows,eyes");
+	// The sound: --audio, else (with --drive) the driving video's own.
+	std::optional<std::string> audioPath = args.get("--audio");
+	if (!audioPath && drive && VideoReader(*drive).info().hasAudio) audioPath = *drive;
 	std::optional<std::string> text = args.get("--text");
 	if (text && args.get("--text-file")) throw UsageError("render: give --text or --text-file, not both");
 	if (transcriptPath && (text || args.get("--text-file"))) throw UsageError("render: give --transcript or --text, not both");
 	if (!transcriptPath && !text && !args.get("--text-file")) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
-	if ((text || args.get("--text-file")) && !args.get("--audio")) throw UsageError("render: --text needs --audio (the speech to align the text to)");
+	if ((text || args.get("--text-file")) && !audioPath)
+		throw UsageError(drive ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
+		                       : "render: --text needs --audio (the speech to align the text to)");
 	const std::string policy = args.get("--unknown", "error");
 	if (policy != "error" && policy != "nearest" && policy != "silence") throw UsageError("render: --unknown must be error, nearest or silence");
 	const UnknownPhone unknown = policy == "nearest" ? UnknownPhone::Nearest : policy == "silence" ? UnknownPhone::Silence : UnknownPhone::Error;
@@ -52,6 +67,8 @@ int runRender(const std::vector<std::string>& argv) {
 	const std::string level = args.get("--level", "auto");
 	if (level != "auto" && level != "phones" && level != "words") throw UsageError("render: --level takes auto, phones or words");
 	const VideoCommand cmd = parseVideoCommand(args, "render");
+	if (drive && cmd.controls && !cmd.controls->curves.empty())
+		throw UsageError("render: --controls " + cmd.controls->path + " has curves and --drive gives them too: give one");
 	const Language& lang = languageOption(args, defaultLanguageFor(transcriptPath.value_or(""), args.get("--transcript-format", "")));
 	if (auto f = args.get("--text-file")) text = readTextFile(*f);
 
@@ -67,20 +84,20 @@ int runRender(const std::vector<std::string>& argv) {
 	std::vector<Interval> words;  // for the timeline sidecar, when known
 	if (text) {
 		// Forced alignment of the text to the audio (align/align.h), as `talkhead align` does.
-		audio = decodeAudio(*args.get("--audio"));
+		audio = decodeAudio(*audioPath);
 		AlignOptions ao;
 		ao.languageTag = lang.tag();
 		Alignment al;
 		try {
 			al = alignSpeech(audio, *text, ao);
 		} catch (const Error& e) {
-			throw Error(*args.get("--audio"), 0, e.what());
+			throw Error(*audioPath, 0, e.what());
 		}
-		for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*args.get("--audio") + ": " + w).c_str());
+		for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*audioPath + ": " + w).c_str());
 		if (!cmd.quiet) std::fprintf(stderr, "aligned: %s\n", alignmentSummary(al).c_str());
 		tr = al.phones;
 		words = al.words.intervals;
-		transcriptPath = *args.get("--audio");
+		transcriptPath = *audioPath;
 	} else {
 		tr = readTranscript(*transcriptPath, ro);
 		if (tr.level == LabelLevel::Word) words = tr.intervals;
@@ -100,7 +117,7 @@ int runRender(const std::vector<std::string>& argv) {
 	// Duration: the audio's (decoded once without keeping it, unless aligned), or the transcript's.
 	perf.duration = phones.back().end;
 	std::unique_ptr<AudioSource> sound;
-	if (auto a = args.get("--audio")) {
+	if (auto a = audioPath) {
 		// (At the file's own sample rate: no resampling, and an MP4 index a third of 48 kHz's for 16 kHz speech.)
 		const Ticks audioDur = audio.samples.empty() ? audioFileDuration(*a, 0) : audio.duration();
 		sound = audio.samples.empty() ? openAudioFile(*a, 0) : clipSource(audio);
@@ -119,6 +136,17 @@ int runRender(const std::vector<std::string>& argv) {
 		perf.duration = audioDur;
 	}
 	if (cmd.controls) applyControls(perf, *cmd.controls);
+	if (drive) {  // D55: the head, brows, eyes and blinks of the driving video
+		const NonVerbalTrack nv = trackNonVerbal(*drive, driveOptions, args.get("--drive-model", ""), cmd.quiet);
+		applyControls(perf, controlsOf(nv));
+		const Ticks driven = nv.curves().end() + ticksFromSeconds(1 / nv.rate);
+		if (driven + ticksFromSeconds(0.5) < perf.duration)
+			std::fprintf(stderr, "talkhead: warning: %s: the video (%.2f s) is shorter than the render (%.2f s); the head holds its last pose after it\n",
+			             drive->c_str(), toSeconds(driven), toSeconds(perf.duration));
+		if (!cmd.quiet)
+			std::fprintf(stderr, "talkhead: %s drives the face: %zu frames, %zu blinks%s\n", drive->c_str(), nv.frames.size(), nv.blinks.size(),
+			             nv.bridged.empty() ? "" : ", some frames bridged");
+	}
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).
 	if (!tr.tier.empty() && !cmd.quiet) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", transcriptPath->c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	sound = applyStimulusTiming(cmd, perf, std::move(sound));

@@ -10,10 +10,15 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/output_dir.h"
+#include "cli/drive_options.h"
+#include "cli/video_options.h"
+#include "base/text.h"
 #include "base/progress.h"
 #include "media/image_io.h"
 #include "track/compare.h"
 #include "track/landmarks.h"
+#include "track/nonverbal.h"
+#include "render/controls.h"
 
 namespace talkhead::cli {
 
@@ -145,6 +150,104 @@ int runCompare(const std::vector<std::string>& argv) {
 	bar.finish();
 	const LipSyncReport r = compareLipSync(a, b, args.number("--rate", 100, 10, 1000), args.number("--max-lag", 120, 0, 2000));
 	std::fputs(args.has("--json") ? (r.json() + "\n").c_str() : r.text().c_str(), stdout);
+	return 0;
+}
+
+NonVerbalOptions parseNonVerbalOptions(const Args& args, const std::string& command, const std::string& defaultParts) {
+	NonVerbalOptions o;
+	o.head = o.brows = o.eyes = o.mouth = false;
+	for (const std::string& part : split(args.get("--parts", defaultParts), ',')) {
+		if (part == "head") o.head = true;
+		else if (part == "brows") o.brows = true;
+		else if (part == "eyes") o.eyes = true;
+		else if (part == "mouth") o.mouth = true;
+		else throw UsageError(command + ": --parts takes head, brows, eyes and mouth, not '" + part + "'");
+	}
+	o.neutralSeconds = args.number("--neutral-seconds", o.neutralSeconds, 0.04, 60);
+	o.neutralFrames = int(args.number("--neutral-frames", 0, 0, 100000));
+	o.maxTurnDegrees = args.number("--max-turn", o.maxTurnDegrees, 5, 90);
+	return o;
+}
+
+std::vector<OptionSpec> nonVerbalOptionSpecs() {
+	return {{"--neutral-frames", "N", "neutral face: the per-point median of the first N frames with a face (default: the first second)"},
+	        {"--neutral-seconds", "S", "neutral face: over the first S seconds (default 1)"},
+	        {"--max-turn", "DEG", "drop (and bridge) frames whose head turns further than DEG degrees (default 30)"}};
+}
+
+NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& o, const std::string& dlibModel, bool quiet) {
+	LandmarkTrack lt;
+	if (endsWith(input, ".tsv")) {
+		lt = readLandmarksTsv(input);
+	} else {
+		TrackOptions to;
+		if (!dlibModel.empty()) to.modelPath = dlibModel;
+		ProgressBar bar(quiet);
+		lt = trackVideo(input, to, bar);
+		bar.finish();
+	}
+	NonVerbalTrack nv = analyseNonVerbal(lt, o);
+	for (const std::string& w : nv.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(input + ": " + w).c_str());
+	return nv;
+}
+
+ControlTrack controlsOf(const NonVerbalTrack& nv) {
+	ControlTrack c;
+	c.path = nv.source;
+	c.curves = nv.curves();
+	if (nv.options.eyes) {
+		c.blinks = nv.blinks;
+		c.drawnBlinks = false;
+	}
+	return c;
+}
+
+int runTrack(const std::vector<std::string>& argv) {
+	std::vector<OptionSpec> specs = {{"--output", "F.json", "the control track (required)", "-o"},
+	                                 {"--parts", "LIST", "what to track: head, brows, eyes, mouth (default head,brows,eyes)"},
+	                                 {"--plot", "F.png", "the tracks over time (default: the output's name with .png)"},
+	                                 {"--model", "F.dat", "dlib 68-point predictor"},
+	                                 {"--quiet", "", "no progress and no summary", "-q"}};
+	for (auto& s : nonVerbalOptionSpecs()) specs.push_back(s);
+	Args args("track", "talkhead track VIDEO|landmarks.tsv -o controls.json [--parts head,brows,eyes,mouth] [options]", specs,
+	          "Tracks a person's face through a video (as 'corpus landmarks' does, or reads its landmarks.tsv) and\n"
+	          "writes what the face does besides speaking as a control track that 'render --controls' replays on\n"
+	          "any model: the head's roll, position and size against the person's neutral face (the median of the\n"
+	          "first second), the brows' and eyes' action units (each side's displacements projected onto the\n"
+	          "scheme's action-unit templates), and the blinks. Frames where the face is lost or turned past\n"
+	          "--max-turn are dropped and bridged by Hermite interpolation (a warning names spans of 0.5 s or more).");
+	if (!args.parse(argv)) return 0;
+	if (args.positionals().size() != 1) throw UsageError("track: give one video (or a landmarks.tsv)");
+	const auto out = args.get("--output");
+	if (!out) throw UsageError("track: -o F.json is required");
+	const NonVerbalOptions o = parseNonVerbalOptions(args, "track", "head,brows,eyes");
+	std::string plot = args.get("--plot", "");
+	if (plot.empty()) plot = (endsWith(*out, ".json") ? out->substr(0, out->size() - 5) : *out) + ".png";
+	checkWritableFolder(*out);
+	checkWritableFolder(plot);
+	const std::string input = args.positionals()[0];
+	const bool quiet = args.has("--quiet");
+	const NonVerbalTrack nv = trackNonVerbal(input, o, args.get("--model", ""), quiet);
+	const ControlTrack controls = controlsOf(nv);
+	char note[200];
+	std::snprintf(note, sizeof note, "talkhead track: %zu frames at %.3f fps, neutral from %zu frames; head roll in degrees, x y in eye distances", nv.frames.size(),
+	              nv.rate, nv.neutralCount);
+	const Image8 picture = plotNonVerbal(nv);
+	writeFileAtomically(*out, controlTrackJson(controls, input, note));
+	try {
+		writeImage(plot, picture);
+	} catch (...) {
+		std::remove(out->c_str());
+		throw;
+	}
+	if (!quiet) {
+		double maxRoll = 0;
+		for (const auto& f : nv.frames) maxRoll = std::max(maxRoll, std::abs(f.roll) * 57.29577951308232);
+		double bridged = 0;
+		for (const auto& [a, b] : nv.bridged) bridged += toSeconds(b - a);
+		std::fprintf(stderr, "%s: %zu frames, %zu blinks, head roll up to %.1f deg, %zu action-unit curves, %.1f s bridged; plot %s\n", out->c_str(),
+		             nv.frames.size(), nv.blinks.size(), maxRoll, nv.channels.size(), bridged, plot.c_str());
+	}
 	return 0;
 }
 

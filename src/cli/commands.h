@@ -14,6 +14,7 @@ int runRender(const std::vector<std::string>& args);
 int runSay(const std::vector<std::string>& args);
 int runAlign(const std::vector<std::string>& args);
 int runCompare(const std::vector<std::string>& args);
+int runTrack(const std::vector<std::string>& args);
 int runCorpusLandmarks(const std::vector<std::string>& args);
 int runCorpusFromVideo(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);

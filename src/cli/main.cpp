@@ -33,6 +33,7 @@ const char* kUsage =
     "  say       text in, talking-head video with speech out (espeak-ng, in process)\n"
     "  align     forced alignment: speech audio (or video) + its text -> TextGrid of words and phones\n"
     "  compare   lip-sync measures of a synthesized video against a real speaker's video\n"
+    "  track     a person's head motion, brows, eyes and blinks from a video, as a control track\n"
     "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
     "  batch     perceptual-test stimuli from a manifest: blind IDs, key, balanced orders, resumable, shards\n"
     "  serve     live streams for chatbots and voice assistants: WebSocket in, fragmented MP4 + JSON events out\n"
@@ -72,12 +73,13 @@ int main(int argc, char** argv) {
 		if (command == "say") return cli::runSay(rest);
 		if (command == "align") return cli::runAlign(rest);
 		if (command == "compare") return cli::runCompare(rest);
+		if (command == "track") return cli::runTrack(rest);
 		if (command == "batch") return cli::runBatch(rest);
 		if (command == "serve") return cli::runServe(rest);
 		if (command == "live") return cli::runLive(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "batch" || command == "serve" || command == "live" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "track" || command == "batch" || command == "serve" || command == "live" ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");

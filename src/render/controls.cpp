@@ -145,19 +145,182 @@ void finish(ControlTrack& track) {
 
 }  // namespace
 
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// "curves" (D55): every channel an array of finite numbers within [lo, hi], all of one length.
+void readCurves(ControlTrack& track, const JsonValue& c, const std::string& path) {
+	auto fail = [&](const std::string& what) -> void { throw Error(path, 0, "curves: " + what); };
+	if (c.kind != JsonValue::Kind::Object) fail("must be an object");
+	for (const auto& m : c.object)
+		if (m.first != "rate" && m.first != "start" && m.first != "head" && m.first != "au" && m.first != "lost")
+			fail("unknown field \"" + shown(m.first) + "\" (known: rate, start, head, au, lost)");
+	auto number = [&](const JsonValue* v, const std::string& name, double lo, double hi) {
+		if (!v) fail("missing \"" + name + "\"");
+		if (v->kind != JsonValue::Kind::Number || !std::isfinite(v->number)) fail("\"" + name + "\" must be a number");
+		if (v->number < lo || v->number > hi) fail("\"" + name + "\" " + formatNumber(v->number) + " is outside " + formatNumber(lo) + "–" + formatNumber(hi));
+		return v->number;
+	};
+	ControlCurves& out = track.curves;
+	out.rate = number(c.find("rate"), "rate", 0.01, 1000);
+	out.start = ticksFromSeconds(c.find("start") ? number(c.find("start"), "start", 0, kMaxSeconds) : 0.0);
+	std::size_t length = 0;
+	bool first = true;
+	auto channel = [&](const JsonValue& v, const std::string& name, double lo, double hi, double factor) {
+		if (v.kind != JsonValue::Kind::Array) fail("\"" + name + "\" must be an array of numbers");
+		if (double(v.array.size()) > out.rate * kMaxSeconds) fail("\"" + name + "\" is longer than a day");
+		if (!first && v.array.size() != length)
+			fail("\"" + name + "\" has " + std::to_string(v.array.size()) + " samples, the curves before it " + std::to_string(length));
+		first = false;
+		length = v.array.size();
+		std::vector<float> samples;
+		samples.reserve(v.array.size());
+		for (std::size_t i = 0; i < v.array.size(); ++i) {
+			const JsonValue& x = v.array[i];
+			if (x.kind != JsonValue::Kind::Number || !std::isfinite(x.number)) fail("\"" + name + "\" sample " + std::to_string(i + 1) + " is not a number");
+			if (x.number < lo || x.number > hi)
+				fail("\"" + name + "\" sample " + std::to_string(i + 1) + " (" + formatNumber(x.number) + ") is outside " + formatNumber(lo) + "–" + formatNumber(hi));
+			samples.push_back(float(x.number * factor));
+		}
+		return samples;
+	};
+	if (const JsonValue* h = c.find("head")) {
+		if (h->kind != JsonValue::Kind::Object) fail("\"head\" must be an object");
+		for (const auto& [key, v] : h->object) {
+			if (key == "roll") out.roll = channel(v, "head.roll", -90, 90, kPi / 180);
+			else if (key == "x") out.x = channel(v, "head.x", -5, 5, 1);
+			else if (key == "y") out.y = channel(v, "head.y", -5, 5, 1);
+			else if (key == "scale") out.scale = channel(v, "head.scale", 0.5, 2, 1);
+			else if (key == "yaw" || key == "pitch") channel(v, "head." + key, -180, 180, 1);  // informational: a 2D face does not turn
+			else fail("unknown head channel \"" + shown(key) + "\" (known: roll, x, y, scale, yaw, pitch)");
+		}
+	}
+	if (const JsonValue* a = c.find("au")) {
+		if (a->kind != JsonValue::Kind::Array) fail("\"au\" must be an array");
+		for (std::size_t i = 0; i < a->array.size(); ++i) {
+			const EventReader r{a->array[i], path, i + 1};
+			if (r.v.kind != JsonValue::Kind::Object) fail("au curve " + std::to_string(i + 1) + " must be an object");
+			for (const auto& m : r.v.object)
+				if (m.first != "au" && m.first != "side" && m.first != "weight") fail("au curve " + std::to_string(i + 1) + ": unknown field \"" + shown(m.first) + "\"");
+			const std::string name = r.text("au");
+			const auto au = canonicalActionUnit(name);
+			if (!au || *au == "AU45") fail("au curve " + std::to_string(i + 1) + ": unknown action unit '" + shown(name) + "' (AU45 blinks are events)");
+			ControlCurves::Au curve;
+			curve.au = *au;
+			if (r.v.find("side")) {
+				const std::string side = r.text("side");
+				if (side == "left") curve.side = 1;
+				else if (side == "right") curve.side = -1;
+				else if (side != "both") fail("au curve " + std::to_string(i + 1) + ": \"side\" '" + shown(side) + "' is not left, right or both");
+			}
+			const JsonValue* w = r.v.find("weight");
+			if (!w) fail("au curve " + std::to_string(i + 1) + ": missing \"weight\"");
+			curve.weight = channel(*w, curve.au + " weight", 0, 1.5, 1);
+			out.aus.push_back(std::move(curve));
+		}
+	}
+	if (const JsonValue* l = c.find("lost"); l && l->kind != JsonValue::Kind::Array) fail("\"lost\" must be an array of [start, end] pairs");
+	if (length == 0) fail("no samples (give head channels or au curves)");
+}
+
+}  // namespace
+
 ControlTrack parseControls(const std::string& text, const std::string& path) {
 	const JsonValue root = parseJson(text, path);
 	const JsonValue* events = &root;
-	if (root.kind == JsonValue::Kind::Object) {
-		events = root.find("events");
-		if (!events) throw Error(path, 0, "a control track is {\"events\": [...]} or an array of events");
-	}
-	if (events->kind != JsonValue::Kind::Array) throw Error(path, 0, "\"events\" must be an array");
 	ControlTrack track;
 	track.path = path;
+	static const JsonValue none{JsonValue::Kind::Array};
+	if (root.kind == JsonValue::Kind::Object) {
+		for (const auto& m : root.object)
+			if (m.first != "events" && m.first != "curves" && m.first != "drawn_blinks" && m.first != "source" && m.first != "note")
+				throw Error(path, 0, "unknown field \"" + shown(m.first) + "\" (known: events, curves, drawn_blinks, source, note)");
+		events = root.find("events");
+		const JsonValue* curves = root.find("curves");
+		if (!events && !curves) throw Error(path, 0, "a control track is {\"events\": [...]} or an array of events");
+		if (curves) readCurves(track, *curves, path);
+		if (const JsonValue* d = root.find("drawn_blinks")) {
+			if (d->kind != JsonValue::Kind::Bool) throw Error(path, 0, "\"drawn_blinks\" must be true or false");
+			track.drawnBlinks = d->boolean;
+		}
+		if (!events) events = &none;
+	}
+	if (events->kind != JsonValue::Kind::Array) throw Error(path, 0, "\"events\" must be an array");
 	for (std::size_t i = 0; i < events->array.size(); ++i) addEvent(track, EventReader{events->array[i], path, i + 1});
 	finish(track);
 	return track;
+}
+
+std::string controlTrackJson(const ControlTrack& t, const std::string& source, const std::string& note) {
+	std::string o = "{";
+	auto num = [](double v) {
+		char b[32];
+		std::snprintf(b, sizeof b, "%.4f", v);
+		std::string s = b;
+		while (s.size() > 1 && s.back() == '0') s.pop_back();
+		if (s.back() == '.') s.pop_back();
+		if (s == "-0") s = "0";
+		return s;
+	};
+	if (!source.empty()) o += "\"source\": " + jsonQuote(source) + ",\n ";
+	if (!note.empty()) o += "\"note\": " + jsonQuote(note) + ",\n ";
+	if (!t.drawnBlinks) o += "\"drawn_blinks\": false,\n ";
+	o += "\"events\": [";
+	std::vector<std::pair<Ticks, std::string>> events;
+	for (const auto& e : t.emotions)
+		events.emplace_back(e.time, "{\"type\": \"emotion\", \"time\": " + num(toSeconds(e.time)) + ", \"emotion\": " + jsonQuote(e.emotion) +
+		                                ", \"intensity\": " + num(e.intensity) + ", \"ramp\": " + num(toSeconds(e.ramp)) + "}");
+	for (Ticks b : t.blinks) events.emplace_back(b, "{\"type\": \"blink\", \"time\": " + num(toSeconds(b)) + "}");
+	for (const auto& g : t.gestures) {
+		std::string e = "{\"type\": \"" + std::string(g.kind == HeadGesture::Kind::Nod ? "nod" : g.kind == HeadGesture::Kind::Shake ? "shake" : "turn") +
+		                "\", \"time\": " + num(toSeconds(g.time)) + ", \"duration\": " + num(toSeconds(g.duration)) + ", \"amount\": " + num(g.amount);
+		if (g.kind == HeadGesture::Kind::Turn)
+			e += std::string(", \"direction\": \"") + (g.directionX > 0 ? "left" : g.directionX < 0 ? "right" : g.directionY < 0 ? "up" : "down") + "\"";
+		events.emplace_back(g.time, e + "}");
+	}
+	for (const auto& b : t.brows) {
+		std::string e = "{\"type\": \"brows\", \"time\": " + num(toSeconds(b.time)) + ", \"duration\": " + num(toSeconds(b.duration));
+		if (b.raise > 0) e += ", \"raise\": " + num(b.raise);
+		if (b.frown > 0) e += ", \"frown\": " + num(b.frown);
+		events.emplace_back(b.time, e + "}");
+	}
+	for (const auto& a : t.actionUnits)
+		events.emplace_back(a.time, "{\"type\": \"au\", \"time\": " + num(toSeconds(a.time)) + ", \"au\": \"" + a.au + "\", \"intensity\": " +
+		                                num(a.intensity) + ", \"side\": \"" + (a.side > 0 ? "left" : a.side < 0 ? "right" : "both") + "\", \"onset\": " +
+		                                num(toSeconds(a.onset)) + ", \"apex\": " + num(toSeconds(a.apex)) + ", \"offset\": " + num(toSeconds(a.offset)) + "}");
+	std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+	for (std::size_t i = 0; i < events.size(); ++i) o += (i ? ",\n  " : "\n  ") + events[i].second;
+	o += events.empty() ? "]" : "\n ]";
+	const ControlCurves& c = t.curves;
+	if (!c.empty()) {
+		auto array = [&](const std::vector<float>& v, double factor) {
+			std::string a = "[";
+			for (std::size_t i = 0; i < v.size(); ++i) a += (i ? "," : "") + num(double(v[i]) * factor);
+			return a + "]";
+		};
+		o += ",\n \"curves\": {\"rate\": " + num(c.rate) + ", \"start\": " + num(toSeconds(c.start));
+		if (c.hasHead()) {
+			std::string h;
+			auto add = [&](const char* name, const std::vector<float>& v, double factor) {
+				if (!v.empty()) h += std::string(h.empty() ? "" : ",\n   ") + "\"" + name + "\": " + array(v, factor);
+			};
+			add("roll", c.roll, 180 / kPi);
+			add("x", c.x, 1);
+			add("y", c.y, 1);
+			add("scale", c.scale, 1);
+			o += ",\n  \"head\": {" + h + "}";
+		}
+		if (!c.aus.empty()) {
+			o += ",\n  \"au\": [";
+			for (std::size_t i = 0; i < c.aus.size(); ++i)
+				o += std::string(i ? ",\n   " : "\n   ") + "{\"au\": \"" + c.aus[i].au + "\", \"side\": \"" +
+				     (c.aus[i].side > 0 ? "left" : c.aus[i].side < 0 ? "right" : "both") + "\", \"weight\": " + array(c.aus[i].weight, 1) + "}";
+			o += "]";
+		}
+		o += "}";
+	}
+	return o + "}\n";
 }
 
 ControlTrack parseControlTier(const std::string& text, const std::string& path, const std::string& tierName) {
@@ -264,6 +427,11 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 	perf.modulation.gestures.insert(perf.modulation.gestures.end(), track.gestures.begin(), track.gestures.end());
 	perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), track.brows.begin(), track.brows.end());
 	perf.modulation.auEvents.insert(perf.modulation.auEvents.end(), track.actionUnits.begin(), track.actionUnits.end());
+	if (!track.curves.empty()) {
+		if (track.curves.start > perf.duration) past(track.curves.start, "the curves' start");
+		perf.modulation.curves = track.curves;
+	}
+	if (!track.drawnBlinks) perf.modulation.blinks = false;
 }
 
 }  // namespace talkhead

@@ -17,7 +17,11 @@ namespace talkhead {
 //     {"type": "shake", "time": 4.0, "duration": 0.8, "amount": 0.5},
 //     {"type": "turn", "time": 4.5, "duration": 1.5, "direction": "left", "amount": 1},
 //     {"type": "brows", "time": 5.0, "duration": 0.8, "raise": 0.8},   (or "frown": 0.5)
-//     {"type": "au", "time": 6.0, "au": "AU12", "intensity": 0.7, "side": "left", "onset": 0.2, "apex": 0.5, "offset": 0.3}]}
+//     {"type": "au", "time": 6.0, "au": "AU12", "intensity": 0.7, "side": "left", "onset": 0.2, "apex": 0.5, "offset": 0.3}],
+//    "drawn_blinks": false,                     (optional: the events' blinks are all; default true)
+//    "curves": {"rate": 25, "start": 0,          (optional, D55: sampled controls, e.g. from talkhead track)
+//      "head": {"roll": [deg…], "x": [IOD…], "y": [IOD…], "scale": […], "yaw": [deg…] (informational)},
+//      "au": [{"au": "AU1", "side": "right", "weight": […]}, …]}}
 // Times in seconds from the start of the video. A bare array of events is read the same way.
 struct ControlTrack {
 	struct EmotionChange {
@@ -31,13 +35,23 @@ struct ControlTrack {
 	std::vector<HeadGesture> gestures;
 	std::vector<BrowEvent> brows;
 	std::vector<AuEvent> actionUnits;
-	bool empty() const { return emotions.empty() && blinks.empty() && gestures.empty() && brows.empty() && actionUnits.empty(); }
+	// Continuous head pose and action units ("curves", D55: written by talkhead track).
+	ControlCurves curves;
+	// "drawn_blinks": false — the track's blinks are all there are (a tracked face): no drawn blinks.
+	bool drawnBlinks = true;
+	bool empty() const {
+		return emotions.empty() && blinks.empty() && gestures.empty() && brows.empty() && actionUnits.empty() && curves.empty() && drawnBlinks;
+	}
 };
 
 // Parses a control track; throws Error naming the file and the line/column (malformed JSON) or the event
 // (its number, 1-based, and what is wrong: unknown type, missing or bad field, unknown emotion).
 ControlTrack parseControls(const std::string& text, const std::string& path);
 ControlTrack loadControls(const std::string& path);
+
+// The JSON form of a track, as parseControls reads it (events first, then the curves; numbers to 4
+// decimals, roll in degrees). `source` and `note` are written as informational fields when not empty.
+std::string controlTrackJson(const ControlTrack& track, const std::string& source = "", const std::string& note = "");
 
 // A TextGrid tier as a control track: each non-empty label (interval or point) is one event at its start,
 //   TYPE [values in order] [key=value …]

@@ -204,7 +204,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		}
 		if (so.modulator) {
 			const HeadMotion h = so.modulator->head(tau);
-			std::snprintf(b, sizeof b, "lids %.2f  head %+.2f deg %+.3f %+.3f", so.modulator->eyeClosure(tau), h.angle * 57.29578, h.dx, h.dy);
+			std::snprintf(b, sizeof b, "lids %.2f  head %+.2f deg %+.3f %+.3f", so.modulator->eyeClosure(tau), (h.angle + h.roll) * 57.29578, h.dx, h.dy);
 			lines.emplace_back(b);
 		}
 		return lines;

@@ -112,11 +112,13 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emo
 			phase_[c][k] = 2 * kPi * rng.uniform();
 		}
 	}
-	factor_ = o.headMotion ? std::max(0.0, o.headAmplitude) * headFactorFor(emotion) : 0.0;
+	// A tracked head (curves) replaces the drawn motion.
+	factor_ = o.headMotion && !o.curves.hasHead() ? std::max(0.0, o.headAmplitude) * headFactorFor(emotion) : 0.0;
 	double gestureAngle = 0;
 	const double gesture = gestureShift(o, gestureAngle);
 	maxAngle_ = kPeakAngle * factor_ + gestureAngle;
 	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_ + gesture;
+	sizeCurves();
 	// Speaking activity: 1 in speech, 0 in pauses, smoothed over ±0.4 s (the head settles in a pause). From
 	// grid index activityFirst_ on (0; a continued plan starts 0.4 s before its splice, so a live session's
 	// replan costs the same after hours as after seconds).
@@ -221,6 +223,42 @@ ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const
 	for (float a : amp_) peak = std::max(peak, double(a));
 	maxAngle_ = kPeakAngle * peak + gestureAngle;
 	maxShift_ = std::hypot(kPeakDx, kPeakDy) * peak + gesture;
+	sizeCurves();
+}
+
+void ShapeModulator::sizeCurves() {
+	const ControlCurves& c = o_.curves;
+	maxCurveShift_ = maxCurveScale_ = 0;
+	if (!c.hasHead()) return;
+	double roll = 0;
+	for (float v : c.roll) roll = std::max(roll, double(std::abs(v)));
+	maxAngle_ += roll;
+	for (std::size_t i = 0; i < std::max(c.x.size(), c.y.size()); ++i)
+		maxCurveShift_ = std::max(maxCurveShift_, std::hypot(i < c.x.size() ? double(c.x[i]) : 0.0, i < c.y.size() ? double(c.y[i]) : 0.0));
+	for (float v : c.scale) maxCurveScale_ = std::max(maxCurveScale_, std::abs(double(v) - 1));
+}
+
+Ticks ControlCurves::end() const {
+	std::size_t n = std::max({roll.size(), x.size(), y.size(), scale.size()});
+	for (const Au& a : aus) n = std::max(n, a.weight.size());
+	return rate > 0 && n > 1 ? start + ticksFromSeconds(double(n - 1) / rate) : start;
+}
+
+double ControlCurves::at(const std::vector<float>& c, Ticks t, double fallback) const {
+	if (c.empty() || !(rate > 0)) return fallback;
+	const double g = std::clamp(toSeconds(t - start) * rate, 0.0, double(c.size() - 1));
+	const std::size_t i = std::min(c.size() - 1, std::size_t(g));
+	const std::size_t j = std::min(c.size() - 1, i + 1);
+	return double(c[i]) + (g - double(i)) * (double(c[j]) - double(c[i]));
+}
+
+std::vector<std::pair<std::size_t, double>> ShapeModulator::curveActionUnits(Ticks t) const {
+	std::vector<std::pair<std::size_t, double>> out;
+	for (std::size_t k = 0; k < o_.curves.aus.size(); ++k) {
+		const double w = o_.curves.at(o_.curves.aus[k].weight, t);
+		if (w > 0) out.emplace_back(k, w);
+	}
+	return out;
 }
 
 double ShapeModulator::amplitude(Ticks t) const {
@@ -302,6 +340,13 @@ HeadMotion ShapeModulator::head(Ticks t) const {
 			p.dy += g.amount * kTurn * 0.6 * g.directionY * e;
 			p.angle += g.amount * kTurnTilt * g.directionX * e;
 		}
+	}
+	if (o_.curves.hasHead()) {  // a tracked head
+		const ControlCurves& c = o_.curves;
+		p.roll = c.at(c.roll, t);
+		p.x = c.at(c.x, t);
+		p.y = c.at(c.y, t);
+		p.scale = c.at(c.scale, t, 1.0);
 	}
 	if (amp_.empty() && factor_ <= 0) return p;
 	const double m = amplitude(t);

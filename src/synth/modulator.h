@@ -49,6 +49,31 @@ struct BrowEvent {
 // (5 % of the eye distance at amount 1). The phones' CDVs say which are vowels.
 std::vector<BrowEvent> speechBrows(const std::vector<PhoneSegment>& phones, double amount = 1);
 
+// Continuous controls (issue 17, D55: a performance tracked from a video by `talkhead track`): samples at
+// `rate` per second from `start`, interpolated linearly between samples and held before the first and after
+// the last. Head: roll in radians (positive turns the face clockwise on screen, as HeadMotion), translation
+// x, y in inter-ocular distances of the rendered face (picture axes, y down), scale (1 = the neutral size).
+// Action units: weights per AU (canonical) and side (0 both, −1 the image-left half, +1 the image-right
+// half; applyActionUnits). Empty channels are absent. Head channels replace the drawn head motion;
+// gestures, blinks, brows and AU events still add.
+struct ControlCurves {
+	double rate = 0;
+	Ticks start{0};
+	std::vector<float> roll, x, y, scale;
+	struct Au {
+		std::string au;
+		int side = 0;
+		std::vector<float> weight;
+	};
+	std::vector<Au> aus;
+	bool hasHead() const { return rate > 0 && (!roll.empty() || !x.empty() || !y.empty() || !scale.empty()); }
+	bool empty() const { return !hasHead() && (rate <= 0 || aus.empty()); }
+	// The time of the last sample (start when there is none).
+	Ticks end() const;
+	// A channel at t (`fallback` when it is empty).
+	double at(const std::vector<float>& channel, Ticks t, double fallback = 0) const;
+};
+
 struct ModulatorOptions {
 	bool blinks = true;
 	double blinkRate = 0;       // blinks per minute at rest; 0 = the emotion's default (see blinkRateFor)
@@ -59,9 +84,10 @@ struct ModulatorOptions {
 	std::vector<HeadGesture> gestures;   // nods and shakes (a control track), even with head motion off
 	std::vector<BrowEvent> browEvents;   // brow raises and frowns (a control track or SSML)
 	std::vector<AuEvent> auEvents;       // action units (a control track); need the scheme's AU templates
+	ControlCurves curves;                // continuous head pose and action units (a tracked video)
 	bool any() const {
 		return blinks || (headMotion && headAmplitude > 0) || !forcedBlinks.empty() || !gestures.empty() || !browEvents.empty() ||
-		       !auEvents.empty();
+		       !auEvents.empty() || !curves.empty();
 	}
 };
 
@@ -74,8 +100,11 @@ struct BlinkEvent {
 
 // A small similarity about the face's centre: rotation in radians (positive turns the face clockwise on
 // screen), translation in units of the face's size (the mean shape's larger side).
+// Curves (ControlCurves) add, after that, a rotation `roll` and a `scale` about the point between the eyes
+// and a translation in inter-ocular distances (x, y).
 struct HeadMotion {
 	double angle = 0, dx = 0, dy = 0;
+	double roll = 0, x = 0, y = 0, scale = 1;
 };
 
 // The modulator's plan for one utterance, fixed at construction (seeded), then a pure function of time:
@@ -104,9 +133,15 @@ public:
 	// The head motion's amplitude at t (× the peak values): the emotion's factor × (0.5 + 0.5 × speaking
 	// activity).
 	double amplitude(Ticks t) const;
-	// Largest rotation (radians) and translation (face sizes) head() can return.
+	// Largest rotation (radians) and translation (face sizes) head() can return; from curves, the largest
+	// translation in inter-ocular distances and the largest |scale − 1|.
 	double maxAngle() const { return maxAngle_; }
 	double maxShift() const { return maxShift_; }
+	double maxCurveShift() const { return maxCurveShift_; }
+	double maxCurveScale() const { return maxCurveScale_; }
+	// The curves' action units at t: (index into options().curves.aus, weight), those with weight > 0.
+	std::vector<std::pair<std::size_t, double>> curveActionUnits(Ticks t) const;
+	const ControlCurves& curves() const { return o_.curves; }
 	// Whether t falls in speech (between the first and last non-silent keypose of a run).
 	bool speaking(Ticks t) const;
 
@@ -120,7 +155,8 @@ private:
 	std::vector<std::pair<Ticks, Ticks>> speech_;  // speech runs
 	std::vector<float> activity_;                  // smoothed speaking indicator, every 10 ms
 	double phase_[3][3] = {}, freq_[3][3] = {};    // per channel (angle, dx, dy): three sinusoids
-	double maxAngle_ = 0, maxShift_ = 0, factor_ = 1;
+	double maxAngle_ = 0, maxShift_ = 0, factor_ = 1, maxCurveShift_ = 0, maxCurveScale_ = 0;
+	void sizeCurves();
 	// A continued plan: the amplitude itself every 10 ms from grid index ampFirst_ (replaces factor_ ×
 	// activity_).
 	std::vector<float> amp_;

@@ -226,6 +226,23 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 		roiX1_ = std::min(model.width, (x1 + 2) & ~1);
 		roiY1_ = std::min(model.height, (y1 + 2) & ~1);
 	}
+	{
+		const Eigen::RowVector2d lo = model.meanShape.colwise().minCoeff(), hi = model.meanShape.colwise().maxCoeff();
+		faceSize_ = std::max(1.0, (hi - lo).maxCoeff());
+		centre_ = model.meanShape.colwise().mean();
+	}
+	const Scheme parts = partsOf(model);
+	eyes_ = parts.eyes;
+	brows_ = parts.brows;
+	if (eyes_.size() >= 2) {
+		auto centre = [&](const EyeSpec& e) { return (model.meanShape.row(e.corner0) + model.meanShape.row(e.corner1)) / 2; };
+		eyeDistance_ = (centre(eyes_[0]) - centre(eyes_[1])).norm();
+	}
+	if (!(eyeDistance_ > 0)) eyeDistance_ = 0.3 * faceSize_;
+	eyeMid_ = centre_;
+	if (eyes_.size() >= 2)
+		eyeMid_ = (model.meanShape.row(eyes_[0].corner0) + model.meanShape.row(eyes_[0].corner1) + model.meanShape.row(eyes_[1].corner0) +
+		           model.meanShape.row(eyes_[1].corner1)) / 4;
 	// D41: anchors a quarter of the face's size outside everything that moves (every training shape and the
 	// face box), fixed in every frame.
 	{
@@ -245,9 +262,6 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 				corners.insert(corners.end(), {double(left[std::size_t(y)]), double(y), double(left[std::size_t(y)]), y + 1.0,
 				                               right[std::size_t(y)] + 1.0, double(y), right[std::size_t(y)] + 1.0, y + 1.0});
 		extent.push_back(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>(corners.data(), Eigen::Index(corners.size() / 2), 2));
-		const Eigen::RowVector2d lo = model.meanShape.colwise().minCoeff(), hi = model.meanShape.colwise().maxCoeff();
-		faceSize_ = std::max(1.0, (hi - lo).maxCoeff());
-		centre_ = model.meanShape.colwise().mean();
 		// Head motion (D42) moves everything by up to its rotation about the centre plus its shift: the
 		// anchors move out by as much.
 		double headRoom = 0;
@@ -258,21 +272,15 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 			sizedForBlinks_ = !o.modulator->blinks().empty();
 			double radius = 0;
 			for (Eigen::Index i = 0; i < model.meanShape.rows(); ++i) radius = std::max(radius, (model.meanShape.row(i) - centre_).norm());
-			headRoom = o.modulator->maxAngle() * radius * 1.5 + o.modulator->maxShift() * faceSize_;
+			// (Curves turn about the point between the eyes: up to |eyeMid − centre| further out.)
+			headRoom = o.modulator->maxAngle() * (radius + (eyeMid_ - centre_).norm()) * 1.5 + o.modulator->maxShift() * faceSize_ +
+			           o.modulator->maxCurveShift() * eyeDistance_ + o.modulator->maxCurveScale() * (radius + (eyeMid_ - centre_).norm());
 		}
 		anchors_ = anchorRing(extent, kAnchorMargin * faceSize_ + headRoom, model.width, model.height);
 	}
 	{
-		const Scheme parts = partsOf(model);
-		eyes_ = parts.eyes;
-		brows_ = parts.brows;
-		if (eyes_.size() >= 2) {
-			auto centre = [&](const EyeSpec& e) { return (model.meanShape.row(e.corner0) + model.meanShape.row(e.corner1)) / 2; };
-			eyeDistance_ = (centre(eyes_[0]) - centre(eyes_[1])).norm();
-		}
-		if (!(eyeDistance_ > 0)) eyeDistance_ = 0.3 * faceSize_;
 		// D48: the scheme's action-unit templates, when an emotion or an event needs them.
-		const bool auEvents = o.modulator && !o.modulator->auEvents().empty();
+		const bool auEvents = o.modulator && (!o.modulator->auEvents().empty() || !o.modulator->curves().aus.empty());
 		if (o.emotionSource != EmotionSource::Corpus || auEvents) {
 			Scheme scheme = model.scheme;
 			scheme.eyes = parts.eyes;
@@ -286,6 +294,12 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 					const int a = auTemplates_->find(e.au);
 					if (a < 0) throw Error("the action-unit templates of scheme " + scheme.name + " have no " + e.au);
 					auEventIndex_.push_back(a);
+				}
+			if (o.modulator)
+				for (const ControlCurves::Au& c : o.modulator->curves().aus) {
+					const int a = auTemplates_->find(c.au);
+					if (a < 0) throw Error("the action-unit templates of scheme " + scheme.name + " have no " + c.au);
+					auCurveIndex_.push_back(a);
 				}
 		}
 	}
@@ -669,6 +683,12 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 			for (const auto& [e, weight] : o_.modulator->actionUnits(tau)) w.push_back({auEventIndex_[std::size_t(e - all.data())], weight, e->side});
 			applyActionUnits(points, *auTemplates_, w, auFrame_);
 		}
+		if (!auCurveIndex_.empty()) {  // D55: action units from a tracked video
+			std::vector<AuWeight> w;
+			const auto& curves = o_.modulator->curves().aus;
+			for (const auto& [k, weight] : o_.modulator->curveActionUnits(tau)) w.push_back({auCurveIndex_[k], weight, curves[k].side});
+			applyActionUnits(points, *auTemplates_, w, auFrame_);
+		}
 		const HeadMotion h = o_.modulator->head(tau);
 		if (h.angle != 0 || h.dx != 0 || h.dy != 0) {
 			const double c = std::cos(h.angle), s = std::sin(h.angle);
@@ -676,6 +696,14 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 				const double x = points(i, 0) - centre_(0), y = points(i, 1) - centre_(1);
 				points(i, 0) = centre_(0) + c * x - s * y + h.dx * faceSize_;
 				points(i, 1) = centre_(1) + s * x + c * y + h.dy * faceSize_;
+			}
+		}
+		if (h.roll != 0 || h.x != 0 || h.y != 0 || h.scale != 1) {  // D55: a tracked head, about the point between the eyes
+			const double c = std::cos(h.roll) * h.scale, s = std::sin(h.roll) * h.scale;
+			for (Eigen::Index i = 0; i < points.rows(); ++i) {
+				const double x = points(i, 0) - eyeMid_(0), y = points(i, 1) - eyeMid_(1);
+				points(i, 0) = eyeMid_(0) + c * x - s * y + h.x * eyeDistance_;
+				points(i, 1) = eyeMid_(1) + s * x + c * y + h.y * eyeDistance_;
 			}
 		}
 	}
@@ -689,7 +717,8 @@ void Synthesizer::setModulator(std::shared_ptr<const ShapeModulator> m) {
 		if (!sizedForHead_ || m->maxAngle() > headAngle_ + 1e-12 || m->maxShift() > headShift_ + 1e-12)
 			throw std::logic_error("Synthesizer::setModulator: the new plan moves the head further than the face box allows");
 		if (!m->blinks().empty() && !sizedForBlinks_) throw std::logic_error("Synthesizer::setModulator: blinks, but the synthesizer was made without");
-		if (!m->auEvents().empty()) throw std::logic_error("Synthesizer::setModulator: action-unit events are fixed at construction");
+		if (!m->auEvents().empty() || !m->curves().empty())
+			throw std::logic_error("Synthesizer::setModulator: action-unit events and curves are fixed at construction");
 	}
 	o_.modulator = std::move(m);
 }

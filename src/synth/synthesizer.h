@@ -148,9 +148,11 @@ private:
 	std::optional<AuTemplates> auTemplates_;  // the scheme's, loaded when action units are asked for
 	EyeFrame auFrame_;                        // the mean shape's eye frame
 	std::vector<int> auEventIndex_;           // per modulator AU event: its template
+	std::vector<int> auCurveIndex_;           // per modulator AU curve: its template
 	bool fromActionUnits(const Keypose& key) const;  // whether this keypose's emotion comes from action units
 	std::vector<ClosedLidPatch> eyePatches_;
 	Eigen::RowVector2d centre_{0, 0};  // the mean shape's centre (head rotation), model pixels
+	Eigen::RowVector2d eyeMid_{0, 0};  // between the eyes on the mean shape (a tracked head's pivot, D55)
 	double faceSize_ = 1;              // the mean shape's larger side, model pixels
 	// What the face box and the lid patches were made for (setModulator's limits).
 	bool sizedForHead_ = false, sizedForBlinks_ = false;

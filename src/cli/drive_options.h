@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// What `track` and `render --drive` share (issue 17): the non-verbal tracking options and the tracking itself.
+#include <string>
+#include <vector>
+
+#include "cli/args.h"
+#include "render/controls.h"
+#include "track/nonverbal.h"
+
+namespace talkhead::cli {
+
+// --parts LIST, --neutral-frames, --neutral-seconds, --max-turn.
+NonVerbalOptions parseNonVerbalOptions(const Args& args, const std::string& command, const std::string& defaultParts);
+std::vector<OptionSpec> nonVerbalOptionSpecs();
+// Tracks a video (or reads a landmarks.tsv) and analyses it; warnings go to stderr.
+NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& options, const std::string& dlibModel, bool quiet);
+// The analysis as a control track: curves, and the blinks (with drawn blinks off) when the eyes are tracked.
+ControlTrack controlsOf(const NonVerbalTrack& track);
+
+}  // namespace talkhead::cli
