@@ -32,24 +32,13 @@ log "corpus by mouth shape"
 "$TH" inspect "$OUT/franck.thm" -o "$OUT/franck-model" >"$OUT/franck-model.txt"
 
 # 2–3. The GRID sentences, aligned, rendered, compared.
-word() { # GRID file-name letters → words (../shared/data/README.md)
-	local name=$1 out=()
-	case ${name:0:1} in b) out+=(bin) ;; l) out+=(lay) ;; p) out+=(place) ;; s) out+=(set) ;; esac
-	case ${name:1:1} in b) out+=(blue) ;; g) out+=(green) ;; r) out+=(red) ;; w) out+=(white) ;; esac
-	case ${name:2:1} in a) out+=(at) ;; b) out+=(by) ;; i) out+=(in) ;; w) out+=(with) ;; esac
-	# the letter (GRID's speakers are British: "z" is "zed")
-	if [ "${name:3:1}" = z ]; then out+=(zed); else out+=("${name:3:1}"); fi
-	case ${name:4:1} in z) out+=(zero) ;; 1) out+=(one) ;; 2) out+=(two) ;; 3) out+=(three) ;; 4) out+=(four) ;; 5) out+=(five) ;;
-		6) out+=(six) ;; 7) out+=(seven) ;; 8) out+=(eight) ;; 9) out+=(nine) ;; esac
-	case ${name:5:1} in a) out+=(again) ;; n) out+=(now) ;; p) out+=(please) ;; s) out+=(soon) ;; esac
-	echo "${out[*]}"
-}
+source "$root/examples/real-face/grid-words.sh"
 mkdir -p "$OUT/grid"
 printf 'clip\tsentence\talign_confidence\tr_hermite\tr_linear\tr_best_hermite\tlag_ms\tlmd\n' >"$OUT/grid/results.tsv"
 for clip in "$DATA"/grid/*.mpg; do
 	base=$(basename "$clip" .mpg)
 	name=${base##*_}
-	text=$(word "$name")
+	text=$(grid_words "$name")
 	log "$base: \"$text\""
 	"$TH" align "$clip" --text "$text" --lang en-US -o "$OUT/grid/$base.TextGrid" 2>"$OUT/grid/$base.align.txt"
 	conf=$(grep -o 'confidence [0-9.]*' "$OUT/grid/$base.align.txt" | tail -1 | cut -d' ' -f2)
