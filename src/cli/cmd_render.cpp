@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // talkhead render: transcript (+ audio, emotion) → talking-head video.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -138,13 +139,16 @@ int runRender(const std::vector<std::string>& argv) {
 	if (cmd.controls) applyControls(perf, *cmd.controls);
 	if (drive) {  // D55: the head, brows, eyes and blinks of the driving video
 		const NonVerbalTrack nv = trackNonVerbal(*drive, driveOptions, args.get("--drive-model", ""), cmd.quiet);
-		applyControls(perf, controlsOf(nv));
-		const Ticks driven = nv.curves().end() + ticksFromSeconds(1 / nv.rate);
-		if (driven + ticksFromSeconds(0.5) < perf.duration)
+		ControlTrack driven = controlsOf(nv);
+		// A driver longer than the sound: its blinks after the end are not drawn.
+		driven.blinks.erase(std::remove_if(driven.blinks.begin(), driven.blinks.end(), [&](Ticks t) { return t > perf.duration; }), driven.blinks.end());
+		applyControls(perf, driven);
+		const Ticks videoEnd = nv.curves().end() + ticksFromSeconds(1 / nv.rate);
+		if (videoEnd + ticksFromSeconds(0.5) < perf.duration)
 			std::fprintf(stderr, "talkhead: warning: %s: the video (%.2f s) is shorter than the render (%.2f s); the head holds its last pose after it\n",
-			             drive->c_str(), toSeconds(driven), toSeconds(perf.duration));
+			             drive->c_str(), toSeconds(videoEnd), toSeconds(perf.duration));
 		if (!cmd.quiet)
-			std::fprintf(stderr, "talkhead: %s drives the face: %zu frames, %zu blinks%s\n", drive->c_str(), nv.frames.size(), nv.blinks.size(),
+			std::fprintf(stderr, "talkhead: %s drives the face: %zu frames, %zu blink(s)%s\n", drive->c_str(), nv.frames.size(), nv.blinks.size(),
 			             nv.bridged.empty() ? "" : ", some frames bridged");
 	}
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).

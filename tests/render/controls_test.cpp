@@ -183,3 +183,66 @@ TEST(Controls, aTextGridTierIsAControlTrack) {
 	const std::string many = textGrid("TextTier", "points: size = 1\npoints [1]:\nnumber = 1\nmark = \"nod 1 2\"\n");
 	EXPECT_EQ(tierFailure(many), "c.TextGrid:25: too many values in 'nod 1 2' (write key=value for the others)");
 }
+
+TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
+	// D55: sampled head pose and action units (talkhead track writes them).
+	const std::string text = R"({"drawn_blinks": false, "events": [{"type": "blink", "time": 1.5}],
+		"curves": {"rate": 10, "start": 0.5,
+		  "head": {"roll": [0, 2, 4], "x": [0, 0.1, -0.1], "y": [0, 0, 0.05], "scale": [1, 1.02, 1], "yaw": [0, 5, 10]},
+		  "au": [{"au": "au1", "side": "right", "weight": [0, 0.5, 1]}, {"au": "AU4", "weight": [0.2, 0.2, 0.2]}]}})";
+	const ControlTrack t = parseControls(text, "c.json");
+	EXPECT_FALSE(t.drawnBlinks);
+	const ControlCurves& c = t.curves;
+	EXPECT_EQ(c.rate, 10);
+	EXPECT_EQ(c.start, ms(500));
+	EXPECT_EQ(c.end(), ms(700));
+	ASSERT_EQ(c.roll.size(), 3u);
+	EXPECT_NEAR(c.roll[1], 2 * 3.14159265 / 180, 1e-6);  // degrees in the file, radians inside
+	ASSERT_EQ(c.aus.size(), 2u);
+	EXPECT_EQ(c.aus[0].au, "AU1");
+	EXPECT_EQ(c.aus[0].side, -1);
+	EXPECT_EQ(c.aus[1].side, 0);
+	// Interpolated linearly, held at the ends.
+	EXPECT_NEAR(c.at(c.x, ms(550)), 0.05, 1e-6);
+	EXPECT_NEAR(c.at(c.x, ms(0)), 0, 1e-9);
+	EXPECT_NEAR(c.at(c.x, ms(5000)), -0.1, 1e-6);
+	EXPECT_EQ(c.at({}, ms(600), 1.0), 1.0);
+	// Written and read back: the same samples (to 4 decimals).
+	const ControlTrack back = parseControls(controlTrackJson(t, "driver.mp4", "a note"), "back.json");
+	EXPECT_FALSE(back.drawnBlinks);
+	ASSERT_EQ(back.blinks.size(), 1u);
+	EXPECT_EQ(back.blinks[0], ms(1500));
+	EXPECT_EQ(back.curves.rate, 10);
+	EXPECT_EQ(back.curves.start, ms(500));
+	for (std::size_t i = 0; i < 3; ++i) {
+		EXPECT_NEAR(back.curves.roll[i], c.roll[i], 1e-5);
+		EXPECT_NEAR(back.curves.x[i], c.x[i], 1e-5);
+		EXPECT_NEAR(back.curves.scale[i], c.scale[i], 1e-5);
+		EXPECT_NEAR(back.curves.aus[0].weight[i], c.aus[0].weight[i], 1e-5);
+	}
+	EXPECT_EQ(back.curves.aus[0].side, -1);
+	// The modulator: curves replace the drawn head motion; drawn blinks off, the track's blink kept.
+	Performance p = fourSeconds();
+	applyControls(p, t);
+	EXPECT_FALSE(p.modulation.blinks);
+	const ShapeModulator m(p.modulation, p.emotion, p.duration, p.keys);
+	EXPECT_NEAR(m.head(ms(600)).roll, c.roll[1], 1e-6);
+	EXPECT_EQ(m.head(ms(600)).angle, 0);  // no drawn sinusoids
+	EXPECT_NEAR(m.head(ms(650)).scale, 1.01, 1e-6);
+	EXPECT_NEAR(m.maxAngle(), 4 * 3.14159265 / 180, 1e-6);
+	EXPECT_NEAR(m.maxCurveShift(), std::hypot(0.1, 0.05), 1e-6);
+	ASSERT_EQ(m.blinks().size(), 1u);
+	const auto aus = m.curveActionUnits(ms(700));
+	ASSERT_EQ(aus.size(), 2u);
+	EXPECT_NEAR(aus[0].second, 1.0, 1e-6);
+	// Bad curves are named.
+	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"roll": [0, 1], "x": [0]}}})"), "c.json: curves: \"head.x\" has 1 samples, the curves before it 2");
+	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"pan": [0]}}})"), "c.json: curves: unknown head channel \"pan\" (known: roll, x, y, scale, yaw, pitch)");
+	EXPECT_EQ(failure(R"({"curves": {"head": {"roll": [0]}}})"), "c.json: curves: missing \"rate\"");
+	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"scale": [1, 7]}}})"), "c.json: curves: \"head.scale\" sample 2 (7) is outside 0.5–2");
+	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "au": [{"au": "AU45", "weight": [1]}]}})"),
+	          "c.json: curves: au curve 1: unknown action unit 'AU45' (AU45 blinks are events)");
+	EXPECT_EQ(failure(R"({"curves": {"rate": 10}})"), "c.json: curves: no samples (give head channels or au curves)");
+	EXPECT_EQ(failure(R"({"events": [], "drawn_blinks": 0})"), "c.json: \"drawn_blinks\" must be true or false");
+	EXPECT_EQ(failure(R"({"event": []})"), "c.json: unknown field \"event\" (known: events, curves, drawn_blinks, source, note)");
+}
