@@ -10,6 +10,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/drive_options.h"
+#include "track/drive_mouth.h"
 #include "media/video_reader.h"
 #include "cli/video_options.h"
 #include "media/audio.h"
@@ -31,6 +32,7 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
 	    {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa, espeak, praat, br1"},
 	    {"--drive", "VIDEO", "a person's video drives the face: head motion, brows, eyes and blinks from it (the mouth from the transcript); its audio unless --audio"},
+	    {"--drive-mouth", "", "with --drive: the mouth from the video too (no transcript): per frame the model actor's exemplar of the driver's mouth class"},
 	    {"--parts", "LIST", "with --drive: what the video drives (default head,brows,eyes)"},
 	    {"--drive-model", "F.dat", "with --drive: dlib 68-point predictor"}};
 	for (auto& o : nonVerbalOptionSpecs()) options.push_back(o);
@@ -47,6 +49,10 @@ int runRender(const std::vector<std::string>& argv) {
 	// Every option is checked before any file is read.
 	auto transcriptPath = args.get("--transcript");
 	const auto drive = args.get("--drive");
+	const bool driveMouth = args.has("--drive-mouth");
+	if (driveMouth && !drive) throw UsageError("render: --drive-mouth goes with --drive VIDEO");
+	if (driveMouth && (transcriptPath || args.get("--text") || args.get("--text-file")))
+		throw UsageError("render: --drive-mouth takes the mouth from the video: give no --transcript or --text");
 	if (!drive && (args.get("--parts") || args.get("--drive-model") || args.get("--neutral-frames") || args.get("--neutral-seconds") || args.get("--max-turn")))
 		throw UsageError("render: --parts, --drive-model, --neutral-frames, --neutral-seconds and --max-turn go with --drive VIDEO");
 	const NonVerbalOptions driveOptions = parseNonVerbalOptions(args, "render", "head,brows,eyes");
@@ -56,7 +62,7 @@ int runRender(const std::vector<std::string>& argv) {
 	std::optional<std::string> text = args.get("--text");
 	if (text && args.get("--text-file")) throw UsageError("render: give --text or --text-file, not both");
 	if (transcriptPath && (text || args.get("--text-file"))) throw UsageError("render: give --transcript or --text, not both");
-	if (!transcriptPath && !text && !args.get("--text-file")) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
+	if (!transcriptPath && !text && !args.get("--text-file") && !driveMouth) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
 	if ((text || args.get("--text-file")) && !audioPath)
 		throw UsageError(drive ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
 		                       : "render: --text needs --audio (the speech to align the text to)");
@@ -83,7 +89,13 @@ int runRender(const std::vector<std::string>& argv) {
 	AudioClip audio;
 	Transcript tr;
 	std::vector<Interval> words;  // for the timeline sidecar, when known
-	if (text) {
+	// D55: the driving video, tracked first (its mouth may make the keyposes).
+	NonVerbalTrack nv;
+	LandmarkTrack driverLandmarks;
+	if (drive) nv = trackNonVerbal(*drive, driveOptions, args.get("--drive-model", ""), cmd.quiet, driveMouth ? &driverLandmarks : nullptr);
+	if (driveMouth) {
+		// No transcript: the keyposes come from the driver's mouth.
+	} else if (text) {
 		// Forced alignment of the text to the audio (align/align.h), as `talkhead align` does.
 		audio = decodeAudio(*audioPath);
 		AlignOptions ao;
@@ -104,26 +116,34 @@ int runRender(const std::vector<std::string>& argv) {
 		if (tr.level == LabelLevel::Word) words = tr.intervals;
 		else if (cmd.timelineOut && tr.format == "textgrid" && *transcriptPath != "-") words = textGridWords(*transcriptPath, tr.tier);
 	}
-	const std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, text ? Notation::Ipa : *notation);  // an alignment's phones are canonical IPA
+	std::vector<PhoneSegment> phones;
+	if (!driveMouth) phones = phoneSegments(tr, lang, unknown, text ? Notation::Ipa : *notation);  // an alignment's phones are canonical IPA
 	Performance perf;
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;
 	perf.modulation = cmd.modulation;
 	perf.intensity = cmd.intensity;
-	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
+	std::size_t exemplarChoices = 0;
+	if (driveMouth) {
+		const DrivenMouth dm = talkhead::driveMouth(driverLandmarks, loadRenderModel(cmd.modelPath, cmd.components), cmd.emotion);
+		perf.keys = dm.keys;
+		exemplarChoices = dm.exemplarChoices;
+	} else {
+		perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
+	}
 	if (cmd.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(phones, cmd.speechBrows);
 		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
 	}
 	// Duration: the audio's (decoded once without keeping it, unless aligned), or the transcript's.
-	perf.duration = phones.back().end;
+	perf.duration = driveMouth ? nv.curves().end() + ticksFromSeconds(1 / nv.rate) : phones.back().end;
 	std::unique_ptr<AudioSource> sound;
 	if (auto a = audioPath) {
 		// (At the file's own sample rate: no resampling, and an MP4 index a third of 48 kHz's for 16 kHz speech.)
 		const Ticks audioDur = audio.samples.empty() ? audioFileDuration(*a, 0) : audio.duration();
 		sound = audio.samples.empty() ? openAudioFile(*a, 0) : clipSource(audio);
 		const Ticks tolerance(kTicksPerSecond / 10);
-		if (perf.duration > audioDur + tolerance) {
+		if (!driveMouth && perf.duration > audioDur + tolerance) {
 			char buf[200];
 			std::snprintf(buf, sizeof buf, "the transcript (%.3f s) is longer than the audio (%.3f s) by %.3f s", toSeconds(perf.duration),
 			              toSeconds(audioDur), toSeconds(perf.duration - audioDur));
@@ -131,14 +151,13 @@ int runRender(const std::vector<std::string>& argv) {
 		}
 		// A transcript covering a small part of a long audio: the face holds still for the rest. Say so.
 		const Ticks uncovered = audioDur - perf.duration;
-		if (uncovered > Ticks(10 * kTicksPerSecond) && perf.duration * 2 < audioDur)
+		if (!driveMouth && uncovered > Ticks(10 * kTicksPerSecond) && perf.duration * 2 < audioDur)
 			std::fprintf(stderr, "talkhead: warning: %s: the transcript covers %.1f s of %.1f s of audio; the face holds its last keypose, silent, for the other %.1f s\n",
 			             a->c_str(), toSeconds(perf.duration), toSeconds(audioDur), toSeconds(uncovered));
 		perf.duration = audioDur;
 	}
 	if (cmd.controls) applyControls(perf, *cmd.controls);
 	if (drive) {  // D55: the head, brows, eyes and blinks of the driving video
-		const NonVerbalTrack nv = trackNonVerbal(*drive, driveOptions, args.get("--drive-model", ""), cmd.quiet);
 		ControlTrack driven = controlsOf(nv);
 		// A driver longer than the sound: its blinks after the end are not drawn.
 		driven.blinks.erase(std::remove_if(driven.blinks.begin(), driven.blinks.end(), [&](Ticks t) { return t > perf.duration; }), driven.blinks.end());
@@ -148,8 +167,10 @@ int runRender(const std::vector<std::string>& argv) {
 			std::fprintf(stderr, "talkhead: warning: %s: the video (%.2f s) is shorter than the render (%.2f s); the head holds its last pose after it\n",
 			             drive->c_str(), toSeconds(videoEnd), toSeconds(perf.duration));
 		if (!cmd.quiet)
-			std::fprintf(stderr, "talkhead: %s drives the face: %zu frames, %zu blink(s)%s\n", drive->c_str(), nv.frames.size(), nv.blinks.size(),
-			             nv.bridged.empty() ? "" : ", some frames bridged");
+			std::fprintf(stderr, "talkhead: %s drives the face: %zu frames, %zu blink(s)%s%s\n", drive->c_str(), nv.frames.size(), nv.blinks.size(),
+			             nv.bridged.empty() ? "" : ", some frames bridged",
+			             driveMouth ? (", the mouth: " + std::to_string(perf.keys.size()) + " keyposes (" + std::to_string(exemplarChoices) +
+			                           " exemplars chosen by shape)").c_str() : "");
 	}
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).
 	if (!tr.tier.empty() && !cmd.quiet) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", transcriptPath->c_str(), tr.tier.c_str(), tr.tierNote.c_str());

@@ -175,7 +175,7 @@ std::vector<OptionSpec> nonVerbalOptionSpecs() {
 	        {"--max-turn", "DEG", "drop (and bridge) frames whose head turns further than DEG degrees (default 30)"}};
 }
 
-NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& o, const std::string& dlibModel, bool quiet) {
+NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& o, const std::string& dlibModel, bool quiet, LandmarkTrack* landmarks) {
 	LandmarkTrack lt;
 	if (endsWith(input, ".tsv")) {
 		lt = readLandmarksTsv(input);
@@ -188,6 +188,7 @@ NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& 
 	}
 	NonVerbalTrack nv = analyseNonVerbal(lt, o);
 	for (const std::string& w : nv.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(input + ": " + w).c_str());
+	if (landmarks) *landmarks = std::move(lt);
 	return nv;
 }
 

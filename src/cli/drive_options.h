@@ -14,7 +14,9 @@ namespace talkhead::cli {
 NonVerbalOptions parseNonVerbalOptions(const Args& args, const std::string& command, const std::string& defaultParts);
 std::vector<OptionSpec> nonVerbalOptionSpecs();
 // Tracks a video (or reads a landmarks.tsv) and analyses it; warnings go to stderr.
-NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& options, const std::string& dlibModel, bool quiet);
+// `landmarks`: where to keep the landmark track too (render --drive-mouth).
+NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& options, const std::string& dlibModel, bool quiet,
+                              LandmarkTrack* landmarks = nullptr);
 // The analysis as a control track: curves, and the blinks (with drawn blinks off) when the eyes are tracked.
 ControlTrack controlsOf(const NonVerbalTrack& track);
 

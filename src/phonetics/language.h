@@ -106,6 +106,9 @@ struct Keypose {
 	// Set per keypose by an emotion track (render controls); empty / negative: the performance's.
 	std::string emotion;
 	double intensity = -1;
+	// A specific sample of the model (render --drive-mouth: the actor's exemplar nearest the driver's
+	// mouth, D55); −1: resolved from (emotion, CDV, context).
+	long sample = -1;
 };
 
 // How pauses move the mouth (docs/decisions.md D34).

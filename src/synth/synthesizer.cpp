@@ -409,7 +409,7 @@ std::pair<long, long> Synthesizer::resolvePair(const Keypose& key) const {
 const std::string& Synthesizer::emotionOf(const Keypose& key) const { return key.emotion.empty() ? o_.emotion : key.emotion; }
 double Synthesizer::intensityOf(const Keypose& key) const { return key.intensity < 0 ? o_.intensity : key.intensity; }
 std::string Synthesizer::indexKey(const Keypose& key) const {
-	return key.cdv + "\t" + emotionOf(key) + "\t" + std::to_string(intensityOf(key));
+	return key.cdv + "\t" + emotionOf(key) + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
 }
 
 long Synthesizer::resolve(const Keypose& key) const { return resolve(key, emotionOf(key)); }
@@ -419,6 +419,7 @@ long Synthesizer::resolve(const Keypose& key, const std::string& emotion) const 
 	// among several samples of one entry, the best phone context (FaceModel::findSample).
 	const std::string& cdv = key.cdv;
 	const auto* context = &key.context;
+	if (key.sample >= 0 && std::size_t(key.sample) < model_.sampleCount() && model_.samples[std::size_t(key.sample)].emotion == emotion) return key.sample;
 	long sample = model_.findSample(emotion, cdv, context);
 	if (sample < 0) sample = model_.findSample("neutral", cdv, context);
 	if (sample < 0)
