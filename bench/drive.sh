@@ -112,3 +112,31 @@ print("%s\t%d\t%.4f\t%.4f\t%.0f %%" % (sys.argv[4], len(da), np.mean(da), np.mea
 PY
 	done
 fi
+
+# A driver whose head moves (GRID's speakers barely turn: roll sd 0.1–0.7°): 20 s of franck.mp4 (no audio)
+# drives the default face and, when given, the franck model (--drive-mouth); head curves of the render
+# against the driver's.
+if [ -f "$DATA/franck/franck.mp4" ]; then
+	ffmpeg -y -v error -ss 60 -t 20 -i "$DATA/franck/franck.mp4" -c:v libx264 -crf 18 -an "$OUT/franck20.mp4"
+	"$TH" track "$OUT/franck20.mp4" -o "$OUT/franck20.driver.json" -q
+	printf '\nfranck.mp4 60–80 s drives\tr_roll\tr_x\tr_y\tr_scale\tlip_r_lag0\tdrive_s\n'
+	for label in default ${FRANCK_MODEL:+franck}; do
+		args=(); [ "$label" = franck ] && args=(--model "$FRANCK_MODEL")
+		start=$(date +%s.%N)
+		"$TH" render --drive "$OUT/franck20.mp4" --drive-mouth "${args[@]}" --size 640x360 -o "$OUT/franck20.$label.mp4" -q
+		end=$(date +%s.%N)
+		"$TH" track "$OUT/franck20.$label.mp4" -o "$OUT/franck20.$label.json" -q
+		lip=$("$TH" compare "$OUT/franck20.$label.mp4" "$OUT/franck20.mp4" --json -q | /usr/bin/python3 -c 'import json,sys; print("%.3f" % json.load(sys.stdin)["r_lag0"])')
+		/usr/bin/python3 - "$OUT/franck20.driver.json" "$OUT/franck20.$label.json" "$label" "$lip" "$start" "$end" <<'PY'
+import json, sys
+import numpy as np
+A, B = (json.load(open(p))["curves"] for p in sys.argv[1:3])
+out = [sys.argv[3]]
+for k in ("roll", "x", "y", "scale"):
+    a, b = np.array(A["head"][k]), np.array(B["head"][k])
+    t = np.arange(0, min(len(a) / A["rate"], len(b) / B["rate"]) - 0.05, 0.01)
+    out.append("%.3f" % np.corrcoef(np.interp(t, np.arange(len(a)) / A["rate"], a), np.interp(t, np.arange(len(b)) / B["rate"], b))[0, 1])
+print("\t".join(out + [sys.argv[4], "%.2f" % (float(sys.argv[6]) - float(sys.argv[5]))]))
+PY
+	done
+fi

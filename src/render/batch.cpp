@@ -48,7 +48,8 @@ const std::vector<Column>& columns() {
 	    {"emotion-source", "--emotion-source", true, true}, {"controls", "--controls", true, true}, {"seed", "--seed", true, true},
 	    {"rate", "--rate", true, false},     {"pitch", "--pitch", true, false},           {"crf", "--crf", true, true},
 	    {"lead-in", "--lead-in", true, true}, {"tail", "--tail", true, true},             {"av-offset", "--av-offset", true, true},
-	    {"components", "--components", true, true}, {"condition", "", true, true}};
+	    {"components", "--components", true, true}, {"drive", "--drive", false, true}, {"drive-mouth", "", false, true},
+	    {"condition", "", true, true}};
 	return c;
 }
 const Column* findColumn(const std::string& name) {
@@ -156,7 +157,7 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 		return it == fields.end() ? std::string() : it->second;
 	};
 	std::map<std::string, std::string> resolved;
-	for (const char* k : {"transcript", "audio", "model", "controls"}) {
+	for (const char* k : {"transcript", "audio", "model", "controls", "drive"}) {
 		auto it = fields.find(k);
 		if (it == fields.end()) continue;
 		const fs::path p = fs::path(it->second).is_absolute() ? fs::path(it->second) : dir / it->second;
@@ -164,10 +165,20 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 		if (!fs::is_regular_file(p, ec)) fail(k, "no such file '" + it->second + "'");
 		resolved[k] = p.string();
 	}
-	const bool text = !get("text").empty(), transcript = !get("transcript").empty(), audio = !get("audio").empty();
-	if (!text && !transcript) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
+	const bool text = !get("text").empty(), transcript = !get("transcript").empty(), audio = !get("audio").empty(), drive = !get("drive").empty();
+	// Issue 17: a driving video gives the head, brows, eyes and blinks (and its audio); with drive-mouth
+	// the mouth too, and no text or transcript.
+	bool driveMouth = false;
+	if (auto dm = toLower(get("drive-mouth")); !dm.empty()) {
+		if (dm == "yes" || dm == "true" || dm == "1") driveMouth = true;
+		else if (dm != "no" && dm != "false" && dm != "0") fail("drive-mouth", "'" + get("drive-mouth") + "' is not yes or no");
+	}
+	if (driveMouth && !drive) fail("drive-mouth", "needs a drive video");
+	if (driveMouth && (text || transcript)) fail("drive-mouth", "takes the mouth from the drive video: no text or transcript");
+	if (!text && !transcript && !driveMouth) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
 	if (text && transcript) fail("transcript", "text and transcript both given: one or the other");
-	const std::string command = transcript || (text && audio) ? "render" : "say";
+	const std::string command = transcript || driveMouth || drive || (text && audio) ? "render" : "say";
+	if (driveMouth) args.push_back("--drive-mouth");
 	if (command == "say" && text) args.push_back(get("text"));
 	if (command == "render" && text) args.insert(args.end(), {"--text", get("text")});
 	// Emotion (and intensity).
@@ -206,7 +217,7 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 		else if (command == "render" && !c->render) fail(k, "only for a stimulus spoken from text (say)");
 		else args.insert(args.end(), {c->option, resolved.count(k) ? resolved.at(k) : v});
 	}
-	return (!text && !transcript) ? std::string() : command;
+	return (!text && !transcript && !driveMouth) ? std::string() : command;
 }
 
 }  // namespace

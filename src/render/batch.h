@@ -18,12 +18,13 @@ namespace talkhead {
 // {"stimuli": [...]}); the columns (README "Perceptual-test stimuli"):
 //   text, transcript, audio, lang, voice, model, emotion (LABEL or LABEL:I), intensity, muted, fps, size,
 //   trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
-//   rate, pitch, crf, lead-in, tail, av-offset (ms); and free annotations: condition, and any column
+//   rate, pitch, crf, lead-in, tail, av-offset (ms), drive (a video: render --drive), drive-mouth (yes: the
+//   mouth from it too, no text or transcript); and free annotations: condition, and any column
 //   starting with "x-" (kept in the key). `versus:COLUMN` columns (model, emotion, intensity, trajectory,
 //   dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
 //   components; "default" = the option's default) make the row a side-by-side stimulus: the row as
 //   written on one side, with those columns replaced on the other.
-// A row with a transcript (or text + audio) is a `render`, one with text alone a `say`.
+// A row with a transcript (or text + audio, or a drive video) is a `render`, one with text alone a `say`.
 struct BatchRow {
 	std::size_t index = 0;  // 0-based
 	long line = 0;          // CSV line / JSON item number (1-based), for messages

@@ -111,4 +111,14 @@ t = np.arange(0, min(len(a) / ra, len(b) / rb) - 0.05, 0.01)
 r = np.corrcoef(np.interp(t, np.arange(len(a)) / ra, a), np.interp(t, np.arange(len(b)) / rb, b))[0, 1]
 print("driven by bbaf2n: roll r %.3f" % r); assert r > 0.8
 PY
+# --drive-mouth: the mouth from the clip too (no transcript); its lip opening follows the clip's (goal
+# r ≥ 0.8 over the 11 clips in bench/drive.sh, bounded looser here on one clip).
+"$TH" render --drive "$G/lwbsza.mpg" --drive-mouth --size 640x360 -o "$T/mouth.mp4" 2>"$T/mouth.log"
+cat "$T/mouth.log"
+grep -Eq "the mouth: [0-9]+ keyposes" "$T/mouth.log"
+"$TH" compare "$T/mouth.mp4" "$G/lwbsza.mpg" --json -q | $PY -c 'import json, sys; r = json.load(sys.stdin)["r_lag0"]; print("lip opening r", r); assert r > 0.7'
+err render --drive "$G/lwbsza.mpg" --drive-mouth --text "lay white" -o "$T/n.mp4" | grep -q "render: --drive-mouth takes the mouth from the video: give no --transcript or --text"
+err render --drive-mouth -o "$T/n.mp4" | grep -q "render: --drive-mouth goes with --drive VIDEO"
+err render --drive "$G/lwbsza.mpg" --transcript /dev/null -o "$T/n.mp4" --controls "$T/tracked.json" | grep -q "has curves and --drive gives them too: give one"
+test ! -e "$T/n.mp4"
 echo "drive ok"

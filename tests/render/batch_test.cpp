@@ -164,3 +164,24 @@ TEST(Batch, answersAreScoredAgainstTheKey) {
 		EXPECT_EQ(std::string(e.what()), dir + "/bad.csv:2: stimulus 'SZ' is not in " + dir + "/key.csv");
 	}
 }
+
+TEST(Batch, aRowMayNameADrivingVideo) {
+	// Issue 17 §3: matched stimuli — the real clip's head motion, blinks and timing on the synthetic face.
+	const auto dir = std::filesystem::temp_directory_path() / "talkhead_batch_drive";
+	std::filesystem::create_directories(dir);
+	std::ofstream(dir / "clip.mp4") << "x";
+	const std::string path = (dir / "m.csv").string();
+	const Manifest m = parseManifest("drive,drive-mouth,text,emotion\nclip.mp4,yes,,joy\nclip.mp4,,bin blue at f two now,\n", path);
+	ASSERT_EQ(m.rows.size(), 2u);
+	EXPECT_EQ(m.rows[0].command, "render");
+	EXPECT_EQ(m.rows[0].args, (std::vector<std::string>{"--drive-mouth", "--emotion", "joy", "--drive", (dir / "clip.mp4").string()}));
+	EXPECT_EQ(m.rows[1].command, "render");  // text aligned to the driving video's audio
+	EXPECT_EQ(m.rows[1].args, (std::vector<std::string>{"--text", "bin blue at f two now", "--emotion", "neutral", "--drive", (dir / "clip.mp4").string()}));
+	const auto errors = errorsOf("drive,drive-mouth,text\nclip.mp4,yes,Oi.\n,yes,\nnone.mp4,maybe,Oi.\n", path);
+	ASSERT_EQ(errors.size(), 4u);
+	EXPECT_EQ(errors[0], path + ":2:drive-mouth: takes the mouth from the drive video: no text or transcript");
+	EXPECT_EQ(errors[1], path + ":3:drive-mouth: needs a drive video");
+	EXPECT_EQ(errors[2], path + ":4:drive: no such file 'none.mp4'");
+	EXPECT_EQ(errors[3], path + ":4:drive-mouth: 'maybe' is not yes or no");
+	std::filesystem::remove_all(dir);
+}
