@@ -365,6 +365,7 @@ void addLeadInAndTail(Performance& p, Ticks leadIn, Ticks tail) {
 	for (HeadGesture& g : m.gestures) g.time += leadIn;
 	for (BrowEvent& b : m.browEvents) b.time += leadIn;
 	for (AuEvent& a : m.auEvents) a.time += leadIn;
+	m.curves.start += leadIn;  // a tracked performance (D55) starts with the speech
 	p.duration += leadIn + tail;
 }
 

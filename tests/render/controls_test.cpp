@@ -235,6 +235,9 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	const auto aus = m.curveActionUnits(ms(700));
 	ASSERT_EQ(aus.size(), 2u);
 	EXPECT_NEAR(aus[0].second, 1.0, 1e-6);
+	// A lead-in (issue 14) moves the curves with the speech.
+	addLeadInAndTail(p, ms(1000), ms(0));
+	EXPECT_EQ(p.modulation.curves.start, ms(1500));
 	// Bad curves are named.
 	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"roll": [0, 1], "x": [0]}}})"), "c.json: curves: \"head.x\" has 1 samples, the curves before it 2");
 	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"pan": [0]}}})"), "c.json: curves: unknown head channel \"pan\" (known: roll, x, y, scale, yaw, pitch)");
