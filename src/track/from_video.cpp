@@ -229,6 +229,10 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 	if (baseIndex == track.frames.size() || !track.frames[baseIndex].found)
 		throw Error(track.source, 0, "--baseface " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
 	plan.rest = mouthMeasures(track.frames[baseIndex].points);
+	const double baseYaw = headYaw(track.frames[baseIndex].points);
+	// D55: a yaw 0.03 eye distances (about 4°) from the baseface's costs 0.2, a fifth of a mouth measure one
+	// spread off: franck's chosen frames' yaw sd 0.041 → 0.007.
+	constexpr double kPoseWeight = 0.2;
 	// Scale each measure's target offsets to this speaker's range.
 	double spread[kMeasures];
 	for (int k = 0; k < kMeasures; ++k) {
@@ -245,8 +249,10 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 		for (std::size_t i : cand) {
 			double cost = 0;
 			for (int k = 0; k < kMeasures; ++k) cost += weight[k] * std::pow((m[i][k] - goal[k]) / spread[k], 2);
-			// Prefer still, confident frames (a frame mid-transition is blurred).
+			// Prefer still, confident frames (a frame mid-transition is blurred), posed like the baseface (a
+			// 2D model cannot undo a turned head: exemplars turned differently make the head wobble).
 			cost += 0.05 * std::pow(tm.speed[i] / 0.5, 2) + 0.2 * (1 - track.frames[i].confidence);
+			cost += kPoseWeight * std::pow((headYaw(track.frames[i].points) - baseYaw) / 0.03, 2);
 			ranked.emplace_back(cost, i);
 		}
 		std::sort(ranked.begin(), ranked.end());
