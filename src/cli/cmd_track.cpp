@@ -233,14 +233,12 @@ int runTrack(const std::vector<std::string>& argv) {
 	char note[200];
 	std::snprintf(note, sizeof note, "talkhead track: %zu frames at %.3f fps, neutral from %zu frames; head roll in degrees, x y in eye distances", nv.frames.size(),
 	              nv.rate, nv.neutralCount);
-	const Image8 picture = plotNonVerbal(nv);
-	writeFileAtomically(*out, controlTrackJson(controls, input, note));
-	try {
-		writeImage(plot, picture);
-	} catch (...) {
-		std::remove(out->c_str());
-		throw;
-	}
+	// Both under temporary names first: a failure or a stop leaves neither.
+	StagedFile png(plot), json(*out);
+	png.write([&](const std::string& t) { writeImage(t, plotNonVerbal(nv)); });
+	json.write([&](const std::string& t) { writeFileAtomically(t, controlTrackJson(controls, input, note)); });
+	png.commit();
+	json.commit();
 	if (!quiet) {
 		double maxRoll = 0;
 		for (const auto& f : nv.frames) maxRoll = std::max(maxRoll, std::abs(f.roll) * 57.29577951308232);
