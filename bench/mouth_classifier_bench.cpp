@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
 			const std::int64_t restFrame = mostNeutralFrame(track, o);
 			for (const auto& f : track.frames) {
 				if (!f.found) continue;
-				c.all.push_back(mouthMeasures(f.raw.rows() ? f.raw : f.points));
+				c.all.push_back(mouthMeasures(unsmoothedPoints(f)));
 				if (f.frame == restFrame) c.rest = c.all.back();
 			}
 			for (const ChosenFrame& ch : plan.entries)

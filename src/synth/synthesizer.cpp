@@ -242,11 +242,11 @@ Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : model_
 	eyeMid_ = centre_;
 	if (o.modulator && o.modulator->curves().hasHead() && eyes_.size() >= 2) {
 		stabilise_ = true;
-		eyeCornerWeights_ = Eigen::VectorXd::Zero(model.pointCount());
-		for (const EyeSpec& e : eyes_) eyeCornerWeights_(e.corner0) = eyeCornerWeights_(e.corner1) = 1;
+		stabiliseWeights_ = Eigen::VectorXd::Zero(model.pointCount());
+		for (const EyeSpec& e : eyes_) stabiliseWeights_(e.corner0) = stabiliseWeights_(e.corner1) = 1;
 		if (model.scheme.name == "ibug-68" && model.pointCount() == 68) {  // and the nose, as talkhead track registers heads
-			eyeCornerWeights_(27) = 0.5, eyeCornerWeights_(30) = 1;
-			for (int i : {31, 33, 35}) eyeCornerWeights_(i) = 0.5;
+			stabiliseWeights_(27) = 0.5, stabiliseWeights_(30) = 1;
+			for (int i : {31, 33, 35}) stabiliseWeights_(i) = 0.5;
 		}
 	}
 	if (eyes_.size() >= 2)
@@ -673,7 +673,7 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 	f.w256 = int(std::lround(std::clamp(f.w, 0.0, 1.0) * 256));
 	points = trajectory(f.src->shape, f.dst->shape, f.u, o_.trajectory);
 	if (stabilise_) {  // D55: a tracked head: the pose is the driver's; the exemplars' own (up to ±1.7° on franck) is removed
-		const Similarity t = alignSimilarity(points, model_.meanShape, eyeCornerWeights_);
+		const Similarity t = alignSimilarity(points, model_.meanShape, stabiliseWeights_);
 		points = t.apply(points);
 	}
 	if (o_.modulator) {  // D42: lids, then the head, in model pixels

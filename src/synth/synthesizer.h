@@ -154,7 +154,7 @@ private:
 	Eigen::RowVector2d centre_{0, 0};  // the mean shape's centre (head rotation), model pixels
 	Eigen::RowVector2d eyeMid_{0, 0};  // between the eyes on the mean shape (a tracked head's pivot, D55)
 	bool stabilise_ = false;           // a tracked head (D55): keypose shapes aligned on their eye corners to s̄
-	Eigen::VectorXd eyeCornerWeights_;
+	Eigen::VectorXd stabiliseWeights_;
 	double faceSize_ = 1;              // the mean shape's larger side, model pixels
 	// What the face box and the lid patches were made for (setModulator's limits).
 	bool sizedForHead_ = false, sizedForBlinks_ = false;

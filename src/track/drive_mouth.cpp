@@ -15,16 +15,6 @@ constexpr int kMeasureCount = 4;
 // The opening and the width decide most; the outer lip height and the jaw follow them (D32's weights).
 constexpr double kWeight[kMeasureCount] = {1.0, 1.0, 0.5, 0.5};
 
-double quantile(std::vector<double> v, double q) {
-	if (v.empty()) return 0;
-	std::sort(v.begin(), v.end());
-	const double x = q * double(v.size() - 1);
-	const std::size_t i = std::size_t(x);
-	return i + 1 < v.size() ? v[i] + (x - double(i)) * (v[i + 1] - v[i]) : v[i];
-}
-
-const Points& rawPoints(const FrameLandmarks& f) { return f.raw.rows() == kIbugPoints ? f.raw : f.points; }
-
 }  // namespace
 
 double modifiedHausdorff(const Points& a, const Points& b) {
@@ -92,7 +82,7 @@ void MouthClassifier::calibrate(const MouthMeasures& r, const std::vector<MouthM
 		for (const auto& m : frames) v.push_back(m[k]);
 		double lo = 0, hi = 0;
 		for (const auto& t : targets) lo = std::min(lo, t[k]), hi = std::max(hi, t[k]);
-		spread[k] = std::max(1e-4, quantile(v, 0.98) - quantile(v, 0.02));
+		spread[k] = std::max(1e-4, percentile(v, 0.98) - percentile(v, 0.02));
 		scale[k] = hi - lo > 1e-6 ? spread[k] / (hi - lo) : 1;
 	}
 }
@@ -100,13 +90,13 @@ void MouthClassifier::calibrate(const MouthMeasures& r, const std::vector<MouthM
 void MouthClassifier::calibrate(const LandmarkTrack& driver) {
 	FromVideoOptions o;
 	o.minConfidence = 0.5;
-	const std::int64_t restFrame = mostNeutralFrame(driver, o);
+	restFrame = mostNeutralFrame(driver, o);
 	std::vector<MouthMeasures> all;
 	MouthMeasures r;
 	bool found = false;
 	for (const auto& f : driver.frames) {
 		if (!f.found) continue;
-		all.push_back(mouthMeasures(rawPoints(f)));
+		all.push_back(mouthMeasures(unsmoothedPoints(f)));
 		if (f.frame == restFrame) r = all.back(), found = true;
 	}
 	if (all.empty()) throw Error(driver.source, 0, "no face found");
@@ -135,7 +125,7 @@ DrivenMouth driveMouth(const LandmarkTrack& driver, const FaceModel& model, cons
 	std::vector<MouthMeasures> raw(n);
 	std::vector<bool> ok(n, false);
 	for (std::size_t i = 0; i < n; ++i)
-		if (driver.frames[i].found && driver.frames[i].confidence >= 0.5) ok[i] = true, raw[i] = mouthMeasures(rawPoints(driver.frames[i]));
+		if (driver.frames[i].found && driver.frames[i].confidence >= 0.5) ok[i] = true, raw[i] = mouthMeasures(unsmoothedPoints(driver.frames[i]));
 	const double sigma = 0.04 * rate;
 	const long radius = long(std::ceil(3 * sigma));
 	std::vector<MouthMeasures> m(n);
@@ -162,11 +152,8 @@ DrivenMouth driveMouth(const LandmarkTrack& driver, const FaceModel& model, cons
 	Points actorRest, driverRest;
 	if (ibug) {
 		actorRest = normalisedMouth(model.alignedShapes.at(model.basefaceIndex));
-		FromVideoOptions o;
-		o.minConfidence = 0.5;
-		const std::int64_t restFrame = mostNeutralFrame(driver, o);
 		for (const auto& f : driver.frames)
-			if (f.found && f.frame == restFrame) driverRest = normalisedMouth(rawPoints(f));
+			if (f.found && f.frame == classifier.restFrame) driverRest = normalisedMouth(unsmoothedPoints(f));
 		if (driverRest.rows() == 0) ibug = false;
 	}
 	// A keypose per run of one class, at its middle.
@@ -188,7 +175,7 @@ DrivenMouth driveMouth(const LandmarkTrack& driver, const FaceModel& model, cons
 			for (std::size_t s = 0; s < model.sampleCount(); ++s)
 				if (model.samples[s].cdv == k.cdv && model.samples[s].emotion == e) exemplars.push_back(s);
 			if (exemplars.size() > 1) {
-				const Points moved = actorRest + (normalisedMouth(rawPoints(driver.frames[mid])) - driverRest);
+				const Points moved = actorRest + (normalisedMouth(unsmoothedPoints(driver.frames[mid])) - driverRest);
 				double best = std::numeric_limits<double>::max();
 				for (std::size_t s : exemplars) {
 					const double d = modifiedHausdorff(moved, normalisedMouth(model.alignedShapes[s]));

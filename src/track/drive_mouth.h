@@ -24,6 +24,7 @@ struct MouthClassifier {
 	std::vector<std::string> classes;    // CDVs
 	std::vector<MouthMeasures> targets;  // per class: displacement from rest
 	MouthMeasures rest, spread, scale;   // the driver's (calibrate)
+	std::int64_t restFrame = -1;         // calibrate(track): the driver's most neutral frame
 	// The model actor's classes (its CDVs of `emotion`, else neutral). Throws Error for schemes without
 	// mouth measures (neither ibug-68 nor ch-unicamp-56).
 	static MouthClassifier forModel(const FaceModel& model, const std::string& emotion);

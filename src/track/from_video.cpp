@@ -41,6 +41,8 @@ struct EyeFrame {
 	double y(const Points& p, int i) const { return (-s * p(i, 0) + c * p(i, 1)) / iod; }
 };
 
+}  // namespace
+
 double percentile(std::vector<double> v, double q) {
 	if (v.empty()) return 0;
 	std::sort(v.begin(), v.end());
@@ -49,6 +51,8 @@ double percentile(std::vector<double> v, double q) {
 	const double w = pos - double(i);
 	return i + 1 < v.size() ? (1 - w) * v[i] + w * v[i + 1] : v[i];
 }
+
+namespace {
 
 // Frames that may be chosen.
 std::vector<std::size_t> candidates(const LandmarkTrack& track, const FromVideoOptions& o) {

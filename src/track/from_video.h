@@ -21,6 +21,8 @@ struct MouthMeasures {
 	double& operator[](int i) { return i == 0 ? opening : i == 1 ? width : i == 2 ? height : jaw; }
 };
 MouthMeasures mouthMeasures(const Points& ibug68);
+// The q-quantile (0–1) of the values, interpolated linearly; 0 when there are none.
+double percentile(std::vector<double> values, double q);
 
 // Head pose proxies of a 68-point shape: roll (radians, the eye line's angle) and yaw (nose tip's horizontal
 // offset from the eyes' midpoint, in eye distances).

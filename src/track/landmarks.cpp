@@ -507,4 +507,6 @@ Image8 contactSheet(const std::vector<Thumbnail>& thumbs, int columns, int cellW
 	return sheet;
 }
 
+const Points& unsmoothedPoints(const FrameLandmarks& f) { return f.raw.rows() == f.points.rows() && f.raw.rows() > 0 ? f.raw : f.points; }
+
 }  // namespace talkhead

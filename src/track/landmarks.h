@@ -129,6 +129,8 @@ LandmarkTrack readLandmarksTsv(const std::string& path);
 // distances; NaN when lost).
 double rigidJitter(const LandmarkTrack& track, bool raw);
 std::vector<double> innerLipOpening(const LandmarkTrack& track, bool raw);
+// A frame's unsmoothed fit (its smoothed points when the track has no raw ones, e.g. read from a .tsv).
+const Points& unsmoothedPoints(const FrameLandmarks& f);
 // Outer eye-corner distance (points 36, 45).
 double eyeDistance(const Points& p);
 

@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "geometry/scheme.h"
 #include "geometry/shape.h"
+#include "track/from_video.h"
 
 namespace talkhead {
 
@@ -34,15 +35,6 @@ Eigen::VectorXd rigidWeights() {
 	w(30) = 1.0;                         // nose tip
 	for (int i : {31, 33, 35}) w(i) = 0.5;  // nostril wings, subnasale
 	return w;
-}
-
-double median(std::vector<double> v) {
-	if (v.empty()) return kNaN;
-	const std::size_t m = v.size() / 2;
-	std::nth_element(v.begin(), v.begin() + long(m), v.end());
-	double r = v[m];
-	if (v.size() % 2 == 0) r = 0.5 * (r + *std::max_element(v.begin(), v.begin() + long(m)));
-	return r;
 }
 
 double eyeAspect(const Points& p, int o) {
@@ -178,13 +170,13 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 	Points neutral(kIbugPoints, 2);
 	{
 		std::vector<Points> aligned;
-		auto raw = [](const FrameLandmarks* f) -> const Points& { return f->raw.rows() == kIbugPoints ? f->raw : f->points; };
-		for (const FrameLandmarks* f : neutralSet) aligned.push_back(alignSimilarity(raw(f), raw(neutralSet.front()), rigid).apply(raw(f)));
+		const Points& first = unsmoothedPoints(*neutralSet.front());
+		for (const FrameLandmarks* f : neutralSet) aligned.push_back(alignSimilarity(unsmoothedPoints(*f), first, rigid).apply(unsmoothedPoints(*f)));
 		std::vector<double> v(aligned.size());
 		for (int i = 0; i < kIbugPoints; ++i)
 			for (int c = 0; c < 2; ++c) {
 				for (std::size_t k = 0; k < aligned.size(); ++k) v[k] = aligned[k](i, c);
-				neutral(i, c) = median(v);
+				neutral(i, c) = percentile(v, 0.5);
 			}
 	}
 	out.neutralCount = neutralSet.size();
@@ -251,7 +243,7 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 		r.eyeOpening = kNaN;
 		if (!f.found || f.confidence < o.minConfidence) continue;
 		// The unsmoothed fit: the one-euro filter is causal and lags; the curves are smoothed centred below.
-		const Points& raw = f.raw.rows() == kIbugPoints ? f.raw : f.points;
+		const Points& raw = unsmoothedPoints(f);
 		const Similarity s = alignSimilarity(neutral, raw, rigid);
 		r.roll = s.angle();
 		r.scale = s.scale();
@@ -289,12 +281,12 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 			window.clear();
 			for (long j = std::max(0L, k - half); j <= std::min(long(n) - 1, k + half); ++j)
 				if (ok[std::size_t(j)]) window.push_back(out.frames[std::size_t(j)].eyeOpening);
-			openLevel[std::size_t(k)] = median(window);
+			openLevel[std::size_t(k)] = window.empty() ? kNaN : percentile(window, 0.5);
 		}
 		std::vector<double> all;
 		for (std::size_t k = 0; k < n; ++k)
 			if (ok[k]) all.push_back(out.frames[k].eyeOpening);
-		out.neutralEyeOpening = median(all);
+		out.neutralEyeOpening = percentile(all, 0.5);
 	}
 	std::vector<bool> eyeOk = ok;
 	for (std::size_t k = 0; k < n;) {
