@@ -5,7 +5,8 @@
 #      drawn with `talkhead inspect -o`;
 #   2. franck saying each of the 11 GRID sentences with that clip's own audio, aligned by `talkhead align`
 #      from the sentence text (spelled by the file name);
-#   3. `talkhead compare` of each against the real GRID speaker (Hermite and linear trajectories), and the mean;
+#   3. `talkhead compare` of each against the real GRID speaker (Hermite, linear and monotone trajectories), and
+#      the mean;
 #   4. held-out reconstruction: a model of the first 150 s, frames of the last 50 s reconstructed.
 # Reads ../shared/data (research-use data: nothing of it, nor anything built from it, is committed) and writes
 # to out/real-face/ (or $1).
@@ -34,7 +35,7 @@ log "corpus by mouth shape"
 # 2–3. The GRID sentences, aligned, rendered, compared.
 source "$root/examples/real-face/grid-words.sh"
 mkdir -p "$OUT/grid"
-printf 'clip\tsentence\talign_confidence\tr_hermite\tr_linear\tr_best_hermite\tlag_ms\tlmd\n' >"$OUT/grid/results.tsv"
+printf 'clip\tsentence\talign_confidence\tr_hermite\tr_linear\tr_monotone\tr_best_hermite\tlag_ms\tlmd\n' >"$OUT/grid/results.tsv"
 for clip in "$DATA"/grid/*.mpg; do
 	base=$(basename "$clip" .mpg)
 	name=${base##*_}
@@ -42,16 +43,16 @@ for clip in "$DATA"/grid/*.mpg; do
 	log "$base: \"$text\""
 	"$TH" align "$clip" --text "$text" --lang en-US -o "$OUT/grid/$base.TextGrid" 2>"$OUT/grid/$base.align.txt"
 	conf=$(grep -o 'confidence [0-9.]*' "$OUT/grid/$base.align.txt" | tail -1 | cut -d' ' -f2)
-	for traj in hermite linear; do
+	for traj in hermite linear monotone; do
 		"$TH" render -q --model "$OUT/franck.thm" --transcript "$OUT/grid/$base.TextGrid" --audio "$clip" --lang en-US --fps 25 \
 			--trajectory "$traj" -o "$OUT/grid/$base.$traj.mp4"
 		"$TH" compare --json "$OUT/grid/$base.$traj.mp4" "$clip" >"$OUT/grid/$base.$traj.json"
 	done
 	get() { sed -E "s/.*\"$2\": ([-0-9.null]+).*/\1/" "$OUT/grid/$base.$1.json"; }
-	printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$base" "$text" "$conf" "$(get hermite r_lag0)" "$(get linear r_lag0)" "$(get hermite r_best)" \
+	printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$base" "$text" "$conf" "$(get hermite r_lag0)" "$(get linear r_lag0)" "$(get monotone r_lag0)" "$(get hermite r_best)" \
 		"$(get hermite best_lag_ms)" "$(get hermite lmd)" >>"$OUT/grid/results.tsv"
 done
-awk -F'\t' 'NR > 1 { h += $4; l += $5; n++ } END { printf "mean\t(%d clips)\t\t%.3f\t%.3f\n", n, h / n, l / n }' "$OUT/grid/results.tsv" >>"$OUT/grid/results.tsv"
+awk -F'\t' 'NR > 1 { h += $4; l += $5; m += $6; n++ } END { printf "mean\t(%d clips)\t\t%.3f\t%.3f\t%.3f\n", n, h / n, l / n, m / n }' "$OUT/grid/results.tsv" >>"$OUT/grid/results.tsv"
 column -t -s $'\t' "$OUT/grid/results.tsv"
 
 # A frame grid of franck talking (every 3rd frame of the first clip).

@@ -112,7 +112,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--crf", "N", "H.264 quality, 0–51 (default 20)"},
 	        {"--preset", "NAME", "x264 preset (default veryfast)"},
 	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
-	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis) or linear (MikeTalk-style)"},
+	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
 	        {"--controls", "F", "timed events (JSON, or a TextGrid with --control-tier): emotion changes, blinks, nods, shakes, turns, brows, action units (README: Timed controls)"},
@@ -210,9 +210,9 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	if (!pauses) throw UsageError(command + ": --pauses takes natural or thesis");
 	c.pauses = *pauses;
 	const std::string traj = args.get("--trajectory", "hermite"), diss = args.get("--dissolve", "linear");
-	if ((traj != "hermite" && traj != "linear") || (diss != "hermite" && diss != "linear"))
-		throw UsageError(command + ": --trajectory and --dissolve take hermite or linear");
-	c.render.synth.trajectory = traj == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	if (traj != "hermite" && traj != "linear" && traj != "monotone") throw UsageError(command + ": --trajectory takes hermite, linear or monotone");
+	if (diss != "hermite" && diss != "linear") throw UsageError(command + ": --dissolve takes hermite or linear");
+	c.render.synth.trajectory = traj == "hermite" ? Trajectory::Hermite : traj == "linear" ? Trajectory::Linear : Trajectory::Monotone;
 	c.render.synth.dissolve = diss == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
 	const std::string warpPath = args.get("--warp", "direct");
 	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");

@@ -415,7 +415,7 @@ void LiveSession::drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>
 		e.name = lastViseme_;
 		events.push_back(std::move(e));
 	}
-	synth_->prepare(Synthesizer::keyposesBetween(keys_, t, t));
+	synth_->prepare(Synthesizer::keyposesBetween(keys_, t, t, synth_->margin()));
 	synth_->renderFrameYuv(t, keys_, ws_, inner_, points, drawnBefore_);
 	drawnBefore_ = true;
 	if (place_) {

@@ -268,7 +268,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 				bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(first == 0 ? nThreads : batch), frames - first));
 				first += std::int64_t(bt.count);
 				const auto tPrep = Clock::now();
-				synth.prepare(Synthesizer::keyposesBetween(keys, perf.frameTime(bt.first), perf.frameTime(first - 1)));
+				synth.prepare(Synthesizer::keyposesBetween(keys, perf.frameTime(bt.first), perf.frameTime(first - 1), synth.margin()));
 				st.keyposeSeconds += since(tPrep);
 				const auto tDraw = Clock::now();
 				pool.run(bt.count, [&](std::size_t k) {

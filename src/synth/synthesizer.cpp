@@ -480,12 +480,14 @@ std::vector<std::string> Synthesizer::substitutionsFor(const std::vector<Keypose
 	return out;
 }
 
-std::vector<Keypose> Synthesizer::keyposesBetween(const std::vector<Keypose>& keys, Ticks from, Ticks to) {
+std::vector<Keypose> Synthesizer::keyposesBetween(const std::vector<Keypose>& keys, Ticks from, Ticks to, int margin) {
 	if (keys.empty()) return {};
 	std::size_t i0 = 0, i1 = 0;
 	while (i0 + 1 < keys.size() && keys[i0 + 1].time <= from) ++i0;
 	i1 = i0;
 	while (i1 + 1 < keys.size() && keys[i1].time <= to) ++i1;
+	i0 -= std::min(i0, std::size_t(margin));
+	i1 = std::min(keys.size() - 1, i1 + std::size_t(margin));
 	return std::vector<Keypose>(keys.begin() + long(i0), keys.begin() + long(i1) + 1);
 }
 
@@ -654,9 +656,36 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 
 Points Synthesizer::trajectory(const Points& s, const Points& t, double u, Trajectory kind) {
 	u = std::clamp(u, 0.0, 1.0);
-	// Eq. 5.5 with zero tangents: P(t) = S + (T − S)(3t² − 2t³); linear: S + (T − S)t.
-	const double h = kind == Trajectory::Hermite ? u * u * (3 - 2 * u) : u;
+	// Eq. 5.5 with zero tangents: P(t) = S + (T − S)(3t² − 2t³); linear: S + (T − S)t. (Monotone with no
+	// neighbours to look at is the zero-tangent curve.)
+	const double h = kind == Trajectory::Linear ? u : u * u * (3 - 2 * u);
 	return s + (t - s) * h;
+}
+
+Points Synthesizer::monotoneTrajectory(const std::array<const Points*, 4>& p, const std::array<double, 4>& k, double u) {
+	u = std::clamp(u, 0.0, 1.0);
+	const Points &s = *p[1], &t = *p[2];
+	const double h = k[2] - k[1];
+	if (!(h > 0)) return u < 1 ? s : t;
+	// Fritsch–Carlson (the weighted harmonic mean of the two chords' slopes, as PCHIP): zero at a turning
+	// point or where a chord is flat, and never more than three times a chord's slope, so no overshoot.
+	auto tangent = [](const Points* a, double ka, const Points& b, double kb, const Points* c, double kc, Eigen::Index r, int col) {
+		if (!a || !c || !(kb - ka > 0) || !(kc - kb > 0)) return 0.0;
+		const double h0 = kb - ka, h1 = kc - kb;
+		const double d0 = (b(r, col) - (*a)(r, col)) / h0, d1 = ((*c)(r, col) - b(r, col)) / h1;
+		if (!(d0 * d1 > 0)) return 0.0;
+		const double w1 = 2 * h1 + h0, w2 = h1 + 2 * h0;
+		return (w1 + w2) / (w1 / d0 + w2 / d1);
+	};
+	const double u2 = u * u, u3 = u2 * u;
+	const double h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
+	Points out(s.rows(), s.cols());
+	for (Eigen::Index r = 0; r < s.rows(); ++r)
+		for (int c = 0; c < int(s.cols()); ++c) {
+			const double ms = tangent(p[0], k[0], s, k[1], &t, k[2], r, c), mt = tangent(&s, k[1], t, k[2], p[3], k[3], r, c);
+			out(r, c) = h00 * s(r, c) + h10 * h * ms + h01 * t(r, c) + h11 * h * mt;
+		}
+	return out;
 }
 
 Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const {
@@ -671,7 +700,14 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 	f.u = hold ? 0 : double((tau - keys[i].time).count()) / double((keys[i + 1].time - keys[i].time).count());
 	f.w = o_.dissolve == Trajectory::Hermite ? f.u * f.u * (3 - 2 * f.u) : f.u;
 	f.w256 = int(std::lround(std::clamp(f.w, 0.0, 1.0) * 256));
-	points = trajectory(f.src->shape, f.dst->shape, f.u, o_.trajectory);
+	if (o_.trajectory == Trajectory::Monotone && !hold) {
+		const Points* before = i > 0 ? &cached(keys[i - 1]).shape : nullptr;
+		const Points* after = i + 2 < keys.size() ? &cached(keys[i + 2]).shape : nullptr;
+		auto seconds = [&](std::size_t j) { return j < keys.size() ? toSeconds(keys[j].time) : 0.0; };
+		points = monotoneTrajectory({before, &f.src->shape, &f.dst->shape, after}, {i > 0 ? seconds(i - 1) : 0.0, seconds(i), seconds(i + 1), seconds(i + 2)}, f.u);
+	} else {
+		points = trajectory(f.src->shape, f.dst->shape, f.u, o_.trajectory == Trajectory::Linear ? Trajectory::Linear : Trajectory::Hermite);
+	}
 	if (stabilise_) {  // D55: a tracked head: the pose is the driver's; the exemplars' own (up to ±1.7° on franck) is removed
 		const Similarity t = alignSimilarity(points, model_.meanShape, stabiliseWeights_);
 		points = t.apply(points);

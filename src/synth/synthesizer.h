@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <array>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -16,7 +17,12 @@
 
 namespace talkhead {
 
-enum class Trajectory { Hermite, Linear };
+// Feature points between keyposes (spec §5.5, D56). Hermite: the thesis's cubic with zero tangents, a full
+// stop at every keypose. Linear: straight lines (MikeTalk-style). Monotone: a cubic Hermite spline through
+// the same keyposes whose tangents (per coordinate, Fritsch–Carlson, from the neighbouring keyposes) are
+// zero where the motion turns (a local extremum, as the thesis's curve) and carry the motion through a
+// keypose it passes on the way, without overshoot; C¹ everywhere.
+enum class Trajectory { Hermite, Linear, Monotone };
 
 // How a frame between keyposes is warped. Direct (default): each keypose's composited appearance is kept
 // in the mean-shape frame, the two are cross-dissolved there (they differ only inside the face regions)
@@ -102,8 +108,10 @@ public:
 	// The same frame as YUV 4:2:0 in options().yuvRange, drawn in YUV (no RGB frame, no conversion pass).
 	void renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Workspace& ws, YuvImage& out, Points& points,
 	                    bool outHoldsFrame = false) const;
-	// The keyposes that frames in [from, to] need (the ones bracketing those times).
-	static std::vector<Keypose> keyposesBetween(const std::vector<Keypose>& keys, Ticks from, Ticks to);
+	// The keyposes that frames in [from, to] need (the ones bracketing those times, and `margin` more on each
+	// side: 1 for Trajectory::Monotone, whose tangents look at the neighbours; see margin()).
+	static std::vector<Keypose> keyposesBetween(const std::vector<Keypose>& keys, Ticks from, Ticks to, int margin = 0);
+	int margin() const { return o_.trajectory == Trajectory::Monotone ? 1 : 0; }
 	// The substitutions a timeline will need, without computing any keypose.
 	std::vector<std::string> substitutionsFor(const std::vector<Keypose>& keys) const;
 	const SynthOptions& options() const { return o_; }
@@ -114,6 +122,10 @@ public:
 
 	// Spec §5.5: the point-set at normalised time t between S and T.
 	static Points trajectory(const Points& s, const Points& t, double u, Trajectory kind);
+	// Trajectory::Monotone between keys[i] and keys[i + 1] (times in any unit) at normalised time u: the
+	// keyposes' shapes `shapes[0..3]` = keys i − 1, i, i + 1, i + 2 (null where there is none: the face
+	// holds there, tangent 0).
+	static Points monotoneTrajectory(const std::array<const Points*, 4>& shapes, const std::array<double, 4>& times, double u);
 
 private:
 	const FaceModel& model_;

@@ -99,6 +99,13 @@ err render --model "$T/face.thm" --transcript "$TG" --emotion grumpy -o "$T/x.mp
 /usr/bin/python3 -c "import wave; w=wave.open('$T/short.wav','wb'); w.setnchannels(1); w.setsampwidth(2); w.setframerate(16000); w.writeframes(b'\0\0'*8000); w.close()"
 err render --model "$T/face.thm" --transcript "$TG" --audio "$T/short.wav" -o "$T/x.mp4" | grep -q "the transcript (1.300 s) is longer than the audio (0.500 s) by 0.800 s"
 err render --model "$T/none.thm" --transcript "$TG" -o "$T/x.mp4" | grep -q "$T/none.thm: cannot open model"
+err render --model "$T/face.thm" --transcript "$TG" --trajectory cubic -o "$T/x.mp4" | grep -q "trajectory takes hermite, linear or monotone"
+! test -e "$T/x.mp4"
+# --trajectory monotone: the same keyposes, other frames between (D56).
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --format y4m -o "$T/m.y4m" --trajectory monotone --landmarks-out "$T/m.tsv"
+"$TH" render -q --model "$T/face.thm" --transcript "$TG" --format y4m -o "$T/h.y4m" --landmarks-out "$T/h.tsv"
+test "$(stat -c %s "$T/m.y4m")" = "$(stat -c %s "$T/h.y4m")"
+! cmp -s "$T/m.tsv" "$T/h.tsv"
 err render --model "$T/face.thm" --transcript "$TG" -o "$T/no/such/dir/x.mp4" | grep -q "does not exist"
 /usr/bin/python3 -c "import wave; w=wave.open('$T/empty.wav','wb'); w.setnchannels(1); w.setsampwidth(2); w.setframerate(16000); w.close()"
 err render --model "$T/face.thm" --transcript "$TG" --audio "$T/empty.wav" -o "$T/x.mp4" | grep -q "$T/empty.wav"

@@ -129,6 +129,38 @@ TEST(Render, sameInputsGiveIdenticalFramesAnyThreadCount) {
 	EXPECT_EQ(collect(1), collect(2));
 }
 
+TEST(Render, monotoneTrajectoryKeepsTheKeyposesAndIsTheSameOnAnyThreadCount) {
+	// Monotone tangents need the keyposes on either side of a frame's pair: with one thread the first batch
+	// is a single frame, so the neighbours must be prepared with it (Synthesizer::margin).
+	const Performance perf = threeSyllables();
+	auto collect = [&](unsigned threads, Trajectory kind) {
+		std::vector<std::uint8_t> all;
+		std::vector<Points> pts;
+		auto sink = makeCallbackSink([&](const StreamInfo&, const RenderedFrame& f) {
+			all.insert(all.end(), f.yuv->y.begin(), f.yuv->y.end());
+			pts.push_back(*f.points);
+		});
+		RenderOptions o;
+		o.threads = threads;
+		o.synth.trajectory = kind;
+		renderPerformance(tinyModel(), perf, o, {sink.get()});
+		return std::make_pair(all, pts);
+	};
+	const auto one = collect(1, Trajectory::Monotone), two = collect(2, Trajectory::Monotone), hermite = collect(2, Trajectory::Hermite);
+	EXPECT_EQ(one.first, two.first);
+	ASSERT_EQ(two.second.size(), hermite.second.size());
+	// Same keyposes, so the same points where a frame falls on one (and before the first), different between.
+	double most = 0;
+	for (std::size_t i = 0; i < two.second.size(); ++i) {
+		const Ticks tau = perf.rate.time(std::int64_t(i));
+		const double d = (two.second[i] - hermite.second[i]).cwiseAbs().maxCoeff();
+		const bool onKey = std::any_of(perf.keys.begin(), perf.keys.end(), [&](const Keypose& k) { return k.time == tau; }) || tau <= perf.keys.front().time;
+		if (onKey) EXPECT_LT(d, 1e-9) << "frame " << i;
+		most = std::max(most, d);
+	}
+	EXPECT_GT(most, 0.05);  // pixels
+}
+
 TEST(Render, aFailingSinkLeavesNoOutputBehind) {
 	const Performance perf = threeSyllables();
 	const std::string dir = test::tempDir("render-fail");

@@ -72,6 +72,61 @@ TEST(Trajectory, hermiteMidpointsAndZeroSpeedAtKeyposes) {
 	for (double u : {0.0, 0.25, 0.5, 0.75, 1.0}) EXPECT_NEAR(speed(u, Trajectory::Linear), full, 1e-6 * full);
 }
 
+TEST(Trajectory, monotoneStopsWhereTheMotionTurnsAndCarriesItThroughElsewhere) {
+	// One point, x only (y constant): keyposes x = 0, 1, 3, 2 at t = 0, 1, 2, 4 s.
+	auto pt = [](double x) { Points p(1, 2); p << x, 5; return p; };
+	const Points a = pt(0), b = pt(1), c = pt(3), d = pt(2);
+	auto at = [&](int seg, double u) {  // segment 0: a→b, 1: b→c, 2: c→d
+		const std::array<const Points*, 5> all = {nullptr, &a, &b, &c, &d};
+		const std::array<double, 4> times = {0, 1, 2, 4};
+		auto k = [&](int j) { return j >= 0 && j < 4 ? times[std::size_t(j)] : 0.0; };
+		const std::array<const Points*, 4> p = {all[std::size_t(seg)], all[std::size_t(seg) + 1], all[std::size_t(seg) + 2],
+		                                        seg + 3 < 5 ? all[std::size_t(seg) + 3] : nullptr};
+		return Synthesizer::monotoneTrajectory(p, {k(seg - 1), k(seg), k(seg + 1), k(seg + 2)}, u)(0, 0);
+	};
+	// Through the keyposes, y untouched.
+	EXPECT_DOUBLE_EQ(at(0, 0), 0);
+	EXPECT_DOUBLE_EQ(at(0, 1), 1);
+	EXPECT_DOUBLE_EQ(at(1, 1), 3);
+	EXPECT_DOUBLE_EQ(at(2, 1), 2);
+	const std::array<const Points*, 4> p = {&a, &b, &c, &d};
+	EXPECT_DOUBLE_EQ(Synthesizer::monotoneTrajectory(p, {0, 1, 2, 4}, 0.3)(0, 1), 5);
+	// Velocity (x per second; segment durations 1, 1, 2 s), by finite differences.
+	const double e = 1e-6;
+	auto v = [&](int seg, double u) {
+		const double h = seg == 2 ? 2 : 1;
+		return (at(seg, std::min(1.0, u + e)) - at(seg, std::max(0.0, u - e))) / ((std::min(1.0, u + e) - std::max(0.0, u - e)) * h);
+	};
+	// b is passed on the way up (chords 1 and 2 per s): Fritsch–Carlson's tangent 4/3, the same on both sides (C¹).
+	EXPECT_NEAR(v(0, 1), 4.0 / 3, 1e-4);
+	EXPECT_NEAR(v(1, 0), 4.0 / 3, 1e-4);
+	// c is a turning point: a stop, as the thesis's curve; so are the ends (the face holds there).
+	EXPECT_NEAR(v(1, 1), 0, 1e-4);
+	EXPECT_NEAR(v(2, 0), 0, 1e-4);
+	EXPECT_NEAR(v(0, 0), 0, 1e-4);
+	EXPECT_NEAR(v(2, 1), 0, 1e-4);
+	// No overshoot: each segment stays between its keyposes and moves one way.
+	for (int seg = 0; seg < 3; ++seg) {
+		const double lo = std::min(at(seg, 0), at(seg, 1)), hi = std::max(at(seg, 0), at(seg, 1));
+		double last = at(seg, 0);
+		for (double u = 0.01; u <= 1.0; u += 0.01) {
+			const double x = at(seg, u);
+			EXPECT_GE(x, lo - 1e-12);
+			EXPECT_LE(x, hi + 1e-12);
+			EXPECT_GE((x - last) * (at(seg, 1) - at(seg, 0)), -1e-12);
+			last = x;
+		}
+	}
+	// Keyposes on a straight line at even times: the spline is the line itself.
+	const Points q0 = pt(0), q1 = pt(1), q2 = pt(2), q3 = pt(3);
+	EXPECT_NEAR(Synthesizer::monotoneTrajectory({&q0, &q1, &q2, &q3}, {0, 1, 2, 3}, 0.25)(0, 0), 1.25, 1e-12);
+	// No neighbours: the thesis's zero-tangent curve.
+	EXPECT_LT((Synthesizer::monotoneTrajectory({nullptr, &a, &c, nullptr}, {0, 0, 1, 0}, 0.3) - Synthesizer::trajectory(a, c, 0.3, Trajectory::Hermite))
+	              .cwiseAbs()
+	              .maxCoeff(),
+	          1e-12);
+}
+
 TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 	const SmallFace& f = smallFace();
 	for (const WarpPath path : {WarpPath::Direct, WarpPath::Keypose})
@@ -275,6 +330,7 @@ TEST(Synthesizer, keyposesAreMadeOnlyForTheFramesThatNeedThem) {
 	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(0), ms(50))), (std::vector<long>{100}));      // hold before the first
 	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(800), ms(900))), (std::vector<long>{700}));   // and after the last
 	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(300), ms(520))), (std::vector<long>{300, 500, 700}));
+	EXPECT_EQ(times(Synthesizer::keyposesBetween(keys, ms(350), ms(450), 1)), (std::vector<long>{100, 300, 500, 700}));  // Monotone looks one further
 	// Substitutions are known before any keypose is made, and agree with the ones prepare() reports.
 	const SmallFace& f = smallFace();
 	SynthOptions o;
@@ -284,6 +340,28 @@ TEST(Synthesizer, keyposesAreMadeOnlyForTheFramesThatNeedThem) {
 	const auto planned = synth.substitutionsFor(k2);
 	synth.prepare(k2);
 	EXPECT_EQ(planned, synth.substitutions());
+}
+
+TEST(Synthesizer, monotoneFramesPreparedOneAtATimeMatchThoseOfAFullPrepare) {
+	// As a live stream prepares them (render/live.cpp): only the keyposes each frame needs, margin() included.
+	const SmallFace& f = smallFace();
+	SynthOptions o;
+	o.trajectory = Trajectory::Monotone;
+	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "sil", 0}, {ms(150), ms(300), "", "", "p1", 0}, {ms(300), ms(450), "", "", "a", 0},
+	                                    {ms(450), ms(600), "", "", "u", 0}, {ms(600), ms(750), "", "", "sil", 0}};
+	const auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	Synthesizer whole(f.model, o), piecewise(f.model, o);
+	whole.prepare(keys);
+	Synthesizer::Workspace ws;
+	Image8 a, b;
+	Points pa, pb;
+	for (long t = 0; t <= 750; t += 33) {
+		piecewise.prepare(Synthesizer::keyposesBetween(keys, ms(t), ms(t), piecewise.margin()));
+		whole.renderFrame(ms(t), keys, ws, a, pa);
+		piecewise.renderFrame(ms(t), keys, ws, b, pb);
+		EXPECT_EQ(a.data, b.data) << t << " ms";
+		EXPECT_EQ(pa, pb) << t << " ms";
+	}
 }
 
 TEST(Synthesizer, theBackgroundBeyondTheAnchorsNeverMovesAndReusedBuffersDrawTheSameFrames) {
