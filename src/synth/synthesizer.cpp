@@ -703,10 +703,11 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 	if (o_.trajectory == Trajectory::Monotone && !hold) {
 		const Points* before = i > 0 ? &cached(keys[i - 1]).shape : nullptr;
 		const Points* after = i + 2 < keys.size() ? &cached(keys[i + 2]).shape : nullptr;
-		auto seconds = [&](std::size_t j) { return j < keys.size() ? toSeconds(keys[j].time) : 0.0; };
-		points = monotoneTrajectory({before, &f.src->shape, &f.dst->shape, after}, {i > 0 ? seconds(i - 1) : 0.0, seconds(i), seconds(i + 1), seconds(i + 2)}, f.u);
+		auto seconds = [&](std::size_t j) { return toSeconds(keys[j].time); };
+		points = monotoneTrajectory({before, &f.src->shape, &f.dst->shape, after},
+		                            {before ? seconds(i - 1) : 0.0, seconds(i), seconds(i + 1), after ? seconds(i + 2) : 0.0}, f.u);
 	} else {
-		points = trajectory(f.src->shape, f.dst->shape, f.u, o_.trajectory == Trajectory::Linear ? Trajectory::Linear : Trajectory::Hermite);
+		points = trajectory(f.src->shape, f.dst->shape, f.u, o_.trajectory);
 	}
 	if (stabilise_) {  // D55: a tracked head: the pose is the driver's; the exemplars' own (up to ±1.7° on franck) is removed
 		const Similarity t = alignSimilarity(points, model_.meanShape, stabiliseWeights_);
