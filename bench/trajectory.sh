@@ -10,8 +10,13 @@
 #             the ibug-68 points of `corpus from-video`);
 #   oracle-k: the real speaker's own opening at the synthesizer's keypose times, interpolated by each curve;
 #   oracle-x: the real opening at each phone's extremum (the frame `corpus from-video` would pick, D32), at
-#             that frame's time, plus the pause keyposes — the targets of an ideal corpus of this speaker.
-# The oracles ask which curve best joins correct targets; "model" asks it of the model's targets.
+#             that frame's time, plus the pause keyposes — the targets of an ideal corpus of this speaker;
+#   oracle-c: one value per CDV, as any corpus with one exemplar per (emotion, CDV) has: the mean of the
+#             other 10 speakers' opening at their keyposes of that CDV (z-scored per clip; leave one clip out),
+#             at this clip's keypose times — the best such a corpus could do on average.
+# The oracles ask which curve best joins correct targets; "model" asks it of the model's targets. Then a
+# sweep between oracle-c and oracle-k (targets λ·real + (1−λ)·oracle-c) prints, against how well the targets
+# match the real opening at the keyposes (key-r), where a curve through them overtakes linear.
 #   bench/trajectory.sh [OUT]    (needs ../shared/data/grid; build first)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -79,7 +84,27 @@ def curve(k, v, t, kind):  # the three curves on scalar keypose values, as the s
 
 kinds = ("hermite", "linear", "monotone")
 table = {}
-print("clip\t" + "\t".join(f"{s}:{k}" for s in ("model", "oracle-k", "oracle-x") for k in kinds))
+series = ("model", "oracle-k", "oracle-x", "oracle-c")
+print("clip\t" + "\t".join(f"{s}:{k}" for s in series for k in kinds))
+keyed = {}  # per clip: t, real, keypose times, CDVs, the real and the model's opening at the keyposes
+for clip in sorted(glob.glob(os.path.join(grid, "*.mpg"))):
+    base = os.path.basename(clip)[:-4]
+    tr, pr, ok = load(f"{out}/{base}.real/landmarks.tsv", True)
+    t = np.arange(0, tr[-1], 0.01)
+    real = np.interp(t, tr[ok], opening(pr)[ok])
+    tl = json.load(open(f"{out}/{base}.timeline.json"))
+    keys = np.array([q["time"] for q in tl["keyposes"]])
+    ts, ps, _ = load(f"{out}/{base}.linear.tsv", False)
+    z = (np.interp(keys, t, real) - real.mean()) / real.std()
+    keyed[base] = dict(t=t, real=real, keys=keys, cdv=[q["cdv"] for q in tl["keyposes"]], z=z, model=np.interp(keys, ts, opening(ps)))
+
+def per_cdv(base):  # oracle-c's values for this clip: the other clips' mean z-scored opening per CDV
+    acc = {}
+    for other, e in keyed.items():
+        if other != base:
+            for c, v in zip(e["cdv"], e["z"]): acc.setdefault(c, []).append(v)
+    return np.array([np.mean(acc[c]) if c in acc else 0.0 for c in keyed[base]["cdv"]])
+
 for clip in sorted(glob.glob(os.path.join(grid, "*.mpg"))):
     base = os.path.basename(clip)[:-4]
     tr, pr, ok = load(f"{out}/{base}.real/landmarks.tsv", True)
@@ -104,11 +129,24 @@ for clip in sorted(glob.glob(os.path.join(grid, "*.mpg"))):
             kx.append(q["time"]); vx.append(float(np.interp(q["time"], t, real)))
     o = np.argsort(kx); kx, vx = np.array(kx)[o], np.array(vx)[o]
     row += [r(curve(kx, vx, t, k), real) for k in kinds]
+    row += [r(curve(keys, per_cdv(base), t, k), real) for k in kinds]
     table[base] = row
     print(base + "\t" + "\t".join(f"{x:.4f}" for x in row))
 mean = np.mean(list(table.values()), axis=0)
 print("mean\t" + "\t".join(f"{x:.4f}" for x in mean))
-for s, off in (("model", 0), ("oracle-k", 3), ("oracle-x", 6)):
+for s, off in ((s, 3 * i) for i, s in enumerate(series)):
     wins = lambda a, b: sum(v[off + a] > v[off + b] for v in table.values())
     print(f"{s}: hermite > linear on {wins(0, 1)}/{len(table)} clips, monotone > linear on {wins(2, 1)}/{len(table)}")
+print("targets' match with the real opening at the keyposes (key-r) and each curve's lip r:")
+print(f"  model: key-r {np.mean([r(e['model'], e['z']) for e in keyed.values()]):.3f}")
+for lam in (0, 0.25, 0.5, 0.75, 1):
+    rows, match = [], []
+    for base, e in keyed.items():
+        v = lam * e["z"] + (1 - lam) * per_cdv(base)
+        match.append(r(v, e["z"]))
+        rows.append([r(curve(e["keys"], v, e["t"], k), e["real"]) for k in kinds])
+    m = np.mean(rows, axis=0)
+    wins = lambda a: sum(x[a] > x[1] for x in rows)
+    print(f"  λ {lam:.2f}: key-r {np.mean(match):.3f}  " + "  ".join(f"{k} {v:.4f}" for k, v in zip(kinds, m))
+          + f"  (over linear: hermite {wins(0)}/{len(rows)}, monotone {wins(2)}/{len(rows)})")
 PY
