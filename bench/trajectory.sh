@@ -86,7 +86,7 @@ kinds = ("hermite", "linear", "monotone")
 table = {}
 series = ("model", "oracle-k", "oracle-x", "oracle-c")
 print("clip\t" + "\t".join(f"{s}:{k}" for s in series for k in kinds))
-keyed = {}  # per clip: t, real, keypose times, CDVs, the real and the model's opening at the keyposes
+keyed = {}  # per clip: t, real, keypose times, CDVs, the real and the model's opening at the keyposes, timeline
 for clip in sorted(glob.glob(os.path.join(grid, "*.mpg"))):
     base = os.path.basename(clip)[:-4]
     tr, pr, ok = load(f"{out}/{base}.real/landmarks.tsv", True)
@@ -96,7 +96,8 @@ for clip in sorted(glob.glob(os.path.join(grid, "*.mpg"))):
     keys = np.array([q["time"] for q in tl["keyposes"]])
     ts, ps, _ = load(f"{out}/{base}.linear.tsv", False)
     z = (np.interp(keys, t, real) - real.mean()) / real.std()
-    keyed[base] = dict(t=t, real=real, keys=keys, cdv=[q["cdv"] for q in tl["keyposes"]], z=z, model=np.interp(keys, ts, opening(ps)))
+    keyed[base] = dict(t=t, real=real, keys=keys, cdv=[q["cdv"] for q in tl["keyposes"]], z=z, model=np.interp(keys, ts, opening(ps)),
+                  timeline=tl)
 
 def per_cdv(base):  # oracle-c's values for this clip: the other clips' mean z-scored opening per CDV
     acc = {}
@@ -105,17 +106,12 @@ def per_cdv(base):  # oracle-c's values for this clip: the other clips' mean z-s
             for c, v in zip(e["cdv"], e["z"]): acc.setdefault(c, []).append(v)
     return np.array([np.mean(acc[c]) if c in acc else 0.0 for c in keyed[base]["cdv"]])
 
-for clip in sorted(glob.glob(os.path.join(grid, "*.mpg"))):
-    base = os.path.basename(clip)[:-4]
-    tr, pr, ok = load(f"{out}/{base}.real/landmarks.tsv", True)
-    t = np.arange(0, tr[-1], 0.01)
-    real = np.interp(t, tr[ok], opening(pr)[ok])
-    tl = json.load(open(f"{out}/{base}.timeline.json"))
+for base, e in keyed.items():
+    t, real, keys, tl = e["t"], e["real"], e["keys"], e["timeline"]
     row = []
     for k in kinds:
         ts, ps, _ = load(f"{out}/{base}.{k}.tsv", False)
         row.append(r(np.interp(t, ts, opening(ps)), real))
-    keys = np.array([q["time"] for q in tl["keyposes"]])
     row += [r(curve(keys, np.interp(keys, t, real), t, k), real) for k in kinds]
     kx, vx = [], []
     for ph in tl["phones"]:
