@@ -13,7 +13,7 @@
 #             that frame's time, plus the pause keyposes — the targets of an ideal corpus of this speaker;
 #   oracle-c: one value per CDV, as any corpus with one exemplar per (emotion, CDV) has: the mean of the
 #             other 10 speakers' opening at their keyposes of that CDV (z-scored per clip; leave one clip out),
-#             at this clip's keypose times — the best such a corpus could do on average.
+#             at this clip's keypose times — real speech's least-squares target per CDV.
 # The oracles ask which curve best joins correct targets; "model" asks it of the model's targets. Then a
 # sweep between oracle-c and oracle-k (targets λ·real + (1−λ)·oracle-c) prints, against how well the targets
 # match the real opening at the keyposes (key-r), where a curve through them overtakes linear.
