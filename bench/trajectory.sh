@@ -105,6 +105,7 @@ def per_cdv(base):  # oracle-c's values for this clip: the other clips' mean z-s
         if other != base:
             for c, v in zip(e["cdv"], e["z"]): acc.setdefault(c, []).append(v)
     return np.array([np.mean(acc[c]) if c in acc else 0.0 for c in keyed[base]["cdv"]])
+for base, e in keyed.items(): e["per_cdv"] = per_cdv(base)
 
 for base, e in keyed.items():
     t, real, keys, tl = e["t"], e["real"], e["keys"], e["timeline"]
@@ -125,7 +126,7 @@ for base, e in keyed.items():
             kx.append(q["time"]); vx.append(float(np.interp(q["time"], t, real)))
     o = np.argsort(kx); kx, vx = np.array(kx)[o], np.array(vx)[o]
     row += [r(curve(kx, vx, t, k), real) for k in kinds]
-    row += [r(curve(keys, per_cdv(base), t, k), real) for k in kinds]
+    row += [r(curve(keys, e["per_cdv"], t, k), real) for k in kinds]
     table[base] = row
     print(base + "\t" + "\t".join(f"{x:.4f}" for x in row))
 mean = np.mean(list(table.values()), axis=0)
@@ -137,8 +138,8 @@ print("targets' match with the real opening at the keyposes (key-r) and each cur
 print(f"  model: key-r {np.mean([r(e['model'], e['z']) for e in keyed.values()]):.3f}")
 for lam in (0, 0.25, 0.5, 0.75, 1):
     rows, match = [], []
-    for base, e in keyed.items():
-        v = lam * e["z"] + (1 - lam) * per_cdv(base)
+    for e in keyed.values():
+        v = lam * e["z"] + (1 - lam) * e["per_cdv"]
         match.append(r(v, e["z"]))
         rows.append([r(curve(e["keys"], v, e["t"], k), e["real"]) for k in kinds])
     m = np.mean(rows, axis=0)
