@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "base/error.h"
@@ -26,6 +27,7 @@ constexpr std::size_t kMaxDepth = 64;
 
 class Builder : public nlohmann::json_sax<nlohmann::json> {
 public:
+	explicit Builder(std::size_t maxValues) : left_(maxValues > 0 ? maxValues : std::size_t(-1)) {}
 	JsonValue root;
 	std::string error;        // set when parsing stopped
 	std::size_t errorAt = 0;  // byte offset (1-based, nlohmann's) of the error, 0 = unknown
@@ -77,6 +79,12 @@ public:
 private:
 	std::vector<JsonValue*> stack_;
 	std::string key_;
+	std::size_t left_;  // values still allowed
+	bool counted() {
+		if (left_-- > 0) return true;
+		error = "more values than a request may hold";
+		return false;
+	}
 	bool number(double d) {
 		JsonValue v;
 		v.kind = JsonValue::Kind::Number;
@@ -98,6 +106,7 @@ private:
 		return &top.object.back().second;
 	}
 	bool put(JsonValue&& v) {
+		if (!counted()) return false;
 		place(std::move(v));
 		return true;
 	}
@@ -106,6 +115,7 @@ private:
 			error = "nested too deeply (more than " + std::to_string(kMaxDepth) + " levels)";
 			return false;
 		}
+		if (!counted()) return false;
 		JsonValue v;
 		v.kind = kind;
 		stack_.push_back(place(std::move(v)));  // children are added through the pointer: parents never move
@@ -115,8 +125,61 @@ private:
 
 }  // namespace
 
-JsonValue parseJson(const std::string& text, const std::string& path, long line) {
-	Builder b;
+namespace {
+
+// Reads the top-level object's members up to `key`'s value, then stops.
+class MemberFinder : public nlohmann::json_sax<nlohmann::json> {
+public:
+	explicit MemberFinder(std::string key) : key_(std::move(key)) {}
+	std::optional<std::string> found;
+	bool null() override { return value(std::nullopt); }
+	bool boolean(bool) override { return value(std::nullopt); }
+	bool number_integer(number_integer_t n) override { return value(std::to_string(n)); }
+	bool number_unsigned(number_unsigned_t n) override { return value(std::to_string(n)); }
+	bool number_float(number_float_t n, const string_t&) override {
+		return value(std::isfinite(n) && n == std::floor(n) && std::fabs(n) < 1e18 ? std::optional<std::string>(std::to_string(std::llround(n))) : std::nullopt);
+	}
+	bool string(string_t& s) override { return value(s); }
+	bool binary(binary_t&) override { return value(std::nullopt); }
+	bool start_object(std::size_t) override { return open(); }
+	bool key(string_t& k) override {
+		here_ = depth_ == 1 && k == key_;
+		return true;
+	}
+	bool end_object() override { return --depth_, here_ = false, true; }
+	bool start_array(std::size_t) override { return open(); }
+	bool end_array() override { return --depth_, here_ = false, true; }
+	bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+private:
+	std::string key_;
+	int depth_ = 0;
+	bool here_ = false;
+	bool open() {
+		if (here_) return false;  // the member is an object or an array: no id
+		++depth_;
+		return true;
+	}
+	bool value(std::optional<std::string> v) {
+		if (!here_ || depth_ != 1) return true;
+		found = std::move(v);
+		return false;  // done
+	}
+};
+
+}  // namespace
+
+std::optional<std::string> jsonTopLevelMember(const std::string& text, const std::string& key) {
+	MemberFinder f(key);
+	try {
+		nlohmann::json::sax_parse(text, &f, nlohmann::json::input_format_t::json, false, false);
+	} catch (const std::exception&) {
+	}
+	return f.found;
+}
+
+JsonValue parseJson(const std::string& text, const std::string& path, long line, std::size_t maxValues) {
+	Builder b(maxValues);
 	bool ok = false;
 	try {
 		ok = nlohmann::json::sax_parse(text, &b, nlohmann::json::input_format_t::json, true, false);

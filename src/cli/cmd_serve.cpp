@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // talkhead serve: live streams for chatbots and voice assistants (issue 16);
 // talkhead live: a session script (what serve --record writes) rendered offline, frame for frame.
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <tuple>
@@ -18,6 +20,7 @@
 #include "render/frame_sink.h"
 #include "render/live.h"
 #include "render/render.h"
+#include "serve/access.h"
 #include "serve/server.h"
 
 namespace talkhead::cli {
@@ -67,6 +70,19 @@ int runServe(const std::vector<std::string>& argv) {
 	                {"--crf", "N", "H.264 quality, 0–51 (default 23; 0 = lossless, which browsers do not play)"},
 	                {"--preset", "NAME", "x264 preset (default veryfast)"},
 	                {"--record", "DIR", "write each session's requests with the frame each took effect at (DIR/session-N.jsonl; 'talkhead live' replays one)"},
+	                {"--token", "TOKEN", "every session must give it (header 'Authorization: Bearer TOKEN', or a first message {\"type\": \"auth\", \"token\": …}); also from $TALKHEAD_TOKEN or --token-file; required off loopback"},
+	                {"--token-file", "FILE", "read the token from FILE (its first line), not the command line"},
+	                {"--allow-origin", "O1,O2", "web pages (origins, e.g. https://app.example.com; * for any) that may open sessions besides the server's own and loopback pages"},
+	                {"--allow-host", "H1,H2", "Host names the server answers to besides its listen address and loopback (e.g. behind a proxy; * for any)"},
+	                {"--tls-cert", "PEM", "serve HTTPS and wss:// with this certificate (chain)"},
+	                {"--tls-key", "PEM", "the certificate's private key"},
+	                {"--idle-timeout", "S", "close a session after S seconds with no request and nothing to say (default 300; 0 = never)"},
+	                {"--max-queued-requests", "N", "say/speak requests a session may have queued (default 32)"},
+	                {"--max-queued-speech", "S", "seconds of speech a session may have queued (default 900)"},
+	                {"--max-utterance", "S", "seconds of one say or speak (default 600)"},
+	                {"--max-breaks", "S", "seconds of SSML breaks in one say (default 60)"},
+	                {"--max-load", "X", "refuse a new session when the sessions would take more than X of the cores, or frames were late (default 0.9; 0 = off)"},
+	                {"--drain", "S", "on SIGTERM/SIGINT, speech under way finishes for at most S seconds (default 5); a second signal stops at once"},
 	                {"--quiet", "", "no log lines", "-q"}}),
 	          "Live talking-head streams for chatbots and voice assistants. Each WebSocket connection to /live is a\n"
 	          "session: the face is always on (blinks, small head motion, the emotion) and speaks what it is sent —\n"
@@ -102,18 +118,51 @@ int runServe(const std::vector<std::string>& argv) {
 		checkWritableFolder(*dir + "/x");
 		o.recordDir = *dir;
 	}
-	const bool loopback = o.host == "127.0.0.1" || o.host == "::1" || o.host == "localhost";
 	if (o.host == "localhost") o.host = "127.0.0.1";
+	const bool loopback = isLoopbackHost(o.host);
+	// The token: never from a log, and preferably not from the command line (ps shows it).
+	if (auto file = args.get("--token-file")) {
+		const std::string text = readTextFile(*file);
+		o.token = std::string(trim(text.substr(0, text.find('\n'))));
+		if (o.token.empty()) throw Error(*file, 1, "the token file is empty");
+	} else if (auto t = args.get("--token")) {
+		o.token = *t;
+	} else if (const char* env = std::getenv("TALKHEAD_TOKEN"); env && *env) {
+		o.token = env;
+	}
+	if (!o.token.empty() && o.token.size() < 16) throw UsageError("serve: the token must be at least 16 characters");
+	if (!loopback && o.token.empty())
+		throw UsageError("serve: listening on " + safeQuote(o.host) + " (not loopback) needs a token: --token-file FILE, $TALKHEAD_TOKEN or --token");
+	auto list = [&](const char* name) {
+		std::vector<std::string> out;
+		if (auto v = args.get(name))
+			for (const std::string& item : split(*v, ','))
+				if (!trim(item).empty()) out.emplace_back(trim(item));
+		return out;
+	};
+	o.allowOrigins = list("--allow-origin");
+	o.allowHosts = list("--allow-host");
+	o.tlsCert = args.get("--tls-cert", "");
+	o.tlsKey = args.get("--tls-key", "");
+	if (o.tlsCert.empty() != o.tlsKey.empty()) throw UsageError("serve: --tls-cert and --tls-key go together");
+	o.idleSeconds = args.number("--idle-timeout", 300, 0, 86400 * 7);
+	o.limits.queuedRequests = int(args.number("--max-queued-requests", 32, 1, 100000));
+	o.limits.queuedSeconds = args.number("--max-queued-speech", 900, 1, 86400);
+	o.limits.utteranceSeconds = args.number("--max-utterance", 600, 1, 86400);
+	o.limits.breakSeconds = args.number("--max-breaks", 60, 0, 86400);
+	o.maxLoad = args.number("--max-load", 0.9, 0, 64);
+	o.drainSeconds = args.number("--drain", 5, 0, 3600);
+	o.handleSignals = true;
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
 	Server server(model, o);
-	if (!loopback)
-		std::fprintf(stderr, "talkhead: warning: serve listens on %s, not loopback: anyone who reaches it can open sessions (there is no authentication)\n",
-		             safeLine(o.host).c_str());
 	// The port line is the contract with scripts and tests (port 0 picks a free one).
-	std::printf("talkhead: serving on http://%s:%d/ (WebSocket ws://%s:%d/live)%s\n", o.host.c_str(), server.port(), o.host.c_str(), server.port(),
-	            o.demo ? ", demo page at /" : "");
+	const bool tls = !o.tlsCert.empty();
+	const std::string shown = o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host;
+	std::printf("talkhead: serving on %s://%s:%d/ (WebSocket %s://%s:%d/live)%s%s\n", tls ? "https" : "http", shown.c_str(), server.port(), tls ? "wss" : "ws",
+	            shown.c_str(), server.port(), o.demo ? ", demo page at /" : "", o.token.empty() ? "" : ", token required");
 	std::fflush(stdout);
 	server.run();
+	if (!quiet) std::fprintf(stderr, "talkhead: serve: stopped\n");
 	return 0;
 }
 

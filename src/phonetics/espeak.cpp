@@ -2,13 +2,17 @@
 // libespeak-ng lives in this translation unit only (PRIVATE to the phonetics module).
 #include "phonetics/espeak.h"
 
+#include <espeak-ng/espeak_ng.h>
 #include <espeak-ng/speak_lib.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <set>
 
 #include "base/error.h"
 #include "base/text.h"
@@ -30,6 +34,9 @@ struct Collector {
 	std::vector<Word> words;
 	long samples = 0;
 	std::vector<short>* pcm = nullptr;  // where to keep the audio (speak), or nullptr (phonemes only)
+	long maxSamples = 0;                         // 0: no bound (SpeechLimits)
+	const std::atomic<bool>* cancel = nullptr;
+	bool cancelled = false, tooLong = false;     // why the synthesis was stopped
 };
 
 Collector* g_current = nullptr;  // the synthesis in progress (guarded by espeakMutex)
@@ -41,6 +48,9 @@ int onSynth(short* wav, int count, espeak_EVENT* events) {
 		c->samples += count;
 		if (c->pcm && count > 0) c->pcm->insert(c->pcm->end(), wav, wav + count);
 	}
+	// Returning 1 stops the synthesis (espeak-ng calls back every few milliseconds of audio).
+	if (c->cancel && c->cancel->load(std::memory_order_relaxed)) return c->cancelled = true, 1;
+	if (c->maxSamples > 0 && c->samples > c->maxSamples) return c->tooLong = true, 1;
 	for (espeak_EVENT* e = events; e && e->type != espeakEVENT_LIST_TERMINATED; ++e) {
 		if (e->type == espeakEVENT_PHONEME) {
 			char name[9] = {};
@@ -56,15 +66,87 @@ int onSynth(short* wav, int count, espeak_EVENT* events) {
 	return 0;
 }
 
+// Under espeakMutex. A failure is not remembered (out of file descriptors now need not mean later), and never
+// ends the process: espeak_Initialize calls exit(1) when its data cannot be loaded unless told not to
+// (issue 28 item 6), so espeak-ng's own initialisation is tried first and its status read.
 int initialise() {
-	static int rate = [] {
-		int r = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, nullptr, espeakINITIALIZE_PHONEME_EVENTS | espeakINITIALIZE_PHONEME_IPA);
-		if (r > 0) espeak_SetSynthCallback(onSynth);
-		return r;
-	}();
-	if (rate <= 0) throw Error("cannot initialise espeak-ng (is the espeak-ng-data package installed?)");
-	return rate;
+	static int rate = 0;
+	if (rate > 0) return rate;
+	espeak_ng_InitializePath(nullptr);
+	espeak_ng_ERROR_CONTEXT context = nullptr;
+	const espeak_ng_STATUS status = espeak_ng_Initialize(&context);
+	espeak_ng_ClearErrorContext(&context);
+	if (status != ENS_OK) {
+		char message[256] = {};
+		espeak_ng_GetStatusCodeMessage(status, message, sizeof message - 1);
+		throw Error(std::string("cannot initialise espeak-ng: ") + message + " (is the espeak-ng-data package installed? out of file descriptors?)");
+	}
+	const int r = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, nullptr,
+	                                espeakINITIALIZE_PHONEME_EVENTS | espeakINITIALIZE_PHONEME_IPA | espeakINITIALIZE_DONT_EXIT);
+	if (r <= 0) throw Error("cannot initialise espeak-ng (is the espeak-ng-data package installed?)");
+	espeak_SetSynthCallback(onSynth);
+	return rate = r;
 }
+
+// The names espeak-ng accepts for a voice (lower case) and its variants (as written), listed once.
+struct VoiceNames {
+	std::set<std::string> voices, variants;
+};
+const VoiceNames& voiceNames() {  // under espeakMutex, after initialise()
+	static VoiceNames names = [] {
+		VoiceNames n;
+		auto base = [](const char* id) {
+			const std::string s = id ? id : "";
+			return s.substr(s.rfind('/') == std::string::npos ? 0 : s.rfind('/') + 1);
+		};
+		if (const espeak_VOICE** list = espeak_ListVoices(nullptr))
+			for (; *list; ++list) {
+				const espeak_VOICE* v = *list;
+				if (v->name) n.voices.insert(toLower(v->name));
+				if (v->identifier) n.voices.insert(toLower(base(v->identifier)));
+				// languages: [priority byte, name, NUL]…, ended by a zero priority byte.
+				for (const char* l = v->languages; l && *l; l += std::strlen(l + 1) + 2) n.voices.insert(toLower(l + 1));
+			}
+		espeak_VOICE spec{};
+		spec.languages = "variant";
+		if (const espeak_VOICE** list = espeak_ListVoices(&spec))
+			for (; *list; ++list)
+				if ((*list)->identifier) n.variants.insert(base((*list)->identifier));
+		return n;
+	}();
+	return names;
+}
+
+bool voiceCharacters(const std::string& s) {
+	return !s.empty() && s.size() <= 32 && std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_'; });
+}
+
+// checkedEspeakVoice under espeakMutex.
+std::string checkVoice(const std::string& voice) {
+	initialise();
+	const auto plus = voice.find('+');
+	const std::string name = voice.substr(0, plus);
+	const std::string shown = "'" + safeQuote(voice.size() > 60 ? voice.substr(0, 60) + "…" : voice) + "'";
+	if (!voiceCharacters(name)) throw Error("espeak-ng has no voice " + shown + " (a voice name is letters, digits, - and _, at most 32; espeak-ng --voices lists them)");
+	if (!startsWith(toLower(name), "mb-") && !voiceNames().voices.count(toLower(name)))
+		throw Error("espeak-ng has no voice " + shown + " (espeak-ng --voices lists them)");
+	if (plus == std::string::npos) return name;
+	std::string variant = voice.substr(plus + 1);
+	if (!voiceCharacters(variant)) throw Error("espeak-ng has no voice variant " + shown + " (espeak-ng --voices=variant lists them)");
+	if (std::all_of(variant.begin(), variant.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) variant = "m" + variant;
+	if (!voiceNames().variants.count(variant)) throw Error("espeak-ng has no voice variant " + shown + " (espeak-ng --voices=variant lists them)");
+	return name + "+" + variant;
+}
+
+class SpeechTooLong : public Error {
+public:
+	explicit SpeechTooLong(double limit) : Error(message(limit)) {}
+	static std::string message(double limit) {
+		char b[160];
+		std::snprintf(b, sizeof b, "the speech is longer than %g s (the limit on speech at once)", limit);
+		return b;
+	}
+};
 
 bool isPause(const std::string& ipa) { return ipa.empty() || ipa == "_" || ipa == "_:" || ipa == "_!" || ipa == "||" || ipa == "|"; }
 
@@ -72,11 +154,20 @@ bool isPause(const std::string& ipa) { return ipa.empty() || ipa == "_" || ipa =
 
 std::string espeakVoiceFor(const std::string& tag) { return toLower(tag); }
 
+std::string checkedEspeakVoice(const std::string& voice) {
+	std::lock_guard<std::mutex> lock(espeakMutex());
+	return checkVoice(voice);
+}
+
 std::optional<VoiceLanguage> espeakVoiceLanguage(const std::string& voice) {
 	const std::string name = voice.substr(0, voice.find('+'));  // without a variant (en-us+f3)
 	if (name.empty()) return std::nullopt;
 	std::lock_guard<std::mutex> lock(espeakMutex());
-	initialise();
+	try {
+		checkVoice(name);
+	} catch (const Error&) {
+		return std::nullopt;
+	}
 	if (startsWith(name, "mb-")) {
 		// MBROLA voices: espeak-ng's voice file says the language; loading the voice would need MBROLA.
 		const char* data = nullptr;
@@ -97,7 +188,8 @@ std::optional<VoiceLanguage> espeakVoiceLanguage(const std::string& voice) {
 }
 
 namespace {
-void setVoice(const std::string& voice) {
+void setVoice(const std::string& unchecked) {
+	const std::string voice = checkVoice(unchecked);
 	if (startsWith(voice, "mb-")) {
 		// Check for MBROLA first: espeak-ng would print its own multi-line complaint.
 		const std::string name = voice.substr(3);
@@ -211,7 +303,7 @@ static int dropForeignScript(std::string& text, const std::string& voice) {
 	return dropped;
 }
 
-Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rateWpm, int pitch, int wordGap10ms) {
+Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rateWpm, int pitch, int wordGap10ms, const SpeechLimits& limits) {
 	std::string text = splitLongTokens(rawText);
 	const int dropped = dropForeignScript(text, voice);
 	if (trim(text).empty()) throw Error("nothing to say: the text is empty");
@@ -228,6 +320,8 @@ Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rat
 		                      (dropped > 1 ? "were" : "was") + " left out (read as spaces)");
 	Collector c;
 	c.pcm = &sp.pcm;
+	c.cancel = limits.cancel;
+	c.maxSamples = limits.maxSeconds > 0 ? long(limits.maxSeconds * rate) : 0;
 	g_current = &c;
 	const std::string z = text + '\0';
 	const espeak_ERROR err = espeak_Synth(z.data(), z.size(), 0, POS_CHARACTER, 0, espeakCHARS_UTF8, nullptr, nullptr);
@@ -236,6 +330,8 @@ Speech espeakSpeak(const std::string& rawText, const std::string& voice, int rat
 	espeak_SetParameter(espeakRATE, 175, 0);
 	espeak_SetParameter(espeakPITCH, 50, 0);
 	espeak_SetParameter(espeakWORDGAP, 0, 0);
+	if (c.cancelled) throw SpeechCancelled();
+	if (c.tooLong) throw SpeechTooLong(limits.maxSeconds);
 	if (err != EE_OK) throw Error("espeak-ng could not synthesise the text");
 	const std::int64_t ticksPerSample = kTicksPerSecond / rate;
 	const Ticks end(std::int64_t(sp.pcm.size()) * ticksPerSample);
@@ -313,7 +409,7 @@ std::vector<SpokenPhone> espeakPhones(const std::string& rawText, const std::str
 	dropForeignScript(text, voice);
 	std::lock_guard<std::mutex> lock(espeakMutex());
 	const int rate = initialise();
-	if (espeak_SetVoiceByName(voice.c_str()) != EE_OK) throw Error("espeak-ng has no voice '" + voice + "'");
+	if (espeak_SetVoiceByName(checkVoice(voice).c_str()) != EE_OK) throw Error("espeak-ng has no voice '" + safeQuote(voice) + "'");
 	Collector c;
 	g_current = &c;
 	const std::string z = text + '\0';
@@ -330,6 +426,37 @@ std::vector<SpokenPhone> espeakPhones(const std::string& rawText, const std::str
 		out.push_back({name, Ticks(std::int64_t(std::max(1, next - c.phonemes[i].second)) * (kTicksPerSecond / 1000))});
 	}
 	return out;
+}
+
+std::map<std::string, std::string> espeakPhonemeNames(const std::vector<std::string>& words, const std::string& voice) {
+	// The whole list through espeak_TextToPhonemes (fast: no sound), one word kept per phoneme it names;
+	// then each kept word spoken, for the names its phoneme events carry (what espeakSpeak reads, and not
+	// always spelled alike: "nʲ" there is "n" "ʲ" here, French "y-" is "y").
+	std::map<std::string, std::string> examples;
+	{
+		std::lock_guard<std::mutex> lock(espeakMutex());
+		initialise();
+		if (espeak_SetVoiceByName(checkVoice(voice).c_str()) != EE_OK) throw Error("espeak-ng has no voice '" + safeQuote(voice) + "'");
+		const int mode = espeakPHONEMES_IPA | (int(' ') << 8);  // IPA names, a space between phonemes
+		for (const std::string& raw : words) {
+			std::string w = splitLongTokens(raw);
+			dropForeignScript(w, voice);
+			if (trim(w).empty()) continue;
+			const std::string z = w + '\0';
+			const void* p = z.data();
+			while (p) {
+				const char* ph = espeak_TextToPhonemes(&p, espeakCHARS_UTF8, mode);
+				if (!ph) break;
+				for (const std::string& name : splitWhitespace(ph)) examples.emplace(name, raw);
+			}
+		}
+	}
+	std::set<std::string> spoken;
+	for (const auto& [name, word] : examples) spoken.insert(word);
+	std::map<std::string, std::string> names;
+	for (const std::string& word : spoken)
+		for (const SpokenPhone& p : espeakPhones(word, voice)) names.emplace(p.ipa, word);
+	return names;
 }
 
 std::vector<Interval> expandWords(const Transcript& words, const std::string& tag) {
@@ -369,7 +496,18 @@ std::vector<Interval> expandWords(const Transcript& words, const std::string& ta
 
 namespace talkhead {
 
-Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vector<Ticks>& eventTimes, int rateWpm, int pitch) {
+Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vector<Ticks>& eventTimes, int rateWpm, int pitch, const SpeechLimits& limits) {
+	// The breaks are known before anything is spoken: too many seconds of them are refused at once (a text
+	// of <break time="60s"/> would otherwise make hours of silence, issue 28 item 5).
+	double breaks = 0;
+	for (const SsmlText::Segment& seg : ssml.segments) breaks += toSeconds(seg.pauseAfter);
+	const auto refuse = [](const char* what, double value, double limit) {
+		char b[200];
+		std::snprintf(b, sizeof b, "%s add up to %.1f s, more than the %g s allowed", what, value, limit);
+		throw Error(b);
+	};
+	if (limits.maxBreakSeconds > 0 && breaks > limits.maxBreakSeconds) refuse("the text's breaks", breaks, limits.maxBreakSeconds);
+	if (limits.maxSeconds > 0 && breaks > limits.maxSeconds) refuse("the text's breaks", breaks, limits.maxSeconds);
 	Speech out;
 	out.phones.path = out.words.path = "espeak-ng";
 	out.phones.format = out.words.format = "espeak";
@@ -392,7 +530,19 @@ Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vect
 		const SsmlText::Segment& seg = ssml.segments[s];
 		segmentStart[s] = at;
 		if (!trim(seg.text).empty()) {
-			Speech sp = espeakSpeak(seg.text, voice, rateWpm, pitch);
+			SpeechLimits left = limits;
+			if (limits.maxSeconds > 0) {  // what the segments before and the breaks still to come leave
+				double rest = 0;
+				for (std::size_t k = s; k < ssml.segments.size(); ++k) rest += toSeconds(ssml.segments[k].pauseAfter);
+				left.maxSeconds = limits.maxSeconds - toSeconds(at) - rest;
+				if (left.maxSeconds <= 0) throw Error(SpeechTooLong::message(limits.maxSeconds));
+			}
+			Speech sp;
+			try {
+				sp = espeakSpeak(seg.text, voice, rateWpm, pitch, 0, left);
+			} catch (const SpeechTooLong&) {
+				throw Error(SpeechTooLong::message(limits.maxSeconds));
+			}
 			for (auto& w : sp.warnings) out.warnings.push_back(w);
 			if (out.sampleRate > 0 && out.sampleRate != sp.sampleRate && !out.pcm.empty()) {
 				// A leading pause was laid at an assumed rate: redo it at espeak-ng's.

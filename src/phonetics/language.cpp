@@ -531,7 +531,7 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 	std::vector<Interval> phoneIntervals;
 	if (tr.level == LabelLevel::Word) {
 		phoneIntervals = expandWords(tr, lang.tag());
-		notation = Notation::Ipa;  // espeak-ng's IPA phoneme names
+		notation = Notation::Espeak;  // espeak-ng's phoneme event names (IPA, with espeak-ng's own spellings: ɔø, ??, y-)
 	} else {
 		phoneIntervals = tr.intervals;
 		if (notation == Notation::Auto) notation = detectNotation(tr, lang);

@@ -68,7 +68,8 @@ Ticks Utterance::duration() const {
 	return d;
 }
 
-Utterance speakText(const std::string& text, const Language& language, const std::string& voiceName, int sampleRate, int rateWpm, int pitch) {
+Utterance speakText(const std::string& text, const Language& language, const std::string& voiceName, int sampleRate, int rateWpm, int pitch,
+                    const SpeechLimits& limits) {
 	const std::string voice = voiceName.empty() ? espeakVoiceFor(language.tag()) : voiceName;
 	Utterance u;
 	Speech speech;
@@ -78,7 +79,7 @@ Utterance speakText(const std::string& text, const Language& language, const std
 			if (e.kind == SsmlText::Event::Kind::EmotionStart)
 				throw Error("text", e.line, "column " + std::to_string(e.column) + ": an emotion element in live speech: send an emotion message instead");
 		std::vector<Ticks> times;
-		speech = espeakSpeakSsml(ssml, voice, times, rateWpm, pitch);
+		speech = espeakSpeakSsml(ssml, voice, times, rateWpm, pitch, limits);
 		const Ticks end = speech.sampleRate ? Ticks(std::int64_t(speech.pcm.size()) * (kTicksPerSecond / speech.sampleRate)) : Ticks(0);
 		for (std::size_t i = 0; i < ssml.events.size(); ++i) {
 			const auto& e = ssml.events[i];
@@ -88,7 +89,7 @@ Utterance speakText(const std::string& text, const Language& language, const std
 			else if (e.kind == SsmlText::Event::Kind::Brows) u.brows.push_back(BrowEvent{t, ticksFromSeconds(0.8), e.intensity, e.frown});
 		}
 	} else {
-		speech = espeakSpeak(text, voice, rateWpm, pitch);
+		speech = espeakSpeak(text, voice, rateWpm, pitch, 0, limits);
 	}
 	u.warnings = speech.warnings;
 	u.phones = phoneSegments(speech.phones, language, UnknownPhone::Nearest, Notation::Espeak);

@@ -10,6 +10,7 @@
 #include "base/frame_rate.h"
 #include "base/ticks.h"
 #include "media/audio.h"
+#include "phonetics/espeak.h"
 #include "phonetics/language.h"
 #include "render/frame_sink.h"
 #include "render/render.h"
@@ -42,10 +43,10 @@ struct Utterance {
 
 // The utterance espeak-ng speaks for `text` (plain or SSML: breaks, marks, blinks, brows; emotion
 // elements are refused — send an emotion command) in `voice` (empty: the language's default), resampled to
-// `sampleRate`. rateWpm 0 / pitch −1: the voice's defaults. Throws Error (unknown voice, nothing to say,
-// bad SSML).
+// `sampleRate`. rateWpm 0 / pitch −1: the voice's defaults. `limits` bound the synthesis (a server's).
+// Throws Error (unknown voice, nothing to say, bad SSML, over a limit) or SpeechCancelled.
 Utterance speakText(const std::string& text, const Language& language, const std::string& voice, int sampleRate, int rateWpm = 0,
-                    int pitch = -1);
+                    int pitch = -1, const SpeechLimits& limits = {});
 
 // An utterance from a sound the caller has (any format libav decodes, in `audioPath`) and its timing in any
 // transcript format talkhead reads (`transcript`, named `transcriptName` in errors). Throws Error.
@@ -106,6 +107,8 @@ public:
 	void stop();
 	// Speech under way or queued at the next frame.
 	bool speaking() const { return queueEnd_ > nextTime(); }
+	// When the speech queued so far ends (stream time; at or before nextTime() when silent).
+	Ticks queueEnd() const { return queueEnd_; }
 
 	// Draws the next frame (YUV 4:2:0, limited range) and its feature points (output pixels); appends what
 	// happened by this frame to `events`.

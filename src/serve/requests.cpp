@@ -150,7 +150,7 @@ std::string wavHeader(int rate, int channels, std::size_t frames) {
 }  // namespace
 
 LiveRequest parseLiveRequest(const std::string& json) {
-	const JsonValue v = parseJson(json, "request");
+	const JsonValue v = parseJson(json, "request", 1, kMaxRequestValues);
 	if (v.kind != JsonValue::Kind::Object) throw Error("a request is a JSON object");
 	const std::string& type = stringMember(v, "type", true);
 	LiveRequest r;
@@ -208,11 +208,11 @@ LiveRequest parseLiveRequest(const std::string& json) {
 	return r;
 }
 
-Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang, int sampleRate) {
+Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits) {
 	const Language& lang = Language::get(r.lang.empty() ? defaultLang : r.lang);
 	Utterance u;
 	if (r.kind == LiveRequest::Kind::Say) {
-		u = speakText(r.text, lang, r.voice, sampleRate, r.rate, r.pitch);
+		u = speakText(r.text, lang, r.voice, sampleRate, r.rate, r.pitch, limits);
 	} else if (r.pcmRate > 0) {
 		// Raw PCM: mono mix, resampled to the session's rate (a WAV header on it, through libav's resampler).
 		const std::size_t frames = r.audio.size() / std::size_t(2 * r.pcmChannels);
@@ -220,7 +220,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 		LiveRequest file = r;
 		file.pcmRate = 0;
 		file.audio = std::move(wav);
-		return prepareUtterance(file, defaultLang, sampleRate);
+		return prepareUtterance(file, defaultLang, sampleRate, limits);
 	} else {
 		// libav reads files: the sound goes through a private temporary file, removed at once.
 		char path[] = "/tmp/talkhead-speak-XXXXXX";
@@ -264,6 +264,11 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 		::unlink(path);
 		releaseTemporary(path);
 		if (u.phones.empty()) throw Error("transcript: no phones");
+		if (limits.maxSeconds > 0 && toSeconds(u.duration()) > limits.maxSeconds) {
+			char b[160];
+			std::snprintf(b, sizeof b, "the sound lasts %.1f s, longer than the %g s allowed", toSeconds(u.duration()), limits.maxSeconds);
+			throw Error(b);
+		}
 	}
 	u.id = r.id;
 	return u;

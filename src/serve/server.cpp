@@ -1,339 +1,265 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// talkhead serve: HTTP + WebSocket with Boost.Beast (D54). One io thread runs the network; each session
-// has a frame thread (LiveSession paced in real time, x264/AAC fragmented MP4) and a speech thread
-// (espeak-ng, audio decoding), so a long synthesis never holds up frames.
+// talkhead serve: HTTP + WebSocket with Boost.Beast (D54), plain or TLS (Boost.Asio SSL, OpenSSL). One io
+// thread runs the network and nothing else: each session's parsing, synthesis and frames run on its own
+// threads (worker.cpp), and a closed session's threads are joined by a reaper thread. Who may connect:
+// access.h (Host, Origin, token); how many: --max-sessions and the measured load (D58).
 #include "serve/server.h"
 
 #include <boost/asio.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
+#include <cstdio>
 #include <deque>
 #include <fstream>
-#include <map>
+#include <list>
 #include <mutex>
 #include <sstream>
 #include <thread>
+#include <type_traits>
 
-#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/json.h"
 #include "base/text.h"
-#include "phonetics/labels.h"
-#include "media/video_writer.h"
+#include "serve/access.h"
+#include "serve/worker.h"
 
 namespace talkhead {
 
 namespace net = boost::asio;
+namespace ssl = net::ssl;
 namespace beast = boost::beast;
 namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = net::ip::tcp;
-using Clock = std::chrono::steady_clock;
+using Clock = ServeClock;
+using PlainStream = beast::tcp_stream;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 
 namespace {
 
 constexpr std::size_t kMaxQueuedBytes = 64u << 20;  // a client this far behind is dropped
+constexpr std::size_t kMaxAuthMessage = 4096;       // an auth message; larger before authentication closes the connection
+constexpr int kAuthSeconds = 10;                    // to authenticate after the upgrade
+constexpr int kMaxConnections = 512;                // TCP connections at once (HTTP and sessions)
 
-std::string errorJson(const std::string& message, const std::string& id = "") {
-	std::string j = "{\"type\": \"error\", \"message\": " + jsonQuote(safeLine(message));
-	if (!id.empty()) j += ", \"id\": " + jsonQuote(id);
-	return j + "}";
-}
+std::string errorJson(const std::string& message) { return "{\"type\": \"error\", \"message\": " + jsonQuote(safeLine(message)) + "}"; }
 
-
-}  // namespace
-
-// One session's rendering: the frame thread and the speech thread. Output goes through `send` (binary or
-// text, in order) from the frame thread; `request` is called from the io thread.
-class LiveWorker {
+// The sessions' interface the server keeps (one io thread uses it).
+class SessionBase {
 public:
-	using Send = std::function<bool(bool binary, std::string data)>;  // false: the client is gone or too slow
-	LiveWorker(const FaceModel& model, const ServeOptions& o, int id, Send send, std::function<void()> close)
-	    : model_(model), o_(o), id_(id), send_(std::move(send)), close_(std::move(close)) {
-		if (o_.recordDir) {
-			record_.open(*o_.recordDir + "/session-" + std::to_string(id_) + ".jsonl");
-			if (!record_) throw Error(*o_.recordDir, 0, "cannot write the session record");
-		}
-		frames_ = std::thread([this] { frameLoop(); });
-		speech_ = std::thread([this] { speechLoop(); });
-	}
-	~LiveWorker() {
-		{
-			std::lock_guard<std::mutex> lock(m_);
-			quit_ = true;
-		}
-		cv_.notify_all();
-		speechCv_.notify_all();
-		if (speech_.joinable()) speech_.join();  // first: it may be warming the frame thread's session
-		if (frames_.joinable()) frames_.join();
-		if (record_) record_ << "{\"type\": \"end\", \"frame\": " << drawn_ << "}\n";
-		if (o_.log && drawn_ > 0) {
-			char b[200];
-			std::snprintf(b, sizeof b, "session %d: %lld frames, %.1f ms each to draw and encode, %lld late by more than a frame (latest %.0f ms after its time)", id_,
-			              static_cast<long long>(drawn_), 1000 * stats_.work / double(drawn_), static_cast<long long>(stats_.late), 1000 * std::max(0.0, stats_.worst));
-			o_.log(b);
-		}
-	}
-
-	// A request's text (from the io thread): parsed here, errors answered at once.
-	void request(const std::string& json) {
-		const auto received = Clock::now();
-		LiveRequest r;
-		try {
-			r = parseLiveRequest(json);
-		} catch (const std::exception& e) {
-			send_(false, errorJson(describeException(e)));
-			return;
-		}
-		std::lock_guard<std::mutex> lock(m_);
-		if (r.kind == LiveRequest::Kind::Stop) {
-			// Barge-in: what is waiting for synthesis goes, and the stop overtakes everything queued.
-			++generation_;
-			speechQueue_.clear();
-			frameQueue_.push_back(Command{r, std::nullopt, json, generation_, received});
-			cv_.notify_all();
-			return;
-		}
-		speechQueue_.push_back(Command{r, std::nullopt, json, generation_, received});
-		speechCv_.notify_all();
-	}
-
-private:
-	struct Command {
-		LiveRequest request;
-		std::optional<Utterance> utterance;
-		std::string json;
-		std::uint64_t generation = 0;
-		Clock::time_point received;
-	};
-	const FaceModel& model_;
-	const ServeOptions& o_;
-	int id_;
-	Send send_;
-	std::function<void()> close_;
-	std::mutex m_;
-	std::condition_variable cv_, speechCv_;
-	bool quit_ = false;
-	std::uint64_t generation_ = 0;
-	std::deque<Command> speechQueue_, frameQueue_;
-	std::thread frames_, speech_;
-	std::ofstream record_;
-	std::int64_t drawn_ = 0;  // frames drawn and encoded (the record's end)
-	std::atomic<LiveSession*> session_{nullptr};  // the frame thread's, while it lives
-	std::mutex warmMutex_;                         // held while the speech thread warms it
-	std::string emotion_;                          // the session's emotion and intensity (under m_)
-	double intensity_ = 1;
-	struct {
-		double work = 0, worst = 0;  // seconds drawing + encoding; the latest a frame went out after its time
-		std::int64_t late = 0;       // frames out more than a frame after their time
-	} stats_;
-	std::map<std::string, Clock::time_point> requestTimes_;  // utterance id → when its request came
-
-	void speechLoop() {
-		for (;;) {
-			Command c;
-			{
-				std::unique_lock<std::mutex> lock(m_);
-				speechCv_.wait(lock, [&] { return quit_ || !speechQueue_.empty(); });
-				if (quit_) return;
-				c = std::move(speechQueue_.front());
-				speechQueue_.pop_front();
-			}
-			if (c.request.kind == LiveRequest::Kind::Say || c.request.kind == LiveRequest::Kind::Speak) {
-				try {
-					c.utterance = prepareUtterance(c.request, o_.lang, o_.live.sampleRate);
-					// Its keypose images made here, not in the frame thread (a frame would be late).
-					std::string emotion;
-					double intensity = 1;
-					{
-						std::lock_guard<std::mutex> lock(m_);
-						emotion = c.request.emotion ? *c.request.emotion : emotion_;
-						intensity = c.request.emotion ? c.request.intensity : intensity_;
-					}
-					std::lock_guard<std::mutex> warming(warmMutex_);
-					if (LiveSession* s = session_.load()) s->warm(*c.utterance, emotion, intensity);
-					for (const auto& w : c.utterance->warnings)
-						send_(false, "{\"type\": \"warning\", \"message\": " + jsonQuote(safeLine(w)) + (c.request.id.empty() ? "" : ", \"id\": " + jsonQuote(c.request.id)) + "}");
-				} catch (const std::exception& e) {
-					send_(false, errorJson(describeException(e), c.request.id));
-					continue;
-				}
-			}
-			std::lock_guard<std::mutex> lock(m_);
-			if (c.generation != generation_) continue;  // a stop came meanwhile
-			frameQueue_.push_back(std::move(c));
-			cv_.notify_all();
-		}
-	}
-
-	void frameLoop() {
-		try {
-			std::unique_ptr<LiveSession> session = std::make_unique<LiveSession>(model_, o_.live);
-			session_ = session.get();
-			{
-				std::lock_guard<std::mutex> lock(m_);
-				emotion_ = session->emotion();
-				intensity_ = session->intensity();
-			}
-			struct Forget {  // before the session goes, and never while the speech thread warms it
-				std::atomic<LiveSession*>& p;
-				std::mutex& m;
-				~Forget() {
-					std::lock_guard<std::mutex> lock(m);
-					p = nullptr;
-				}
-			} forget{session_, warmMutex_};
-			const StreamInfo& info = session->info();
-			std::string bytes;  // what the encoder made since the last send
-			VideoOptions vo;
-			vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = o_.crf, vo.preset = o_.preset, vo.threads = o_.encoderThreads;
-			Mp4LiveWriter writer([&bytes](const std::uint8_t* d, std::size_t n) { bytes.append(reinterpret_cast<const char*>(d), n); return true; }, vo,
-			                     &session->audio());
-			std::string emotions;
-			for (const auto& e : emotionLabels()) emotions += (emotions.empty() ? "" : ", ") + jsonQuote(e.label);
-			char head[256];
-			std::snprintf(head, sizeof head, "{\"type\": \"hello\", \"session\": %d, \"width\": %d, \"height\": %d, \"fps\": %.6g, \"rate\": \"%s\", \"sample_rate\": %d",
-			              id_, info.width, info.height, info.rate.fps(), info.rate.str().c_str(), session->sampleRate());
-			const std::string hello = std::string(head) + ", \"mime\": " + jsonQuote("video/mp4; codecs=\"" + writer.codecs() + "\"") +
-			                          ", \"emotion\": " + jsonQuote(session->emotion()) + ", \"emotions\": [" + emotions + "]}";
-			if (record_) record_ << "{\"type\": \"session\", \"width\": " << info.width << ", \"height\": " << info.height << ", \"rate\": \"" << info.rate.str()
-			                     << "\", \"emotion\": " << jsonQuote(session->emotion()) << ", \"lang\": " << jsonQuote(o_.lang) << "}\n";
-			if (!send_(false, hello) || !send_(true, std::move(bytes))) return;
-			bytes.clear();
-			YuvImage frame;
-			Points points;
-			std::vector<LiveEvent> events;
-			const Clock::time_point start = Clock::now();
-			const double frameSeconds = 1.0 / info.rate.fps();
-			for (std::int64_t n = 0;; ++n) {
-				std::deque<Command> todo;
-				{
-					std::unique_lock<std::mutex> lock(m_);
-					const auto due = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(n) * frameSeconds));
-					cv_.wait_until(lock, due, [&] { return quit_; });
-					if (quit_) break;
-					todo.swap(frameQueue_);
-				}
-				for (Command& c : todo) {
-					try {
-						if (c.utterance && c.request.kind != LiveRequest::Kind::Stop) requestTimes_[c.request.id] = c.received;
-						applyLiveRequest(*session, c.request, std::move(c.utterance));
-						{
-							std::lock_guard<std::mutex> lock(m_);
-							emotion_ = session->emotion();
-							intensity_ = session->intensity();
-						}
-						if (record_) record_ << "{\"frame\": " << n << ", \"request\": " << c.json << "}\n";
-					} catch (const std::exception& e) {
-						send_(false, errorJson(describeException(e), c.request.id));
-					}
-				}
-				events.clear();
-				const auto due = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(double(n) * frameSeconds));
-				const auto t0 = Clock::now();
-				session->drawNext(frame, points, events);
-				writer.write(frame);
-				drawn_ = session->nextFrame();
-				const auto sent = Clock::now();
-				// Pace: a frame out later than one frame after its time is late (the stream falls behind).
-				const double late = std::chrono::duration<double>(sent - due).count();
-				stats_.work += std::chrono::duration<double>(sent - t0).count();
-				stats_.worst = std::max(stats_.worst, late);
-				if (late > frameSeconds) ++stats_.late;
-				for (const LiveEvent& e : events) {
-					std::string j = liveEventJson(e);
-					if (e.kind == LiveEvent::Kind::UtteranceStarted) {
-						auto it = requestTimes_.find(e.id);
-						if (it != requestTimes_.end()) {
-							char b[64];
-							std::snprintf(b, sizeof b, ", \"latency_ms\": %.1f}", std::chrono::duration<double, std::milli>(sent - it->second).count());
-							j.pop_back();
-							j += b;
-							requestTimes_.erase(it);
-						}
-					}
-					if (!send_(false, std::move(j))) return;
-				}
-				if (!bytes.empty()) {
-					if (!send_(true, std::move(bytes))) return;
-					bytes.clear();
-				}
-			}
-		} catch (const std::exception& e) {
-			send_(false, errorJson(describeException(e)));
-			if (o_.log) o_.log("session " + std::to_string(id_) + ": " + describeException(e));
-			close_();
-		}
-	}
+	virtual ~SessionBase() = default;
+	virtual void beginShutdown(Clock::time_point deadline) = 0;
+	virtual void dropWorker() = 0;
 };
-
-namespace {
-
-class WsSession;
 
 }  // namespace
 
 struct Server::Impl {
 	const FaceModel& model;
 	ServeOptions o;
-	net::io_context ioc{1};
-	tcp::acceptor acceptor{ioc};
+	AccessPolicy policy;
+	ServeCounters counters;
+	// The reaper joins closed sessions' threads (declared before the io context: destroyed after it).
+	std::mutex reapMutex;
+	std::condition_variable reapCv;
+	std::deque<std::unique_ptr<LiveWorker>> toReap;
+	bool reapQuit = false;
+	std::thread reaper;
+
 	std::atomic<int> sessions{0};
+	int connections = 0;  // io thread
 	std::atomic<int> nextId{1};
 	std::string demoPage;
-	Impl(const FaceModel& m, ServeOptions opts) : model(m), o(std::move(opts)) {}
+	bool shuttingDown = false;  // io thread
+	std::list<std::pair<std::weak_ptr<SessionBase>, std::shared_ptr<SessionStats>>> live;  // io thread
+	Clock::time_point lastAcceptLog{};
+	std::int64_t acceptErrorsSinceLog = 0;
+	Clock::time_point drainEnd{};
+	std::optional<ssl::context> tls;
+	// The io context after what its handlers use (destroyed first), the io objects after it.
+	net::io_context ioc{1};
+	tcp::acceptor acceptor{ioc};
+	net::steady_timer backoff{ioc};
+	std::optional<net::signal_set> signals;
+	net::steady_timer drainTimer{ioc};
+
+	Impl(const FaceModel& m, ServeOptions opts) : model(m), o(std::move(opts)) {
+		reaper = std::thread([this] {
+			std::unique_lock<std::mutex> lock(reapMutex);
+			for (;;) {
+				reapCv.wait(lock, [&] { return reapQuit || !toReap.empty(); });
+				while (!toReap.empty()) {
+					std::unique_ptr<LiveWorker> w = std::move(toReap.front());
+					toReap.pop_front();
+					lock.unlock();
+					w.reset();  // joins its threads
+					lock.lock();
+				}
+				if (reapQuit) return;
+			}
+		});
+	}
+	~Impl() { stopReaper(); }
+	void stopReaper() {
+		{
+			std::lock_guard<std::mutex> lock(reapMutex);
+			reapQuit = true;
+		}
+		reapCv.notify_all();
+		if (reaper.joinable()) reaper.join();
+	}
+	void retire(std::unique_ptr<LiveWorker> w) {
+		if (!w) return;
+		w->cancel();
+		std::unique_lock<std::mutex> lock(reapMutex);
+		if (reapQuit) {  // after the reaper: joined here (the server is ending)
+			lock.unlock();
+			w.reset();
+			return;
+		}
+		toReap.push_back(std::move(w));
+		reapCv.notify_all();
+	}
 	void log(const std::string& s) const {
 		if (o.log) o.log(s);
 	}
+	// Why a new session cannot start now, or "" (io thread).
+	std::string admission(const char*& reason) {
+		if (shuttingDown) {
+			reason = "shutdown";
+			return "the server is shutting down";
+		}
+		if (sessions.load() >= o.maxSessions) {
+			reason = "full";
+			std::string m = "the server has " + std::to_string(o.maxSessions) + " sessions already (--max-sessions)";
+			if (o.idleSeconds > 0) {
+				char b[96];
+				std::snprintf(b, sizeof b, "; idle sessions close after %g s: try again later", o.idleSeconds);
+				m += b;
+			}
+			return m;
+		}
+		if (o.maxLoad > 0 && !live.empty()) {
+			double load = 0;
+			bool late = false;
+			for (const auto& [w, s] : live) load += s->load.load(), late |= lateRecently(*s);
+			const double cores = std::max(1u, std::thread::hardware_concurrency());
+			const double next = load / double(live.size());
+			if (late || load + next > o.maxLoad * cores) {
+				reason = "load";
+				char b[240];
+				std::snprintf(b, sizeof b, "the server is at capacity (its %zu sessions take %.2f of %g cores%s): a new session's frames would be late; try again later",
+				              live.size(), load, cores, late ? ", and frames were late in the last seconds" : "");
+				return b;
+			}
+		}
+		return "";
+	}
 	void accept();
+	void beginShutdown();
+	void drainCheck();
+	std::string metrics();
 };
 
 namespace {
 
-class WsSession : public std::enable_shared_from_this<WsSession> {
+template <class Stream>
+constexpr bool kTls = std::is_same_v<Stream, TlsStream>;
+
+template <class Stream>
+class WsSession : public SessionBase, public std::enable_shared_from_this<WsSession<Stream>> {
 public:
-	WsSession(tcp::socket&& socket, Server::Impl& server) : ws_(std::move(socket)), server_(server) {}
-	~WsSession() {
-		worker_.reset();
+	WsSession(Stream&& stream, Server::Impl& server) : ws_(std::move(stream)), server_(server), authTimer_(server.ioc) {}
+	~WsSession() override {
+		dropWorker();
 		if (counted_) --server_.sessions;
+		--server_.connections;
 	}
 
-	void run(http::request<http::string_body> req) {
+	void run(http::request<http::string_body> req, bool authenticated) {
+		authenticated_ = authenticated;
 		ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+		ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& res) { res.set(http::field::server, "talkhead"); }));
 		ws_.read_message_max(0);  // messages are read in parts and bounded here (an oversized one is an error, not a drop)
-		ws_.async_accept(req, beast::bind_front_handler(&WsSession::onAccept, shared_from_this()));
+		ws_.async_accept(req, beast::bind_front_handler(&WsSession::onAccept, this->shared_from_this()));
+	}
+
+	void beginShutdown(Clock::time_point deadline) override {
+		if (worker_) worker_->shutdown(deadline);
+		else if (!closing_) refuse("the server is shutting down", websocket::close_code::going_away);
+	}
+	void dropWorker() override {
+		gone_ = true;
+		server_.retire(std::move(worker_));
 	}
 
 private:
-	websocket::stream<beast::tcp_stream> ws_;
+	websocket::stream<Stream> ws_;
 	Server::Impl& server_;
+	net::steady_timer authTimer_;
 	beast::flat_buffer buffer_;
 	std::string message_;
-	bool oversize_ = false, counted_ = false, closing_ = false;
+	bool oversize_ = false, counted_ = false, closing_ = false, authenticated_ = false;
+	websocket::close_reason closeReason_{websocket::close_code::normal};
 	std::deque<std::pair<bool, std::string>> out_;
 	bool writing_ = false;
 	std::atomic<std::size_t> queued_{0};
 	std::atomic<bool> gone_{false};
 	std::unique_ptr<LiveWorker> worker_;
+	std::shared_ptr<SessionStats> stats_;
 	int id_ = 0;
 
 	void onAccept(beast::error_code ec) {
 		if (ec) return;
-		if (++server_.sessions > server_.o.maxSessions) {
-			--server_.sessions;
-			push(false, errorJson("the server has " + std::to_string(server_.o.maxSessions) + " sessions already (--max-sessions)"));
-			closing_ = true;
+		if (!authenticated_) {
+			// The token comes as the first message: {"type": "auth", "token": "…"}.
+			authTimer_.expires_after(std::chrono::seconds(kAuthSeconds));
+			authTimer_.async_wait([weak = this->weak_from_this()](beast::error_code e) {
+				auto self = weak.lock();
+				if (e || !self || self->authenticated_ || self->closing_) return;
+				++self->server_.counters.refusedAuth;
+				self->refuse("no token within " + std::to_string(kAuthSeconds) + " s: send {\"type\": \"auth\", \"token\": \"…\"} first", websocket::close_code::policy_error);
+			});
+			read();
 			return;
 		}
+		start();
+	}
+
+	void refuse(const std::string& message, websocket::close_code code) {
+		push(false, errorJson(message));
+		closeReason_ = websocket::close_reason(code);
+		closing_ = true;
+		if (!writing_) close();
+	}
+
+	void start() {
+		const char* reason = "";
+		const std::string why = server_.admission(reason);
+		if (!why.empty()) {
+			auto& c = server_.counters;
+			++(std::string(reason) == "load" ? c.refusedLoad : std::string(reason) == "shutdown" ? c.refusedShutdown : c.refusedFull);
+			server_.log("session refused: " + why);
+			refuse(why, websocket::close_code::try_again_later);
+			return;
+		}
+		++server_.sessions;
 		counted_ = true;
+		++server_.counters.sessionsOpened;
 		id_ = server_.nextId++;
 		server_.log("session " + std::to_string(id_) + " opened");
-		std::weak_ptr<WsSession> weak = shared_from_this();
+		stats_ = std::make_shared<SessionStats>();
+		server_.live.emplace_back(this->weak_from_this(), stats_);
+		std::weak_ptr<WsSession> weak = this->shared_from_this();
 		auto executor = ws_.get_executor();
 		worker_ = std::make_unique<LiveWorker>(
 		    server_.model, server_.o, id_,
@@ -342,58 +268,93 @@ private:
 			    if (!self || self->gone_) return false;
 			    if (self->queued_ + data.size() > kMaxQueuedBytes) {
 				    self->gone_ = true;
-				    net::post(executor, [self] {
-					    self->push(false, errorJson("the client reads too slowly: the session is closed"));
-					    self->closing_ = true;
-				    });
+				    net::post(executor, [self] { self->refuse("the client reads too slowly: the session is closed", websocket::close_code::policy_error); });
 				    return false;
 			    }
 			    self->queued_ += data.size();
 			    net::post(executor, [self, binary, d = std::move(data)]() mutable { self->push(binary, std::move(d)); });
 			    return true;
 		    },
-		    [weak, executor] {
+		    [weak, executor](LiveWorker::End end) {
 			    if (auto self = weak.lock())
-				    net::post(executor, [self] {
+				    net::post(executor, [self, end] {
+					    self->closeReason_ = websocket::close_reason(end == LiveWorker::End::Shutdown ? websocket::close_code::going_away
+					                                                 : end == LiveWorker::End::Idle   ? websocket::close_code::normal
+					                                                                                  : websocket::close_code::internal_error);
 					    self->closing_ = true;
 					    if (!self->writing_) self->close();
 				    });
-		    });
-		read();
+		    },
+		    stats_, server_.counters);
+		if (server_.shuttingDown) worker_->shutdown(server_.drainEnd);
+		if (!reading_) read();
 	}
 
+	bool reading_ = false;
 	void read() {
-		ws_.async_read_some(buffer_, 1 << 16, beast::bind_front_handler(&WsSession::onRead, shared_from_this()));
+		reading_ = true;
+		ws_.async_read_some(buffer_, 1 << 16, beast::bind_front_handler(&WsSession::onRead, this->shared_from_this()));
 	}
 
 	void onRead(beast::error_code ec, std::size_t) {
-		if (ec) {  // closed or broken: the session ends (the worker stops with this object)
+		if (ec) {  // closed or broken: the session ends; its threads are joined elsewhere (never here)
 			gone_ = true;
+			authTimer_.cancel();
 			if (counted_) server_.log("session " + std::to_string(id_) + " closed");
-			worker_.reset();
+			forget();
+			dropWorker();
 			return;
 		}
 		const std::size_t n = buffer_.size();
-		if (!oversize_ && message_.size() + n <= server_.o.maxMessage) {
+		const std::size_t limit = authenticated_ ? server_.o.maxMessage : kMaxAuthMessage;
+		if (!oversize_ && message_.size() + n <= limit) {
 			const auto data = buffer_.data();
 			message_.append(static_cast<const char*>(data.data()), data.size());
-		} else {
+		} else if (!oversize_) {
 			oversize_ = true;
-			message_.clear();
+			message_.resize(std::min<std::size_t>(message_.size(), 1 << 16));  // its beginning: for its id
 		}
 		buffer_.consume(n);
+		if (!authenticated_ && oversize_) return refuse("the first message must be a short auth request", websocket::close_code::policy_error);
 		if (ws_.is_message_done()) {
-			if (oversize_) {
-				push(false, errorJson("the request is larger than " + std::to_string(server_.o.maxMessage >> 20) + " MiB"));
-			} else if (!ws_.got_text()) {
+			if (!authenticated_) {
+				authenticate();
+			} else if (!ws_.got_text() && !oversize_) {
 				push(false, errorJson("binary messages are not requests: send JSON text (audio goes base64 in a speak request)"));
 			} else if (worker_) {
-				worker_->request(message_);
+				worker_->request(std::move(message_), oversize_);
 			}
 			message_.clear();
 			oversize_ = false;
+			if (closing_) return;
 		}
 		read();
+	}
+
+	// The first message when the upgrade had no token: at most kMaxAuthMessage bytes, read for two members.
+	void authenticate() {
+		const auto type = jsonTopLevelMember(message_, "type");
+		const auto token = jsonTopLevelMember(message_, "token");
+		if (!ws_.got_text() || type != "auth" || !token || !sameToken(server_.o.token, *token)) {
+			++server_.counters.refusedAuth;
+			server_.log("session refused: no valid token");
+			refuse(type == "auth" ? "authentication failed: wrong token" : "authentication required: send {\"type\": \"auth\", \"token\": \"…\"} first",
+			       websocket::close_code::policy_error);
+			return;
+		}
+		authenticated_ = true;
+		authTimer_.cancel();
+		start();
+	}
+
+	void forget() {
+		auto& l = server_.live;
+		for (auto it = l.begin(); it != l.end();) {
+			auto s = it->first.lock();
+			if (!s || s.get() == this) it = l.erase(it);
+			else ++it;
+		}
+		if (server_.shuttingDown) server_.drainCheck();
 	}
 
 	void push(bool binary, std::string data) {
@@ -409,7 +370,7 @@ private:
 		}
 		writing_ = true;
 		ws_.binary(out_.front().first);
-		ws_.async_write(net::buffer(out_.front().second), beast::bind_front_handler(&WsSession::onWrite, shared_from_this()));
+		ws_.async_write(net::buffer(out_.front().second), beast::bind_front_handler(&WsSession::onWrite, this->shared_from_this()));
 	}
 
 	void onWrite(beast::error_code ec, std::size_t) {
@@ -423,44 +384,90 @@ private:
 		write();
 	}
 
+	bool closeSent_ = false;
 	void close() {
-		ws_.async_close(websocket::close_code::normal, [self = shared_from_this()](beast::error_code) {});
+		if (closeSent_) return;
+		closeSent_ = true;
+		ws_.async_close(closeReason_, [self = this->shared_from_this()](beast::error_code) {});
 	}
 };
 
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
 public:
-	HttpSession(tcp::socket&& socket, Server::Impl& server) : stream_(std::move(socket)), server_(server) {}
-	void run() { net::dispatch(stream_.get_executor(), beast::bind_front_handler(&HttpSession::read, shared_from_this())); }
+	template <class... Args>
+	HttpSession(Server::Impl& server, Args&&... args) : stream_(std::forward<Args>(args)...), server_(server) {
+		++server_.connections;
+	}
+	~HttpSession() {
+		if (!upgraded_) --server_.connections;
+	}
+	void run() {
+		net::dispatch(stream_.get_executor(), [self = this->shared_from_this()] {
+			if constexpr (kTls<Stream>) {
+				beast::get_lowest_layer(self->stream_).expires_after(std::chrono::seconds(30));
+				self->stream_.async_handshake(ssl::stream_base::server, [self](beast::error_code ec) {
+					if (!ec) self->read();
+				});
+			} else {
+				self->read();
+			}
+		});
+	}
 
 private:
-	beast::tcp_stream stream_;
+	Stream stream_;
 	beast::flat_buffer buffer_;
 	Server::Impl& server_;
 	std::optional<http::request_parser<http::string_body>> parser_;
+	bool upgraded_ = false;
 
 	void read() {
 		parser_.emplace();
 		parser_->body_limit(1 << 16);
-		stream_.expires_after(std::chrono::seconds(30));
-		http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::onRead, shared_from_this()));
+		parser_->header_limit(16 << 10);
+		beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+		http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::onRead, this->shared_from_this()));
+	}
+
+	void shutdown() {
+		if constexpr (kTls<Stream>) {
+			beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(5));
+			stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) {});
+		} else {
+			beast::error_code ignored;
+			stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+		}
 	}
 
 	void onRead(beast::error_code ec, std::size_t) {
-		if (ec) {
-			beast::error_code ignored;
-			stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
-			return;
-		}
+		if (ec) return shutdown();
 		http::request<http::string_body> req = parser_->release();
 		const std::string target(req.target());
+		const std::string host(req[http::field::host]);
+		if (auto why = refusedHost(server_.policy, host)) {
+			++server_.counters.refusedHost;
+			return reply(req, http::status::forbidden, "text/plain", "talkhead serve: " + *why + "\n");
+		}
+		const auto bearer = bearerToken(std::string(req[http::field::authorization]));
+		const bool tokenOk = server_.o.token.empty() || (bearer && sameToken(server_.o.token, *bearer));
 		if (websocket::is_upgrade(req)) {
-			if (target == "/live") {
-				stream_.expires_never();
-				std::make_shared<WsSession>(stream_.release_socket(), server_)->run(std::move(req));
-				return;
+			if (target != "/live") return reply(req, http::status::not_found, "text/plain", "talkhead serve: WebSocket sessions are at /live\n");
+			if (auto why = refusedOrigin(server_.policy, std::string(req[http::field::origin]), host, kTls<Stream>)) {
+				++server_.counters.refusedOrigin;
+				server_.log("upgrade refused: " + *why);
+				return reply(req, http::status::forbidden, "text/plain", "talkhead serve: " + *why + "\n");
 			}
-			return reply(req, http::status::not_found, "text/plain", "talkhead serve: WebSocket sessions are at /live\n");
+			if (bearer && !tokenOk) {
+				++server_.counters.refusedAuth;
+				server_.log("upgrade refused: wrong token");
+				return reply(req, http::status::unauthorized, "text/plain", "talkhead serve: wrong token\n");
+			}
+			if (server_.connections > kMaxConnections) return reply(req, http::status::service_unavailable, "text/plain", "talkhead serve: too many connections\n");
+			beast::get_lowest_layer(stream_).expires_never();
+			upgraded_ = true;
+			std::make_shared<WsSession<Stream>>(std::move(stream_), server_)->run(std::move(req), server_.o.token.empty() || tokenOk);
+			return;
 		}
 		if (req.method() != http::verb::get && req.method() != http::verb::head)
 			return reply(req, http::status::method_not_allowed, "text/plain", "talkhead serve: GET only; requests go over the WebSocket at /live\n");
@@ -469,8 +476,13 @@ private:
 			return reply(req, http::status::ok, "text/html; charset=utf-8", server_.demoPage);
 		}
 		if (target == "/health") {
-			const std::string j = "{\"sessions\": " + std::to_string(server_.sessions.load()) + ", \"max_sessions\": " + std::to_string(server_.o.maxSessions) + "}\n";
-			return reply(req, http::status::ok, "application/json", j);
+			const std::string j = "{\"sessions\": " + std::to_string(server_.sessions.load()) + ", \"max_sessions\": " + std::to_string(server_.o.maxSessions) +
+			                      ", \"shutting_down\": " + (server_.shuttingDown ? "true" : "false") + "}\n";
+			return reply(req, server_.shuttingDown ? http::status::service_unavailable : http::status::ok, "application/json", j);
+		}
+		if (target == "/metrics") {
+			if (!tokenOk) return reply(req, http::status::unauthorized, "text/plain", "talkhead serve: /metrics needs the token (Authorization: Bearer …)\n");
+			return reply(req, http::status::ok, "text/plain; version=0.0.4", server_.metrics());
 		}
 		reply(req, http::status::not_found, "text/plain", "talkhead serve: not found\n");
 	}
@@ -480,16 +492,13 @@ private:
 		res->set(http::field::server, "talkhead");
 		res->set(http::field::content_type, type);
 		res->set(http::field::cache_control, "no-store");
-		res->keep_alive(req.keep_alive());
+		res->set("X-Content-Type-Options", "nosniff");
+		res->keep_alive(req.keep_alive() && status != http::status::forbidden && status != http::status::unauthorized);
 		if (req.method() == http::verb::head) res->content_length(body.size());
 		else res->body() = std::move(body);
 		res->prepare_payload();
-		http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
-			if (ec || !res->keep_alive()) {
-				beast::error_code ignored;
-				self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
-				return;
-			}
+		http::async_write(stream_, *res, [self = this->shared_from_this(), res](beast::error_code ec, std::size_t) {
+			if (ec || !res->keep_alive()) return self->shutdown();
 			self->read();
 		});
 	}
@@ -497,21 +506,122 @@ private:
 
 }  // namespace
 
+std::string Server::Impl::metrics() {
+	std::string m;
+	auto metric = [&](const char* name, const char* type, const char* help, const std::string& lines) {
+		m += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n" + lines;
+	};
+	auto one = [](const char* name, double v) {
+		char b[160];
+		std::snprintf(b, sizeof b, "%s %.6g\n", name, v);
+		return std::string(b);
+	};
+	double load = 0, queuedSeconds = 0;
+	int queued = 0;
+	for (const auto& [w, s] : live) load += s->load.load(), queued += s->queuedRequests.load(), queuedSeconds += s->queuedSeconds.load();
+	const ServeCounters& c = counters;
+	metric("talkhead_sessions", "gauge", "Live sessions open.", one("talkhead_sessions", sessions.load()));
+	metric("talkhead_sessions_max", "gauge", "The most sessions at once (--max-sessions).", one("talkhead_sessions_max", o.maxSessions));
+	metric("talkhead_sessions_opened_total", "counter", "Sessions opened.", one("talkhead_sessions_opened_total", double(c.sessionsOpened)));
+	std::string refused;
+	for (const auto& [reason, v] : {std::pair<const char*, std::int64_t>{"full", c.refusedFull}, {"load", c.refusedLoad}, {"auth", c.refusedAuth},
+	                                {"origin", c.refusedOrigin}, {"host", c.refusedHost}, {"shutdown", c.refusedShutdown}})
+		refused += "talkhead_sessions_refused_total{reason=\"" + std::string(reason) + "\"} " + std::to_string(v) + "\n";
+	metric("talkhead_sessions_refused_total", "counter", "Connections refused, by reason.", refused);
+	metric("talkhead_sessions_closed_idle_total", "counter", "Sessions closed for idleness (--idle-timeout).", one("talkhead_sessions_closed_idle_total", double(c.closedIdle)));
+	metric("talkhead_frames_total", "counter", "Frames drawn and sent.", one("talkhead_frames_total", double(c.frames)));
+	metric("talkhead_late_frames_total", "counter", "Frames sent more than one frame after their time.", one("talkhead_late_frames_total", double(c.lateFrames)));
+	metric("talkhead_load_cores", "gauge", "Cores the sessions' frames take (drawing and encoding), measured.", one("talkhead_load_cores", load));
+	metric("talkhead_queued_requests", "gauge", "say and speak requests queued in all sessions.", one("talkhead_queued_requests", queued));
+	metric("talkhead_queued_speech_seconds", "gauge", "Seconds of speech queued in all sessions.", one("talkhead_queued_speech_seconds", queuedSeconds));
+	metric("talkhead_requests_total", "counter", "Requests parsed.", one("talkhead_requests_total", double(c.requests)));
+	metric("talkhead_request_errors_total", "counter", "Requests answered with an error.", one("talkhead_request_errors_total", double(c.requestErrors)));
+	metric("talkhead_accept_errors_total", "counter", "Failed accepts (e.g. out of file descriptors).", one("talkhead_accept_errors_total", double(c.acceptErrors)));
+	{
+		std::lock_guard<std::mutex> lock(counters.latencyMutex);
+		std::string h;
+		std::int64_t cumulative = 0;
+		char b[160];
+		for (std::size_t i = 0; i <= std::size(ServeCounters::kBuckets); ++i) {
+			cumulative += counters.latencyCounts[i];
+			if (i < std::size(ServeCounters::kBuckets)) std::snprintf(b, sizeof b, "talkhead_utterance_latency_seconds_bucket{le=\"%g\"} %lld\n", ServeCounters::kBuckets[i], static_cast<long long>(cumulative));
+			else std::snprintf(b, sizeof b, "talkhead_utterance_latency_seconds_bucket{le=\"+Inf\"} %lld\n", static_cast<long long>(cumulative));
+			h += b;
+		}
+		std::snprintf(b, sizeof b, "talkhead_utterance_latency_seconds_sum %.6f\ntalkhead_utterance_latency_seconds_count %lld\n", counters.latencySum, static_cast<long long>(cumulative));
+		h += b;
+		metric("talkhead_utterance_latency_seconds", "histogram", "From a say or speak request's arrival to its first frame.", h);
+	}
+	return m;
+}
+
 void Server::Impl::accept() {
 	acceptor.async_accept(net::make_strand(ioc), [this](beast::error_code ec, tcp::socket socket) {
 		if (ec) {
-			if (ec != net::error::operation_aborted) log("accept: " + ec.message());
-			if (!acceptor.is_open()) return;
+			if (ec == net::error::operation_aborted || !acceptor.is_open()) return;
+			// Out of file descriptors, say: wait a little and try again, and log once a second at most.
+			++counters.acceptErrors;
+			++acceptErrorsSinceLog;
+			if (Clock::now() - lastAcceptLog >= std::chrono::seconds(1)) {
+				log("accept: " + ec.message() + (acceptErrorsSinceLog > 1 ? " (" + std::to_string(acceptErrorsSinceLog) + " times since the last line)" : ""));
+				lastAcceptLog = Clock::now();
+				acceptErrorsSinceLog = 0;
+			}
+			backoff.expires_after(std::chrono::milliseconds(100));
+			backoff.async_wait([this](beast::error_code e) {
+				if (!e) accept();
+			});
+			return;
+		}
+		if (connections >= kMaxConnections) {
+			beast::error_code ignored;
+			socket.close(ignored);
+		} else if (tls) {
+			std::make_shared<HttpSession<TlsStream>>(*this, std::move(socket), *tls)->run();
 		} else {
-			std::make_shared<HttpSession>(std::move(socket), *this)->run();
+			std::make_shared<HttpSession<PlainStream>>(*this, std::move(socket))->run();
 		}
 		accept();
+	});
+}
+
+void Server::Impl::beginShutdown() {
+	if (shuttingDown) return;
+	shuttingDown = true;
+	drainEnd = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.drainSeconds));
+	char b[160];
+	std::snprintf(b, sizeof b, "shutting down: %zu session(s) finish their speech (at most %g s)", live.size(), o.drainSeconds);
+	log(b);
+	beast::error_code ignored;
+	acceptor.close(ignored);
+	backoff.cancel();
+	for (auto& [w, s] : live)
+		if (auto session = w.lock()) session->beginShutdown(drainEnd);
+	drainCheck();
+}
+
+// Stops the io context once every session has closed, or a little after the drain's end.
+void Server::Impl::drainCheck() {
+	bool any = false;
+	for (auto& [w, s] : live) any |= !w.expired();
+	if (!any || Clock::now() > drainEnd + std::chrono::seconds(2)) {
+		ioc.stop();
+		return;
+	}
+	drainTimer.expires_after(std::chrono::milliseconds(100));
+	drainTimer.async_wait([this](beast::error_code e) {
+		if (!e) drainCheck();
 	});
 }
 
 Server::Server(const FaceModel& model, ServeOptions options) : impl_(std::make_unique<Impl>(model, std::move(options))) {
 	Impl& s = *impl_;
 	if (s.o.maxSessions < 1) throw Error("--max-sessions must be at least 1");
+	if (s.o.tlsCert.empty() != s.o.tlsKey.empty()) throw Error("--tls-cert and --tls-key go together");
+	s.policy.listenHost = s.o.host;
+	s.policy.allowOrigins = s.o.allowOrigins;
+	s.policy.allowHosts = s.o.allowHosts;
+	s.policy.token = s.o.token;
 	// A session's options (emotion, size, sample rate) and the model checked before anyone connects, and
 	// what a session reads of the model in the page cache.
 	LiveSession(model, s.o.live);
@@ -521,6 +631,16 @@ Server::Server(const FaceModel& model, ServeOptions options) : impl_(std::make_u
 		std::ostringstream b;
 		b << f.rdbuf();
 		s.demoPage = b.str();
+	}
+	if (!s.o.tlsCert.empty()) {
+		s.tls.emplace(ssl::context::tls_server);
+		s.tls->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 | ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1);
+		beast::error_code ec;
+		s.tls->use_certificate_chain_file(s.o.tlsCert, ec);
+		if (ec) throw Error(s.o.tlsCert, 0, "not a PEM certificate (chain): " + ec.message());
+		s.tls->use_private_key_file(s.o.tlsKey, ssl::context::pem, ec);
+		if (ec) throw Error(s.o.tlsKey, 0, "not a PEM private key: " + ec.message());
+		if (SSL_CTX_check_private_key(s.tls->native_handle()) != 1) throw Error(s.o.tlsKey, 0, "the key does not match the certificate " + s.o.tlsCert);
 	}
 	beast::error_code ec;
 	const auto address = net::ip::make_address(s.o.host, ec);
@@ -538,8 +658,29 @@ Server::~Server() = default;
 int Server::port() const { return impl_->acceptor.local_endpoint().port(); }
 
 void Server::run() {
-	impl_->accept();
-	impl_->ioc.run();
+	Impl& s = *impl_;
+	if (s.o.handleSignals) {
+		s.signals.emplace(s.ioc, SIGTERM, SIGINT);
+		s.signals->async_wait([&s](beast::error_code ec, int) {
+			if (ec) return;
+			s.beginShutdown();
+			s.signals->async_wait([&s](beast::error_code e, int) {  // a second one: at once
+				if (e) return;
+				s.log("a second signal: stopping now");
+				s.ioc.stop();
+			});
+		});
+	}
+	s.accept();
+	s.ioc.run();
+	// Every session's threads end before the io context goes (their callbacks post to it).
+	for (auto& [w, st] : s.live)
+		if (auto session = w.lock()) session->dropWorker();
+	s.stopReaper();
+	if (s.signals) {
+		beast::error_code ignored;
+		s.signals->cancel(ignored);
+	}
 }
 
 void Server::stop() {
@@ -548,6 +689,10 @@ void Server::stop() {
 		impl_->acceptor.close(ignored);
 		impl_->ioc.stop();
 	});
+}
+
+void Server::shutdown() {
+	net::post(impl_->ioc, [this] { impl_->beginShutdown(); });
 }
 
 }  // namespace talkhead

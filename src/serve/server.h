@@ -2,11 +2,14 @@
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "base/ticks.h"
 #include "model/face_model.h"
+#include "phonetics/espeak.h"
 #include "phonetics/transcript.h"
 #include "render/live.h"
 
@@ -31,12 +34,23 @@ struct LiveRequest {
 	std::string transcript;         // speak: its timing, any transcript format talkhead reads, or
 	std::optional<Transcript> timing;  // speak: Azure viseme events or ElevenLabs character timestamps
 };
+// At most kMaxRequestValues JSON values (issue 28 item 4: each costs ~100 bytes parsed).
+constexpr std::size_t kMaxRequestValues = 500000;
 LiveRequest parseLiveRequest(const std::string& json);
 // The utterance of a say (espeak-ng, in process) or speak (the sound decoded, the transcript read)
-// request, at `sampleRate`. Throws Error.
-Utterance prepareUtterance(const LiveRequest& request, const std::string& defaultLang, int sampleRate);
+// request, at `sampleRate`, within `limits` (maxSeconds bounds speak's sound too). Throws Error, or
+// SpeechCancelled.
+Utterance prepareUtterance(const LiveRequest& request, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits = {});
 // Applies a request to the session at its next frame (say and speak: with their prepared utterance).
 void applyLiveRequest(LiveSession& session, const LiveRequest& request, std::optional<Utterance> utterance);
+
+// What one session may queue (issue 28 item 5); a request past a limit gets an error event naming it.
+struct SessionLimits {
+	int queuedRequests = 32;        // say and speak requests waiting, being prepared or queued to play
+	double queuedSeconds = 900;     // speech queued ahead of the frames, the new utterance included
+	double utteranceSeconds = 600;  // one say or speak
+	double breakSeconds = 60;       // the SSML breaks of one say, together
+};
 
 struct ServeOptions {
 	std::string host = "127.0.0.1";
@@ -52,9 +66,21 @@ struct ServeOptions {
 	std::size_t maxMessage = 32u << 20;  // bytes; larger requests get an error, the session goes on
 	std::optional<std::string> recordDir;  // per session, the requests with the frame they took effect at
 	std::function<void(const std::string&)> log;  // one line per event worth a log (stderr)
+	// Running it safely (issue 28, D58).
+	std::vector<std::string> allowOrigins;  // pages allowed to open sessions besides the server's own and loopback ones
+	std::vector<std::string> allowHosts;    // Host names besides the listen address and loopback names
+	std::string token;                      // when set, every session and /metrics must give it (never logged)
+	std::string tlsCert, tlsKey;            // PEM files: HTTPS and wss:// (both or neither)
+	double idleSeconds = 300;               // a session with no request and nothing to say this long is closed; 0: never
+	SessionLimits limits;
+	double maxLoad = 0.9;                   // of the cores: a new session is refused when frames would be late; 0: off
+	double drainSeconds = 5;                // at SIGTERM/SIGINT (handleSignals): speech under way finishes this long at most
+	bool handleSignals = false;             // SIGTERM/SIGINT end the server gracefully (a second one at once)
 };
 
-// Listens and serves until stop() is called from any thread (or a signal handler's flag: see the CLI).
+// Listens and serves until stop() or shutdown() is called from any thread (or, with handleSignals, SIGTERM
+// or SIGINT). Parsing, decoding and synthesis never run on the network thread: each session has its own
+// threads (D54, D58).
 class Server {
 public:
 	Server(const FaceModel& model, ServeOptions options);
@@ -62,8 +88,9 @@ public:
 	Server(const Server&) = delete;
 	Server& operator=(const Server&) = delete;
 	int port() const;  // the bound port (options.port 0: the one the system chose)
-	void run();        // blocks
-	void stop();
+	void run();        // blocks until stopped
+	void stop();       // at once: sessions end without notice
+	void shutdown();   // gracefully: no new sessions; each is told, finishes its speech (drainSeconds), then closes
 	struct Impl;
 
 private:

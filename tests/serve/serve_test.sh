@@ -43,7 +43,7 @@ with open(f'{t}/huge.json', 'w') as f:  # 100 MB
 EOF
 
 mkdir -p "$T/rec"
-"$TH" serve --listen 127.0.0.1:0 --size 320x180 --crf 0 --seed 5 --max-sessions 3 --record "$T/rec" -q >"$T/serve.out" 2>"$T/serve.err" &
+"$TH" serve --listen 127.0.0.1:0 --size 320x180 --crf 0 --seed 5 --max-sessions 3 --max-load 0 --record "$T/rec" -q >"$T/serve.out" 2>"$T/serve.err" &
 server=$!
 for _ in $(seq 50); do grep -q serving "$T/serve.out" 2>/dev/null && break; sleep 0.1; done
 port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/serve.out")

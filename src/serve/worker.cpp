@@ -1,0 +1,430 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// One session of talkhead serve (D54, D58): three threads, none of them the server's network thread.
+//   intake  parses each request as it comes (a 30 MB message delays only its own session's requests), and
+//           lets a stop overtake everything: it drops what waits for synthesis and cancels the synthesis
+//           under way;
+//   speech  synthesises (espeak-ng) or decodes each say/speak, within the session's limits;
+//   frames  draws and encodes in real time. Prepared utterances wait in its own queue and go into the
+//           LiveSession only when the speech before them is about to end, so the session plans only
+//           what is near: the cost of a request and of a stop does not grow with the queue.
+#include "serve/worker.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "base/error.h"
+#include "base/json.h"
+#include "base/text.h"
+#include "media/video_writer.h"
+#include "phonetics/labels.h"
+
+namespace talkhead {
+
+namespace {
+
+constexpr double kHandoff = 2.0;                      // s: an utterance joins the session this long before the speech before it ends
+constexpr std::size_t kInboxMessages = 4096;          // requests received, not yet parsed
+constexpr double kLateMemory = 3.0;                   // s: a late frame counts against admission this long
+
+std::int64_t nowNs() { return std::chrono::duration_cast<std::chrono::nanoseconds>(ServeClock::now().time_since_epoch()).count(); }
+
+}  // namespace
+
+void ServeCounters::latency(double seconds) {
+	std::lock_guard<std::mutex> lock(latencyMutex);
+	std::size_t b = 0;
+	while (b < std::size(kBuckets) && seconds > kBuckets[b]) ++b;
+	++latencyCounts[b];
+	latencySum += seconds;
+}
+
+LiveWorker::LiveWorker(const FaceModel& model, const ServeOptions& o, int id, Send send, Close close, std::shared_ptr<SessionStats> stats,
+                       ServeCounters& counters)
+    : model_(model), o_(o), id_(id), send_(std::move(send)), close_(std::move(close)), stats_(std::move(stats)), counters_(counters), lastRequestNs_(nowNs()) {
+	if (o_.recordDir) {
+		record_.open(*o_.recordDir + "/session-" + std::to_string(id_) + ".jsonl");
+		if (!record_) throw Error(*o_.recordDir, 0, "cannot write the session record");
+	}
+	frames_ = std::thread([this] { frameLoop(); });
+	speech_ = std::thread([this] { speechLoop(); });
+	intake_ = std::thread([this] { intakeLoop(); });
+}
+
+LiveWorker::~LiveWorker() {
+	{
+		std::lock_guard<std::mutex> lock(m_);
+		quit_ = true;
+	}
+	cancel_ = true;
+	inboxCv_.notify_all();
+	speechCv_.notify_all();
+	frameCv_.notify_all();
+	if (intake_.joinable()) intake_.join();
+	if (speech_.joinable()) speech_.join();  // before the frames: it may be warming the frame thread's session
+	if (frames_.joinable()) frames_.join();
+	if (record_) record_ << "{\"type\": \"end\", \"frame\": " << drawn_ << "}\n";
+	if (o_.log && drawn_ > 0) {
+		char b[200];
+		std::snprintf(b, sizeof b, "session %d: %lld frames, %.1f ms each to draw and encode, %lld late by more than a frame (latest %.0f ms after its time)", id_,
+		              static_cast<long long>(drawn_), 1000 * work_ / double(drawn_), static_cast<long long>(late_), 1000 * std::max(0.0, worst_));
+		o_.log(b);
+	}
+}
+
+void LiveWorker::cancel() {
+	{
+		std::lock_guard<std::mutex> lock(m_);
+		quit_ = true;
+	}
+	cancel_ = true;
+	inboxCv_.notify_all();
+	speechCv_.notify_all();
+	frameCv_.notify_all();
+}
+
+void LiveWorker::shutdown(ServeClock::time_point deadline) {
+	std::lock_guard<std::mutex> lock(m_);
+	closing_ = true;
+	deadline_ = deadline;
+	speechQueue_.clear();  // not started: dropped (what is prepared still plays)
+	frameCv_.notify_all();
+}
+
+void LiveWorker::request(std::string text, bool oversize) {
+	const auto received = ServeClock::now();
+	lastRequestNs_ = nowNs();
+	std::lock_guard<std::mutex> lock(m_);
+	if (inbox_.size() >= kInboxMessages || inboxBytes_ + text.size() > 2 * o_.maxMessage) {
+		// Requests arrive faster than they can be read: this one is answered at once (its id unknown: not parsed).
+		send_(false, "{\"type\": \"error\", \"message\": \"requests arrive faster than the session reads them: this one is dropped\"}");
+		return;
+	}
+	inboxBytes_ += text.size();
+	inbox_.push_back(Inbound{std::move(text), oversize, received});
+	inboxCv_.notify_all();
+}
+
+std::string LiveWorker::idJson(const std::string& id) const { return id.empty() ? std::string() : ", \"id\": " + jsonQuote(id); }
+
+void LiveWorker::error(const std::string& message, const std::string& id) {
+	++counters_.requestErrors;
+	send_(false, "{\"type\": \"error\", \"message\": " + jsonQuote(safeLine(message)) + idJson(id) + "}");
+}
+
+SpeechLimits LiveWorker::limitsNow() const {
+	SpeechLimits l;
+	const double room = o_.limits.queuedSeconds - stats_->queuedSeconds.load() - handedSeconds_;
+	l.maxSeconds = std::max(0.0, std::min(o_.limits.utteranceSeconds, room));
+	l.maxBreakSeconds = o_.limits.breakSeconds;
+	l.cancel = &cancel_;
+	return l;
+}
+
+void LiveWorker::intakeLoop() {
+	for (;;) {
+		Inbound in;
+		bool closing = false;
+		{
+			std::unique_lock<std::mutex> lock(m_);
+			inboxCv_.wait(lock, [&] { return quit_ || !inbox_.empty(); });
+			if (quit_) return;
+			in = std::move(inbox_.front());
+			inbox_.pop_front();
+			inboxBytes_ -= in.text.size();
+			closing = closing_;
+		}
+		// Every answer to a request names its id: read from the text as far as it can be (item 10).
+		auto idOf = [&] {
+			auto id = jsonTopLevelMember(in.text, "id");
+			return id && id->size() <= 200 ? *id : std::string();
+		};
+		if (in.oversize) {
+			error("the request is larger than " + std::to_string(o_.maxMessage >> 20) + " MiB", idOf());
+			continue;
+		}
+		LiveRequest r;
+		try {
+			r = parseLiveRequest(in.text);
+		} catch (const std::exception& e) {
+			error(describeException(e), idOf());
+			continue;
+		}
+		++counters_.requests;
+		if (closing) {
+			error("the server is shutting down: no new requests", r.id);
+			continue;
+		}
+		Command c{std::move(r), std::nullopt, o_.recordDir ? std::move(in.text) : std::string(), 0, in.received};
+		std::unique_lock<std::mutex> lock(m_);
+		if (c.request.kind == LiveRequest::Kind::Stop) {
+			// Barge-in: what waits for synthesis goes, the synthesis under way stops, and the stop overtakes
+			// everything queued: the frame thread takes it at its next frame.
+			++generation_;
+			speechQueue_.clear();
+			cancel_ = true;
+			c.generation = generation_;
+			frameQueue_.push_back(std::move(c));
+			frameCv_.notify_all();
+			continue;
+		}
+		if (c.request.kind != LiveRequest::Kind::Emotion) {
+			const int queued = int(std::count_if(speechQueue_.begin(), speechQueue_.end(), [](const Command& q) { return q.request.kind != LiveRequest::Kind::Emotion; })) +
+			                   (preparing_ ? 1 : 0) + handed_ + stats_->queuedRequests.load();
+			if (queued >= o_.limits.queuedRequests) {
+				lock.unlock();
+				error(std::to_string(queued) + " requests are queued already, the most a session may have (--max-queued-requests): wait for utterance_ended, or stop",
+				      c.request.id);
+				continue;
+			}
+		}
+		c.generation = generation_;
+		speechQueue_.push_back(std::move(c));
+		speechCv_.notify_all();
+	}
+}
+
+void LiveWorker::speechLoop() {
+	for (;;) {
+		Command c;
+		SpeechLimits limits;
+		{
+			std::unique_lock<std::mutex> lock(m_);
+			speechCv_.wait(lock, [&] { return quit_ || !speechQueue_.empty(); });
+			if (quit_) return;
+			c = std::move(speechQueue_.front());
+			speechQueue_.pop_front();
+			cancel_ = false;  // a stop from now on cancels this one
+			preparing_ = c.request.kind != LiveRequest::Kind::Emotion;
+			limits = limitsNow();
+		}
+		double seconds = 0;
+		if (c.request.kind == LiveRequest::Kind::Say || c.request.kind == LiveRequest::Kind::Speak) {
+			try {
+				if (limits.maxSeconds <= 0) {
+					char b[200];
+					std::snprintf(b, sizeof b, "the session has %.0f s of speech queued already, the most it may have (--max-queued-speech): wait, or stop",
+					              o_.limits.queuedSeconds);
+					throw Error(b);
+				}
+				c.utterance = prepareUtterance(c.request, o_.lang, o_.live.sampleRate, limits);
+				seconds = toSeconds(c.utterance->duration());
+				// Its keypose images made here, not in the frame thread (a frame would be late).
+				std::string emotion;
+				double intensity = 1;
+				{
+					std::lock_guard<std::mutex> lock(m_);
+					emotion = c.request.emotion ? *c.request.emotion : emotion_;
+					intensity = c.request.emotion ? c.request.intensity : intensity_;
+				}
+				std::lock_guard<std::mutex> warming(warmMutex_);
+				if (LiveSession* s = session_.load()) s->warm(*c.utterance, emotion, intensity);
+				for (const auto& w : c.utterance->warnings)
+					send_(false, "{\"type\": \"warning\", \"message\": " + jsonQuote(safeLine(w)) + idJson(c.request.id) + "}");
+			} catch (const SpeechCancelled&) {
+				std::lock_guard<std::mutex> lock(m_);
+				preparing_ = false;
+				continue;  // a stop, or the session's end
+			} catch (const std::exception& e) {
+				{
+					std::lock_guard<std::mutex> lock(m_);
+					preparing_ = false;
+				}
+				error(describeException(e), c.request.id);
+				continue;
+			}
+		}
+		std::lock_guard<std::mutex> lock(m_);
+		preparing_ = false;
+		if (c.generation != generation_ || closing_) continue;  // a stop came meanwhile, or the server is going
+		if (c.utterance) ++handed_, handedSeconds_ += seconds;
+		frameQueue_.push_back(std::move(c));
+		frameCv_.notify_all();
+	}
+}
+
+void LiveWorker::frameLoop() {
+	try {
+		LiveSession session(model_, o_.live);
+		session_ = &session;
+		struct Forget {  // before the session goes, and never while the speech thread warms it
+			std::atomic<LiveSession*>& p;
+			std::mutex& m;
+			~Forget() {
+				std::lock_guard<std::mutex> lock(m);
+				p = nullptr;
+			}
+		} forget{session_, warmMutex_};
+		frames(session);
+	} catch (const std::exception& e) {
+		send_(false, "{\"type\": \"error\", \"message\": " + jsonQuote(safeLine(describeException(e))) + "}");
+		if (o_.log) o_.log("session " + std::to_string(id_) + ": " + describeException(e));
+		close_(End::Failed);
+	}
+}
+
+void LiveWorker::frames(LiveSession& session) {
+	{
+		std::lock_guard<std::mutex> lock(m_);
+		emotion_ = session.emotion();
+		intensity_ = session.intensity();
+	}
+	const StreamInfo& info = session.info();
+	std::string bytes;  // what the encoder made since the last send
+	VideoOptions vo;
+	vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = o_.crf, vo.preset = o_.preset, vo.threads = o_.encoderThreads;
+	Mp4LiveWriter writer([&bytes](const std::uint8_t* d, std::size_t n) { bytes.append(reinterpret_cast<const char*>(d), n); return true; }, vo,
+	                     &session.audio());
+	std::string emotions;
+	for (const auto& e : emotionLabels()) emotions += (emotions.empty() ? "" : ", ") + jsonQuote(e.label);
+	char head[256];
+	std::snprintf(head, sizeof head, "{\"type\": \"hello\", \"session\": %d, \"width\": %d, \"height\": %d, \"fps\": %.6g, \"rate\": \"%s\", \"sample_rate\": %d",
+	              id_, info.width, info.height, info.rate.fps(), info.rate.str().c_str(), session.sampleRate());
+	const std::string hello = std::string(head) + ", \"mime\": " + jsonQuote("video/mp4; codecs=\"" + writer.codecs() + "\"") +
+	                          ", \"emotion\": " + jsonQuote(session.emotion()) + ", \"emotions\": [" + emotions + "]}";
+	if (record_) record_ << "{\"type\": \"session\", \"width\": " << info.width << ", \"height\": " << info.height << ", \"rate\": \"" << info.rate.str()
+	                     << "\", \"emotion\": " << jsonQuote(session.emotion()) << ", \"lang\": " << jsonQuote(o_.lang) << "}\n";
+	if (!send_(false, hello) || !send_(true, std::move(bytes))) return;
+	bytes.clear();
+	YuvImage frame;
+	Points points;
+	std::vector<LiveEvent> events;
+	std::deque<Command> ready;  // prepared say/speak, not yet in the session
+	std::map<std::string, ServeClock::time_point> requestTimes;  // utterance id → when its request came
+	const ServeClock::time_point start = ServeClock::now();
+	const double frameSeconds = 1.0 / info.rate.fps();
+	double ewma = -1;  // seconds drawing + encoding a frame, smoothed
+	bool told = false;  // of the shutdown
+	auto apply = [&](Command& c, std::int64_t n) {
+		applyLiveRequest(session, c.request, std::move(c.utterance));
+		std::lock_guard<std::mutex> lock(m_);
+		emotion_ = session.emotion();
+		intensity_ = session.intensity();
+		if (record_) record_ << "{\"frame\": " << n << ", \"request\": " << c.json << "}\n";
+	};
+	for (std::int64_t n = 0;; ++n) {
+		std::deque<Command> todo;
+		bool closing = false;
+		ServeClock::time_point deadline;
+		const auto due = start + std::chrono::duration_cast<ServeClock::duration>(std::chrono::duration<double>(double(n) * frameSeconds));
+		{
+			std::unique_lock<std::mutex> lock(m_);
+			frameCv_.wait_until(lock, due, [&] { return quit_; });
+			if (quit_) break;
+			todo.swap(frameQueue_);
+			for (const Command& c : todo)
+				if (c.utterance) --handed_, handedSeconds_ -= toSeconds(c.utterance->duration());
+			if (handed_ == 0) handedSeconds_ = 0;
+			closing = closing_;
+			deadline = deadline_;
+		}
+		for (Command& c : todo) {
+			try {
+				if (c.request.kind == LiveRequest::Kind::Stop) {
+					// Prepared utterances that never started end now, interrupted (as queued ones do in the session).
+					for (const Command& r : ready) {
+						LiveEvent e;
+						e.kind = LiveEvent::Kind::UtteranceEnded;
+						e.frame = n;
+						e.time = session.nextTime();
+						e.id = r.request.id;
+						e.interrupted = true;
+						if (!send_(false, liveEventJson(e))) return;
+					}
+					ready.clear();
+					apply(c, n);
+				} else if (c.utterance) {
+					ready.push_back(std::move(c));
+				} else {
+					apply(c, n);
+				}
+			} catch (const std::exception& e) {
+				error(describeException(e), c.request.id);
+			}
+		}
+		// Into the session when the speech before is about to end.
+		while (!ready.empty() && session.queueEnd() <= session.nextTime() + ticksFromSeconds(kHandoff)) {
+			Command c = std::move(ready.front());
+			ready.pop_front();
+			try {
+				requestTimes[c.request.id] = c.received;
+				apply(c, n);
+			} catch (const std::exception& e) {
+				error(describeException(e), c.request.id);
+			}
+		}
+		double queued = std::max(0.0, toSeconds(session.queueEnd() - session.nextTime()));
+		for (const Command& c : ready) queued += toSeconds(c.utterance->duration());
+		stats_->queuedSeconds = queued;
+		stats_->queuedRequests = int(ready.size()) + (session.speaking() ? 1 : 0);
+		const bool busy = session.speaking() || !ready.empty();
+		if (closing) {
+			if (!told) {
+				told = true;
+				if (!send_(false, "{\"type\": \"closing\", \"reason\": \"shutdown\", \"message\": \"the server is shutting down\"}")) return;
+			}
+			if (!busy || ServeClock::now() >= deadline) {
+				close_(End::Shutdown);
+				break;
+			}
+		} else if (o_.idleSeconds > 0 && !busy && double(nowNs() - lastRequestNs_.load()) * 1e-9 > o_.idleSeconds) {
+			bool waiting;
+			{
+				std::lock_guard<std::mutex> lock(m_);
+				waiting = preparing_ || !speechQueue_.empty() || !inbox_.empty();
+			}
+			if (!waiting) {
+				++counters_.closedIdle;
+				char b[200];
+				std::snprintf(b, sizeof b, "{\"type\": \"closing\", \"reason\": \"idle\", \"message\": \"no request for %g s: the session is closed (--idle-timeout)\"}", o_.idleSeconds);
+				send_(false, b);
+				close_(End::Idle);
+				break;
+			}
+		}
+		events.clear();
+		const auto t0 = ServeClock::now();
+		session.drawNext(frame, points, events);
+		writer.write(frame);
+		drawn_ = session.nextFrame();
+		const auto sent = ServeClock::now();
+		// Pace: a frame out later than one frame after its time is late (the stream falls behind).
+		const double took = std::chrono::duration<double>(sent - t0).count(), behind = std::chrono::duration<double>(sent - due).count();
+		work_ += took;
+		worst_ = std::max(worst_, behind);
+		ewma = ewma < 0 ? took : 0.97 * ewma + 0.03 * took;
+		stats_->load = ewma / frameSeconds;
+		++counters_.frames;
+		if (behind > frameSeconds) {
+			++late_;
+			++counters_.lateFrames;
+			stats_->lastLateNs = nowNs();
+		}
+		for (const LiveEvent& e : events) {
+			std::string j = liveEventJson(e);
+			if (e.kind == LiveEvent::Kind::UtteranceStarted) {
+				auto it = requestTimes.find(e.id);
+				if (it != requestTimes.end()) {
+					const double latency = std::chrono::duration<double>(sent - it->second).count();
+					counters_.latency(latency);
+					char b[64];
+					std::snprintf(b, sizeof b, ", \"latency_ms\": %.1f}", 1000 * latency);
+					j.pop_back();
+					j += b;
+					requestTimes.erase(it);
+				}
+			}
+			if (!send_(false, std::move(j))) return;
+		}
+		if (!bytes.empty()) {
+			if (!send_(true, std::move(bytes))) return;
+			bytes.clear();
+		}
+	}
+}
+
+bool lateRecently(const SessionStats& s) {
+	const std::int64_t t = s.lastLateNs.load();
+	return t >= 0 && double(nowNs() - t) * 1e-9 < kLateMemory;
+}
+
+}  // namespace talkhead

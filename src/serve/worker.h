@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// One session's work in `talkhead serve` (internal to the serve module): its threads, its queues and what
+// the server reads of it (metrics, admission).
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "serve/server.h"
+
+namespace talkhead {
+
+using ServeClock = std::chrono::steady_clock;
+
+// What the server counts, for /metrics (all sessions, since the start).
+struct ServeCounters {
+	std::atomic<std::int64_t> sessionsOpened{0}, refusedFull{0}, refusedLoad{0}, refusedAuth{0}, refusedOrigin{0}, refusedHost{0},
+	    refusedShutdown{0}, closedIdle{0}, requests{0}, requestErrors{0}, frames{0}, lateFrames{0}, acceptErrors{0};
+	// Request → first frame of its utterance (seconds), a Prometheus histogram.
+	static constexpr double kBuckets[] = {0.025, 0.05, 0.1, 0.2, 0.5, 1, 2, 5};
+	std::mutex latencyMutex;
+	std::int64_t latencyCounts[std::size(kBuckets) + 1] = {};
+	double latencySum = 0;
+	void latency(double seconds);
+};
+
+// One session's gauges, written by its threads, read by the server.
+struct SessionStats {
+	std::atomic<double> load{0};               // cores its frames take (work per frame × frames per second)
+	std::atomic<std::int64_t> lastLateNs{-1};  // steady clock of its last late frame, −1: none
+	std::atomic<int> queuedRequests{0};        // say/speak waiting, being prepared or queued to play
+	std::atomic<double> queuedSeconds{0};      // speech ahead of the frames
+};
+
+// A late frame within the last few seconds (admission refuses new sessions then).
+bool lateRecently(const SessionStats& s);
+
+class LiveWorker {
+public:
+	using Send = std::function<bool(bool binary, std::string data)>;  // false: the client is gone or too slow
+	enum class End { Failed, Idle, Shutdown };
+	using Close = std::function<void(End)>;
+	LiveWorker(const FaceModel& model, const ServeOptions& o, int id, Send send, Close close, std::shared_ptr<SessionStats> stats, ServeCounters& counters);
+	~LiveWorker();  // stops the threads (synthesis under way is cancelled first)
+	LiveWorker(const LiveWorker&) = delete;
+	LiveWorker& operator=(const LiveWorker&) = delete;
+
+	// A request's text, from the network thread: only queued (parsed on the session's intake thread).
+	// `oversize`: larger than the server takes, `text` then holds its beginning (for its id).
+	void request(std::string text, bool oversize);
+	// The client is gone: synthesis under way stops now (before the destructor runs, elsewhere).
+	void cancel();
+	// The server is going: no new requests; what is queued to play is played until `deadline`.
+	void shutdown(ServeClock::time_point deadline);
+
+private:
+	struct Inbound {
+		std::string text;
+		bool oversize = false;
+		ServeClock::time_point received;
+	};
+	struct Command {
+		LiveRequest request;
+		std::optional<Utterance> utterance;
+		std::string json;  // for the record
+		std::uint64_t generation = 0;
+		ServeClock::time_point received;
+	};
+	const FaceModel& model_;
+	const ServeOptions& o_;
+	int id_;
+	Send send_;
+	Close close_;
+	std::shared_ptr<SessionStats> stats_;
+	ServeCounters& counters_;
+
+	std::mutex m_;  // guards everything below up to the threads
+	std::condition_variable inboxCv_, speechCv_, frameCv_;
+	bool quit_ = false;
+	bool closing_ = false;                          // shutdown: no new requests
+	ServeClock::time_point deadline_{};             // shutdown: the end of the drain
+	std::deque<Inbound> inbox_;
+	std::size_t inboxBytes_ = 0;
+	std::uint64_t generation_ = 0;                  // a stop starts a new one: older commands are dropped
+	std::deque<Command> speechQueue_, frameQueue_;
+	bool preparing_ = false;
+	int handed_ = 0;                                // say/speak prepared, not yet taken by the frame thread
+	double handedSeconds_ = 0;
+	std::string emotion_;                           // the session's, for warming (the frame thread's copy)
+	double intensity_ = 1;
+	std::atomic<bool> cancel_{false};               // the synthesis under way stops
+	std::atomic<std::int64_t> lastRequestNs_;
+
+	std::ofstream record_;
+	std::int64_t drawn_ = 0;                        // frames drawn and encoded (the record's end)
+	double work_ = 0, worst_ = 0;                   // seconds drawing + encoding; the latest a frame went out after its time
+	std::int64_t late_ = 0;                         // frames out more than a frame after their time
+	std::atomic<LiveSession*> session_{nullptr};    // the frame thread's, while it lives
+	std::mutex warmMutex_;                          // held while the speech thread warms it
+	std::thread intake_, speech_, frames_;
+
+	std::string idJson(const std::string& id) const;
+	void error(const std::string& message, const std::string& id);
+	void intakeLoop();
+	void speechLoop();
+	void frameLoop();
+	void frames(LiveSession& session);
+	SpeechLimits limitsNow() const;  // under m_
+};
+
+}  // namespace talkhead
