@@ -356,31 +356,6 @@ void LiveWorker::frames(LiveSession& session) {
 		for (const Command& c : ready) queued += toSeconds(c.utterance->duration());
 		stats_->queuedSeconds = queued;
 		stats_->queuedRequests = int(ready.size()) + (session.speaking() ? 1 : 0);
-		const bool busy = session.speaking() || !ready.empty();
-		if (closing) {
-			if (!told) {
-				told = true;
-				if (!send_(false, "{\"type\": \"closing\", \"reason\": \"shutdown\", \"message\": \"the server is shutting down\"}")) return;
-			}
-			if (!busy || ServeClock::now() >= deadline) {
-				close_(End::Shutdown);
-				break;
-			}
-		} else if (o_.idleSeconds > 0 && !busy && double(nowNs() - lastRequestNs_.load()) * 1e-9 > o_.idleSeconds) {
-			bool waiting;
-			{
-				std::lock_guard<std::mutex> lock(m_);
-				waiting = preparing_ || !speechQueue_.empty() || !inbox_.empty();
-			}
-			if (!waiting) {
-				++counters_.closedIdle;
-				char b[200];
-				std::snprintf(b, sizeof b, "{\"type\": \"closing\", \"reason\": \"idle\", \"message\": \"no request for %g s: the session is closed (--idle-timeout)\"}", o_.idleSeconds);
-				send_(false, b);
-				close_(End::Idle);
-				break;
-			}
-		}
 		events.clear();
 		const auto t0 = ServeClock::now();
 		session.drawNext(frame, points, events);
@@ -418,6 +393,32 @@ void LiveWorker::frames(LiveSession& session) {
 		if (!bytes.empty()) {
 			if (!send_(true, std::move(bytes))) return;
 			bytes.clear();
+		}
+		// After the frame and its events (an utterance's end goes out before a close).
+		const bool busy = session.queueEnd() > info.rate.time(session.nextFrame() - 1) || !ready.empty();
+		if (closing) {
+			if (!told) {
+				told = true;
+				if (!send_(false, "{\"type\": \"closing\", \"reason\": \"shutdown\", \"message\": \"the server is shutting down\"}")) return;
+			}
+			if (!busy || ServeClock::now() >= deadline) {
+				close_(End::Shutdown);
+				break;
+			}
+		} else if (o_.idleSeconds > 0 && !busy && double(nowNs() - lastRequestNs_.load()) * 1e-9 > o_.idleSeconds) {
+			bool waiting;
+			{
+				std::lock_guard<std::mutex> lock(m_);
+				waiting = preparing_ || !speechQueue_.empty() || !inbox_.empty();
+			}
+			if (!waiting) {
+				++counters_.closedIdle;
+				char b[200];
+				std::snprintf(b, sizeof b, "{\"type\": \"closing\", \"reason\": \"idle\", \"message\": \"no request for %g s: the session is closed (--idle-timeout)\"}", o_.idleSeconds);
+				send_(false, b);
+				close_(End::Idle);
+				break;
+			}
 		}
 	}
 }

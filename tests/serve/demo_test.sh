@@ -6,9 +6,9 @@ set -euo pipefail
 TH=$1; HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 . "$HERE/../support/playwright.sh"
 T=$(mktemp -d)
-server=0
-trap '[ "$server" = 0 ] || kill "$server" 2>/dev/null; rm -rf "$T"' EXIT
-"$TH" serve --listen 127.0.0.1:0 --size 640x360 --demo >"$T/out" 2>"$T/err" &
+server=0 web=0
+trap '[ "$server" = 0 ] || kill "$server" 2>/dev/null; [ "$web" = 0 ] || kill "$web" 2>/dev/null; rm -rf "$T"' EXIT
+"$TH" serve --listen 127.0.0.1:0 --size 640x360 --max-load 0 --demo >"$T/out" 2>"$T/err" &
 server=$!
 for _ in $(seq 50); do grep -q serving "$T/out" 2>/dev/null && break; sleep 0.1; done
 port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/out")
@@ -17,3 +17,11 @@ port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/out")
 curl -sf "http://127.0.0.1:$port/" >"$T/index.html"
 ! grep -Eq 'https?://|<script src|<link ' "$T/index.html"
 NODE_PATH="$PLAYWRIGHT_MODULES" timeout 180 node "$HERE/demo_test.js" "http://127.0.0.1:$port/"
+
+# Cross-site control (issue 28): a page of another site cannot open a session; a loopback page can.
+pageport=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+(cd "$HERE" && exec /usr/bin/python3 -m http.server "$pageport" --bind 127.0.0.1 >/dev/null 2>&1) &
+web=$!
+for _ in $(seq 50); do curl -sf "http://127.0.0.1:$pageport/attack.html" >/dev/null && break; sleep 0.1; done
+NODE_PATH="$PLAYWRIGHT_MODULES" timeout 120 node "$HERE/origin_test.js" "$port" "$pageport"
+grep -q "upgrade refused: origin 'http://evil.example:$pageport' is not allowed" "$T/err"

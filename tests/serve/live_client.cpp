@@ -1,12 +1,19 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // A scripted WebSocket client of talkhead serve for the tests and the latency bench (Boost.Beast):
-//   live_client PORT OUT_PREFIX SECONDS [AT_MS:JSON | AT_MS:@FILE]…
-// connects to ws://127.0.0.1:PORT/live, sends each JSON text message AT_MS milliseconds after the hello
-// (from FILE with @), and after SECONDS closes. Writes OUT_PREFIX.mp4 (every binary message, in order)
-// and OUT_PREFIX.events (one line per text message: milliseconds since the hello, a tab, the message).
+//   live_client [--tls] [--host HOST] [--header 'Name: value']… [--auth-first TOKEN] PORT OUT_PREFIX SECONDS
+//               [AT_MS:JSON | AT_MS:@FILE]…
+// connects to ws://127.0.0.1:PORT/live (wss:// with --tls, any certificate), sends each JSON text message
+// AT_MS milliseconds after the hello (from FILE with @), and after SECONDS closes. Writes OUT_PREFIX.mp4
+// (every binary message, in order) and OUT_PREFIX.events (one line per text message: milliseconds since
+// the hello, a tab, the message; the close code as "close\tCODE"). --auth-first sends
+// {"type": "auth", "token": TOKEN} before anything (the hello comes after it). A refused upgrade exits 3
+// with "live_client: handshake: STATUS" on stderr.
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
+#include <boost/asio/ssl.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 
 #include <chrono>
 #include <algorithm>
@@ -25,19 +32,44 @@ namespace websocket = beast::websocket;
 using tcp = net::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
+struct Send {
+	long at;
+	std::string text;
+};
+struct Options {
+	bool tls = false;
+	std::string host, authFirst;
+	std::vector<std::pair<std::string, std::string>> headers;
+};
+
+template <class Ws>
+int session(Ws& ws, net::io_context& ioc, const std::string& port, const std::string& prefix, double seconds, std::vector<Send>& sends, const Options& opt);
+
 int main(int argc, char** argv) {
-	if (argc < 4) {
-		std::cerr << "usage: live_client PORT OUT_PREFIX SECONDS [AT_MS:JSON | AT_MS:@FILE]...\n";
+	Options opt;
+	int a = 1;
+	for (; a < argc && std::string(argv[a]).rfind("--", 0) == 0; ++a) {
+		const std::string f = argv[a];
+		if (f == "--tls") opt.tls = true;
+		else if (f == "--host" && a + 1 < argc) opt.host = argv[++a];
+		else if (f == "--auth-first" && a + 1 < argc) opt.authFirst = argv[++a];
+		else if (f == "--header" && a + 1 < argc) {
+			const std::string h = argv[++a];
+			const auto colon = h.find(':');
+			opt.headers.emplace_back(h.substr(0, colon), h.substr(colon + 1 + (h.size() > colon + 1 && h[colon + 1] == ' ')));
+		} else {
+			std::cerr << "live_client: unknown flag " << f << "\n";
+			return 2;
+		}
+	}
+	if (argc - a < 3) {
+		std::cerr << "usage: live_client [--tls] [--host H] [--header 'N: V']... [--auth-first TOKEN] PORT OUT_PREFIX SECONDS [AT_MS:JSON | AT_MS:@FILE]...\n";
 		return 2;
 	}
-	const std::string port = argv[1], prefix = argv[2];
-	const double seconds = std::stod(argv[3]);
-	struct Send {
-		long at;
-		std::string text;
-	};
+	const std::string port = argv[a], prefix = argv[a + 1];
+	const double seconds = std::stod(argv[a + 2]);
 	std::vector<Send> sends;
-	for (int i = 4; i < argc; ++i) {
+	for (int i = a + 3; i < argc; ++i) {
 		const std::string a = argv[i];
 		const auto colon = a.find(':');
 		Send s{std::stol(a.substr(0, colon)), a.substr(colon + 1)};
@@ -53,9 +85,37 @@ int main(int argc, char** argv) {
 	try {
 		net::io_context ioc;
 		tcp::resolver resolver(ioc);
+		if (opt.tls) {
+			net::ssl::context ctx(net::ssl::context::tls_client);
+			ctx.set_verify_mode(net::ssl::verify_none);
+			websocket::stream<beast::ssl_stream<tcp::socket>> ws(ioc, ctx);
+			net::connect(beast::get_lowest_layer(ws), resolver.resolve("127.0.0.1", port));
+			ws.next_layer().handshake(net::ssl::stream_base::client);
+			return session(ws, ioc, port, prefix, seconds, sends, opt);
+		}
 		websocket::stream<tcp::socket> ws(ioc);
 		net::connect(ws.next_layer(), resolver.resolve("127.0.0.1", port));
-		ws.handshake("127.0.0.1:" + port, "/live");
+		return session(ws, ioc, port, prefix, seconds, sends, opt);
+	} catch (const std::exception& e) {
+		std::cerr << "live_client: " << e.what() << "\n";
+		return 1;
+	}
+}
+
+template <class Ws>
+int session(Ws& ws, net::io_context& ioc, const std::string& port, const std::string& prefix, double seconds, std::vector<Send>& sends, const Options& opt) {
+	{
+		ws.set_option(websocket::stream_base::decorator([&opt](websocket::request_type& req) {
+			for (const auto& [k, v] : opt.headers) req.set(k, v);
+		}));
+		websocket::response_type res;
+		beast::error_code hec;
+		ws.handshake(res, opt.host.empty() ? "127.0.0.1:" + port : opt.host, "/live", hec);
+		if (hec) {
+			std::cerr << "live_client: handshake: " << hec.message() << " (HTTP " << res.result_int() << ")\n";
+			return 3;
+		}
+		if (!opt.authFirst.empty()) ws.write(net::buffer("{\"type\": \"auth\", \"token\": \"" + opt.authFirst + "\"}"));
 		std::ofstream video(prefix + ".mp4", std::ios::binary), events(prefix + ".events");
 		beast::flat_buffer buffer;
 		Clock::time_point hello{};
@@ -75,7 +135,8 @@ int main(int argc, char** argv) {
 		std::function<void()> read = [&] {
 			ws.async_read(buffer, [&](beast::error_code ec, std::size_t) {
 				if (ec) {
-					if (ec != websocket::error::closed && ec != net::error::operation_aborted) std::cerr << "live_client: read: " << ec.message() << "\n";
+					if (ec == websocket::error::closed) events << "close\t" << ws.reason().code << "\n";
+					else if (ec != net::error::operation_aborted) std::cerr << "live_client: read: " << ec.message() << "\n";
 					end.cancel();
 					for (auto& t : timers) t->cancel();
 					return;
@@ -124,9 +185,6 @@ int main(int argc, char** argv) {
 		};
 		read();
 		ioc.run();
-	} catch (const std::exception& e) {
-		std::cerr << "live_client: " << e.what() << "\n";
-		return 1;
 	}
 	return 0;
 }
