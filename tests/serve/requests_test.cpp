@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "base/error.h"
+#include "base/json.h"
+#include "serve/access.h"
 #include "serve/server.h"
 #include "test_support.h"
 
@@ -63,4 +65,97 @@ TEST(LiveRequest, azureVisemesAndElevenLabsCharactersBecomeTimings) {
 	EXPECT_EQ(el.timing->intervals[0].end, ticksFromSeconds(0.3));
 	EXPECT_EQ(el.timing->intervals[1].label, "you");
 	EXPECT_EQ(el.timing->intervals[1].start, ticksFromSeconds(0.4));
+}
+
+// Issue 28: who may connect (Host, Origin, token), each rule on its own.
+TEST(ServeAccess, hostsOriginsAndTokens) {
+	AccessPolicy loop;
+	loop.listenHost = "127.0.0.1";
+	EXPECT_FALSE(refusedHost(loop, "127.0.0.1:8765"));
+	EXPECT_FALSE(refusedHost(loop, "localhost:8765"));
+	EXPECT_FALSE(refusedHost(loop, "[::1]:8765"));
+	EXPECT_FALSE(refusedHost(loop, "LOCALHOST."));
+	EXPECT_TRUE(refusedHost(loop, "evil.example:8765"));    // DNS rebinding
+	EXPECT_TRUE(refusedHost(loop, "192.0.2.7:8765"));       // not the listen address
+	EXPECT_TRUE(refusedHost(loop, ""));
+	AccessPolicy all = loop;
+	all.listenHost = "0.0.0.0";
+	EXPECT_FALSE(refusedHost(all, "192.0.2.7:8765"));       // any address of the machine
+	EXPECT_TRUE(refusedHost(all, "talk.example.org"));      // names only when allowed
+	all.allowHosts = {"talk.example.org"};
+	EXPECT_FALSE(refusedHost(all, "Talk.Example.org:443"));
+	AccessPolicy one = loop;
+	one.listenHost = "192.0.2.7";
+	EXPECT_FALSE(refusedHost(one, "192.0.2.7:8765"));
+	EXPECT_TRUE(refusedHost(one, "192.0.2.8:8765"));
+
+	EXPECT_FALSE(refusedOrigin(loop, "", "127.0.0.1:8765", false));  // not a browser
+	EXPECT_FALSE(refusedOrigin(loop, "http://127.0.0.1:8765", "127.0.0.1:8765", false));
+	EXPECT_FALSE(refusedOrigin(loop, "http://localhost:3000", "127.0.0.1:8765", false));  // a loopback page
+	EXPECT_FALSE(refusedOrigin(loop, "https://app.localhost", "127.0.0.1:8765", false));
+	EXPECT_TRUE(refusedOrigin(loop, "http://evil.example", "127.0.0.1:8765", false));
+	EXPECT_TRUE(refusedOrigin(loop, "http://127.0.0.1.evil.example", "127.0.0.1:8765", false));
+	EXPECT_TRUE(refusedOrigin(loop, "null", "127.0.0.1:8765", false));
+	EXPECT_TRUE(refusedOrigin(loop, "file://", "127.0.0.1:8765", false));
+	EXPECT_FALSE(refusedOrigin(all, "https://talk.example.org", "talk.example.org", true));  // its own origin over TLS
+	EXPECT_TRUE(refusedOrigin(all, "http://talk.example.org", "talk.example.org", true));    // not its scheme
+	AccessPolicy allowed = loop;
+	allowed.allowOrigins = {"https://app.example.com"};
+	EXPECT_FALSE(refusedOrigin(allowed, "https://app.example.com/", "127.0.0.1:8765", false));
+	EXPECT_TRUE(refusedOrigin(allowed, "https://app.example.com.evil", "127.0.0.1:8765", false));
+	allowed.allowOrigins = {"null"};
+	EXPECT_FALSE(refusedOrigin(allowed, "null", "127.0.0.1:8765", false));
+
+	EXPECT_EQ(bearerToken("Bearer abc.def").value_or(""), "abc.def");
+	EXPECT_EQ(bearerToken("  bearer   xyz ").value_or(""), "xyz");
+	EXPECT_FALSE(bearerToken("Basic dXNlcg=="));
+	EXPECT_TRUE(sameToken("s3cret-s3cret-s3cret", "s3cret-s3cret-s3cret"));
+	EXPECT_FALSE(sameToken("s3cret-s3cret-s3cret", "s3cret-s3cret-s3creT"));
+	EXPECT_FALSE(sameToken("s3cret-s3cret-s3cret", "s3cret"));
+	EXPECT_FALSE(sameToken("", ""));  // no token set: nothing matches it
+}
+
+// Issue 28 items 4 and 10: a request's size in values is bounded, and its id is read even from a text that
+// cannot be parsed.
+TEST(LiveRequest, boundedInValuesAndItsIdFoundInBrokenText) {
+	std::string many = R"({"type": "say", "text": "hi", "junk": [)";
+	for (std::size_t i = 0; i < kMaxRequestValues; ++i) many += i ? ",0" : "0";
+	many += "]}";
+	EXPECT_NE(errorOf([&] { parseLiveRequest(many); }).find("more values than a request may hold"), std::string::npos);
+	EXPECT_EQ(jsonTopLevelMember(R"({"type": "say", "id": "a1", "text": )", "id").value_or(""), "a1");
+	EXPECT_EQ(jsonTopLevelMember(R"({"id": 42, "type": "say")", "id").value_or(""), "42");
+	EXPECT_EQ(jsonTopLevelMember(R"({"x": {"id": "inner"}, "id": "outer"})", "id").value_or(""), "outer");
+	EXPECT_FALSE(jsonTopLevelMember(R"({"x": {"id": "inner"}})", "id"));
+	EXPECT_FALSE(jsonTopLevelMember(R"({"id": {"a": 1}})", "id"));
+	EXPECT_FALSE(jsonTopLevelMember("garbage", "id"));
+}
+
+// Issue 28 items 1 and 5: voices checked against espeak-ng's lists; synthesis bounded and cancellable.
+TEST(LiveRequest, voicesAreCheckedAndSpeechIsBounded) {
+	EXPECT_EQ(checkedEspeakVoice("en-us"), "en-us");
+	EXPECT_EQ(checkedEspeakVoice("en-us+f3"), "en-us+f3");
+	EXPECT_EQ(checkedEspeakVoice("en-us+3"), "en-us+m3");
+	EXPECT_EQ(checkedEspeakVoice("pt-BR"), "pt-BR");
+	for (const std::string bad : {"en-us+" + std::string(40, 'a'), std::string("en-us+../x"), std::string("nowhere"), std::string(200, 'e'), std::string("en us"),
+	                              std::string("en-us+"), std::string("")})
+		EXPECT_THROW(checkedEspeakVoice(bad), Error) << bad;
+	const Language& en = Language::get("en-US");
+	SpeechLimits l;
+	l.maxBreakSeconds = 5;
+	EXPECT_NE(errorOf([&] { speakText(R"(<speak>a <break time="3s"/> b <break time="3s"/> c</speak>)", en, "", 22050, 0, -1, l); }).find("breaks add up to 6.0 s"),
+	          std::string::npos);
+	l.maxBreakSeconds = 0;
+	l.maxSeconds = 1;
+	EXPECT_NE(errorOf([&] { speakText("This sentence takes quite a lot longer than one second to say out loud.", en, "", 22050, 0, -1, l); }).find("longer than 1 s"),
+	          std::string::npos);
+	EXPECT_NE(errorOf([&] { speakText(R"(<speak>Hello <break time="2s"/> there</speak>)", en, "", 22050, 0, -1, l); }).find("breaks add up to 2.0 s"),
+	          std::string::npos);
+	std::atomic<bool> cancel{true};
+	l = {};
+	l.cancel = &cancel;
+	EXPECT_THROW(speakText("Cancelled before it says anything.", en, "", 22050, 0, -1, l), SpeechCancelled);
+	l = {};
+	l.maxSeconds = 10;
+	const Utterance u = speakText("Short enough.", en, "", 22050, 0, -1, l);
+	EXPECT_GT(u.audio.duration(), ticksFromSeconds(0.3));
 }
