@@ -6,10 +6,22 @@
 #                         utterance_started event)
 #   speak -> frames:      the same for a speak request (goal <= 100 ms)
 #   late frames:          frames sent more than one frame after their time (goal: none at 30 fps, 1280x720)
-# usage: bench/serve.sh [BUILD_DIR]
+# Then (issue 28):
+#   capacity:             N sessions at once, each speaking; how many had no late frame, and how many a
+#                         server with the default --max-load admits when 12 arrive a second apart
+#   flood:                the paced session above beside one that floods (1 000 queued say, a 30 MB
+#                         message, stops): its say latency and late frames, side by side with it alone
+# usage: bench/serve.sh [BUILD_DIR] [--only capacity|flood|latency]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="${1:-$root/build}"
+build="$root/build"
+only=""
+while [ $# -gt 0 ]; do
+	case "$1" in
+	--only) only=$2; shift 2 ;;
+	*) build=$1; shift ;;
+	esac
+done
 TH="$build/talkhead" CLIENT="$build/tests/talkhead_live_client"
 T=$(mktemp -d)
 pids=()
@@ -58,7 +70,95 @@ print(f"{sys.argv[3]:<26} say {statistics.median(says):6.1f} ms (max {max(says):
       f"   speak {server.get('speak', float('nan')):6.1f} ms   frames {stats.group(1)}, {stats.group(2)} ms each, {stats.group(3)} late (latest {stats.group(4)} ms)")
 PY
 }
-echo "talkhead serve, 30 fps, 20 s sessions ($(nproc) cores)"
-run 640x360 0 "640x360"
-run 1280x720 0 "1280x720"
-run 1280x720 1 "1280x720 + one busy core"
+serve_on() {  # NAME ARGS…: a server on a free port; sets $port, $server
+	local name=$1; shift
+	"$TH" serve --listen 127.0.0.1:0 "$@" >"$T/$name.out" 2>"$T/$name.err" &
+	server=$!
+	pids+=("$server")
+	for _ in $(seq 100); do grep -q serving "$T/$name.out" 2>/dev/null && break; sleep 0.1; done
+	port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/$name.out")
+}
+late_report() {  # ERR: "K of N sessions without a late frame (latest …)"
+	/usr/bin/python3 - "$1" <<'PY'
+import re, sys
+rows = re.findall(r'session (\d+): (\d+) frames, ([\d.]+) ms each to draw and encode, (\d+) late by more than a frame \(latest (\d+) ms', open(sys.argv[1]).read())
+clean = sum(1 for r in rows if r[3] == '0')
+late = sum(int(r[3]) for r in rows); frames = sum(int(r[1]) for r in rows)
+work = sum(float(r[2]) for r in rows) / max(1, len(rows))
+print(f"{clean:2d} of {len(rows):2d} sessions without a late frame; {late} of {frames} frames late (worst {max([int(r[4]) for r in rows] or [0])} ms); {work:.1f} ms per frame")
+PY
+}
+capacity() {
+	echo "capacity: N sessions at once for 12 s, each saying two sentences (--max-load 0: all admitted)"
+	for size in 320x180 640x360; do
+		for n in 2 4 6 8 10 12; do
+			serve_on "cap-$size-$n" --size "$size" --max-sessions 64 --max-load 0
+			local cs=()
+			for i in $(seq "$n"); do
+				"$CLIENT" "$port" "$T/cap-$size-$n-$i" 12 '1000:{"type":"say","text":"Hello, nice to meet you, how are you today?"}' \
+					'6000:{"type":"say","text":"The weather is lovely, is it not?"}' >/dev/null 2>&1 &
+				cs+=($!)
+			done
+			wait "${cs[@]}" || true
+			kill -TERM "$server"; wait "$server" 2>/dev/null || true
+			printf '  %-8s %2d sessions: %s\n' "$size" "$n" "$(late_report "$T/cap-$size-$n.err")"
+		done
+	done
+	for size in 320x180 640x360; do
+		serve_on "adm-$size" --size "$size" --max-sessions 64
+		local cs=()
+		for i in $(seq 12); do
+			"$CLIENT" "$port" "$T/adm-$size-$i" $((14 - i)) '500:{"type":"say","text":"Hello, nice to meet you, how are you today?"}' >/dev/null 2>&1 &
+			cs+=($!)
+			sleep 1
+		done
+		wait "${cs[@]}" || true
+		kill -TERM "$server"; wait "$server" 2>/dev/null || true
+		admitted=$(grep -c 'opened' "$T/adm-$size.err" || true)
+		printf '  %-8s default --max-load 0.9, 12 arriving 1 s apart: %d admitted, %d refused; %s\n' "$size" "$admitted" "$(grep -c 'session refused' "$T/adm-$size.err" || true)" \
+			"$(late_report "$T/adm-$size.err")"
+	done
+}
+flood() {
+	echo "flood: a paced 640x360 session saying a sentence every 3 s for 20 s, alone and beside a flooding session"
+	/usr/bin/python3 - "$T" <<'PY'
+import sys
+t = sys.argv[1]
+with open(f'{t}/flood.args', 'w') as f:
+    for i in range(1000): f.write(f'2000:{{"type":"say","id":"f{i}","text":"Flood number {i}."}}\n')
+    f.write('8000:{"type":"stop"}\n')
+    for i in range(1000): f.write(f'9000:{{"type":"say","id":"g{i}","text":"Again {i}."}}\n')
+    f.write('14000:{"type":"stop"}\n')
+    f.write(f'15000:@{t}/big.json\n')
+with open(f'{t}/big.json', 'w') as f:
+    f.write('{"type": "say", "id": "big", "text": "hi", "junk": [' + ','.join(['0'] * 15_000_000) + ']}')
+PY
+	mapfile -t floods <"$T/flood.args"
+	for mode in alone flooded; do
+		serve_on "flood-$mode" --size 640x360 --max-load 0 --max-queued-requests 2000 --max-queued-speech 3600
+		local says=()
+		for k in $(seq 0 5); do says+=("$((1000 + 3000 * k)):{\"type\":\"say\",\"id\":\"s$k\",\"text\":\"Hello, nice to meet you, how are you?\"}"); done
+		"$CLIENT" "$port" "$T/paced-$mode" 20 "${says[@]}" &
+		local a=$!
+		sleep 0.3
+		if [ "$mode" = flooded ]; then "$CLIENT" "$port" "$T/flooder" 19 "${floods[@]}" >/dev/null 2>&1 & fi
+		wait $a
+		sleep 0.5
+		kill -TERM "$server"; wait "$server" 2>/dev/null || true
+		/usr/bin/python3 - "$T/paced-$mode.events" "$T/flood-$mode.err" "$mode" <<'PY'
+import json, re, statistics, sys
+lat = [json.loads(l.split('\t', 1)[1])['latency_ms'] for l in open(sys.argv[1]) if '"utterance_started"' in l and 'latency_ms' in l]
+row = re.search(r'session 1: (\d+) frames, ([\d.]+) ms each to draw and encode, (\d+) late by more than a frame \(latest (\d+) ms', open(sys.argv[2]).read())
+print(f"  {sys.argv[3]:<8} say -> first frame {statistics.median(lat):6.1f} ms (max {max(lat):6.1f}, {len(lat)} says); paced session: {row.group(3)} of {row.group(1)} frames late (latest {row.group(4)} ms), {row.group(2)} ms per frame")
+PY
+	done
+}
+echo "talkhead serve, 30 fps ($(nproc) cores)"
+if [ -z "$only" ] || [ "$only" = latency ]; then
+	echo "latency: 20 s sessions"
+	run 640x360 0 "640x360"
+	run 1280x720 0 "1280x720"
+	run 1280x720 1 "1280x720 + one busy core"
+fi
+if [ -z "$only" ] || [ "$only" = capacity ]; then capacity; fi
+if [ -z "$only" ] || [ "$only" = flood ]; then flood; fi
