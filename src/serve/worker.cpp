@@ -51,14 +51,7 @@ LiveWorker::LiveWorker(const FaceModel& model, const ServeOptions& o, int id, Se
 }
 
 LiveWorker::~LiveWorker() {
-	{
-		std::lock_guard<std::mutex> lock(m_);
-		quit_ = true;
-	}
-	cancel_ = true;
-	inboxCv_.notify_all();
-	speechCv_.notify_all();
-	frameCv_.notify_all();
+	cancel();
 	if (intake_.joinable()) intake_.join();
 	if (speech_.joinable()) speech_.join();  // before the frames: it may be warming the frame thread's session
 	if (frames_.joinable()) frames_.join();

@@ -12,7 +12,7 @@ PY=/usr/bin/python3
 command -v curl >/dev/null || { echo "skipped: curl is not installed"; exit 77; }
 T=$(mktemp -d)
 servers=()
-cleanup() { for s in "${servers[@]}"; do kill -9 "$s" 2>/dev/null || true; done; rm -rf "$T"; }
+cleanup() { exec 2>/dev/null; for s in "${servers[@]}"; do kill -9 "$s" || true; done; rm -rf "$T"; }
 [ -n "${KEEP:-}" ] && cleanup() { for s in "${servers[@]}"; do kill -9 "$s" 2>/dev/null || true; done; echo kept $T; }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; exit 1; }
@@ -146,6 +146,20 @@ test "$late" -le 3 || fail "the other session had $late late frames during the 3
 rss=$(awk '/VmHWM/ {print $2}' /proc/$main/status)
 test "$rss" -lt $((1500 * 1024)) || fail "the server's peak memory is $((rss / 1024)) MiB"
 echo "4 big messages: ok (/health in $(( (h1 - h0) / 1000000 )) ms, peak RSS $((rss / 1024)) MiB, $late late frames beside it)"
+
+# 4. A client that leaves during a long synthesis: its synthesis stops, nothing else waits for it.
+$PY -c 'import json; print(json.dumps({"type": "say", "id": "novel", "text": " ".join(["This is a long sentence that goes on and on."] * 1500)}))' >"$T/novel.json"
+"$CLIENT" "$mainport" "$T/novel" 0.6 "100:@$T/novel.json" &
+novel=$!
+"$CLIENT" "$mainport" "$T/other" 3 '1200:{"type":"say","id":"o1","text":"Not kept waiting."}' &
+other=$!
+wait $novel
+h0=$(date +%s%N); curl -sf --max-time 5 "http://127.0.0.1:$mainport/health" >/dev/null || fail "/health after the disconnect"; h1=$(date +%s%N)
+wait $other
+lat=$($PY -c 'import json,sys; print([json.loads(l.split("\t",1)[1]) for l in open(sys.argv[1]) if "utterance_started" in l][0]["latency_ms"])' "$T/other.events")
+test "$(( (h1 - h0) / 1000000 ))" -lt 500 || fail "/health took $(( (h1 - h0) / 1000000 )) ms after a disconnect during synthesis"
+$PY -c 'import sys; sys.exit(0 if float(sys.argv[1]) < 500 else 1)' "$lat" || fail "another session's say waited $lat ms for the abandoned synthesis"
+echo "4 disconnect during synthesis: ok (/health $(( (h1 - h0) / 1000000 )) ms, the next say $lat ms)"
 
 # 5. A break bomb is refused at once; 1 000 queued requests: refused past the limit, or (raised limit) a
 # stop still lands within 100 ms and nothing queued plays after it.
