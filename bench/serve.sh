@@ -7,8 +7,9 @@
 #   speak -> frames:      the same for a speak request (goal <= 100 ms)
 #   late frames:          frames sent more than one frame after their time (goal: none at 30 fps, 1280x720)
 # Then (issue 28):
-#   capacity:             N sessions at once, each speaking; how many had no late frame, and how many a
-#                         server with the default --max-load admits when 12 arrive a second apart
+#   capacity:             N sessions at once, each speaking (all at the same moments: the worst case); how
+#                         many had no late frame; and how many a server with the default --max-load admits
+#                         when 12 arrive a second apart and each speaks every 2.5 s
 #   flood:                the paced session above beside one that floods (1 000 queued say, a 30 MB
 #                         message, stops): its say latency and late frames, side by side with it alone
 # usage: bench/serve.sh [BUILD_DIR] [--only capacity|flood|latency]
@@ -104,18 +105,20 @@ capacity() {
 			printf '  %-8s %2d sessions: %s\n' "$size" "$n" "$(late_report "$T/cap-$size-$n.err")"
 		done
 	done
-	for size in 320x180 640x360; do
+	for size in 320x180 640x360 1280x720; do
 		serve_on "adm-$size" --size "$size" --max-sessions 64
 		local cs=()
 		for i in $(seq 12); do
-			"$CLIENT" "$port" "$T/adm-$size-$i" $((14 - i)) '500:{"type":"say","text":"Hello, nice to meet you, how are you today?"}' >/dev/null 2>&1 &
+			local says=()
+			for at in $(seq 500 2500 $(( (16 - i) * 1000 ))); do says+=("$at:{\"type\":\"say\",\"text\":\"Hello, nice to meet you, how are you today?\"}"); done
+			"$CLIENT" "$port" "$T/adm-$size-$i" $((17 - i)) "${says[@]}" >/dev/null 2>&1 &
 			cs+=($!)
 			sleep 1
 		done
 		wait "${cs[@]}" || true
 		kill -TERM "$server"; wait "$server" 2>/dev/null || true
 		admitted=$(grep -c 'opened' "$T/adm-$size.err" || true)
-		printf '  %-8s default --max-load 0.9, 12 arriving 1 s apart: %d admitted, %d refused; %s\n' "$size" "$admitted" "$(grep -c 'session refused' "$T/adm-$size.err" || true)" \
+		printf '  %-8s default --max-load 0.9, 12 arriving 1 s apart, each speaking: %d admitted, %d refused; %s\n' "$size" "$admitted" "$(grep -c 'session refused' "$T/adm-$size.err" || true)" \
 			"$(late_report "$T/adm-$size.err")"
 	done
 }

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 
 #include "base/error.h"
 #include "base/json.h"
@@ -25,6 +26,22 @@ namespace {
 constexpr double kHandoff = 2.0;                      // s: an utterance joins the session this long before the speech before it ends
 constexpr std::size_t kInboxMessages = 4096;          // requests received, not yet parsed
 constexpr double kLateMemory = 3.0;                   // s: a late frame counts against admission this long
+
+// This thread's CPU time; each of a session's threads adds what it took to SessionStats::cpuNs.
+std::int64_t threadCpuNs() {
+	timespec t{};
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec;
+}
+struct CpuMeter {
+	std::atomic<std::int64_t>& total;
+	std::int64_t last = threadCpuNs();
+	void add() {
+		const std::int64_t now = threadCpuNs();
+		total += now - last;
+		last = now;
+	}
+};
 
 std::int64_t nowNs() { return std::chrono::duration_cast<std::chrono::nanoseconds>(ServeClock::now().time_since_epoch()).count(); }
 
@@ -114,7 +131,9 @@ SpeechLimits LiveWorker::limitsNow() const {
 }
 
 void LiveWorker::intakeLoop() {
+	CpuMeter cpu{stats_->cpuNs};
 	for (;;) {
+		cpu.add();
 		Inbound in;
 		bool closing = false;
 		{
@@ -177,7 +196,9 @@ void LiveWorker::intakeLoop() {
 }
 
 void LiveWorker::speechLoop() {
+	CpuMeter cpu{stats_->cpuNs};
 	for (;;) {
+		cpu.add();
 		Command c;
 		SpeechLimits limits;
 		{
@@ -285,7 +306,9 @@ void LiveWorker::frames(LiveSession& session) {
 	std::map<std::string, ServeClock::time_point> requestTimes;  // utterance id → when its request came
 	const ServeClock::time_point start = ServeClock::now();
 	const double frameSeconds = 1.0 / info.rate.fps();
-	double ewma = -1;  // seconds drawing + encoding a frame, smoothed
+	CpuMeter cpu{stats_->cpuNs};
+	std::int64_t loadCpu = stats_->cpuNs.load(), loadWall = nowNs();
+	double load = -1;  // the session's cores, smoothed over seconds
 	bool told = false;  // of the shutdown
 	auto apply = [&](Command& c, std::int64_t n) {
 		applyLiveRequest(session, c.request, std::move(c.utterance));
@@ -359,8 +382,14 @@ void LiveWorker::frames(LiveSession& session) {
 		const double took = std::chrono::duration<double>(sent - t0).count(), behind = std::chrono::duration<double>(sent - due).count();
 		work_ += took;
 		worst_ = std::max(worst_, behind);
-		ewma = ewma < 0 ? took : 0.97 * ewma + 0.03 * took;
-		stats_->load = ewma / frameSeconds;
+		cpu.add();
+		if (n % 15 == 14) {  // every half second: all its threads' CPU time over the wall time
+			const std::int64_t c = stats_->cpuNs.load(), w = nowNs();
+			const double now = double(c - loadCpu) / double(std::max<std::int64_t>(1, w - loadWall));
+			load = load < 0 ? now : 0.7 * load + 0.3 * now;
+			stats_->load = load;
+			loadCpu = c, loadWall = w;
+		}
 		++counters_.frames;
 		if (behind > frameSeconds) {
 			++late_;

@@ -34,7 +34,8 @@ struct ServeCounters {
 
 // One session's gauges, written by its threads, read by the server.
 struct SessionStats {
-	std::atomic<double> load{0};               // cores its frames take (work per frame × frames per second)
+	std::atomic<double> load{0};               // cores it takes: CPU time of its threads per second, smoothed
+	std::atomic<std::int64_t> cpuNs{0};        // CPU time its threads have taken (each adds its own)
 	std::atomic<std::int64_t> lastLateNs{-1};  // steady clock of its last late frame, −1: none
 	std::atomic<int> queuedRequests{0};        // say/speak waiting, being prepared or queued to play
 	std::atomic<double> queuedSeconds{0};      // speech ahead of the frames

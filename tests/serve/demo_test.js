@@ -1,17 +1,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The live demo page (issue 16) in headless Chromium: it connects, a sentence is sent, the video element
 // plays (Media Source Extensions, H.264 + AAC), its currentTime advances, and the events arrive.
-// usage: node demo_test.js URL   (NODE_PATH holds playwright-core)
+// usage: node demo_test.js URL [FRAGMENT]   (NODE_PATH holds playwright-core; FRAGMENT e.g. token=… for a
+// server that asks for a token)
 'use strict';
 const { chromium } = require('playwright-core');
 (async () => {
-  const url = process.argv[2];
+  const url = process.argv[2], fragment = process.argv[3] || '';
   const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', args: ['--autoplay-policy=no-user-gesture-required', '--no-sandbox'] });
   const page = await browser.newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
   page.on('request', (r) => { if (!r.url().startsWith(url) && !r.url().startsWith('ws') && !r.url().startsWith('blob:')) errors.push('request outside the server: ' + r.url()); });
-  await page.goto(url);
+  await page.goto(fragment ? url + '#' + fragment : url);
   await page.click('#connect');
   await page.waitForFunction(() => window.events.some((e) => e.type === 'hello'), null, { timeout: 20000 });
   const mime = await page.evaluate(() => window.events.find((e) => e.type === 'hello').mime);

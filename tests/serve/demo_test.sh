@@ -6,8 +6,8 @@ set -euo pipefail
 TH=$1; HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 . "$HERE/../support/playwright.sh"
 T=$(mktemp -d)
-server=0 web=0
-trap '[ "$server" = 0 ] || kill "$server" 2>/dev/null; [ "$web" = 0 ] || kill "$web" 2>/dev/null; rm -rf "$T"' EXIT
+server=0 web=0 server2=0
+trap '[ "$server" = 0 ] || kill "$server" 2>/dev/null; [ "$server2" = 0 ] || kill "$server2" 2>/dev/null; [ "$web" = 0 ] || kill "$web" 2>/dev/null; rm -rf "$T"' EXIT
 "$TH" serve --listen 127.0.0.1:0 --size 640x360 --max-load 0 --demo >"$T/out" 2>"$T/err" &
 server=$!
 for _ in $(seq 50); do grep -q serving "$T/out" 2>/dev/null && break; sleep 0.1; done
@@ -25,3 +25,13 @@ web=$!
 for _ in $(seq 50); do curl -sf "http://127.0.0.1:$pageport/attack.html" >/dev/null && break; sleep 0.1; done
 NODE_PATH="$PLAYWRIGHT_MODULES" timeout 120 node "$HERE/origin_test.js" "$port" "$pageport"
 grep -q "upgrade refused: origin 'http://evil.example:$pageport' is not allowed" "$T/err"
+
+# With a token (issue 28): the demo page sends it from its address's fragment as the first message.
+token=demo-token-$(/usr/bin/python3 -c 'import secrets; print(secrets.token_hex(12))')
+echo "$token" >"$T/token"
+"$TH" serve --listen 127.0.0.1:0 --size 320x180 --max-load 0 --demo --token-file "$T/token" >"$T/out2" 2>"$T/err2" &
+server2=$!
+for _ in $(seq 50); do grep -q serving "$T/out2" 2>/dev/null && break; sleep 0.1; done
+port2=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/out2")
+NODE_PATH="$PLAYWRIGHT_MODULES" timeout 180 node "$HERE/demo_test.js" "http://127.0.0.1:$port2/" "token=$token"
+! grep -q "$token" "$T/err2" "$T/out2"
