@@ -39,6 +39,11 @@ std::string optionName(Notation n) {
 }
 
 // Removes stress and length marks (ˈ ˌ ː ˑ and ASCII ':'), and ARPAbet stress digits at the end.
+// Any letter (ASCII, or any non-ASCII code point: IPA symbols, accented letters) in a label.
+bool hasLetter(const std::string& s) {
+	return std::any_of(s.begin(), s.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || (static_cast<unsigned char>(c) & 0x80); });
+}
+
 std::string stripMarks(const std::string& in) {
 	// Praat's stress and length trigraphs first (\'1 \'2 \:f), before the apostrophe goes.
 	std::string s = in;
@@ -60,11 +65,9 @@ std::string stripMarks(const std::string& in) {
 	// ARPAbet stress digits (AY1, ah0): ASCII letters followed by digits.
 	std::size_t letters = 0;
 	while (letters < out.size() && std::isalpha((unsigned char)out[letters])) ++letters;
-	if (letters > 0 && letters < out.size()) {
-		bool digits = true;
-		for (std::size_t k = letters; k < out.size(); ++k) digits &= bool(std::isdigit((unsigned char)out[k]));
-		if (digits) out.resize(letters);
-	}
+	// One stress digit (0, 1, 2) after at most four letters: "f000001" (an aeneas fragment id) is no phone with
+	// stress, and never becomes 'f' (issue 29 item 2).
+	if (letters > 0 && letters <= 4 && out.size() == letters + 1 && out[letters] >= '0' && out[letters] <= '2') out.resize(letters);
 	return out;
 }
 
@@ -555,11 +558,16 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 				if (tr.level == LabelLevel::Phone && (spacedLabel || (tr.levelGuessed && codePointsOf(std::string(trim(iv.label))).size() >= 3)))
 					throw Error(tr.path, iv.line, (tr.tier.empty() ? std::string("the labels hold") : "tier '" + tr.tier + "' holds") +
 					                                  " words, not phones; use --level words ('" + shown + "' is no " + lang.tag() + " phone)");
+				// What the error suggests never makes a wrong result (issue 29 item 4): silence only for a label
+				// with no letter in it (a marker: "#", "<…>", "+"), never for one that may be a sound.
+				const bool marker = !hasLetter(iv.label);
 				if (unknown == UnknownPhone::Nearest)
 					throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + shown + "'" + in + ": no known spelling is near it" +
-					                                  (near.empty() ? "" : " (as near: " + near + ")") + "; use --unknown silence, or correct the label");
+					                                  (near.empty() ? "" : " (as near: " + near + ")") +
+					                                  (marker ? "; use --unknown silence if it marks no speech, or correct the label"
+					                                          : "; correct the label, or check --lang and --notation"));
 				throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + shown + "'" + in + " (known: " + lang.inventoryList() +
-				                                  "; or use --unknown=nearest|silence)");
+				                                  (marker ? "; or use --unknown=nearest|silence)" : "; check --lang and --notation, or use --unknown nearest)"));
 			}
 		}
 		// Split the interval equally among the phones it spells (diphthongs, affricates).

