@@ -113,6 +113,8 @@ int runRender(const std::vector<std::string>& argv) {
 		transcriptPath = *audioPath;
 	} else {
 		tr = readTranscript(*transcriptPath, ro);
+		for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*transcriptPath + ": " + w).c_str());
+		noteWordLanguage(args, tr, lang, *transcriptPath);
 		if (tr.level == LabelLevel::Word) words = tr.intervals;
 		else if (cmd.timelineOut && tr.format == "textgrid" && *transcriptPath != "-") words = textGridWords(*transcriptPath, tr.tier);
 	}

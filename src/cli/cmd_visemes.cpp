@@ -93,6 +93,8 @@ int runVisemes(const std::vector<std::string>& argv) {
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
+	for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(path + ": " + w).c_str());
+	noteWordLanguage(args, tr, lang, path);
 	// The notation is decided once, here, so the evidence for it can be printed.
 	std::string evidence;
 	Notation used = *notation;

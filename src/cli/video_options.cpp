@@ -15,6 +15,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "phonetics/labels.h"
+#include "phonetics/timing_formats.h"
 #include "phonetics/transcript.h"
 
 namespace fs = std::filesystem;
@@ -69,7 +70,10 @@ std::string defaultLanguageFor(const std::string& transcriptPath, const std::str
 		std::error_code ec;
 		if (fs::is_regular_file(transcriptPath, ec) && fs::file_size(transcriptPath, ec) < (64u << 20)) {
 			try {
-				if (detectTranscriptFormat(readTextFile(transcriptPath)) == std::optional<std::string>("grid")) return "en-US";
+				const std::string text = readTextFile(transcriptPath);
+				if (detectTranscriptFormat(text) == std::optional<std::string>("grid")) return "en-US";
+				// A file that names its language (Whisper's "language": "fr", aeneas's fragments): that one.
+				if (auto tag = timingFileLanguage(text)) return *tag;
 			} catch (const std::exception&) {  // unreadable: the reader says so later
 			}
 		}
@@ -87,6 +91,16 @@ const Language& languageOption(const Args& args, const std::string& defaultTag) 
 	std::fprintf(stderr, "talkhead: warning: no viseme table for language '%s': its IPA phones are mapped through the generic table (approximate)\n",
 	             tag.c_str());
 	return lang;
+}
+
+void noteWordLanguage(const Args& args, const Transcript& tr, const Language& lang, const std::string& path) {
+	if (tr.level != LabelLevel::Word || args.has("--lang") || tr.format == "grid" || tr.format == "gentle") return;
+	try {
+		if (path != "-" && timingFileLanguage(readTextFile(path))) return;
+	} catch (const std::exception&) {
+	}
+	std::fprintf(stderr, "talkhead: warning: %s: its words are read as %s (the default; the file names no language): --lang for another\n", safeLine(path).c_str(),
+	             lang.tag().c_str());
 }
 
 void checkWritableFolder(const std::string& path) {

@@ -346,7 +346,7 @@ Notation detectNotation(const Transcript& tr, const Language& lang, std::string*
 			const auto a = lang.normalize(l, top[0]), b = lang.normalize(l, top[k]);
 			if (a && b && *a != *b)
 				throw Error(tr.path, 0, "the phone labels can be read as " + notationName(top[0]) + " or " + notationName(top[k]) + ", which differ ('" + l +
-				                            "' is [" + spaced(*a) + "] or [" + spaced(*b) + "]); say which with --notation " + optionName(top[0]) +
+				                            "' is [" + spaced(*a) + "] or [" + spaced(*b) + "]) in " + lang.tag() + "; is that the language (--lang)? if so, say which with --notation " + optionName(top[0]) +
 				                            " or --notation " + optionName(top[k]));
 		}
 	if (evidence) {

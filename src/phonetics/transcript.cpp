@@ -2,6 +2,7 @@
 // Timed-transcript readers: Praat TextGrid (long and short text, UTF-8/UTF-16), MBROLA .pho, HTK .lab
 // and MLF, GRID .align, speech-marks JSON lines (Polly), plain TSV, Rhubarb mouth cues (TSV and JSON).
 #include "phonetics/transcript.h"
+#include "phonetics/timing_formats.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +20,11 @@
 namespace talkhead {
 
 const std::vector<std::string>& transcriptFormats() {
-	static const std::vector<std::string> f = {"textgrid", "pho", "htk", "grid", "timit", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json"};
+	static const std::vector<std::string> f = [] {
+		std::vector<std::string> v = {"textgrid", "pho", "htk", "grid", "timit", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json", "srt", "vtt", "ctm", "festival"};
+		for (const std::string& j : jsonTimingFormats()) v.push_back(j);
+		return v;
+	}();
 	return f;
 }
 
@@ -288,6 +293,70 @@ std::vector<TextGridTier> readTextGridTiers(const std::string& bytes, const std:
 
 namespace {
 
+// MFA's spn ("spoken noise": a word its dictionary or model could not align) and <unk> cover speech, yet read
+// as pauses they close the mouth (issue 29 item 1). Where the phones are spn, the words tier's words are
+// spoken instead (phonemised): the whole tier when spn is more than a fifth of the speech, else said in a
+// warning; where the words are <unk> too there is nothing to say it with: an error when that is most of
+// the speech, else a warning.
+bool isSpokenNoise(const std::string& label) {
+	const std::string l = toLower(std::string(trim(label)));
+	return l == "spn" || l == "<unk>" || l == "<spn>" || l == "<noise>";
+}
+
+void spokenNoise(Transcript& tr, const std::vector<TextGridTier>& all, const TextGridTier* chosen, const std::string& path) {
+	double noise = 0, speech = 0;
+	for (const Interval& iv : tr.intervals) {
+		const double d = toSeconds(iv.end - iv.start);
+		if (isSpokenNoise(iv.label)) noise += d, speech += d;
+		else if (!isPauseLabel(iv.label)) speech += d;
+	}
+	if (noise <= 0) return;
+	// The words under the noise, from a words tier beside a phones tier.
+	// The words tier of the same speaker (MFA names them "SPEAKER - words" beside "SPEAKER - phones"), or the
+	// only one.
+	const TextGridTier* words = nullptr;
+	if (tr.level == LabelLevel::Phone) {
+		const auto speaker = [](const std::string& n) { return n.find(" - ") == std::string::npos ? std::string() : n.substr(0, n.find(" - ")); };
+		int count = 0;
+		const TextGridTier* same = nullptr;
+		for (const auto& t : all)
+			if (&t != chosen && t.cls == "IntervalTier" && tierNameKind(t.name) == TierKind::Words) {
+				++count;
+				words = &t;
+				if (speaker(t.name) == speaker(chosen->name)) same = &t;
+			}
+		if (same) words = same;
+		else if (count != 1) words = nullptr;
+	}
+	double wordsUnder = 0;
+	if (words)
+		for (const Interval& iv : tr.intervals)
+			if (isSpokenNoise(iv.label))
+				for (const Interval& w : words->intervals)
+					if (!isPauseLabel(w.label) && w.start < iv.end && w.end > iv.start) wordsUnder += toSeconds(std::min(w.end, iv.end) - std::max(w.start, iv.start));
+	char b[400];
+	const char* what = tr.level == LabelLevel::Phone ? "phones" : "words";
+	if (words && wordsUnder > 0 && noise > 0.2 * speech && noise - wordsUnder <= 0.5 * speech) {
+		std::snprintf(b, sizeof b, "tier '%s' is spoken noise (spn, <unk>) for %.1f of its %.1f s of speech: the words of tier '%s' are read instead (phonemised by espeak-ng)%s",
+		              tr.tier.c_str(), noise, speech, words->name.c_str(),
+		              wordsUnder < 0.9 * noise ? "; where they are <unk> too, the mouth rests" : "");
+		tr.warnings.push_back(b);
+		tr.intervals = words->intervals;
+		tr.tier = words->name;
+		tr.level = LabelLevel::Word;
+		tr.levelGuessed = false;
+		tr.tierNote = "words, for the spoken noise of the phones";
+		return;
+	}
+	if (noise - wordsUnder > 0.5 * speech)
+		throw Error(path, chosen->line, "tier '" + tr.tier + "' has no " + what + " to show: " + std::to_string(int(std::lround(100 * noise / speech))) +
+		                                    " % of its speech is spoken noise (spn) or <unk>" + (words ? (wordsUnder > 0 ? ", and most of the words under it are <unk>" : ", and so are the words under it") : "") +
+		                                    " — the aligner could not align it (its dictionary or model does not fit this speech); give the audio and its text instead (talkhead render --audio A --text T aligns them)");
+	std::snprintf(b, sizeof b, "tier '%s': %.1f s of its %.1f s of speech are spoken noise (spn, <unk>), read as pauses: the mouth rests there%s", tr.tier.c_str(), noise, speech,
+	              words && wordsUnder > 0 ? " (the words tier has words there: --tier to read it instead)" : "");
+	tr.warnings.push_back(b);
+}
+
 Transcript readTextGrid(const std::string& text, const std::string& path, const ReadOptions& o) {
 	using Tier = TextGridTier;
 	const std::vector<Tier> all = readTextGridTiers(text, path);
@@ -369,6 +438,7 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 	else tr.level = LabelLevel::Phone, tr.levelGuessed = k == TierLook::Unsure;
 	const std::string level = tr.level == LabelLevel::Word ? "words" : "phones";
 	tr.tierNote = note.empty() ? level : level + "; " + note;
+	spokenNoise(tr, all, chosen, path);
 	return tr;
 }
 
@@ -570,6 +640,13 @@ Transcript readTsv(const std::string& text, const std::string& path) {
 		if (b < a) throw Error(path, l.no, "interval ends before it starts");
 		tr.intervals.push_back({a, b, f.size() == 3 ? std::string(trim(f[2])) : "", l.no});
 	}
+	// aeneas's TSV sync map: fragment ids (f000001), not text (issue 29 item 2): no label here is a sound.
+	const bool ids = !tr.intervals.empty() && std::all_of(tr.intervals.begin(), tr.intervals.end(), [](const Interval& i) {
+		return i.label.size() >= 2 && i.label[0] == 'f' && std::all_of(i.label.begin() + 1, i.label.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+	});
+	if (ids)
+		throw Error(path, tr.intervals.front().line, "the labels are aeneas fragment ids ('" + tr.intervals.front().label +
+		                                                "'), not text: write the sync map as aeneas JSON, SRT or VTT, which carry the text");
 	return tr;
 }
 
@@ -702,9 +779,13 @@ std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 	if (startsWith(t, "#!MLF!#")) return "htk";
 	if (t.front() == '{' || t.front() == '[') {
 		if (t.find("\"mouthCues\"") != std::string_view::npos) return "rhubarb-json";
-		if (t.find("\"time\"") != std::string_view::npos && t.find("\"type\"") != std::string_view::npos) return "marks";
-		return std::nullopt;
+		if (t.find("\"time\"") != std::string_view::npos && t.find("\"type\"") != std::string_view::npos && t.find("\"value\"") != std::string_view::npos) return "marks";
+		return "json";  // one of the JSON timing formats (timing_formats.h), told apart by their members
 	}
+	if (startsWith(t, "<?xml") || startsWith(t, "<smil") || t.find("<smil") < 200) return "smil";
+	if (startsWith(t, "EST_File utterance")) return "festival";
+	if (looksLikeSubtitles(text)) return startsWith(t, "WEBVTT") ? "vtt" : "srt";
+	if (looksLikeCtm(text)) return "ctm";
 	// xlabel (festvox/EHMM .lab): header lines, a line "#", then "end_time [color] label" lines.
 	{
 		const std::vector<Line> ls = lines(text);
@@ -762,6 +843,14 @@ std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
 	return std::nullopt;
 }
 
+namespace {
+std::string joinedFormats() {
+	std::string k;
+	for (const std::string& f : transcriptFormats()) k += (k.empty() ? "" : ", ") + f;
+	return k;
+}
+}  // namespace
+
 Transcript parseTranscript(const std::string& bytes, const std::string& path, const ReadOptions& o) {
 	const std::string text = decodeText(bytes);
 	if (trim(text).empty()) throw Error(path, 0, "empty transcript");
@@ -774,7 +863,8 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 		if (!f && endsWith(toLower(path), ".align")) f = "grid";
 		if (!f && endsWith(toLower(path), ".lab")) f = "htk";
 		if (!f)
-			throw Error(path, 0, "cannot tell the transcript format (integer times have no unit of their own); name it with --format: timit (16-kHz samples, --sample-rate), grid (1/25000 s), htk (100 ns), or textgrid, pho, marks, tsv, rhubarb-tsv, rhubarb-json");
+			throw Error(path, 0, "cannot tell the transcript format (integer times have no unit of their own); name it with --format: timit (16-kHz samples, --sample-rate), grid (1/25000 s), htk (100 ns), or " +
+			                         joinedFormats());
 		format = *f;
 		// Integer "start end word" files are HTK or GRID; the extension settles it where it can.
 		if ((format == "htk" || format == "grid") && !startsWith(trim(text), "#!MLF!#")) {
@@ -793,7 +883,14 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	else if (format == "tsv") tr = readTsv(text, path);
 	else if (format == "rhubarb-tsv") tr = readRhubarbTsv(text, path);
 	else if (format == "rhubarb-json") tr = readRhubarbJson(text, path);
-	else throw Error("unknown transcript format '" + format + "' (known: textgrid, pho, htk, grid, marks, tsv, rhubarb-tsv, rhubarb-json)");
+	else if (format == "srt" || format == "vtt") tr = readSubtitles(text, path);
+	else if (format == "ctm") tr = readCtm(text, path, o);
+	else if (format == "json") tr = readJsonTiming(text, path, "", o);
+	else if (std::find(jsonTimingFormats().begin(), jsonTimingFormats().end(), format) != jsonTimingFormats().end()) tr = readJsonTiming(text, path, format, o);
+	else if (format == "festival") tr = readFestivalUtterance(text, path);
+	else if (format == "smil")
+		throw Error(path, 0, "a SMIL sync map (aeneas, EPUB3 media overlays) names its text only by reference (<text src=\"…#f000001\"/>), not the words: write the sync map as aeneas JSON, SRT or VTT, which carry the text");
+	else throw Error("unknown transcript format '" + format + "' (known: " + joinedFormats() + ")");
 	tr.path = path;
 	// --level: phones or words for a transcript of either (a TextGrid has chosen its tier by it); visemes stay.
 	if (o.level && *o.level != tr.level) {

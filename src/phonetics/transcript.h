@@ -23,7 +23,7 @@ struct Interval {
 // A timed transcript in the one internal representation: intervals sorted by start, non-overlapping.
 struct Transcript {
 	std::string path;                   // for error messages ("-" = standard input)
-	std::string format;                 // textgrid, pho, htk, grid, marks, tsv, rhubarb-tsv, rhubarb-json
+	std::string format;                 // transcriptFormats(): textgrid, pho, …, whisper, srt, ctm, …
 	LabelLevel level = LabelLevel::Phone;
 	std::string visemeScheme;           // for Viseme level: "polly" or "rhubarb"
 	std::vector<Interval> intervals;
@@ -32,6 +32,9 @@ struct Transcript {
 	// The level was a guess (phone level, tier labels neither clearly phones nor words): an unknown phone
 	// that looks like a word then says "use --level words".
 	bool levelGuessed = false;
+	// What the reader did that a user should know (words without times left out, spoken noise read from
+	// the words tier, sentences spread over their span): one line each, for stderr.
+	std::vector<std::string> warnings;
 };
 
 struct ReadOptions {

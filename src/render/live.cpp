@@ -114,7 +114,11 @@ Utterance utteranceFromAudio(const std::string& audioPath, const std::string& tr
 		for (std::size_t c = 0; c < ch; ++c) s += clip.samples[i * ch + c];
 		u.audio.samples[i] = s / float(ch);
 	}
-	if (!transcript.empty()) u.phones = phoneSegments(parseTranscript(transcript, transcriptName), language);
+	if (!transcript.empty()) {
+		const Transcript t = parseTranscript(transcript, transcriptName);
+		u.warnings = t.warnings;
+		u.phones = phoneSegments(t, language);
+	}
 	return u;
 }
 

@@ -14,6 +14,7 @@
 #include "base/text.h"
 #include "phonetics/labels.h"
 #include "phonetics/language.h"
+#include "phonetics/timing_formats.h"
 #include "phonetics/transcript.h"
 #include "serve/server.h"
 
@@ -42,94 +43,6 @@ std::optional<double> numberMember(const JsonValue& v, const char* key, double l
 		throw Error(b);
 	}
 	return m->number;
-}
-
-double number(const JsonValue& v, const char* what) {
-	if (v.kind != JsonValue::Kind::Number || !std::isfinite(v.number) || v.number < 0 || v.number > 86400 * 1000.0)
-		throw Error(std::string(what) + " must be a number from 0 (milliseconds, or seconds where named so)");
-	return v.number;
-}
-
-// Azure Speech's viseme events as they arrive (VisemeReceived): [{"id": 21, "offset_ms": 50}, …], or the
-// SDK's own names {"VisemeId": 21, "AudioOffset": 500000} (100-ns units). Each viseme lasts until the next
-// one; the last until the sound ends (prepareUtterance).
-Transcript azureVisemes(const JsonValue& list) {
-	if (list.kind != JsonValue::Kind::Array || list.array.empty()) throw Error("'visemes' must be a non-empty array of {id, offset_ms}");
-	if (list.array.size() > 100000) throw Error("'visemes' has more than 100 000 events");
-	Transcript t;
-	t.path = "visemes";
-	t.format = "azure";
-	t.level = LabelLevel::Viseme;
-	t.visemeScheme = "azure";
-	long n = 0;
-	for (const JsonValue& e : list.array) {
-		++n;
-		if (e.kind != JsonValue::Kind::Object) throw Error("visemes[" + std::to_string(n - 1) + "] is not an object");
-		const JsonValue* id = e.find("id");
-		if (!id) id = e.find("VisemeId");
-		const JsonValue* ms = e.find("offset_ms");
-		const JsonValue* ticks = e.find("AudioOffset");
-		if (!id || (!ms && !ticks)) throw Error("visemes[" + std::to_string(n - 1) + "] needs 'id' and 'offset_ms' (or VisemeId and AudioOffset)");
-		const double v = number(*id, "a viseme id");
-		if (v != std::floor(v) || v > 21) {
-			char b[96];
-			std::snprintf(b, sizeof b, "visemes[%ld]: viseme id %g is not 0-21", n - 1, v);
-			throw Error(b);
-		}
-		const Ticks at = ms ? ticksFromSeconds(number(*ms, "offset_ms") / 1000) : ticksFromSeconds(number(*ticks, "AudioOffset") / 1e7);
-		if (!t.intervals.empty()) {
-			if (at < t.intervals.back().start) throw Error("visemes[" + std::to_string(n - 1) + "] comes before the one before it");
-			t.intervals.back().end = at;
-		}
-		t.intervals.push_back({at, at, std::to_string(int(v)), n});
-	}
-	// Events at the same instant: the later one wins.
-	std::vector<Interval> kept;
-	for (const Interval& i : t.intervals)
-		if (i.end > i.start || &i == &t.intervals.back()) kept.push_back(i);
-	t.intervals = std::move(kept);
-	return t;
-}
-
-// ElevenLabs' character timestamps ("alignment": {"characters": […], "character_start_times_seconds": […],
-// "character_end_times_seconds": […]}): characters grouped into words (split at spaces), which go
-// through espeak-ng like any word-level transcript.
-Transcript characterAlignment(const JsonValue& a) {
-	const JsonValue* chars = a.find("characters");
-	const JsonValue* starts = a.find("character_start_times_seconds");
-	const JsonValue* ends = a.find("character_end_times_seconds");
-	if (!chars || !starts || !ends || chars->kind != JsonValue::Kind::Array || starts->kind != JsonValue::Kind::Array || ends->kind != JsonValue::Kind::Array)
-		throw Error("'alignment' needs the arrays characters, character_start_times_seconds and character_end_times_seconds");
-	const std::size_t n = chars->array.size();
-	if (n == 0 || starts->array.size() != n || ends->array.size() != n) throw Error("'alignment': the three arrays must be equally long and not empty");
-	Transcript t;
-	t.path = "alignment";
-	t.format = "elevenlabs";
-	t.level = LabelLevel::Word;
-	Interval word;
-	bool open = false;
-	for (std::size_t i = 0; i < n; ++i) {
-		if (chars->array[i].kind != JsonValue::Kind::String) throw Error("alignment.characters[" + std::to_string(i) + "] is not a string");
-		const std::string& c = chars->array[i].string;
-		const Ticks s = ticksFromSeconds(number(starts->array[i], "a character start")), e = ticksFromSeconds(number(ends->array[i], "a character end"));
-		if (e < s) throw Error("alignment: character " + std::to_string(i) + " ends before it starts");
-		const bool space = std::all_of(c.begin(), c.end(), [](char ch) { return ch == ' ' || ch == '\t' || ch == '\n'; });
-		if (space) {
-			if (open) t.intervals.push_back(word), open = false;
-			continue;
-		}
-		if (!open) {
-			if (!t.intervals.empty() && s < t.intervals.back().end) throw Error("alignment: character " + std::to_string(i) + " starts before the word before it ends");
-			word = Interval{s, e, c, long(i + 1)};
-			open = true;
-		} else {
-			word.label += c;
-			word.end = std::max(word.end, e);
-		}
-	}
-	if (open) t.intervals.push_back(word);
-	if (t.intervals.empty()) throw Error("'alignment' holds no word");
-	return t;
 }
 
 // A 44-byte RIFF/WAVE header for 16-bit PCM.
@@ -201,8 +114,9 @@ LiveRequest parseLiveRequest(const std::string& json) {
 		const JsonValue* alignment = v.find("alignment") ? v.find("alignment") : v.find("normalized_alignment");
 		if (int(v.find("transcript") != nullptr) + int(visemes != nullptr) + int(alignment != nullptr) != 1)
 			throw Error("a speak request gives its timing as one of 'transcript', 'visemes' (Azure) or 'alignment' / 'normalized_alignment' (ElevenLabs)");
-		if (visemes) r.timing = azureVisemes(*visemes);
-		else if (alignment) r.timing = characterAlignment(*alignment);
+		// The same readers as the command line's (phonetics/timing_formats.h).
+		if (visemes) r.timing = azureVisemes(*visemes, "visemes");
+		else if (alignment) r.timing = characterAlignment(*alignment, v.find("alignment") ? "alignment" : "normalized_alignment");
 		else r.transcript = stringMember(v, "transcript", true);
 	}
 	return r;

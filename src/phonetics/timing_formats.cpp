@@ -1,0 +1,691 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Timing files of today's speech pipelines (issue 29, D59): JSON of ASR and aligners, subtitles, CTM, and
+// TTS services' viseme and character timings.
+#include "phonetics/timing_formats.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+
+#include "base/error.h"
+#include "base/text.h"
+
+namespace talkhead {
+
+namespace {
+
+constexpr double kMaxSeconds = 86400;
+
+Ticks at(double seconds, const std::string& path, const std::string& where) {
+	if (!std::isfinite(seconds) || seconds < 0 || seconds > kMaxSeconds) {
+		char b[160];
+		std::snprintf(b, sizeof b, "%s: time %g is not from 0 to 86400 s", where.c_str(), seconds);
+		throw Error(path, 0, b);
+	}
+	return ticksFromSeconds(seconds);
+}
+
+// A number, or a string holding one (aeneas writes "2.680").
+std::optional<double> numberOf(const JsonValue* v) {
+	if (!v) return std::nullopt;
+	if (v->kind == JsonValue::Kind::Number) return v->number;
+	double d;
+	if (v->kind == JsonValue::Kind::String && parseDouble(std::string(trim(v->string)), d)) return d;
+	return std::nullopt;
+}
+
+const std::string* stringOf(const JsonValue* v) { return v && v->kind == JsonValue::Kind::String ? &v->string : nullptr; }
+
+const JsonValue* arrayAt(const JsonValue& v, const char* key) {
+	const JsonValue* a = v.find(key);
+	return a && a->kind == JsonValue::Kind::Array ? a : nullptr;
+}
+
+// Words with start/end seconds and a text under one of `textKeys`. Words without times (WhisperX leaves
+// numbers and unaligned words without) are skipped and counted.
+void addWords(Transcript& tr, const JsonValue& words, const std::vector<const char*>& textKeys, const std::string& path, const std::string& where,
+              int& untimed) {
+	long k = 0;
+	for (const JsonValue& w : words.array) {
+		const std::string here = where + "[" + std::to_string(k++) + "]";
+		if (w.kind != JsonValue::Kind::Object) throw Error(path, 0, here + " is not an object");
+		const std::string* text = nullptr;
+		for (const char* key : textKeys)
+			if ((text = stringOf(w.find(key)))) break;
+		if (!text) throw Error(path, 0, here + " has no " + textKeys.front());
+		const auto s = numberOf(w.find("start")), e = numberOf(w.find("end"));
+		if (!s || !e) {
+			++untimed;
+			continue;
+		}
+		if (*e < *s) throw Error(path, 0, here + " ('" + safeQuote(*text) + "') ends before it starts");
+		tr.intervals.push_back({at(*s, path, here), at(*e, path, here), std::string(trim(*text)), k});
+	}
+}
+
+void untimedWarning(Transcript& tr, int untimed, const char* what) {
+	if (untimed > 0)
+		tr.warnings.push_back(std::to_string(untimed) + " " + what + (untimed > 1 ? "s have" : " has") + " no times (not aligned) and " +
+		                      (untimed > 1 ? "are" : "is") + " left out: the mouth rests there");
+}
+
+Transcript whisper(const JsonValue& v, const std::string& path) {
+	Transcript tr;
+	tr.format = "whisper";
+	tr.level = LabelLevel::Word;
+	int untimed = 0;
+	const JsonValue* segments = arrayAt(v, "segments");
+	long s = 0;
+	for (const JsonValue& seg : segments->array) {
+		const std::string where = "segments[" + std::to_string(s++) + "].words";
+		if (const JsonValue* words = arrayAt(seg, "words")) addWords(tr, *words, {"text", "word"}, path, where, untimed);
+	}
+	if (tr.intervals.empty() && untimed == 0)
+		throw Error(path, 0, "a Whisper JSON without word timestamps (segments[].words[]): run it with word timestamps (whisper --word_timestamps True, whisper-timestamped, WhisperX, faster-whisper word_timestamps=True)");
+	untimedWarning(tr, untimed, "word");
+	return tr;
+}
+
+Transcript openai(const JsonValue& v, const std::string& path) {
+	Transcript tr;
+	tr.format = "openai";
+	tr.level = LabelLevel::Word;
+	int untimed = 0;
+	addWords(tr, *arrayAt(v, "words"), {"word", "text"}, path, "words", untimed);
+	untimedWarning(tr, untimed, "word");
+	return tr;
+}
+
+Transcript deepgram(const JsonValue& v, const std::string& path, const ReadOptions& o) {
+	const JsonValue* results = v.find("results");
+	const JsonValue* channels = results ? arrayAt(*results, "channels") : nullptr;
+	if (!channels || channels->array.empty()) throw Error(path, 0, "a Deepgram answer without results.channels");
+	if (channels->array.size() > 1) throw Error(path, 0, "a Deepgram answer with " + std::to_string(channels->array.size()) + " channels: give one channel's");
+	const JsonValue* alts = arrayAt(channels->array[0], "alternatives");
+	if (!alts || alts->array.empty()) throw Error(path, 0, "results.channels[0] has no alternatives");
+	const JsonValue* words = arrayAt(alts->array[0], "words");
+	if (!words) throw Error(path, 0, "results.channels[0].alternatives[0] has no words");
+	// Diarized words of several speakers share one channel: the face is one of them (--tier SPEAKER).
+	std::vector<long> speakers;
+	for (const JsonValue& w : words->array)
+		if (const auto sp = numberOf(w.find("speaker")); sp && std::find(speakers.begin(), speakers.end(), long(*sp)) == speakers.end()) speakers.push_back(long(*sp));
+	std::sort(speakers.begin(), speakers.end());
+	JsonValue chosen = *words;
+	if (speakers.size() > 1 || !o.tier.empty()) {
+		std::string list;
+		for (long sp : speakers) list += (list.empty() ? "" : ", ") + std::to_string(sp);
+		long want = -1;
+		double d;
+		if (!o.tier.empty() && parseDouble(o.tier, d)) want = long(d);
+		if (o.tier.empty())
+			throw Error(path, 0, "words of " + std::to_string(speakers.size()) + " speakers (Deepgram diarization) in one channel; the face is one of them: choose with --tier SPEAKER (" + list + ")");
+		if (std::find(speakers.begin(), speakers.end(), want) == speakers.end()) throw Error(path, 0, "--tier " + safeQuote(o.tier) + ": no such speaker (" + list + ")");
+		chosen.array.clear();
+		for (const JsonValue& w : words->array)
+			if (numberOf(w.find("speaker")) == std::optional<double>(double(want))) chosen.array.push_back(w);
+	}
+	Transcript tr;
+	tr.format = "deepgram";
+	tr.level = LabelLevel::Word;
+	int untimed = 0;
+	addWords(tr, chosen, {"word", "punctuated_word"}, path, "results.channels[0].alternatives[0].words", untimed);
+	untimedWarning(tr, untimed, "word");
+	if (speakers.size() > 1) tr.tierNote = "speaker " + o.tier;
+	return tr;
+}
+
+// Gentle: phone level, each aligned word's phones laid from its start by their durations (ARPAbet in lower
+// case with Kaldi's position suffixes, which go).
+Transcript gentle(const JsonValue& v, const std::string& path) {
+	Transcript tr;
+	tr.format = "gentle";
+	tr.level = LabelLevel::Phone;
+	int missing = 0;
+	long k = 0;
+	for (const JsonValue& w : arrayAt(v, "words")->array) {
+		const std::string here = "words[" + std::to_string(k++) + "]";
+		// "success", and "not-found-in-transcript" (spoken, with times and phones, but not in the text): both
+		// are speech; "not-found-in-audio" has no times.
+		const auto s = numberOf(w.find("start"));
+		const JsonValue* phones = arrayAt(w, "phones");
+		if (!s || !phones) {
+			++missing;
+			continue;
+		}
+		Ticks t = at(*s, path, here);
+		long p = 0;
+		for (const JsonValue& ph : phones->array) {
+			const std::string* name = stringOf(ph.find("phone"));
+			const auto d = numberOf(ph.find("duration"));
+			if (!name || !d || *d < 0) throw Error(path, 0, here + ".phones[" + std::to_string(p) + "] needs phone and duration");
+			std::string label = *name;
+			if (const auto u = label.rfind('_'); u != std::string::npos && u + 2 == label.size() && std::string("BIES").find(label[u + 1]) != std::string::npos)
+				label.resize(u);
+			const Ticks e = t + at(*d, path, here);
+			// Gentle's ARPAbet, in the upper case that says so (lower-case "y" is also an espeak-ng or br1 phone).
+			for (char& ch : label) ch = char(std::toupper(static_cast<unsigned char>(ch)));
+			tr.intervals.push_back({t, e, label == "OOV" ? std::string() : label, k});
+			t = e;
+			++p;
+		}
+	}
+	// A word's phones can run past the next word's start (durations summed in seconds by a microsecond; a
+	// trailing "sil" by seconds): they end where the next word starts.
+	int cut = 0;
+	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& a, const Interval& b) { return a.start < b.start; });
+	for (std::size_t i = 1; i < tr.intervals.size(); ++i)
+		if (tr.intervals[i].start < tr.intervals[i - 1].end) {
+			cut += tr.intervals[i - 1].end - tr.intervals[i].start > ticksFromSeconds(0.001);
+			tr.intervals[i - 1].end = std::max(tr.intervals[i - 1].start, tr.intervals[i].start);
+		}
+	if (cut > 0) tr.warnings.push_back(std::to_string(cut) + " phone" + (cut > 1 ? "s" : "") + " ran past the next word's start and end there");
+	if (missing > 0)
+		tr.warnings.push_back(std::to_string(missing) + " word" + (missing > 1 ? "s" : "") +
+		                      " of the transcript Gentle did not find in the audio left out: the mouth rests there");
+	if (tr.intervals.empty()) throw Error(path, 0, "Gentle aligned no word");
+	return tr;
+}
+
+// aeneas: fragments with begin/end (strings) and lines of text (sentence level, phonemised and spread).
+Transcript aeneas(const JsonValue& v, const std::string& path) {
+	Transcript tr;
+	tr.format = "aeneas";
+	tr.level = LabelLevel::Word;
+	long k = 0;
+	for (const JsonValue& f : arrayAt(v, "fragments")->array) {
+		const std::string here = "fragments[" + std::to_string(k++) + "]";
+		const auto b = numberOf(f.find("begin")), e = numberOf(f.find("end"));
+		if (!b || !e) throw Error(path, 0, here + " needs begin and end");
+		std::string text;
+		if (const JsonValue* lines = arrayAt(f, "lines"))
+			for (const JsonValue& l : lines->array)
+				if (l.kind == JsonValue::Kind::String) text += (text.empty() ? "" : " ") + l.string;
+		if (*e < *b) throw Error(path, 0, here + " ends before it begins");
+		tr.intervals.push_back({at(*b, path, here), at(*e, path, here), std::string(trim(text)), k});
+	}
+	if (k > 0) tr.warnings.push_back("an aeneas sync map times sentences, not words: each sentence's phones are spread by espeak-ng's durations (approximate; talkhead align times them from the audio)");
+	return tr;
+}
+
+// MFA 3.x JSON: {"tiers": {"phones": {"type": "interval", "entries": [[start, end, label], …]}, "words": …}}.
+Transcript mfaJson(const JsonValue& v, const std::string& path) {
+	const JsonValue* tiers = v.find("tiers");
+	if (!tiers || tiers->kind != JsonValue::Kind::Object) throw Error(path, 0, "'tiers' must be an object");
+	const JsonValue* chosen = nullptr;
+	std::string name;
+	LabelLevel level = LabelLevel::Phone;
+	for (const char* want : {"phones", "words"})
+		for (const auto& [k, t] : tiers->object)
+			if (!chosen && toLower(k).find(want) != std::string::npos) chosen = &t, name = k, level = std::string(want) == "phones" ? LabelLevel::Phone : LabelLevel::Word;
+	if (!chosen) throw Error(path, 0, "MFA JSON without a phones or words tier");
+	const JsonValue* entries = arrayAt(*chosen, "entries");
+	if (!entries) throw Error(path, 0, "tier '" + safeQuote(name) + "' has no entries");
+	Transcript tr;
+	tr.format = "mfa-json";
+	tr.level = level;
+	tr.tier = name;
+	tr.tierNote = level == LabelLevel::Phone ? "phones" : "words";
+	long k = 0;
+	for (const JsonValue& e : entries->array) {
+		const std::string here = "tiers." + name + ".entries[" + std::to_string(k++) + "]";
+		if (e.kind != JsonValue::Kind::Array || e.array.size() != 3 || e.array[2].kind != JsonValue::Kind::String)
+			throw Error(path, 0, here + " must be [start, end, label]");
+		const auto s = numberOf(&e.array[0]), en = numberOf(&e.array[1]);
+		if (!s || !en) throw Error(path, 0, here + ": start and end must be numbers");
+		tr.intervals.push_back({at(*s, path, here), at(*en, path, here), e.array[2].string, k});
+	}
+	return tr;
+}
+
+// Azure word boundaries: [{"Text", "AudioOffset" (100 ns), "Duration" (100 ns or "hh:mm:ss.fffffff")}]
+// or the same in milliseconds: {"text", "offset_ms", "duration_ms"}.
+Transcript azureWords(const JsonValue& list, const std::string& path) {
+	Transcript tr;
+	tr.format = "azure-words";
+	tr.level = LabelLevel::Word;
+	long k = 0;
+	for (const JsonValue& w : list.array) {
+		const std::string here = "[" + std::to_string(k++) + "]";
+		const std::string* text = stringOf(w.find("Text"));
+		if (!text) text = stringOf(w.find("text"));
+		std::optional<double> start, length;
+		if (const auto o = numberOf(w.find("AudioOffset"))) start = *o / 1e7;
+		else if (const auto m = numberOf(w.find("offset_ms"))) start = *m / 1000;
+		if (const auto d = numberOf(w.find("duration_ms"))) length = *d / 1000;
+		else if (const JsonValue* d = w.find("Duration")) {
+			if (const auto n = numberOf(d)) length = *n / 1e7;
+			else if (const std::string* s = stringOf(d)) {  // "00:00:00.3500000"
+				int h = 0, m = 0;
+				double sec = 0;
+				if (std::sscanf(s->c_str(), "%d:%d:%lf", &h, &m, &sec) == 3) length = h * 3600.0 + m * 60.0 + sec;
+			}
+		}
+		if (!text || !start || !length) throw Error(path, 0, here + " needs Text, AudioOffset and Duration (or text, offset_ms, duration_ms)");
+		const std::string* type = stringOf(w.find("BoundaryType"));
+		if (type && *type != "WordBoundary" && *type != "Word") continue;  // punctuation and sentence boundaries
+		tr.intervals.push_back({at(*start, path, here), at(*start + *length, path, here), std::string(trim(*text)), k});
+	}
+	return tr;
+}
+
+bool anyHas(const JsonValue& list, const char* key) {
+	return std::any_of(list.array.begin(), list.array.end(), [&](const JsonValue& e) { return e.kind == JsonValue::Kind::Object && e.find(key); });
+}
+
+std::string languageTag(std::string l) {
+	l = toLower(std::string(trim(l)));
+	static const std::pair<const char*, const char*> names[] = {
+	    {"en", "en-US"}, {"eng", "en-US"}, {"english", "en-US"}, {"en-us", "en-US"}, {"fr", "fr"}, {"fra", "fr"}, {"fre", "fr"}, {"french", "fr"},
+	    {"de", "de"}, {"deu", "de"}, {"ger", "de"}, {"german", "de"}, {"es", "es"}, {"spa", "es"}, {"spanish", "es"}, {"it", "it"}, {"ita", "it"},
+	    {"italian", "it"}, {"pt", "pt-BR"}, {"por", "pt-BR"}, {"portuguese", "pt-BR"}, {"pt-br", "pt-BR"}};
+	for (const auto& [k, tag] : names)
+		if (l == k) return tag;
+	return "";
+}
+
+}  // namespace
+
+const std::vector<std::string>& jsonTimingFormats() {
+	static const std::vector<std::string> f = {"whisper", "openai", "deepgram", "gentle", "aeneas", "mfa-json", "azure", "azure-words", "elevenlabs"};
+	return f;
+}
+
+Transcript azureVisemes(const JsonValue& list, const std::string& where) {
+	if (list.kind != JsonValue::Kind::Array || list.array.empty()) throw Error(where + ": viseme events must be a non-empty array of {id, offset_ms}");
+	if (list.array.size() > 100000) throw Error(where + ": more than 100 000 viseme events");
+	Transcript t;
+	t.path = where;
+	t.format = "azure";
+	t.level = LabelLevel::Viseme;
+	t.visemeScheme = "azure";
+	long n = 0;
+	for (const JsonValue& e : list.array) {
+		const std::string here = where + "[" + std::to_string(n++) + "]";
+		if (e.kind != JsonValue::Kind::Object) throw Error(here + " is not an object");
+		const JsonValue* id = e.find("id");
+		if (!id) id = e.find("VisemeId");
+		const JsonValue* ms = e.find("offset_ms");
+		const JsonValue* ticks = e.find("AudioOffset");
+		const auto idv = numberOf(id);
+		const auto time = ms ? numberOf(ms) : ticks ? std::optional<double>(numberOf(ticks).value_or(-1) / 1e4) : std::nullopt;
+		if (!idv || !time) throw Error(here + " needs 'id' and 'offset_ms' (or VisemeId and AudioOffset)");
+		if (*idv != std::floor(*idv) || *idv < 0 || *idv > 21) {
+			char b[96];
+			std::snprintf(b, sizeof b, ": viseme id %g is not 0-21", *idv);
+			throw Error(here + b);
+		}
+		if (!(*time >= 0 && *time <= kMaxSeconds * 1000)) throw Error(here + ": the offset must be a number from 0 (milliseconds, or AudioOffset in 100 ns)");
+		const Ticks t0 = ticksFromSeconds(*time / 1000);
+		if (!t.intervals.empty()) {
+			if (t0 < t.intervals.back().start) throw Error(here + " comes before the one before it");
+			t.intervals.back().end = t0;
+		}
+		t.intervals.push_back({t0, t0, std::to_string(int(*idv)), n});
+	}
+	// Events at the same instant: the later one wins; the last lasts 50 ms unless the caller knows the sound.
+	std::vector<Interval> kept;
+	for (const Interval& i : t.intervals)
+		if (i.end > i.start || &i == &t.intervals.back()) kept.push_back(i);
+	kept.back().end = kept.back().start + ticksFromSeconds(0.05);
+	t.intervals = std::move(kept);
+	return t;
+}
+
+Transcript characterAlignment(const JsonValue& a, const std::string& where) {
+	const JsonValue* chars = a.find("characters");
+	const JsonValue* starts = a.find("character_start_times_seconds");
+	const JsonValue* ends = a.find("character_end_times_seconds");
+	if (!chars || !starts || !ends || chars->kind != JsonValue::Kind::Array || starts->kind != JsonValue::Kind::Array || ends->kind != JsonValue::Kind::Array)
+		throw Error(where + " needs the arrays characters, character_start_times_seconds and character_end_times_seconds");
+	const std::size_t n = chars->array.size();
+	if (n == 0 || starts->array.size() != n || ends->array.size() != n) throw Error(where + ": the three arrays must be equally long and not empty");
+	Transcript t;
+	t.path = where;
+	t.format = "elevenlabs";
+	t.level = LabelLevel::Word;
+	Interval word;
+	bool open = false;
+	for (std::size_t i = 0; i < n; ++i) {
+		if (chars->array[i].kind != JsonValue::Kind::String) throw Error(where + ".characters[" + std::to_string(i) + "] is not a string");
+		const std::string& c = chars->array[i].string;
+		const auto s = numberOf(&starts->array[i]), e = numberOf(&ends->array[i]);
+		if (!s || !e || !(*s >= 0 && *s <= kMaxSeconds) || !(*e >= 0 && *e <= kMaxSeconds))
+			throw Error(where + ": character " + std::to_string(i) + "'s times must be numbers from 0 (seconds)");
+		if (*e < *s) throw Error(where + ": character " + std::to_string(i) + " ends before it starts");
+		const Ticks ts = ticksFromSeconds(*s), te = ticksFromSeconds(*e);
+		const bool space = std::all_of(c.begin(), c.end(), [](char ch) { return ch == ' ' || ch == '\t' || ch == '\n'; });
+		if (space) {
+			if (open) t.intervals.push_back(word), open = false;
+			continue;
+		}
+		if (!open) {
+			if (!t.intervals.empty() && ts < t.intervals.back().end) throw Error(where + ": character " + std::to_string(i) + " starts before the word before it ends");
+			word = Interval{ts, te, c, long(i + 1)};
+			open = true;
+		} else {
+			word.label += c;
+			word.end = std::max(word.end, te);
+		}
+	}
+	if (open) t.intervals.push_back(word);
+	if (t.intervals.empty()) throw Error(where + " holds no word");
+	return t;
+}
+
+Transcript readJsonTiming(const std::string& text, const std::string& path, const std::string& format, const ReadOptions& o) {
+	const JsonValue v = parseJson(text, path);
+	std::string f = format;
+	const bool object = v.kind == JsonValue::Kind::Object;
+	if (f.empty()) {
+		if (object && arrayAt(v, "segments") && !arrayAt(v, "words")) f = "whisper";
+		else if (object && arrayAt(v, "words") && (anyHas(*arrayAt(v, "words"), "alignedWord") || anyHas(*arrayAt(v, "words"), "case"))) f = "gentle";
+		else if (object && arrayAt(v, "words") && (v.find("task") || v.find("duration") || arrayAt(v, "segments"))) f = "openai";
+		else if (object && arrayAt(v, "words")) f = "openai";
+		else if (object && v.find("results") && v.find("metadata")) f = "deepgram";
+		else if (object && arrayAt(v, "fragments")) f = "aeneas";
+		else if (object && v.find("tiers")) f = "mfa-json";
+		else if (object && (v.find("alignment") || v.find("normalized_alignment") || v.find("characters"))) f = "elevenlabs";
+		else if (object && arrayAt(v, "visemes")) f = "azure";
+		else if (v.kind == JsonValue::Kind::Array && (anyHas(v, "VisemeId") || anyHas(v, "offset_ms") && anyHas(v, "id"))) f = "azure";
+		else if (v.kind == JsonValue::Kind::Array && (anyHas(v, "Text") || anyHas(v, "text")) && (anyHas(v, "AudioOffset") || anyHas(v, "offset_ms"))) f = "azure-words";
+		else if (object && arrayAt(v, "timepoints"))
+			throw Error(path, 0, "Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words or phones: give the words' timing (the marks before each word with the SSML text), or the audio with its text (talkhead render --audio A --text T aligns it)");
+		else
+			throw Error(path, 0, "JSON of no timing format talkhead reads (known: Whisper/WhisperX/faster-whisper segments[].words[], OpenAI verbose_json words[], Deepgram, Gentle, aeneas fragments[], MFA 3.x tiers, Azure viseme events or word boundaries, ElevenLabs alignment, Rhubarb mouthCues, Polly speech marks)");
+	}
+	Transcript tr;
+	auto need = [&](bool ok, const char* what) {
+		if (!ok) throw Error(path, 0, std::string("not a ") + f + " file: " + what);
+	};
+	if (f == "whisper") need(object && arrayAt(v, "segments"), "no segments[]"), tr = whisper(v, path);
+	else if (f == "openai") need(object && arrayAt(v, "words"), "no words[] (ask for timestamp_granularities[]=word)"), tr = openai(v, path);
+	else if (f == "deepgram") need(object, "not an object"), tr = deepgram(v, path, o);
+	else if (f == "gentle") need(object && arrayAt(v, "words"), "no words[]"), tr = gentle(v, path);
+	else if (f == "aeneas") need(object && arrayAt(v, "fragments"), "no fragments[]"), tr = aeneas(v, path);
+	else if (f == "mfa-json") need(object, "not an object"), tr = mfaJson(v, path);
+	else if (f == "azure") tr = azureVisemes(object && v.find("visemes") ? *v.find("visemes") : v, path);
+	else if (f == "azure-words") need(v.kind == JsonValue::Kind::Array, "not an array"), tr = azureWords(v, path);
+	else if (f == "elevenlabs") {
+		const JsonValue* a = object ? (v.find("alignment") ? v.find("alignment") : v.find("normalized_alignment")) : nullptr;
+		tr = characterAlignment(a && a->kind == JsonValue::Kind::Object ? *a : v, path);
+	} else
+		throw Error("unknown JSON timing format '" + f + "'");
+	tr.path = path;
+	if (tr.intervals.empty()) throw Error(path, 0, "the " + f + " file holds no timed " + (tr.level == LabelLevel::Phone ? "phone" : "word"));
+	return tr;
+}
+
+// ---- Subtitles ------------------------------------------------------------------------------------------
+
+namespace {
+
+// "00:00:01,660" (SRT), "00:01.660" or "00:00:01.660" (WebVTT).
+std::optional<double> cueTime(std::string_view s) {
+	s = trim(s);
+	int h = 0, m = 0, sec = 0, frac = 0, digits = 0;
+	std::vector<int> parts;
+	std::size_t i = 0;
+	auto num = [&](int& out) {
+		std::size_t start = i;
+		out = 0;
+		while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) out = out * 10 + (s[i++] - '0');
+		return i > start && i - start <= 6;
+	};
+	int a = 0;
+	if (!num(a)) return std::nullopt;
+	parts.push_back(a);
+	while (i < s.size() && s[i] == ':') {
+		++i;
+		if (!num(a)) return std::nullopt;
+		parts.push_back(a);
+	}
+	if (i >= s.size() || (s[i] != ',' && s[i] != '.')) return std::nullopt;
+	++i;
+	const std::size_t f0 = i;
+	if (!num(frac)) return std::nullopt;
+	digits = int(i - f0);
+	if (i != s.size() || parts.size() < 2 || parts.size() > 3) return std::nullopt;
+	if (parts.size() == 3) h = parts[0], m = parts[1], sec = parts[2];
+	else m = parts[0], sec = parts[1];
+	if (m > 59 || sec > 59) return std::nullopt;
+	return h * 3600.0 + m * 60.0 + sec + frac / std::pow(10.0, digits);
+}
+
+// Cue text without tags (<i>, <c.x>, <v Name>, <00:00:01.000>) and entities.
+std::string cueText(const std::string& raw) {
+	std::string out;
+	bool tag = false;
+	for (char c : raw) {
+		if (c == '<') tag = true;
+		else if (c == '>') tag = false;
+		else if (!tag) out += c;
+	}
+	for (const auto& [e, r] : {std::pair<const char*, const char*>{"&amp;", "&"}, {"&lt;", "<"}, {"&gt;", ">"}, {"&nbsp;", " "}, {"&lrm;", ""}, {"&rlm;", ""}})
+		for (std::size_t p; (p = out.find(e)) != std::string::npos;) out.replace(p, std::strlen(e), r);
+	return std::string(trim(out));
+}
+
+}  // namespace
+
+bool looksLikeSubtitles(const std::string& text) {
+	const std::string_view t = trim(text);
+	if (startsWith(t, "WEBVTT")) return true;
+	for (const std::string& l : split(std::string(t.substr(0, 2000)), '\n')) {
+		const auto arrow = l.find("-->");
+		if (arrow != std::string::npos) return cueTime(std::string_view(l).substr(0, arrow)).has_value();
+	}
+	return false;
+}
+
+Transcript readSubtitles(const std::string& text, const std::string& path) {
+	Transcript tr;
+	const bool vtt = startsWith(trim(text), "WEBVTT");
+	tr.format = vtt ? "vtt" : "srt";
+	tr.level = LabelLevel::Word;
+	const std::vector<std::string> ls = split(text, '\n');
+	bool sentences = false;
+	for (std::size_t i = 0; i < ls.size(); ++i) {
+		std::string l = ls[i];
+		if (!l.empty() && l.back() == '\r') l.pop_back();
+		const auto arrow = l.find("-->");
+		if (arrow == std::string::npos) continue;
+		const long no = long(i + 1);
+		const auto a = cueTime(std::string_view(l).substr(0, arrow));
+		std::string rest = l.substr(arrow + 3);
+		rest = std::string(trim(rest));
+		const auto sp = rest.find_first_of(" \t");  // WebVTT cue settings after the end time
+		const auto b = cueTime(sp == std::string::npos ? std::string_view(rest) : std::string_view(rest).substr(0, sp));
+		if (!a || !b) throw Error(path, no, "expected 'START --> END' cue times (00:00:01,660 or 00:01.660), found '" + safeQuote(l) + "'");
+		if (*b < *a) throw Error(path, no, "the cue ends before it starts");
+		if (*b > kMaxSeconds) throw Error(path, no, "a cue after 86400 s (a day)");
+		std::string body;
+		std::size_t j = i + 1;
+		for (; j < ls.size(); ++j) {
+			std::string t = ls[j];
+			if (!t.empty() && t.back() == '\r') t.pop_back();
+			if (trim(t).empty()) break;
+			body += (body.empty() ? "" : " ") + t;
+		}
+		body = cueText(body);
+		sentences |= body.find(' ') != std::string::npos;
+		tr.intervals.push_back({ticksFromSeconds(*a), ticksFromSeconds(*b), body, no});
+		i = j;
+	}
+	if (tr.intervals.empty()) throw Error(path, 0, std::string("no cues ('START --> END' lines) in this ") + (vtt ? "WebVTT" : "SubRip") + " file");
+	// Cues overlapping (karaoke-style rolling captions) cannot be one mouth: the later starts where the earlier ends.
+	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& x, const Interval& y) { return x.start < y.start; });
+	for (std::size_t k = 1; k < tr.intervals.size(); ++k)
+		if (tr.intervals[k].start < tr.intervals[k - 1].end) {
+			char b[200];
+			std::snprintf(b, sizeof b, "cue at %.3f s overlaps the one before (line %ld): captions that roll or repeat are not one speaker's timing", toSeconds(tr.intervals[k].start),
+			              tr.intervals[k - 1].line);
+			throw Error(path, tr.intervals[k].line, b);
+		}
+	if (sentences)
+		tr.warnings.push_back("cues hold several words: each cue's phones are spread by espeak-ng's durations (approximate; word-level cues, or talkhead align on the audio, time them)");
+	return tr;
+}
+
+// ---- CTM ----------------------------------------------------------------------------------------------
+
+namespace {
+
+std::size_t codePointCount(const std::string& s) {
+	return std::size_t(std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+}
+
+struct CtmRow {
+	std::string utterance, channel, label;
+	double start = 0, duration = 0;
+	long line = 0;
+};
+
+std::optional<CtmRow> ctmRow(const std::string& line, long no) {
+	const auto f = splitWhitespace(line);
+	if (f.size() < 5 || f.size() > 8) return std::nullopt;
+	CtmRow r;
+	double d;
+	if (parseDouble(f[0], d)) return std::nullopt;  // an utterance id, not a number
+	if (!parseDouble(f[2], r.start) || !parseDouble(f[3], r.duration)) return std::nullopt;
+	long long ch;
+	if (!parseInt(f[1], ch) && !(f[1].size() == 1 && std::isalpha(static_cast<unsigned char>(f[1][0])))) return std::nullopt;
+	if (f.size() >= 6 && !parseDouble(f[5], d) && f[5] != "-") return std::nullopt;  // confidence
+	r.utterance = f[0], r.channel = f[1], r.label = f[4], r.line = no;
+	return r;
+}
+
+}  // namespace
+
+bool looksLikeCtm(const std::string& text) {
+	int rows = 0;
+	std::string utterance;
+	long no = 0;
+	for (const std::string& l : split(text, '\n')) {
+		++no;
+		const std::string_view t = trim(l);
+		if (t.empty() || t[0] == ';' || t[0] == '#') continue;
+		const auto r = ctmRow(std::string(t), no);
+		if (!r || (rows > 0 && r->utterance != utterance && rows < 3)) return false;
+		utterance = r->utterance;
+		if (++rows >= 20) break;
+	}
+	return rows > 0;
+}
+
+Transcript readCtm(const std::string& text, const std::string& path, const ReadOptions& o) {
+	std::vector<CtmRow> rows;
+	long no = 0;
+	for (const std::string& l : split(text, '\n')) {
+		++no;
+		const std::string_view t = trim(l);
+		if (t.empty() || t[0] == ';' || t[0] == '#') continue;
+		const auto r = ctmRow(std::string(t), no);
+		if (!r) throw Error(path, no, "expected 'utterance channel start duration label [confidence]', found '" + safeQuote(std::string(t)) + "'");
+		if (r->duration < 0) throw Error(path, no, "negative duration");
+		rows.push_back(*r);
+	}
+	if (rows.empty()) throw Error(path, 0, "no CTM rows");
+	for (const CtmRow& r : rows) {
+		if (r.utterance != rows[0].utterance)
+			throw Error(path, r.line, "a second recording '" + safeQuote(r.utterance) + "' after '" + safeQuote(rows[0].utterance) + "': give one recording's rows");
+		if (r.channel != rows[0].channel) throw Error(path, r.line, "a second channel '" + safeQuote(r.channel) + "': give one channel's rows");
+	}
+	Transcript tr;
+	tr.format = "ctm";
+	// Phones when the labels are (Kaldi's phone CTMs carry position suffixes: AH1_I), else words.
+	int phones = 0, total = 0;
+	for (CtmRow& r : rows) {
+		if (const auto u = r.label.rfind('_'); u != std::string::npos && u + 2 == r.label.size() && std::string("BIES").find(r.label[u + 1]) != std::string::npos)
+			r.label.resize(u);
+		if (isPauseLabel(r.label)) continue;
+		++total;
+		phones += o.knownPhone ? o.knownPhone(r.label) : codePointCount(r.label) <= 3;
+	}
+	tr.level = total > 0 && phones * 4 >= total * 3 ? LabelLevel::Phone : LabelLevel::Word;
+	tr.levelGuessed = true;
+	for (const CtmRow& r : rows) {
+		if (r.start + r.duration > kMaxSeconds) throw Error(path, r.line, "a time after 86400 s (a day)");
+		tr.intervals.push_back({ticksFromSeconds(r.start), ticksFromSeconds(r.start + r.duration), r.label, r.line});
+	}
+	return tr;
+}
+
+std::optional<std::string> timingFileLanguage(const std::string& text) {
+	const std::string_view t = trim(text);
+	if (t.empty() || (t.front() != '{' && t.front() != '[')) return std::nullopt;
+	JsonValue v;
+	try {
+		v = parseJson(text, "", 1, 2000000);
+	} catch (const Error&) {
+		return std::nullopt;
+	}
+	if (v.kind != JsonValue::Kind::Object) return std::nullopt;
+	if (const JsonValue* w = arrayAt(v, "words"); w && anyHas(*w, "alignedWord")) return std::string("en-US");  // Gentle aligns English only
+	if (const std::string* l = stringOf(v.find("language"))) {
+		const std::string tag = languageTag(*l);
+		return tag.empty() ? std::nullopt : std::optional<std::string>(tag);
+	}
+	if (const JsonValue* f = arrayAt(v, "fragments"); f && !f->array.empty())
+		if (const std::string* l = stringOf(f->array[0].find("language"))) {
+			const std::string tag = languageTag(*l);
+			if (!tag.empty()) return tag;
+		}
+	return std::nullopt;
+}
+
+}  // namespace talkhead
+
+namespace talkhead {
+
+// Festival's utterance file (EST_File utterance, ascii): the items' features, then each relation's nodes in
+// order; the Segment relation's items are the phones, each with its "end" time (start: the one before's end).
+Transcript readFestivalUtterance(const std::string& text, const std::string& path) {
+	std::map<long, std::pair<std::string, std::optional<double>>> items;  // item number → name, end
+	std::vector<std::pair<long, long>> segment;                            // relation order: item, line
+	enum { Header, Items, Relation, Other } where = Header;
+	long no = 0;
+	for (const std::string& raw : split(text, '\n')) {
+		++no;
+		const std::string l(trim(raw));
+		if (l == "Stream_Items") { where = Items; continue; }
+		if (startsWith(l, "Relation ")) { where = startsWith(l, "Relation Segment ") ? Relation : Other; continue; }
+		if (l == "End_of_Relation" || l == "End_of_Stream_Items") { where = Other; continue; }
+		if (where == Items) {
+			const auto f = splitWhitespace(l);
+			long long n;
+			if (f.empty() || !parseInt(f[0], n)) continue;
+			std::string name;
+			std::optional<double> end;
+			for (const std::string& kv : split(l.substr(f[0].size()), ';')) {
+				const auto g = splitWhitespace(kv);
+				double d;
+				if (g.size() >= 2 && g[0] == "name") name = g[1];
+				if (g.size() >= 2 && g[0] == "end" && parseDouble(g[1], d)) end = d;
+			}
+			items[long(n)] = {name, end};
+		} else if (where == Relation) {
+			const auto f = splitWhitespace(l);
+			long long node, item;
+			if (f.size() >= 2 && parseInt(f[0], node) && parseInt(f[1], item)) segment.push_back({long(item), no});
+		}
+	}
+	if (segment.empty()) throw Error(path, 0, "a Festival utterance without a Segment relation (no phones with times): save it after synthesis (utt.save)");
+	Transcript tr;
+	tr.format = "festival";
+	tr.level = LabelLevel::Phone;
+	double start = 0;
+	for (const auto& [item, line] : segment) {
+		auto it = items.find(item);
+		if (it == items.end() || !it->second.second) throw Error(path, line, "segment item " + std::to_string(item) + " has no 'end' time");
+		const double end = *it->second.second;
+		if (end < start || end > 86400) throw Error(path, line, "segment '" + safeQuote(it->second.first) + "' ends before the one before it, or after a day");
+		tr.intervals.push_back({ticksFromSeconds(start), ticksFromSeconds(end), it->second.first, line});
+		start = end;
+	}
+	return tr;
+}
+
+}  // namespace talkhead
