@@ -60,6 +60,42 @@ std::string wavHeader(int rate, int channels, std::size_t frames) {
 	return h;
 }
 
+// An error for a WebSocket client (issue 29): the command line's flags mean nothing to it. "--lang" is the
+// request's 'lang'; a clause that suggests another flag (from "; " or "(" to ";" or the ")" that closes
+// it) goes, and a parenthesis left empty with it.
+std::string forClient(std::string m) {
+	for (std::size_t p; (p = m.find("--lang")) != std::string::npos;) m.replace(p, 6, "the request's 'lang'");
+	for (int guard = 0; guard < 20; ++guard) {
+		const std::size_t p = m.find("--");
+		if (p == std::string::npos) break;
+		std::size_t left = std::string::npos;
+		int depth = 0;
+		for (std::size_t i = p; i-- > 0;) {
+			if (m[i] == ')') ++depth;
+			else if (m[i] == '(' && depth-- == 0) { left = i; break; }
+			else if (m[i] == ';' && depth == 0) { left = i; break; }
+		}
+		std::size_t right = m.size();
+		depth = 0;
+		for (std::size_t i = p; i < m.size(); ++i) {
+			if (m[i] == '(') ++depth;
+			else if (m[i] == ')' && depth-- == 0) { right = i; break; }
+			else if (m[i] == ';' && depth == 0) { right = i; break; }
+		}
+		if (left == std::string::npos) {  // the whole message is about the flag: its name, without the dashes
+			m.erase(p, 2);
+			continue;
+		}
+		if (m[left] == '(' && right < m.size() && m[right] == ')') {  // "(…)" whole: with the space before it
+			const std::size_t from = left > 0 && m[left - 1] == ' ' ? left - 1 : left;
+			m.erase(from, right + 1 - from);
+		} else {
+			m.erase(left, right - left);
+		}
+	}
+	return m;
+}
+
 }  // namespace
 
 LiveRequest parseLiveRequest(const std::string& json) {
@@ -123,7 +159,13 @@ LiveRequest parseLiveRequest(const std::string& json) {
 }
 
 Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits) {
-	const Language& lang = Language::get(r.lang.empty() ? defaultLang : r.lang);
+	const Language* language = nullptr;
+	try {
+		language = &Language::get(r.lang.empty() ? defaultLang : r.lang);
+	} catch (const Error& e) {
+		throw Error(forClient(e.what()));
+	}
+	const Language& lang = *language;
 	Utterance u;
 	if (r.kind == LiveRequest::Kind::Say) {
 		u = speakText(r.text, lang, r.voice, sampleRate, r.rate, r.pitch, limits);
@@ -173,7 +215,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 			std::string m = describeException(e);
 			const std::string p = std::string(path) + ": ";
 			if (m.rfind(p, 0) == 0) m = "audio: " + m.substr(p.size());
-			throw Error(m);
+			throw Error(forClient(m));
 		}
 		::unlink(path);
 		releaseTemporary(path);

@@ -159,3 +159,19 @@ TEST(LiveRequest, voicesAreCheckedAndSpeechIsBounded) {
 	const Utterance u = speakText("Short enough.", en, "", 22050, 0, -1, l);
 	EXPECT_GT(u.audio.duration(), ticksFromSeconds(0.3));
 }
+
+// Issue 29: errors a WebSocket client gets never ask it for a command-line flag.
+TEST(LiveRequest, speakErrorsSpeakToTheClientNotTheCommandLine) {
+	LiveRequest r;
+	r.kind = LiveRequest::Kind::Speak;
+	r.audio = std::string(6400, '\0');  // 0.2 s of 16-kHz silence
+	r.pcmRate = 16000;
+	r.lang = "en-US";
+	r.transcript = "0\t0.1\ta\n0.1\t0.2\tqq\n";
+	const std::string e = errorOf([&] { prepareUtterance(r, "en-US", 22050); });
+	EXPECT_NE(e.find("unknown en-US phone 'qq'"), std::string::npos) << e;
+	EXPECT_EQ(e.find("--"), std::string::npos) << e;
+	r.lang = "xx-YY";
+	const std::string l = errorOf([&] { prepareUtterance(r, "en-US", 22050); });
+	EXPECT_EQ(l.find("--"), std::string::npos) << l;
+}
