@@ -560,7 +560,10 @@ std::optional<CtmRow> ctmRow(const std::string& line, long no) {
 }  // namespace
 
 bool looksLikeCtm(const std::string& text) {
+	// Every row shaped like CTM, and either one recording's id on all of them or a word (not a number) in the
+	// label column: a .pho line "a 100 50 120" has numbers there, and a phone of its own on each line.
 	int rows = 0;
+	bool sameUtterance = true, wordLabels = true;
 	std::string utterance;
 	long no = 0;
 	for (const std::string& l : split(text, '\n')) {
@@ -568,11 +571,14 @@ bool looksLikeCtm(const std::string& text) {
 		const std::string_view t = trim(l);
 		if (t.empty() || t[0] == ';' || t[0] == '#') continue;
 		const auto r = ctmRow(std::string(t), no);
-		if (!r || (rows > 0 && r->utterance != utterance && rows < 3)) return false;
+		if (!r) return false;
+		double d;
+		wordLabels &= !parseDouble(r->label, d);
+		sameUtterance &= rows == 0 || r->utterance == utterance;
 		utterance = r->utterance;
-		if (++rows >= 20) break;
+		if (++rows >= 50) break;
 	}
-	return rows > 0;
+	return rows > 0 && ((sameUtterance && rows >= 2) || wordLabels);
 }
 
 Transcript readCtm(const std::string& text, const std::string& path, const ReadOptions& o) {
