@@ -506,4 +506,44 @@ std::string alignmentSummary(const Alignment& al) {
 	return s;
 }
 
+Transcript alignCues(const Transcript& cues, const AudioClip& audio, const std::string& languageTag, const std::string& audioName) {
+	Transcript out;
+	out.path = cues.path;
+	out.format = cues.format;
+	out.level = LabelLevel::Phone;
+	out.tier = cues.tier;
+	for (const std::string& w : cues.warnings)
+		if (w.find("spread by espeak-ng's durations") == std::string::npos) out.warnings.push_back(w);  // they are aligned now
+	AlignOptions o;
+	o.languageTag = languageTag;
+	const std::size_t ch = std::size_t(std::max(1, audio.channels)), frames = audio.frameCount();
+	for (const Interval& cue : cues.intervals) {
+		if (isPauseLabel(cue.label)) {
+			out.intervals.push_back({cue.start, cue.end, "", cue.line});
+			continue;
+		}
+		const std::size_t a = std::min(frames, std::size_t(std::llround(toSeconds(cue.start) * audio.sampleRate)));
+		const std::size_t b = std::min(frames, std::size_t(std::llround(toSeconds(cue.end) * audio.sampleRate)));
+		if (b <= a) throw Error(audioName, 0, "the cue at line " + std::to_string(cue.line) + " of " + cues.path + " lies past the audio's end");
+		AudioClip slice;
+		slice.sampleRate = audio.sampleRate;
+		slice.channels = audio.channels;
+		slice.samples.assign(audio.samples.begin() + std::ptrdiff_t(a * ch), audio.samples.begin() + std::ptrdiff_t(b * ch));
+		Alignment al;
+		try {
+			al = alignSpeech(slice, cue.label, o);
+		} catch (const Error& e) {
+			throw Error(cues.path, cue.line, std::string("aligning the cue '") + safeQuote(cue.label) + "' to " + audioName + ": " + e.what());
+		}
+		for (const std::string& w : al.warnings) out.warnings.push_back("cue at line " + std::to_string(cue.line) + ": " + w);
+		for (Interval p : al.phones.intervals) {
+			p.start = std::min(cue.end, cue.start + p.start);
+			p.end = std::min(cue.end, cue.start + p.end);
+			p.line = cue.line;
+			if (p.end > p.start) out.intervals.push_back(p);
+		}
+	}
+	return out;
+}
+
 }  // namespace talkhead

@@ -77,6 +77,11 @@ struct Alignment {
 // audio (confidence 0.12)") unless options.mismatchBelow is 0.
 Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& options = {});
 
+// Sentence-level cues (subtitles, aeneas fragments, utterance tiers: word-level intervals of several words)
+// aligned each to its own stretch of `audio` (issue 29): a phone-level transcript in canonical IPA over
+// the cues' span, pauses where the cues are silent or empty. Errors name `audioName` and the cue's line.
+Transcript alignCues(const Transcript& cues, const AudioClip& audio, const std::string& languageTag, const std::string& audioName);
+
 // Decodes a file (audio, or the audio track of a video: decodeAudio at 16 kHz) and aligns it; errors name
 // the file.
 Alignment alignSpeechFile(const std::string& path, const std::string& text, const AlignOptions& options = {});

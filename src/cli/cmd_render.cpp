@@ -88,6 +88,7 @@ int runRender(const std::vector<std::string>& argv) {
 	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
 	AudioClip audio;
 	Transcript tr;
+	bool aligned = false;         // sentence cues aligned to the audio: canonical IPA phones
 	std::vector<Interval> words;  // for the timeline sidecar, when known
 	// D55: the driving video, tracked first (its mouth may make the keyposes).
 	NonVerbalTrack nv;
@@ -113,13 +114,23 @@ int runRender(const std::vector<std::string>& argv) {
 		transcriptPath = *audioPath;
 	} else {
 		tr = readTranscript(*transcriptPath, ro);
-		for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*transcriptPath + ": " + w).c_str());
 		noteWordLanguage(args, tr, lang, *transcriptPath);
 		if (tr.level == LabelLevel::Word) words = tr.intervals;
 		else if (cmd.timelineOut && tr.format == "textgrid" && *transcriptPath != "-") words = textGridWords(*transcriptPath, tr.tier);
+		// Sentence-level cues (subtitles, aeneas, utterance tiers) with the speech at hand: each cue's text is
+		// aligned to its own stretch of the audio (issue 29), not spread by espeak-ng's durations.
+		const bool sentences = std::any_of(tr.intervals.begin(), tr.intervals.end(), [](const Interval& i) { return i.label.find(' ') != std::string::npos; });
+		if (tr.level == LabelLevel::Word && sentences && audioPath) {
+			audio = decodeAudio(*audioPath);
+			tr = alignCues(tr, audio, lang.tag(), *audioPath);
+			aligned = true;
+			const auto cues = std::count_if(words.begin(), words.end(), [](const Interval& i) { return !isPauseLabel(i.label); });
+			if (!cmd.quiet) std::fprintf(stderr, "talkhead: %s: %zu cues aligned to %s\n", transcriptPath->c_str(), std::size_t(cues), audioPath->c_str());
+		}
+		for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*transcriptPath + ": " + w).c_str());
 	}
 	std::vector<PhoneSegment> phones;
-	if (!driveMouth) phones = phoneSegments(tr, lang, unknown, text ? Notation::Ipa : *notation);  // an alignment's phones are canonical IPA
+	if (!driveMouth) phones = phoneSegments(tr, lang, unknown, text || aligned ? Notation::Ipa : *notation);  // an alignment's phones are canonical IPA
 	Performance perf;
 	perf.rate = cmd.rate;
 	perf.emotion = cmd.emotion;

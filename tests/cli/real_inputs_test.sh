@@ -119,3 +119,23 @@ check_table "$DATA" "$TABLE"
 if [ -d "$DATA3/in" ]; then check_table "$DATA3" "$TABLE3"; else echo "note: $DATA3 not found: its rows skipped"; fi
 [ "$fail" = 0 ] || exit 1
 echo "real inputs ok ($rows rows)"
+
+# Sentence cues with the speech (issue 29): each cue's text aligned to its own stretch of the audio.
+if [ -f "$DATA3/audio/wts_bonjour_vous_allez_bien.mp3" ]; then
+	printf '1\n00:00:00,420 --> 00:00:03,460\nBonjour ! Est-ce que vous allez bien ?\n\n2\n00:00:32,940 --> 00:00:35,860\nBonjour ! Est-ce que vous allez bien ?\n' >"$T/cues.srt"
+	"$TH" render --transcript "$T/cues.srt" --audio "$DATA3/audio/wts_bonjour_vous_allez_bien.mp3" --lang fr --size 160x90 -o "$T/cues.mp4" \
+		--timeline-out "$T/cues.json" 2>"$T/cues.err"
+	grep -q '2 cues aligned to' "$T/cues.err"
+	! grep -q 'spread by espeak' "$T/cues.err"
+	/usr/bin/python3 - "$T/cues.json" <<'PY'
+import json, sys
+ph = [p for p in json.load(open(sys.argv[1]))['phones'] if p['phone'] != '_']
+first = [p for p in ph if p['start'] < 3.5]
+second = [p for p in ph if p['start'] > 32]
+assert [p['phone'] for p in first[:5]] == ['b', 'ɔ̃', 'ʒ', 'u', 'ʁ'], first[:5]
+assert all(0.42 <= p['start'] and p['end'] <= 3.46 + 1e-6 for p in first), 'a phone outside the first cue'
+assert len(first) == len(second) == 18, (len(first), len(second))  # b ɔ̃ ʒ u ʁ ɛ s k ə v u z a l e b j ɛ̃
+assert all(a['start'] <= b['start'] for a, b in zip(ph, ph[1:])), 'phones out of order'
+print(f"cues aligned: {len(first)} phones in each cue")
+PY
+fi
