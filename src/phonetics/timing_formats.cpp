@@ -428,11 +428,14 @@ std::optional<double> cueTime(std::string_view s) {
 	int h = 0, m = 0, sec = 0, frac = 0, digits = 0;
 	std::vector<int> parts;
 	std::size_t i = 0;
-	auto num = [&](int& out) {
+	auto num = [&](int& out) {  // at most 6 digits (no overflow)
 		std::size_t start = i;
 		out = 0;
-		while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) out = out * 10 + (s[i++] - '0');
-		return i > start && i - start <= 6;
+		while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) {
+			if (i - start >= 6) return false;
+			out = out * 10 + (s[i++] - '0');
+		}
+		return i > start;
 	};
 	int a = 0;
 	if (!num(a)) return std::nullopt;
@@ -590,7 +593,8 @@ Transcript readCtm(const std::string& text, const std::string& path, const ReadO
 		if (t.empty() || t[0] == ';' || t[0] == '#') continue;
 		const auto r = ctmRow(std::string(t), no);
 		if (!r) throw Error(path, no, "expected 'utterance channel start duration label [confidence]', found '" + safeQuote(std::string(t)) + "'");
-		if (r->duration < 0) throw Error(path, no, "negative duration");
+		if (!std::isfinite(r->start) || !std::isfinite(r->duration) || r->start < 0 || r->duration < 0)
+			throw Error(path, no, "start and duration must be numbers from 0 (seconds)");
 		rows.push_back(*r);
 	}
 	if (rows.empty()) throw Error(path, 0, "no CTM rows");
