@@ -28,6 +28,13 @@ Ticks at(double seconds, const std::string& path, const std::string& where) {
 	return ticksFromSeconds(seconds);
 }
 
+// Kaldi's word-position suffix of a phone (ah_B, dh_I, t_E, ay_S; Gentle and Kaldi CTMs) dropped.
+std::string withoutPositionSuffix(std::string label) {
+	const auto u = label.rfind('_');
+	if (u != std::string::npos && u + 2 == label.size() && std::string("BIES").find(label[u + 1]) != std::string::npos) label.resize(u);
+	return label;
+}
+
 // A number, or a string holding one (aeneas writes "2.680").
 std::optional<double> numberOf(const JsonValue* v) {
 	if (!v) return std::nullopt;
@@ -161,9 +168,7 @@ Transcript gentle(const JsonValue& v, const std::string& path) {
 			const std::string* name = stringOf(ph.find("phone"));
 			const auto d = numberOf(ph.find("duration"));
 			if (!name || !d || *d < 0) throw Error(path, 0, here + ".phones[" + std::to_string(p) + "] needs phone and duration");
-			std::string label = *name;
-			if (const auto u = label.rfind('_'); u != std::string::npos && u + 2 == label.size() && std::string("BIES").find(label[u + 1]) != std::string::npos)
-				label.resize(u);
+			std::string label = withoutPositionSuffix(*name);
 			const Ticks e = t + at(*d, path, here);
 			// Gentle's ARPAbet, in the upper case that says so (lower-case "y" is also an espeak-ng or br1 phone).
 			for (char& ch : label) ch = char(std::toupper(static_cast<unsigned char>(ch)));
@@ -608,8 +613,7 @@ Transcript readCtm(const std::string& text, const std::string& path, const ReadO
 	// Phones when the labels are (Kaldi's phone CTMs carry position suffixes: AH1_I), else words.
 	int phones = 0, total = 0;
 	for (CtmRow& r : rows) {
-		if (const auto u = r.label.rfind('_'); u != std::string::npos && u + 2 == r.label.size() && std::string("BIES").find(r.label[u + 1]) != std::string::npos)
-			r.label.resize(u);
+		r.label = withoutPositionSuffix(r.label);
 		if (isPauseLabel(r.label)) continue;
 		++total;
 		phones += o.knownPhone ? o.knownPhone(r.label) : codePointCount(r.label) <= 3;
