@@ -2,8 +2,12 @@
 #include "base/plugin.h"
 
 #include <dlfcn.h>
+#include <fcntl.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -34,11 +38,35 @@ std::vector<std::string> pluginCandidates(const std::string& fileName) {
 	return c;
 }
 
+namespace {
+
+// A library's initialiser may end the process when it cannot open a file: libgcrypt (pulled in by libav's
+// libssh) aborts when it cannot read /proc/sys/crypto/fips_enabled. So no plugin is loaded while the
+// process is (nearly) out of file descriptors; this many must be free. Empty when they are, else why not.
+std::string descriptorShortage(int needed) {
+	int fds[32];
+	int n = 0;
+	int err = 0;
+	for (; n < needed && n < 32; ++n) {
+		fds[n] = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+		if (fds[n] < 0) {
+			err = errno;
+			break;
+		}
+	}
+	for (int i = 0; i < n; ++i) ::close(fds[i]);
+	return err ? std::strerror(err) : std::string();
+}
+
+}  // namespace
+
 const void* loadPlugin(const std::string& fileName, const char* entry, int abi) {
 	static std::mutex mutex;
 	static std::map<std::string, const void*> loaded;
 	std::lock_guard<std::mutex> lock(mutex);
 	if (auto it = loaded.find(fileName); it != loaded.end()) return it->second;
+	if (const std::string why = descriptorShortage(16); !why.empty())
+		throw Error("cannot load the plugin " + fileName + " now: " + why + " (the process is out of file descriptors)");
 	std::string why = "not found";
 	for (const auto& path : pluginCandidates(fileName)) {
 		std::error_code ec;

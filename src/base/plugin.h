@@ -13,7 +13,8 @@ std::vector<std::string> pluginCandidates(const std::string& fileName);
 
 // Loads the plugin (once per process, kept loaded) and returns what its extern "C" `entry` function
 // returns. Throws Error naming the plugin and the folders searched when none loads, or when `abi` (the
-// int at the start of the returned struct) differs from the one this build expects.
+// int at the start of the returned struct) differs from the one this build expects, or when fewer than 16
+// file descriptors are free (libraries' initialisers may abort the process then; a later call may succeed).
 const void* loadPlugin(const std::string& fileName, const char* entry, int abi);
 
 // For a plugin's entry points: runs f and returns true, or returns false with `error` set to the message of

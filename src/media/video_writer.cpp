@@ -64,6 +64,8 @@ void Mp4Writer::finish() {
 	if (!impl_->av->finishMp4(impl_->encoder, error)) throw Error(error);
 }
 
+void loadVideoPlugin() { avModule(); }
+
 Mp4LiveWriter::Mp4LiveWriter(Write write, const VideoOptions& o, AudioSource* audio) : write_(std::move(write)) {
 	checkSize("live stream", o);
 	av_ = &avModule();

@@ -67,6 +67,10 @@ private:
 	std::string codecs_;
 };
 
+// Loads the libav plugin now instead of on first use: a long-running process (serve) does it before it
+// takes connections, so that it never loads libraries when it may be out of file descriptors.
+void loadVideoPlugin();
+
 // YUV4MPEG2 stream (C420jpeg: chroma centred on its 2×2 block, as rgbToYuv420 makes it; BT.601 limited
 // range, declared with XCOLORRANGE=LIMITED), e.g. to standard output for `| ffplay -`.
 class Y4mWriter {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -79,7 +80,11 @@ int initialise() {
 	if (status != ENS_OK) {
 		char message[256] = {};
 		espeak_ng_GetStatusCodeMessage(status, message, sizeof message - 1);
-		throw Error(std::string("cannot initialise espeak-ng: ") + message + " (is the espeak-ng-data package installed? out of file descriptors?)");
+		// System errors come back as their errno; the hint only where it is the likely cause.
+		const std::string hint = status == EMFILE || status == ENFILE ? " (the process is out of file descriptors)"
+		                         : status == ENOENT                   ? " (is the espeak-ng-data package installed?)"
+		                                                              : "";
+		throw Error(std::string("cannot initialise espeak-ng: ") + message + hint);
 	}
 	const int r = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, nullptr,
 	                                espeakINITIALIZE_PHONEME_EVENTS | espeakINITIALIZE_PHONEME_IPA | espeakINITIALIZE_DONT_EXIT);

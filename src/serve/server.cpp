@@ -29,6 +29,7 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/text.h"
+#include "media/video_writer.h"
 #include "serve/access.h"
 #include "serve/worker.h"
 
@@ -625,6 +626,9 @@ Server::Server(const FaceModel& model, ServeOptions options) : impl_(std::make_u
 	// A session's options (emotion, size, sample rate) and the model checked before anyone connects, and
 	// what a session reads of the model in the page cache.
 	LiveSession(model, s.o.live);
+	// The encoder's plugin loaded now: loaded later, it could meet a process out of file descriptors, and
+	// one of libav's libraries (libgcrypt, through libssh) aborts the process in its initialiser then.
+	loadVideoPlugin();
 	if (s.o.demo) {
 		std::ifstream f(s.o.demoPage, std::ios::binary);
 		if (!f) throw Error(s.o.demoPage, 0, "cannot read the demo page");

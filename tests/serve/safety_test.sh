@@ -261,7 +261,7 @@ fdport=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/fd.out")
 "$CLIENT" "$fdport" "$T/fd" 7 '2500:{"type":"say","id":"nofd","text":"Hello."}' '5500:{"type":"say","id":"fd","text":"Hello again."}' &
 fdc=$!
 sleep 0.7
-$PY - "$fdport" "$fdpid" <<'EOF'
+$PY - "$fdport" "$fdpid" <<'EOF' || fail "out of descriptors: $(grep -v 'accept:' "$T/fd.err" | tail -3)"
 import socket, sys, time
 port, pid = int(sys.argv[1]), int(sys.argv[2])
 held = []
@@ -271,7 +271,10 @@ for _ in range(120):  # more than the server's 48 descriptors
     except OSError:
         break
 def cpu():
-    f = open(f'/proc/{pid}/stat').read().split(')')[1].split()
+    try:
+        f = open(f'/proc/{pid}/stat').read().split(')')[1].split()
+    except FileNotFoundError:
+        sys.exit(f'the server died with {len(held)} connections open')
     return (int(f[11]) + int(f[12])) / 100
 c0, t0 = cpu(), time.time()
 time.sleep(3)
