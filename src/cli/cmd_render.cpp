@@ -27,6 +27,7 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--lang", "LANG", languageOptionHelp("language of the transcript")},
 	    {"--transcript-format", "FORMAT", "transcript format if detection fails"},
 	    {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier, else the word tier)"},
+	    {"--timing-text", "FILE", "the text a timing file refers to but does not hold: for an aeneas SMIL or TSV sync map, the XHTML or aeneas's parsed (id|text) or plain (a fragment a line) text; for Google Text-to-Speech timepoints, the SSML with the <mark>s"},
 	    {"--level", "LEVEL", "what the transcript's labels are: auto (default), phones, or words (phonemised with espeak-ng)"},
 	    {"--sample-rate", "HZ", "TIMIT .phn: the sample rate its times count in (default 16000)"},
 	    {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
@@ -83,6 +84,7 @@ int runRender(const std::vector<std::string>& argv) {
 	ReadOptions ro;
 	ro.format = args.get("--transcript-format", "");
 	ro.tier = args.get("--tier", "");
+	ro.timingText = args.get("--timing-text", "");
 	if (level != "auto") ro.level = level == "words" ? LabelLevel::Word : LabelLevel::Phone;
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));

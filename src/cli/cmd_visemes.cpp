@@ -45,6 +45,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	           genericVisemesOption(),
 	           {"--format", "FORMAT", "input format (default: detected): " + joined(transcriptFormats())},
 	           {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier — named like phones, or labels that are phones —, else the word tier)"},
+	           {"--timing-text", "FILE", "the text a timing file refers to but does not hold: for an aeneas SMIL or TSV sync map, the XHTML or aeneas's parsed (id|text) or plain (a fragment a line) text; for Google Text-to-Speech timepoints, the SSML with the <mark>s"},
 	           {"--level", "LEVEL", "what the labels are: auto (default: from tier names and labels), phones, or words (phonemised with espeak-ng)"},
 	           {"--sample-rate", "HZ", "TIMIT .phn: the sample rate its times count in (default 16000)"},
 	           {"--utterance", "NAME|N", "HTK MLF utterance (name or 1-based index; default the first)"},
@@ -68,6 +69,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 			throw UsageError("visemes: unknown --format '" + ro.format + "' (" + joined(f) + ")");
 	}
 	ro.tier = args.get("--tier", "");
+	ro.timingText = args.get("--timing-text", "");
 	if (const std::string level = args.get("--level", "auto"); level == "words") ro.level = LabelLevel::Word;
 	else if (level == "phones") ro.level = LabelLevel::Phone;
 	else if (level != "auto") throw UsageError("visemes: --level takes auto, phones or words");

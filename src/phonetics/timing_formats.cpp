@@ -12,6 +12,7 @@
 
 #include "base/error.h"
 #include "base/text.h"
+#include "phonetics/espeak.h"
 
 namespace talkhead {
 
@@ -294,7 +295,7 @@ std::string languageTag(std::string l) {
 }  // namespace
 
 const std::vector<std::string>& jsonTimingFormats() {
-	static const std::vector<std::string> f = {"whisper", "openai", "deepgram", "gentle", "aeneas", "mfa-json", "azure", "azure-words", "elevenlabs"};
+	static const std::vector<std::string> f = {"whisper", "openai", "deepgram", "gentle", "aeneas", "mfa-json", "azure", "azure-words", "elevenlabs", "google"};
 	return f;
 }
 
@@ -380,6 +381,278 @@ Transcript characterAlignment(const JsonValue& a, const std::string& where) {
 	return t;
 }
 
+// ---- Text a timing file refers to (--timing-text) ---------------------------------------------------
+
+namespace {
+
+// &amp; &lt; &gt; &quot; &apos; &#N; &#xN; decoded; tags dropped (a space for a block or a break, so that
+// words stay apart); whitespace collapsed.
+std::string plainOfMarkup(std::string_view s) {
+	std::string out;
+	for (std::size_t i = 0; i < s.size();) {
+		if (s[i] == '<') {
+			const std::size_t e = s.find('>', i);
+			const std::string_view tag = s.substr(i + 1, e == std::string_view::npos ? std::string_view::npos : e - i - 1);
+			i = e == std::string_view::npos ? s.size() : e + 1;
+			// Inline elements (<em>, <span>, SSML's <emphasis>) join the text; blocks and breaks part it.
+			std::string name;
+			for (char c : tag.substr(tag.empty() || tag[0] != '/' ? 0 : 1)) {
+				if (!std::isalnum(static_cast<unsigned char>(c))) break;
+				name += char(std::tolower(static_cast<unsigned char>(c)));
+			}
+			static const char* const kParting[] = {"br", "p", "div", "li", "h1", "h2", "h3", "h4", "h5", "h6", "tr", "td", "th", "break", "s", "section", "body"};
+			if (std::find_if(std::begin(kParting), std::end(kParting), [&](const char* t) { return name == t; }) != std::end(kParting)) out += ' ';
+		} else if (s[i] == '&') {
+			const std::size_t e = s.find(';', i);
+			const std::string_view name = e == std::string_view::npos || e - i > 10 ? std::string_view() : s.substr(i + 1, e - i - 1);
+			long long code = -1;
+			if (name == "amp") code = '&';
+			else if (name == "lt") code = '<';
+			else if (name == "gt") code = '>';
+			else if (name == "quot") code = '"';
+			else if (name == "apos") code = '\'';
+			else if (name == "nbsp") code = ' ';
+			else if (name.size() > 1 && name[0] == '#') {
+				const bool hex = name[1] == 'x' || name[1] == 'X';
+				code = std::strtoll(std::string(name.substr(hex ? 2 : 1)).c_str(), nullptr, hex ? 16 : 10);
+				if (code <= 0 || code > 0x10FFFF) code = -1;
+			}
+			if (code < 0) {
+				out += s[i++];
+				continue;
+			}
+			appendUtf8(unsigned(code), out);
+			i = e + 1;
+		} else
+			out += s[i++];
+	}
+	std::string collapsed;
+	for (const std::string& w : splitWhitespace(out)) collapsed += (collapsed.empty() ? "" : " ") + w;
+	return collapsed;
+}
+
+// A start tag's attribute value (name="v" or name='v'), or nullopt.
+std::optional<std::string> attribute(std::string_view tag, std::string_view name) {
+	for (std::size_t p = 0; (p = tag.find(name, p)) != std::string_view::npos; p += name.size()) {
+		if (p == 0 || !std::isspace(static_cast<unsigned char>(tag[p - 1]))) continue;
+		std::size_t q = p + name.size();
+		while (q < tag.size() && std::isspace(static_cast<unsigned char>(tag[q]))) ++q;
+		if (q >= tag.size() || tag[q] != '=') continue;
+		++q;
+		while (q < tag.size() && std::isspace(static_cast<unsigned char>(tag[q]))) ++q;
+		if (q >= tag.size() || (tag[q] != '"' && tag[q] != '\'')) continue;
+		const std::size_t e = tag.find(tag[q], q + 1);
+		if (e == std::string_view::npos) return std::nullopt;
+		return std::string(tag.substr(q + 1, e - q - 1));
+	}
+	return std::nullopt;
+}
+
+// The fragments' text, by id, from aeneas's three input text forms: "unparsed" XHTML (elements with an
+// id), "parsed" (id|text per line), or "plain" (one fragment per line, ids f000001, f000002, … in order).
+struct FragmentText {
+	std::map<std::string, std::string> byId;
+	std::string form;
+};
+
+FragmentText readFragmentText(const std::string& textPath) {
+	const std::string t = readTextFile(textPath);
+	FragmentText ft;
+	if (t.find('<') != std::string::npos && t.find("id=") != std::string::npos) {
+		ft.form = "XHTML";
+		for (std::size_t p = 0; (p = t.find('<', p)) != std::string::npos;) {
+			const std::size_t e = t.find('>', p);
+			if (e == std::string::npos) break;
+			const std::string_view tag(t.data() + p + 1, e - p - 1);
+			p = e + 1;
+			if (tag.empty() || tag[0] == '/' || tag[0] == '!' || tag[0] == '?' || tag.back() == '/') continue;
+			const auto id = attribute(tag, "id");
+			if (!id) continue;
+			std::string name(tag.substr(0, std::min(tag.size(), tag.find_first_of(" \t\r\n"))));
+			// The content up to the matching end tag (same-named elements nested inside counted).
+			int depth = 1;
+			std::size_t q = p, end = t.size();
+			while (depth > 0) {
+				const std::size_t open = t.find("<" + name, q), close = t.find("</" + name, q);
+				if (close == std::string::npos) break;
+				if (open != std::string::npos && open < close) {
+					const std::size_t oe = t.find('>', open);
+					if (oe != std::string::npos && t[oe - 1] != '/') ++depth;
+					q = open + 1;
+				} else {
+					if (--depth == 0) end = close;
+					q = close + 1;
+				}
+			}
+			ft.byId.emplace(*id, plainOfMarkup(std::string_view(t).substr(p, end - p)));
+		}
+		if (ft.byId.empty()) throw Error(textPath, 0, "XHTML with no element that has an id: the sync map's fragments cannot be found in it");
+		return ft;
+	}
+	std::vector<std::pair<long, std::string>> lines;
+	long no = 0;
+	for (const std::string& l : split(t, '\n')) {
+		++no;
+		const std::string line(trim(l));
+		if (!line.empty()) lines.emplace_back(no, line);
+	}
+	if (lines.empty()) throw Error(textPath, 0, "the text is empty");
+	const bool parsed = std::all_of(lines.begin(), lines.end(), [](const auto& l) {
+		const std::size_t bar = l.second.find('|');
+		return bar != std::string::npos && bar > 0 && l.second.find_first_of(" \t") > bar;
+	});
+	ft.form = parsed ? "parsed (id|text)" : "plain (one fragment a line)";
+	long k = 0;
+	for (const auto& [line, text] : lines) {
+		char id[32];
+		std::snprintf(id, sizeof id, "f%06ld", ++k);
+		const std::size_t bar = parsed ? text.find('|') : std::string::npos;
+		const std::string key = parsed ? text.substr(0, bar) : id;
+		if (!ft.byId.emplace(key, plainOfMarkup(parsed ? std::string_view(text).substr(bar + 1) : std::string_view(text))).second)
+			throw Error(textPath, line, "the fragment id '" + safeQuote(key) + "' is given twice");
+	}
+	return ft;
+}
+
+// SMIL clock values: "00:00:02.680", "02:05.5", "2.68s", "2680ms", "0.5min", "1h", "2.68".
+std::optional<double> smilClock(std::string_view v) {
+	v = trim(v);
+	double d;
+	if (v.find(':') != std::string_view::npos) {
+		double total = 0;
+		const auto parts = split(v, ':');
+		if (parts.size() > 3) return std::nullopt;
+		for (const std::string& p : parts) {
+			if (!parseDouble(p, d) || d < 0) return std::nullopt;
+			total = total * 60 + d;
+		}
+		return total;
+	}
+	for (const auto& [unit, scale] : std::vector<std::pair<const char*, double>>{{"ms", 0.001}, {"min", 60}, {"h", 3600}, {"s", 1}})
+		if (endsWith(v, unit)) return parseDouble(v.substr(0, v.size() - std::strlen(unit)), d) ? std::optional<double>(d * scale) : std::nullopt;
+	return parseDouble(v, d) ? std::optional<double>(d) : std::nullopt;
+}
+
+}  // namespace
+
+Transcript withFragmentText(const Transcript& ids, const std::string& path, const std::string& textPath) {
+	const FragmentText ft = readFragmentText(textPath);
+	Transcript tr = ids;
+	tr.level = LabelLevel::Word;
+	for (Interval& i : tr.intervals) {
+		if (i.label.empty()) continue;
+		const auto it = ft.byId.find(i.label);
+		if (it == ft.byId.end())
+			throw Error(path, i.line, "the fragment '" + safeQuote(i.label) + "' is not in " + textPath + " (read as " + ft.form + " text)");
+		i.label = it->second;
+	}
+	tr.warnings.push_back("an aeneas sync map times sentences, not words: each sentence's phones are spread by espeak-ng's durations (approximate; talkhead align times them from the audio)");
+	return tr;
+}
+
+Transcript readSmil(const std::string& text, const std::string& path, const std::string& textPath) {
+	Transcript ids;
+	ids.format = "smil";
+	ids.level = LabelLevel::Word;
+	long line = 1;
+	std::size_t counted = 0;
+	auto lineAt = [&](std::size_t p) {
+		line += std::count(text.begin() + std::ptrdiff_t(counted), text.begin() + std::ptrdiff_t(p), '\n');
+		counted = p;
+		return line;
+	};
+	for (std::size_t p = 0; (p = text.find("<par", p)) != std::string::npos;) {
+		const long here = lineAt(p);
+		const std::size_t end = text.find("</par>", p);
+		if (end == std::string::npos) throw Error(path, here, "a <par> that does not end");
+		const std::string_view par(text.data() + p, end - p);
+		p = end + 6;
+		const std::size_t ts = par.find("<text"), as = par.find("<audio");
+		if (ts == std::string_view::npos || as == std::string_view::npos) throw Error(path, here, "a <par> needs a <text src> and an <audio clipBegin clipEnd>");
+		const std::string_view textTag = par.substr(ts, par.find('>', ts) - ts), audioTag = par.substr(as, par.find('>', as) - as);
+		const auto src = attribute(textTag, "src");
+		const auto b = attribute(audioTag, "clipBegin"), e = attribute(audioTag, "clipEnd");
+		if (!src || src->find('#') == std::string::npos) throw Error(path, here, "<text> needs src=\"file#id\"");
+		if (!b || !e) throw Error(path, here, "<audio> needs clipBegin and clipEnd");
+		const auto bs = smilClock(*b), es = smilClock(*e);
+		if (!bs || !es) throw Error(path, here, "clipBegin '" + safeQuote(*b) + "' or clipEnd '" + safeQuote(*e) + "' is not a SMIL clock value");
+		if (*es < *bs) throw Error(path, here, "the clip ends before it begins");
+		const std::string where = "line " + std::to_string(here);
+		ids.intervals.push_back({at(*bs, path, where), at(*es, path, where), src->substr(src->find('#') + 1), here});
+	}
+	if (ids.intervals.empty()) throw Error(path, 0, "a SMIL file with no <par> (text and audio clip)");
+	if (textPath.empty())
+		throw Error(path, 0, "a SMIL sync map (aeneas, EPUB3 media overlays) names its text only by reference (<text src=\"…#" + safeQuote(ids.intervals.front().label) +
+		                         "\"/>), not the words: write it as aeneas JSON, SRT or VTT, which carry the text; or give the text it refers to (--timing-text FILE: the XHTML, or aeneas's plain or parsed text)");
+	return withFragmentText(ids, path, textPath);
+}
+
+Transcript googleTimepoints(const JsonValue& v, const std::string& path, const std::string& ssmlPath) {
+	if (ssmlPath.empty())
+		throw Error(path, 0, "Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from (--timing-text FILE), or the audio with its text (talkhead render --audio A --text T aligns it)");
+	std::map<std::string, double> time;
+	long k = 0;
+	for (const JsonValue& t : arrayAt(v, "timepoints")->array) {
+		const std::string here = "timepoints[" + std::to_string(k++) + "]";
+		const std::string* name = stringOf(t.find("markName"));
+		const auto s = numberOf(t.find("timeSeconds"));
+		if (!name || !s) throw Error(path, 0, here + " needs markName and timeSeconds");
+		at(*s, path, here);
+		time[*name] = *s;
+	}
+	// The SSML: its text between marks, every other tag dropped (its words kept).
+	const std::string ssml = readTextFile(ssmlPath);
+	struct Piece {
+		std::string mark;
+		std::size_t from;
+		long line;
+	};
+	std::vector<Piece> pieces;
+	std::string lang;
+	for (std::size_t p = 0; (p = ssml.find('<', p)) != std::string::npos;) {
+		const std::size_t e = ssml.find('>', p);
+		if (e == std::string::npos) throw Error(ssmlPath, 0, "a tag that does not end");
+		const std::string_view tag(ssml.data() + p + 1, e - p - 1);
+		if (startsWith(tag, "speak")) {
+			if (auto l = attribute(tag, "xml:lang")) lang = *l;
+		} else if (startsWith(tag, "mark")) {
+			const auto name = attribute(tag, "name");
+			if (!name) throw Error(ssmlPath, long(std::count(ssml.begin(), ssml.begin() + std::ptrdiff_t(p), '\n') + 1), "<mark> without a name");
+			pieces.push_back({*name, e + 1, long(std::count(ssml.begin(), ssml.begin() + std::ptrdiff_t(p), '\n') + 1)});
+		}
+		p = e + 1;
+	}
+	if (pieces.empty()) throw Error(ssmlPath, 0, "no <mark name=…/> in the SSML: the timepoints cannot be placed");
+	Transcript tr;
+	tr.format = "google";
+	tr.level = LabelLevel::Word;
+	const std::string before = plainOfMarkup(std::string_view(ssml).substr(0, ssml.find("<mark")));
+	if (!before.empty()) tr.warnings.push_back("the words before the first <mark> ('" + safeQuote(before) + "') have no time and are left out");
+	for (std::size_t i = 0; i < pieces.size(); ++i) {
+		const auto t = time.find(pieces[i].mark);
+		if (t == time.end()) throw Error(ssmlPath, pieces[i].line, "<mark name=\"" + safeQuote(pieces[i].mark) + "\"/> has no timepoint in " + path);
+		const std::size_t to = i + 1 < pieces.size() ? ssml.rfind('<', ssml.find("<mark", pieces[i].from)) : ssml.size();
+		const std::string words = plainOfMarkup(std::string_view(ssml).substr(pieces[i].from, to - pieces[i].from));
+		if (words.empty()) continue;
+		double end;
+		if (i + 1 < pieces.size()) {
+			const auto n = time.find(pieces[i + 1].mark);
+			if (n == time.end()) throw Error(ssmlPath, pieces[i + 1].line, "<mark name=\"" + safeQuote(pieces[i + 1].mark) + "\"/> has no timepoint in " + path);
+			end = n->second;
+		} else {
+			// No mark after the last words: as long as espeak-ng says them.
+			double d = 0;
+			for (const SpokenPhone& ph : espeakPhones(words, espeakVoiceFor(lang.empty() ? "en" : lang))) d += toSeconds(ph.duration);
+			end = t->second + d;
+			tr.warnings.push_back("the words after the last <mark> ('" + safeQuote(words) + "') have no end time: they last as long as espeak-ng says them (end the SSML with a <mark/>)");
+		}
+		if (end < t->second) throw Error(ssmlPath, pieces[i].line, "the timepoints of <mark name=\"" + safeQuote(pieces[i].mark) + "\"/> and the next mark go backwards");
+		tr.intervals.push_back({at(t->second, path, pieces[i].mark), at(end, path, pieces[i].mark), words, pieces[i].line});
+	}
+	if (tr.intervals.empty()) throw Error(ssmlPath, 0, "no words after the <mark>s");
+	return tr;
+}
+
 Transcript readJsonTiming(const std::string& text, const std::string& path, const std::string& format, const ReadOptions& o) {
 	const JsonValue v = parseJson(text, path);
 	std::string f = format;
@@ -396,8 +669,7 @@ Transcript readJsonTiming(const std::string& text, const std::string& path, cons
 		else if (object && arrayAt(v, "visemes")) f = "azure";
 		else if (v.kind == JsonValue::Kind::Array && (anyHas(v, "VisemeId") || anyHas(v, "offset_ms") && anyHas(v, "id"))) f = "azure";
 		else if (v.kind == JsonValue::Kind::Array && (anyHas(v, "Text") || anyHas(v, "text")) && (anyHas(v, "AudioOffset") || anyHas(v, "offset_ms"))) f = "azure-words";
-		else if (object && arrayAt(v, "timepoints"))
-			throw Error(path, 0, "Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words or phones: give the words' timing (the marks before each word with the SSML text), or the audio with its text (talkhead render --audio A --text T aligns it)");
+		else if (object && arrayAt(v, "timepoints")) f = "google";
 		else
 			throw Error(path, 0, "JSON of no timing format talkhead reads (known: Whisper/WhisperX/faster-whisper segments[].words[], OpenAI verbose_json words[], Deepgram, Gentle, aeneas fragments[], MFA 3.x tiers, Azure viseme events or word boundaries, ElevenLabs alignment, Rhubarb mouthCues, Polly speech marks)");
 	}
@@ -410,6 +682,7 @@ Transcript readJsonTiming(const std::string& text, const std::string& path, cons
 	else if (f == "deepgram") need(object, "not an object"), tr = deepgram(v, path, o);
 	else if (f == "gentle") need(object && arrayAt(v, "words"), "no words[]"), tr = gentle(v, path);
 	else if (f == "aeneas") need(object && arrayAt(v, "fragments"), "no fragments[]"), tr = aeneas(v, path);
+	else if (f == "google") need(object && arrayAt(v, "timepoints"), "no timepoints[]"), tr = googleTimepoints(v, path, o.timingText);
 	else if (f == "mfa-json") need(object, "not an object"), tr = mfaJson(v, path);
 	else if (f == "azure") tr = azureVisemes(object && v.find("visemes") ? *v.find("visemes") : v, path);
 	else if (f == "azure-words") need(v.kind == JsonValue::Kind::Array, "not an array"), tr = azureWords(v, path);

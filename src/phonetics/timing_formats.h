@@ -43,6 +43,18 @@ bool looksLikeCtm(const std::string& text);
 Transcript azureVisemes(const JsonValue& list, const std::string& where);
 Transcript characterAlignment(const JsonValue& alignment, const std::string& where);
 
+// aeneas's SMIL sync map (EPUB3 media overlays: <par> with <text src="….xhtml#f000001"/> and <audio
+// clipBegin clipEnd/>) with the text it refers to (ReadOptions::timingText); without it, an error saying
+// what to give. Sentence level, like aeneas JSON.
+Transcript readSmil(const std::string& text, const std::string& path, const std::string& textPath);
+// A transcript whose labels are fragment ids (aeneas TSV, SMIL), each replaced by its text from `textPath`:
+// XHTML (elements with those ids), aeneas's parsed "id|text" lines, or plain text (line k = f00000k).
+Transcript withFragmentText(const Transcript& ids, const std::string& path, const std::string& textPath);
+// Google Text-to-Speech timepoints ({"timepoints": [{"markName", "timeSeconds"}]}) with the SSML they came
+// from: the words after each <mark/> span from its time to the next mark's (the last words: as long as
+// espeak-ng says them, with a warning).
+Transcript googleTimepoints(const JsonValue& v, const std::string& path, const std::string& ssmlPath);
+
 // Festival's utterance files (EST_File utterance, as utt.save writes them): the Segment relation's phones.
 Transcript readFestivalUtterance(const std::string& text, const std::string& path);
 

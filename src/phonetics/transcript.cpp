@@ -21,7 +21,7 @@ namespace talkhead {
 
 const std::vector<std::string>& transcriptFormats() {
 	static const std::vector<std::string> f = [] {
-		std::vector<std::string> v = {"textgrid", "pho", "htk", "grid", "timit", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json", "srt", "vtt", "ctm", "festival"};
+		std::vector<std::string> v = {"textgrid", "pho", "htk", "grid", "timit", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json", "srt", "vtt", "ctm", "festival", "smil"};
 		for (const std::string& j : jsonTimingFormats()) v.push_back(j);
 		return v;
 	}();
@@ -621,7 +621,7 @@ Transcript readTimit(const std::string& text, const std::string& path, int sampl
 }
 
 // ---- plain TSV: start end label in seconds -----------------------------------------------------------
-Transcript readTsv(const std::string& text, const std::string& path) {
+Transcript readTsv(const std::string& text, const std::string& path, const std::string& timingText) {
 	Transcript tr;
 	tr.format = "tsv";
 	bool first = true;
@@ -644,9 +644,10 @@ Transcript readTsv(const std::string& text, const std::string& path) {
 	const bool ids = !tr.intervals.empty() && std::all_of(tr.intervals.begin(), tr.intervals.end(), [](const Interval& i) {
 		return i.label.size() >= 2 && i.label[0] == 'f' && std::all_of(i.label.begin() + 1, i.label.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 	});
+	if (ids && !timingText.empty()) return withFragmentText(tr, path, timingText);
 	if (ids)
 		throw Error(path, tr.intervals.front().line, "the labels are aeneas fragment ids ('" + tr.intervals.front().label +
-		                                                "'), not text: write the sync map as aeneas JSON, SRT or VTT, which carry the text");
+		                                                "'), not text: write the sync map as aeneas JSON, SRT or VTT, which carry the text; or give the text they refer to (--timing-text FILE)");
 	return tr;
 }
 
@@ -880,7 +881,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	else if (format == "grid") tr = readGrid(text, path);
 	else if (format == "timit") tr = readTimit(text, path, o.sampleRate);
 	else if (format == "marks") tr = readMarks(text, path);
-	else if (format == "tsv") tr = readTsv(text, path);
+	else if (format == "tsv") tr = readTsv(text, path, o.timingText);
 	else if (format == "rhubarb-tsv") tr = readRhubarbTsv(text, path);
 	else if (format == "rhubarb-json") tr = readRhubarbJson(text, path);
 	else if (format == "srt" || format == "vtt") tr = readSubtitles(text, path);
@@ -888,8 +889,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	else if (format == "json") tr = readJsonTiming(text, path, "", o);
 	else if (std::find(jsonTimingFormats().begin(), jsonTimingFormats().end(), format) != jsonTimingFormats().end()) tr = readJsonTiming(text, path, format, o);
 	else if (format == "festival") tr = readFestivalUtterance(text, path);
-	else if (format == "smil")
-		throw Error(path, 0, "a SMIL sync map (aeneas, EPUB3 media overlays) names its text only by reference (<text src=\"…#f000001\"/>), not the words: write the sync map as aeneas JSON, SRT or VTT, which carry the text");
+	else if (format == "smil") tr = readSmil(text, path, o.timingText);
 	else throw Error("unknown transcript format '" + format + "' (known: " + joinedFormats() + ")");
 	tr.path = path;
 	// --level: phones or words for a transcript of either (a TextGrid has chosen its tier by it); visemes stay.

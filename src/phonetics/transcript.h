@@ -47,6 +47,10 @@ struct ReadOptions {
 	// Whether a label is a phone of the transcript's language (tier choice and level detection); without it,
 	// labels of up to 3 characters count as phones.
 	std::function<bool(const std::string&)> knownPhone{};
+	// The text a timing file refers to but does not hold (--timing-text): aeneas SMIL and TSV sync maps (the
+	// XHTML with the fragments' ids, or aeneas's parsed "id|text" or plain one-fragment-a-line text), Google
+	// Text-to-Speech timepoints (the SSML with the <mark>s). A path; empty = none.
+	std::string timingText{};
 };
 
 // Labels that mean no speech in any language: empty, "_", "#", sil, sp, spn (MFA's spoken noise), and

@@ -49,7 +49,7 @@ const std::vector<Column>& columns() {
 	    {"rate", "--rate", true, false},     {"pitch", "--pitch", true, false},           {"crf", "--crf", true, true},
 	    {"lead-in", "--lead-in", true, true}, {"tail", "--tail", true, true},             {"av-offset", "--av-offset", true, true},
 	    {"components", "--components", true, true}, {"drive", "--drive", false, true}, {"drive-mouth", "", false, true},
-	    {"condition", "", true, true}};
+	    {"timing-text", "--timing-text", false, true}, {"condition", "", true, true}};
 	return c;
 }
 const Column* findColumn(const std::string& name) {
@@ -157,7 +157,7 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 		return it == fields.end() ? std::string() : it->second;
 	};
 	std::map<std::string, std::string> resolved;
-	for (const char* k : {"transcript", "audio", "model", "controls", "drive"}) {
+	for (const char* k : {"transcript", "timing-text", "audio", "model", "controls", "drive"}) {
 		auto it = fields.find(k);
 		if (it == fields.end()) continue;
 		const fs::path p = fs::path(it->second).is_absolute() ? fs::path(it->second) : dir / it->second;
@@ -177,6 +177,7 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 	if (driveMouth && (text || transcript)) fail("drive-mouth", "takes the mouth from the drive video: no text or transcript");
 	if (!text && !transcript && !driveMouth) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
 	if (text && transcript) fail("transcript", "text and transcript both given: one or the other");
+	if (!get("timing-text").empty() && !transcript) fail("timing-text", "the text of a timing file, but the row has no transcript");
 	const std::string command = transcript || driveMouth || drive || (text && audio) ? "render" : "say";
 	if (driveMouth) args.push_back("--drive-mouth");
 	if (command == "say" && text) args.push_back(get("text"));

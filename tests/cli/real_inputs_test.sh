@@ -120,6 +120,25 @@ if [ -d "$DATA3/in" ]; then check_table "$DATA3" "$TABLE3"; else echo "note: $DA
 [ "$fail" = 0 ] || exit 1
 echo "real inputs ok ($rows rows)"
 
+# aeneas's SMIL and TSV sync maps with the text they refer to (--timing-text): the same phones as its JSON,
+# from aeneas's plain (a fragment a line) and parsed (id|text) text, written here from the JSON's lines.
+if [ -f "$DATA3/in/aeneas_sonnet001.json" ]; then
+	/usr/bin/python3 - "$DATA3/in/aeneas_sonnet001.json" "$T/plain.txt" "$T/parsed.txt" <<'PY'
+import json, sys
+f = json.load(open(sys.argv[1]))['fragments']
+open(sys.argv[2], 'w').write(''.join(' '.join(x['lines']) + '\n' for x in f))
+open(sys.argv[3], 'w').write(''.join(x['id'] + '|' + ' '.join(x['lines']) + '\n' for x in f))
+PY
+	"$TH" visemes "$DATA3/in/aeneas_sonnet001.json" --lang en-US >"$T/json.tsv" 2>/dev/null
+	"$TH" visemes "$DATA3/in/aeneas_sonnet001.smil" --lang en-US --timing-text "$T/plain.txt" >"$T/smil.tsv" 2>"$T/smil.err"
+	"$TH" visemes "$DATA3/in/aeneas_sonnet001.tsv" --lang en-US --timing-text "$T/parsed.txt" >"$T/tsv.tsv" 2>/dev/null
+	test "$(wc -l <"$T/json.tsv")" -gt 100
+	cmp "$T/json.tsv" "$T/smil.tsv" || { echo "FAIL aeneas SMIL + text differs from its JSON"; exit 1; }
+	cmp "$T/json.tsv" "$T/tsv.tsv" || { echo "FAIL aeneas TSV + text differs from its JSON"; exit 1; }
+	grep -q 'times sentences, not words' "$T/smil.err"
+	echo "aeneas SMIL and TSV with their text: ok ($(($(wc -l <"$T/json.tsv") - 1)) phones, as from the JSON)"
+fi
+
 # Sentence cues with the speech (issue 29): each cue's text aligned to its own stretch of the audio.
 if [ -f "$DATA3/audio/wts_bonjour_vous_allez_bien.mp3" ]; then
 	printf '1\n00:00:00,420 --> 00:00:03,460\nBonjour ! Est-ce que vous allez bien ?\n\n2\n00:00:32,940 --> 00:00:35,860\nBonjour ! Est-ce que vous allez bien ?\n' >"$T/cues.srt"

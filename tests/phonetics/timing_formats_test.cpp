@@ -97,6 +97,48 @@ TEST(TimingFormats, aeneasAzureAndElevenLabs) {
 	EXPECT_EQ(shape(read("elevenlabs.json")), "Hi@0.000-0.200 @0.200-0.250 you@0.250-0.500");
 }
 
+// Timing files that refer to their text (aeneas SMIL and TSV, Google timepoints) read with it (--timing-text).
+TEST(TimingFormats, smilTsvAndGoogleWithTheirText) {
+	auto with = [](const std::string& text) {
+		ReadOptions o;
+		o.timingText = dataFile(text);
+		return o;
+	};
+	const std::string want = "Good morning.@0.000-1.500 Fish & chips!@1.500-2.800";
+	const Transcript smil = read("aeneas.smil", with("aeneas.xhtml"));
+	EXPECT_EQ(smil.format, "smil");
+	EXPECT_EQ(smil.level, LabelLevel::Word);
+	EXPECT_EQ(shape(smil), want);
+	ASSERT_EQ(smil.warnings.size(), 1u);
+	EXPECT_NE(smil.warnings[0].find("times sentences, not words"), std::string::npos);
+	EXPECT_EQ(shape(read("aeneas.smil", with("aeneas_plain.txt"))), want);
+	EXPECT_EQ(shape(read("aeneas.tsv", with("aeneas_parsed.txt"))), want);
+	EXPECT_EQ(shape(read("aeneas.tsv", with("aeneas_plain.txt"))), want);
+	EXPECT_EQ(read("aeneas.tsv", with("aeneas_plain.txt")).level, LabelLevel::Word);
+	// A fragment the text lacks, and no text at all: errors that say what to give.
+	const std::string missing = errorOf([&] { parseTranscript("0.0\t1.0\tf000009\n", "m.tsv", with("aeneas_parsed.txt")); });
+	EXPECT_NE(missing.find("m.tsv:1: the fragment 'f000009' is not in " + dataFile("aeneas_parsed.txt") + " (read as parsed (id|text) text)"), std::string::npos) << missing;
+	EXPECT_NE(errorOf([] { read("aeneas.smil"); }).find("or give the text it refers to (--timing-text FILE"), std::string::npos);
+	EXPECT_NE(errorOf([] { read("aeneas.tsv"); }).find("--timing-text FILE"), std::string::npos);
+
+	const Transcript g = read("google_timepoints.json", with("google.ssml"));
+	EXPECT_EQ(g.format, "google");
+	EXPECT_EQ(shape(g), "Hello@0.050-0.420 world@0.420-0.900");
+	EXPECT_TRUE(g.warnings.empty());
+	// No mark after the last word: it lasts as long as espeak-ng says it, with a warning.
+	const Transcript open = read("google_timepoints.json", with("google_open_end.ssml"));
+	ASSERT_EQ(open.intervals.size(), 2u);
+	const double last = toSeconds(open.intervals[1].end - open.intervals[1].start);
+	EXPECT_GT(last, 0.2);
+	EXPECT_LT(last, 1.0);
+	ASSERT_EQ(open.warnings.size(), 1u);
+	EXPECT_NE(open.warnings[0].find("no end time"), std::string::npos);
+	const std::string noMark = errorOf([&] {
+		parseTranscript(R"({"timepoints": [{"markName": "zz", "timeSeconds": 0.1}]})", "g.json", with("google.ssml"));
+	});
+	EXPECT_NE(noMark.find("<mark name=\"w0\"/> has no timepoint in g.json"), std::string::npos) << noMark;
+}
+
 TEST(TimingFormats, subtitlesAndCtm) {
 	const Transcript srt = read("words.srt");
 	EXPECT_EQ(srt.format, "srt");
@@ -123,7 +165,7 @@ TEST(TimingFormats, subtitlesAndCtm) {
 
 TEST(TimingFormats, errorsSayWhatToGiveInstead) {
 	auto err = [](const std::string& text, const std::string& name) { return errorOf([&] { parseTranscript(text, name); }); };
-	EXPECT_NE(err(R"({"timepoints": [{"markName": "a", "timeSeconds": 0.1}]})", "g.json").find("Google Text-to-Speech timepoints hold only the times of your SSML <mark>s"),
+	EXPECT_NE(err(R"({"timepoints": [{"markName": "a", "timeSeconds": 0.1}]})", "g.json").find("Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from (--timing-text FILE)"),
 	          std::string::npos);
 	const std::string unknown = err(R"({"foo": 1})", "x.json");
 	EXPECT_NE(unknown.find("JSON of no timing format talkhead reads (known: Whisper"), std::string::npos) << unknown;

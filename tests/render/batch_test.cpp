@@ -48,6 +48,12 @@ TEST(Batch, manifestRowsBecomeCommandsAndEveryErrorIsNamedAtOnce) {
 	EXPECT_EQ(errors[3], "m.csv:2:muted: 'maybe' is not yes or no");
 	EXPECT_EQ(errors[4], "m.csv:3:text: a stimulus needs text (spoken by espeak-ng) or a transcript");
 	EXPECT_EQ(errorsOf("text,voice\nOi.,pt\n", "m.csv").size(), 0u);
+	// The text of a timing file goes with a transcript, resolved against the manifest's folder.
+	const std::string timing = std::string(TALKHEAD_TEST_DATA_DIR) + "/timing/";
+	const Manifest t = parseManifest("transcript,timing-text\n" + timing + "aeneas.smil," + timing + "aeneas.xhtml\n", "m.csv");
+	ASSERT_EQ(t.rows.size(), 1u);
+	EXPECT_EQ(t.rows[0].args, (std::vector<std::string>{"--emotion", "neutral", "--timing-text", timing + "aeneas.xhtml", "--transcript", timing + "aeneas.smil"}));
+	EXPECT_EQ(errorsOf("text,timing-text\nOi.," + timing + "aeneas.xhtml\n")[0], "m.csv:2:timing-text: the text of a timing file, but the row has no transcript");
 	EXPECT_EQ(errorsOf("text\nOi.,extra\n")[0], "m.csv:2: 2 fields, the header has 1");
 	EXPECT_EQ(errorsOf("text,fps\nOi.,31.5x\n")[0], "m.csv:2:fps: '31.5x' is not a frame rate (30, 25, 29.97, 30000/1001)");
 }
