@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Behaviour unchanged (issue 30): renders the README's examples, `say` (text and SSML), a control track, a
+# driving-free batch with a side-by-side row, and a live session script (`talkhead live`, the serve path
+# frame for frame) with two talkhead binaries, and compares every output byte for byte (y4m frames, WAV/MP4
+# bytes, key and orders). Prints one line per case and exits 1 on any difference.
+#   bench/identical.sh BASE_TALKHEAD [NEW_TALKHEAD]   two built binaries (NEW: build/talkhead)
+#   bench/identical.sh GIT_REF [NEW_TALKHEAD]         builds GIT_REF's CLI in a scratch worktree first
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+base=${1:?usage: bench/identical.sh BASE_TALKHEAD|GIT_REF [NEW_TALKHEAD]}
+new=$(realpath "${2:-$root/build/talkhead}")
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"; [ -n "${wt:-}" ] && git -C "$root" worktree remove --force "$wt" 2>/dev/null || true' EXIT
+if [ -x "$base" ]; then base=$(realpath "$base"); else
+	wt="$tmp/base-tree"
+	git -C "$root" worktree add --detach "$wt" "$base" >/dev/null
+	echo "building $base in $wt (the CLI only)"
+	cmake -S "$wt" -B "$wt/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >"$tmp/cmake.log" 2>&1
+	ninja -C "$wt/build" talkhead_cli >"$tmp/build.log" 2>&1 || { tail -20 "$tmp/build.log"; exit 1; }
+	base="$wt/build/talkhead"
+fi
+ex="$root/examples"
+# Each case: NAME, then a command with @TH@ for the binary and @OUT@ for its output folder.
+cases=(
+	"render-example|@TH@ render --transcript $ex/que_noticia.TextGrid --emotion joy --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"render-anger-0.6|@TH@ render --transcript $ex/que_noticia.TextGrid --emotion anger:0.6 --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"render-au|@TH@ render --transcript $ex/que_noticia.TextGrid --emotion distress --emotion-source au --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"render-pho|@TH@ render --transcript $ex/tts/que.pho --emotion hope --trajectory linear --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"render-polly|@TH@ render --transcript $ex/tts/polly_marks.json --lang en-US --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"render-controls|@TH@ render --transcript $ex/que_noticia.TextGrid --controls $tmp/controls.json --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"say-pt|@TH@ say 'Que notícia excelente!' --lang pt-BR --emotion joy --size 320x180 -o @OUT@/a.mp4 -q"
+	"say-en-ssml|@TH@ say '<speak>Hello <blink/>there. <break time=\"300ms\"/><emotion name=\"anger\" intensity=\"0.7\">Stop <brows down=\"0.6\"/>that.</emotion><mark name=\"m\"/></speak>' --lang en-US --size 320x180 -o @OUT@/a.mp4 -q"
+	"batch|@TH@ batch $tmp/manifest.csv -o @OUT@/stimuli --seed 7 -q"
+	"live|@TH@ live $tmp/session.jsonl --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+)
+cat >"$tmp/manifest.csv" <<CSV
+text,transcript,emotion,size,versus:emotion,condition
+Bom dia.,,joy:0.5,160x90,,a
+,$ex/que_noticia.TextGrid,fear,160x90,,b
+Que notícia excelente!,,anger,160x90,distress,c
+CSV
+cat >"$tmp/controls.json" <<'JSON'
+{"events": [
+  {"type": "emotion", "time": 0.4, "emotion": "anger", "intensity": 0.9, "ramp": 0.3},
+  {"type": "blink", "time": 0.3},
+  {"type": "nod", "time": 0.8, "duration": 0.6, "amount": 1},
+  {"type": "brows", "time": 1.0, "duration": 0.5, "raise": 0.8},
+  {"type": "au", "time": 0.5, "au": "AU12", "intensity": 0.7, "side": "left", "onset": 0.2, "apex": 0.3, "offset": 0.2}]}
+JSON
+cat >"$tmp/session.jsonl" <<'JSONL'
+{"frame": 3, "request": {"type": "say", "id": "a", "text": "Hello there.", "lang": "en-US"}}
+{"frame": 40, "request": {"type": "emotion", "emotion": "joy", "intensity": 0.8}}
+{"frame": 45, "request": {"type": "say", "id": "b", "text": "<speak>Good <blink/>news!</speak>", "lang": "en-US"}}
+{"frame": 120, "request": {"type": "stop"}}
+{"type": "end", "frame": 150}
+JSONL
+fail=0
+for c in "${cases[@]}"; do
+	name=${c%%|*} cmd=${c#*|}
+	for side in base new; do
+		bin=$base; [ $side = new ] && bin=$new
+		mkdir -p "$tmp/$side/$name"
+		run=${cmd//@TH@/\'$bin\'}; run=${run//@OUT@/$tmp/$side/$name}
+		(cd "$tmp" && eval "$run") >"$tmp/$side/$name.stdout" 2>"$tmp/$side/$name.stderr" || { echo "$name: the $side binary failed: $(tail -2 "$tmp/$side/$name.stderr")"; fail=1; continue 2; }
+	done
+	a=$(cd "$tmp/base/$name" && find . -type f | sort | xargs sha256sum | sha256sum | cut -c1-16)
+	b=$(cd "$tmp/new/$name" && find . -type f | sort | xargs sha256sum | sha256sum | cut -c1-16)
+	files=$(cd "$tmp/new/$name" && find . -type f | wc -l)
+	if [ "$a" = "$b" ] && cmp -s "$tmp/base/$name.stdout" "$tmp/new/$name.stdout"; then
+		echo "$name: identical ($files files, $a)"
+	else
+		echo "$name: DIFFERENT"; diff -r -q "$tmp/base/$name" "$tmp/new/$name" | head -5 || true; fail=1
+	fi
+done
+[ $fail = 0 ] && echo "identical: every case byte for byte" || { echo "identical: differences (above)"; exit 1; }
