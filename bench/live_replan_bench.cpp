@@ -21,14 +21,14 @@ int main() {
 			keys.push_back(k);
 		}
 		const Ticks from = ticksFromSeconds(at), horizon = ticksFromSeconds(at + 60);
-		const ShapeModulator previous(o, "neutral", ticksFromSeconds(60), keys);
+		const ShapeModulator previous(o, Emotion(), ticksFromSeconds(60), keys);
 		auto time = [](auto&& f) {
 			const auto t0 = std::chrono::steady_clock::now();
 			for (int r = 0; r < 5; ++r) f();
 			return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / 5;
 		};
-		const double whole = time([&] { ShapeModulator m(o, "neutral", horizon, keys); });
-		const double continued = time([&] { ShapeModulator m(previous, from, o, "neutral", horizon, keys); });
+		const double whole = time([&] { ShapeModulator m(o, Emotion(), horizon, keys); });
+		const double continued = time([&] { ShapeModulator m(previous, from, o, Emotion(), horizon, keys); });
 		std::printf("%9.0f s %11.2f ms %11.2f ms\n", at, whole, continued);
 	}
 }

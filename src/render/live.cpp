@@ -205,9 +205,9 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	ModulatorOptions envelope = o_.modulation;
 	envelope.forcedBlinks.clear(), envelope.gestures.clear(), envelope.browEvents.clear(), envelope.auEvents.clear();
 	double factor = 0;
-	for (const auto& label : emotionLabels()) factor = std::max(factor, ShapeModulator::headFactorFor(label.label));
-	so.modulator = std::make_shared<ShapeModulator>(envelope, "joy", ticksFromSeconds(kPlanAhead), keys_);
-	if (ShapeModulator::headFactorFor("joy") < factor) throw std::logic_error("LiveSession: the envelope's emotion is not the liveliest");
+	for (std::size_t i = 0; i < Emotion::count(); ++i) factor = std::max(factor, ShapeModulator::headFactorFor(Emotion::at(i)));
+	so.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), keys_);
+	if (ShapeModulator::headFactorFor(Emotion::of("joy")) < factor) throw std::logic_error("LiveSession: the envelope's emotion is not the liveliest");
 	synth_ = std::make_unique<Synthesizer>(model, so);
 	place_ = box_.innerWidth > 0 && (box_.innerWidth != outWidth || box_.innerHeight != outHeight);
 	info_.width = place_ ? outWidth : synth_->width();
@@ -395,8 +395,8 @@ void LiveSession::replan() {
 	brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time + b.duration < behind; }), brows.end());
 	auto& blinks = modOptions_.forcedBlinks;
 	blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b < behind; }), blinks.end());
-	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, emotion_, horizon_, keys_);
-	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, emotion_, horizon_, keys_);
+	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, Emotion::of(emotion_), horizon_, keys_);
+	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, Emotion::of(emotion_), horizon_, keys_);
 	synth_->setModulator(modulator_);
 }
 

@@ -157,7 +157,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		box = fitBox(model.width, model.height, so.width, so.height, options.fit);
 		so.width = box.innerWidth, so.height = box.innerHeight;
 	}
-	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.emotion, perf.duration, perf.keys);
+	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, Emotion::of(perf.emotion), perf.duration, perf.keys);
 	Synthesizer synth(model, so);
 	const bool place = box.innerWidth > 0 && (box.innerWidth != outWidth || box.innerHeight != outHeight);
 	RenderStats st;

@@ -52,29 +52,29 @@ BlinkEvent blinkAt(Ticks t) {
 
 }  // namespace
 
-double ShapeModulator::blinkRateFor(const std::string& emotion) {
+double ShapeModulator::blinkRateFor(Emotion emotion) {
 	// Spontaneous blinking at rest: 17 per minute on average (Bentivoglio et al. 1997, Movement Disorders
 	// 12: 17 at rest, 26 in conversation, 4.5 reading). Per emotion a judgement, no source: wide-eyed
-	// fear and surprise blink less, distress and shame more.
-	if (emotion == "fear" || emotion == "fears_confirmed") return 10;
-	if (emotion == "anger" || emotion == "hate") return 14;
-	if (emotion == "distress" || emotion == "shame" || emotion == "remorse" || emotion == "disappointment") return 22;
+	// fear and surprise blink less, distress and shame more. Canonical labels, checked (Emotion::in).
+	if (emotion.in({"fear", "fears-confirmed"})) return 10;
+	if (emotion.in({"anger", "hate"})) return 14;
+	if (emotion.in({"distress", "shame", "remorse", "disappointment"})) return 22;
 	return 17;
 }
 
-double ShapeModulator::headFactorFor(const std::string& emotion) {
+double ShapeModulator::headFactorFor(Emotion emotion) {
 	// Amplitude of head motion per emotion (a judgement): lively for joy and anger, subdued for distress
 	// and fear.
-	if (emotion == "joy" || emotion == "happy_for" || emotion == "gloating" || emotion == "pride" || emotion == "gratification") return 1.25;
-	if (emotion == "anger" || emotion == "hate" || emotion == "reproach") return 1.2;
-	if (emotion == "distress" || emotion == "fear" || emotion == "shame" || emotion == "remorse" || emotion == "pity") return 0.6;
+	if (emotion.in({"joy", "happy-for", "gloating", "pride", "gratification"})) return 1.25;
+	if (emotion.in({"anger", "hate", "reproach"})) return 1.2;
+	if (emotion.in({"distress", "fear", "shame", "remorse", "pity"})) return 0.6;
 	return 1.0;
 }
 
-ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys)
+ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys)
     : ShapeModulator(o, emotion, duration, keys, Ticks(0)) {}
 
-ShapeModulator::ShapeModulator(const ModulatorOptions& o, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom)
+ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom)
     : o_(o) {
 	// Speech runs: consecutive keyposes that are phones (not silence, not the in-breath).
 	for (std::size_t i = 0; i < keys.size();) {
@@ -178,7 +178,7 @@ ModulatorOptions withoutBlinks(ModulatorOptions o) {
 }
 }  // namespace
 
-ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& o, const std::string& emotion, Ticks duration,
+ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& o, Emotion emotion, Ticks duration,
                                const std::vector<Keypose>& keys)
     : ShapeModulator(withoutBlinks(o), emotion, duration, keys, from) {
 	o_ = o;

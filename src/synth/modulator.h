@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "base/ticks.h"
+#include "phonetics/emotion.h"
 #include "phonetics/language.h"
 
 namespace talkhead {
@@ -111,13 +112,13 @@ struct HeadMotion {
 // frames drawn in any order on any thread agree.
 class ShapeModulator {
 public:
-	ShapeModulator(const ModulatorOptions& options, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys);
+	ShapeModulator(const ModulatorOptions& options, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys);
 	// A live stream's next plan (render/live.h: its timeline changed at `from`): `previous`'s up to `from`,
 	// then a plan of the new timeline that goes on from it without a jump — the same head sinusoids, the
 	// blinks that started before `from` kept (new ones drawn after them, seeded by options.seed and
 	// `from`), and the head's amplitude (emotion × speaking activity) moved from previous's to the new one
 	// over 0.4 s. Forced blinks, gestures, brow and AU events are the options' own.
-	ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& options, const std::string& emotion, Ticks duration,
+	ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& options, Emotion emotion, Ticks duration,
 	               const std::vector<Keypose>& keys);
 
 	// Lid closure at t: 0 open … 1 shut.
@@ -146,8 +147,8 @@ public:
 	bool speaking(Ticks t) const;
 
 	// Defaults per emotion (canonical label): blinks per minute at rest and the head-motion amplitude factor.
-	static double blinkRateFor(const std::string& emotion);
-	static double headFactorFor(const std::string& emotion);
+	static double blinkRateFor(Emotion emotion);
+	static double headFactorFor(Emotion emotion);
 
 private:
 	ModulatorOptions o_;
@@ -162,7 +163,7 @@ private:
 	std::vector<float> amp_;
 	std::size_t ampFirst_ = 0;
 	std::size_t activityFirst_ = 0;  // activity_[0] is grid index activityFirst_
-	ShapeModulator(const ModulatorOptions& options, const std::string& emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom);
+	ShapeModulator(const ModulatorOptions& options, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom);
 	// Draws blinks from `t` (seconds) to the end `length`, none within 0.8 s of `lastEnd`, moving those in
 	// speech to a nearby pause; `state` is the generator's.
 	void drawBlinks(std::uint64_t& state, double mean, double t, double lastEnd, double length);

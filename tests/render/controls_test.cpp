@@ -87,7 +87,7 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 	// The modulator blinks there even with its own blinks off, and nods (down, then back).
 	p.modulation.blinks = false;
 	p.modulation.headMotion = false;
-	const ShapeModulator m(p.modulation, p.emotion, p.duration, p.keys);
+	const ShapeModulator m(p.modulation, Emotion::of(p.emotion), p.duration, p.keys);
 	ASSERT_EQ(m.blinks().size(), 1u);
 	EXPECT_EQ(m.blinks()[0].start, ms(3500));
 	EXPECT_EQ(m.eyeClosure(ms(3500 + 85)), 1.0);
@@ -225,7 +225,7 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	Performance p = fourSeconds();
 	applyControls(p, t);
 	EXPECT_FALSE(p.modulation.blinks);
-	const ShapeModulator m(p.modulation, p.emotion, p.duration, p.keys);
+	const ShapeModulator m(p.modulation, Emotion::of(p.emotion), p.duration, p.keys);
 	EXPECT_NEAR(m.head(ms(600)).roll, c.roll[1], 1e-6);
 	EXPECT_EQ(m.head(ms(600)).angle, 0);  // no drawn sinusoids
 	EXPECT_NEAR(m.head(ms(650)).scale, 1.01, 1e-6);

@@ -65,7 +65,7 @@ TEST(ShapeModulator, aContinuedPlanGoesOnWithoutAJump) {
 	o.seed = 3;
 	std::vector<Keypose> idle(1);
 	idle[0].cdv = "sil";
-	const ShapeModulator before(o, "neutral", ticksFromSeconds(60), idle);
+	const ShapeModulator before(o, Emotion::of("neutral"), ticksFromSeconds(60), idle);
 	// Speech from 2.05 s and a livelier emotion: the plan changes at 2 s.
 	std::vector<Keypose> keys = idle;
 	for (int i = 0; i < 20; ++i) {
@@ -79,14 +79,14 @@ TEST(ShapeModulator, aContinuedPlanGoesOnWithoutAJump) {
 	rest.cdv = "sil";
 	keys.push_back(rest);
 	const Ticks from = ticksFromSeconds(2);
-	const ShapeModulator after(before, from, o, "joy", ticksFromSeconds(70), keys);
+	const ShapeModulator after(before, from, o, Emotion::of("joy"), ticksFromSeconds(70), keys);
 	// At the splice the head is where it was; after it, it moves no faster than the old plan ever did.
 	const HeadMotion a = before.head(from), b = after.head(from);
 	EXPECT_NEAR(a.angle, b.angle, 1e-12);
 	EXPECT_NEAR(a.dx, b.dx, 1e-12);
 	EXPECT_NEAR(a.dy, b.dy, 1e-12);
 	// ... and after it no faster than a plan that knew the speech from the start.
-	const ShapeModulator known(o, "joy", ticksFromSeconds(70), keys);
+	const ShapeModulator known(o, Emotion::of("joy"), ticksFromSeconds(70), keys);
 	double fastest = 0, fastestAfter = 0;
 	const Ticks frame = ticksFromSeconds(1.0 / 30);
 	for (Ticks t{0}; t < ticksFromSeconds(8); t += frame) {
@@ -109,7 +109,7 @@ TEST(ShapeModulator, aContinuedPlanGoesOnWithoutAJump) {
 		if (!old) EXPECT_GE(x.start, from);
 	}
 	// Within the face box the synthesizer was sized for.
-	EXPECT_LE(after.maxAngle(), ShapeModulator(o, "joy", ticksFromSeconds(60), idle).maxAngle() + 1e-12);
+	EXPECT_LE(after.maxAngle(), ShapeModulator(o, Emotion::of("joy"), ticksFromSeconds(60), idle).maxAngle() + 1e-12);
 }
 
 TEST(LiveSession, sameRequestsAtTheSameFramesGiveTheSameFramesAndSound) {

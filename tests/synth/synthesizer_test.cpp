@@ -236,7 +236,7 @@ TEST(Synthesizer, actionUnitEventsMoveThePointsOnTheirSide) {
 	smile.side = 1;  // the subject's left: the image's right half
 	mo.auEvents = {smile};
 	SynthOptions o;
-	o.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
+	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys);
 	Synthesizer synth(f.model, o);
 	synth.prepare(keys);
 	Synthesizer::Workspace ws;
@@ -431,12 +431,12 @@ TEST(ShapeModulator, blinksCloseTheEyesAndOpenThemAgainSeeded) {
 	ModulatorOptions mo;
 	mo.headMotion = false;
 	mo.seed = 7;
-	auto mod = std::make_shared<ShapeModulator>(mo, "joy", ms(6000), keys);
+	auto mod = std::make_shared<ShapeModulator>(mo, Emotion::of("joy"), ms(6000), keys);
 	ASSERT_GE(mod->blinks().size(), 1u);
-	EXPECT_EQ(ShapeModulator(mo, "joy", ms(6000), keys).blinks().size(), mod->blinks().size());
-	EXPECT_EQ(ShapeModulator(mo, "joy", ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
+	EXPECT_EQ(ShapeModulator(mo, Emotion::of("joy"), ms(6000), keys).blinks().size(), mod->blinks().size());
+	EXPECT_EQ(ShapeModulator(mo, Emotion::of("joy"), ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
 	mo.seed = 8;
-	EXPECT_NE(ShapeModulator(mo, "joy", ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
+	EXPECT_NE(ShapeModulator(mo, Emotion::of("joy"), ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
 	SynthOptions o;
 	o.emotion = "joy";
 	Synthesizer plain(f.model, o);
@@ -462,7 +462,7 @@ TEST(ShapeModulator, blinksCloseTheEyesAndOpenThemAgainSeeded) {
 		EXPECT_LT((p1 - p0).cwiseAbs().maxCoeff(), 1e-9) << "open again after the blink";
 	}
 	mo.blinks = false;
-	EXPECT_TRUE(ShapeModulator(mo, "joy", ms(6000), keys).blinks().empty());
+	EXPECT_TRUE(ShapeModulator(mo, Emotion::of("joy"), ms(6000), keys).blinks().empty());
 }
 
 TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame) {
@@ -472,7 +472,7 @@ TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame)
 		ModulatorOptions mo;
 		mo.blinks = false;
 		mo.headAmplitude = amplitude;
-		auto mod = std::make_shared<ShapeModulator>(mo, "neutral", ms(30000), keys);
+		auto mod = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(30000), keys);
 		EXPECT_NEAR(mod->maxAngle(), amplitude * 1.5 * M_PI / 180, 1e-12);
 		double peak = 0;
 		for (long t = 0; t < 30000; t += 20) peak = std::max(peak, std::abs(mod->head(ms(t)).angle));
@@ -500,7 +500,7 @@ TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame)
 	ModulatorOptions still;
 	still.blinks = false;
 	still.headMotion = false;
-	EXPECT_EQ(ShapeModulator(still, "joy", ms(3000), keys).head(ms(1000)).angle, 0);
+	EXPECT_EQ(ShapeModulator(still, Emotion::of("joy"), ms(3000), keys).head(ms(1000)).angle, 0);
 }
 
 TEST(Synthesizer, intensityGoesFromTheNeutralKeyposesToTheEmotionAndBeyond) {
@@ -571,7 +571,7 @@ TEST(ShapeModulator, browsRiseForARaiseAndComeDownAndTogetherForAFrown) {
 	SynthOptions o;
 	o.emotion = "joy";
 	Synthesizer plain(f.model, o);
-	o.modulator = std::make_shared<ShapeModulator>(mo, "joy", ms(3000), keys);
+	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("joy"), ms(3000), keys);
 	Synthesizer moved(f.model, o);
 	plain.prepare(keys);
 	moved.prepare(keys);
@@ -633,7 +633,7 @@ Ticks oneBlink(SynthOptions& o, const std::vector<Keypose>& keys) {
 	mo.blinks = false;
 	mo.headMotion = false;
 	mo.forcedBlinks = {ms(1000)};
-	o.modulator = std::make_shared<ShapeModulator>(mo, "neutral", ms(2000), keys);
+	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys);
 	return o.modulator->blinks().at(0).start + o.modulator->blinks().at(0).closing + ms(10);
 }
 }  // namespace
