@@ -20,8 +20,8 @@
 #include "base/interrupt.h"
 #include "base/json.h"
 #include "base/progress.h"
-#include "render/batch.h"
-#include "render/side_by_side.h"
+#include "stimuli/batch.h"
+#include "stimuli/side_by_side.h"
 
 namespace fs = std::filesystem;
 
@@ -82,7 +82,7 @@ int runChild(const std::vector<std::string>& args, std::string* message) {
 }
 
 // A side-by-side stimulus: both sides rendered as y4m (lossless) in a temporary folder beside the output —
-// the row's sound track from its own side — then composed into one MP4 (render/side_by_side.h).
+// the row's sound track from its own side — then composed into one MP4 (stimuli/side_by_side.h).
 template <class Run>
 void renderSideBySide(const BatchRow& row, const std::string& path, const std::string& timeline, const std::string& threads, Run&& run) {
 	const std::string dir = temporaryNameFor(path + ".d");

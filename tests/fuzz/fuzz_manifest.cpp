@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Batch manifests (src/render/batch.cpp), CSV or JSON: every problem an Error, never a crash; what parses
+// Batch manifests (src/stimuli/batch.cpp), CSV or JSON: every problem an Error, never a crash; what parses
 // has a command and arguments for every row.
 #include <string>
 
 #include "fuzz_support.h"
-#include "render/batch.h"
+#include "stimuli/batch.h"
 
 using namespace talkhead;
 

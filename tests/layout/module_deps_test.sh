@@ -16,9 +16,10 @@ declare -A allowed=(
 	[align]="base media image geometry phonetics align"
 	[track]="base geometry image warp model media phonetics synth align corpus track"
 	[render]="base geometry image warp model media phonetics synth render"
+	[stimuli]="base geometry image warp model media phonetics synth render stimuli"
 	[serve]="base geometry image warp model media phonetics synth render serve"
 	[viz]="base geometry image warp model viz"
-	[cli]="base geometry image warp model media corpus viz phonetics synth align track render serve cli"
+	[cli]="base geometry image warp model media corpus viz phonetics synth align track render stimuli serve cli"
 )
 fail=0
 for dir in "$SRC"/*/; do

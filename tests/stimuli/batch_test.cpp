@@ -10,7 +10,7 @@
 #include "base/error.h"
 #include "base/sha256.h"
 #include "media/audio.h"
-#include "render/batch.h"
+#include "stimuli/batch.h"
 #include "test_support.h"
 
 using namespace talkhead;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "render/batch.h"
+#include "stimuli/batch.h"
 
 #include <algorithm>
 #include <cmath>

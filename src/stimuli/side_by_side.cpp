@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "render/side_by_side.h"
+#include "stimuli/side_by_side.h"
 
 #include <algorithm>
 #include <cstring>
