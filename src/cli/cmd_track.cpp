@@ -18,7 +18,7 @@
 #include "track/compare.h"
 #include "track/landmarks.h"
 #include "track/nonverbal.h"
-#include "render/controls.h"
+#include "perform/controls.h"
 
 namespace talkhead::cli {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "cli/args.h"
-#include "render/controls.h"
+#include "perform/controls.h"
 #include "track/nonverbal.h"
 
 namespace talkhead::cli {

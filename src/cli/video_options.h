@@ -9,7 +9,7 @@
 #include "cli/args.h"
 #include "media/audio.h"
 #include "phonetics/language.h"
-#include "render/controls.h"
+#include "perform/controls.h"
 #include "render/render.h"
 
 namespace talkhead::cli {
@@ -51,7 +51,7 @@ struct SideOutput {
 	std::string path;
 	std::function<void(const std::string& temporaryPath)> write;
 };
-// --timeline-out: the sidecar JSON (render/performance.h timelineJson), or nothing.
+// --timeline-out: the sidecar JSON (perform/performance.h timelineJson), or nothing.
 std::vector<SideOutput> timelineOutput(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones,
                                        const std::vector<Interval>& words = {});
 

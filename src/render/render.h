@@ -8,7 +8,7 @@
 #include "model/face_model.h"
 #include "model/model_file.h"
 #include "render/frame_sink.h"
-#include "render/performance.h"
+#include "perform/performance.h"
 #include "synth/synthesizer.h"
 
 namespace talkhead {

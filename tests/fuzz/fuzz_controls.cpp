@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Control tracks (src/render/controls.cpp): parsed, then applied to a 5-s performance (times past its end
+// Control tracks (src/perform/controls.cpp): parsed, then applied to a 5-s performance (times past its end
 // are errors, never wrong keyposes); and the same bytes as a TextGrid control tier.
 #include <string>
 
 #include "fuzz_support.h"
-#include "render/controls.h"
+#include "perform/controls.h"
 
 using namespace talkhead;
 

@@ -15,11 +15,12 @@ declare -A allowed=(
 	[synth]="base geometry image warp model phonetics synth"
 	[align]="base media image geometry phonetics align"
 	[track]="base geometry image warp model media phonetics synth align corpus track"
-	[render]="base geometry image warp model media phonetics synth render"
-	[stimuli]="base geometry image warp model media phonetics synth render stimuli"
-	[serve]="base geometry image warp model media phonetics synth render serve"
+	[perform]="base geometry image warp model phonetics synth perform"
+	[render]="base geometry image warp model media phonetics synth perform render"
+	[stimuli]="base geometry image warp model media phonetics synth perform render stimuli"
+	[serve]="base geometry image warp model media phonetics synth perform render serve"
 	[viz]="base geometry image warp model viz"
-	[cli]="base geometry image warp model media corpus viz phonetics synth align track render stimuli serve cli"
+	[cli]="base geometry image warp model media corpus viz phonetics synth align track perform render stimuli serve cli"
 )
 fail=0
 for dir in "$SRC"/*/; do

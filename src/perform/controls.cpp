@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "render/controls.h"
+#include "perform/controls.h"
 
 #include <algorithm>
 #include <cmath>

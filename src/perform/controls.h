@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "base/ticks.h"
-#include "render/performance.h"
+#include "perform/performance.h"
 
 namespace talkhead {
 

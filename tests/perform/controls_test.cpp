@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "base/error.h"
-#include "render/controls.h"
+#include "perform/controls.h"
 
 using namespace talkhead;
 
