@@ -16,6 +16,7 @@
 #include "cli/commands.h"
 #include "cli/video_options.h"
 #include "media/audio.h"
+#include "perform/utterance.h"
 #include "phonetics/espeak.h"
 #include "phonetics/labels.h"
 #include "phonetics/ssml.h"
@@ -144,29 +145,16 @@ int runSay(const std::vector<std::string>& argv) {
 	for (short v : speech.pcm) audio.samples.push_back(float(v) / 32768.f);
 	perf.duration = audio.duration();
 	if (ssml) {
-		// Emotions nest: each end returns to the one around it (the command's outside any element).
+		SpeechEvents events = ssmlEvents(*ssml, eventTimes, perf.duration, cmd.emotion, cmd.intensity);
+		for (const auto& m : events.marks) {
+			if (cmd.jsonProgress) std::fprintf(stderr, "{\"type\": \"mark\", \"name\": %s, \"time\": %.3f}\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
+			else if (!cmd.quiet) std::fprintf(stderr, "talkhead: mark %s at %.3f s\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
+		}
 		ControlTrack track;
 		track.path = textName;
-		std::vector<std::pair<std::string, double>> stack{{cmd.emotion, cmd.intensity}};
-		for (std::size_t i = 0; i < ssml->events.size(); ++i) {
-			const SsmlText::Event& e = ssml->events[i];
-			const Ticks t = std::min(eventTimes[i], perf.duration);
-			if (e.kind == SsmlText::Event::Kind::Mark) {
-				if (cmd.jsonProgress) std::fprintf(stderr, "{\"type\": \"mark\", \"name\": %s, \"time\": %.3f}\n", jsonQuote(e.name).c_str(), toSeconds(t));
-				else if (!cmd.quiet) std::fprintf(stderr, "talkhead: mark %s at %.3f s\n", jsonQuote(e.name).c_str(), toSeconds(t));
-			} else if (e.kind == SsmlText::Event::Kind::Blink) {
-				track.blinks.push_back(t);
-			} else if (e.kind == SsmlText::Event::Kind::Brows) {
-				track.brows.push_back(BrowEvent{t, ticksFromSeconds(0.8), e.intensity, e.frown});
-			} else {
-				if (e.kind == SsmlText::Event::Kind::EmotionStart) {
-					stack.emplace_back(*canonicalEmotion(e.name), e.intensity);
-				} else {
-					stack.pop_back();
-				}
-				track.emotions.push_back(ControlTrack::EmotionChange{t, ticksFromSeconds(0.2), stack.back().first, stack.back().second});
-			}
-		}
+		track.blinks = std::move(events.blinks);
+		track.brows = std::move(events.brows);
+		track.emotions = std::move(events.emotions);
 		applyControls(perf, track);
 	}
 	if (cmd.controls) applyControls(perf, *cmd.controls);

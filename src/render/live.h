@@ -10,8 +10,8 @@
 #include "base/frame_rate.h"
 #include "base/ticks.h"
 #include "media/audio.h"
-#include "phonetics/espeak.h"
 #include "phonetics/language.h"
+#include "perform/utterance.h"
 #include "render/frame_sink.h"
 #include "render/render.h"
 #include "synth/synthesizer.h"
@@ -24,34 +24,6 @@ namespace talkhead {
 // deterministic: the same commands before the same frames give byte-identical frames and the same sound,
 // whatever the wall clock — `talkhead serve` paces it in real time, `talkhead live` replays a script
 // offline. Not thread-safe: one thread calls everything.
-
-// Something to say: the sound and the phones in it, times relative to the sound's first sample.
-struct Utterance {
-	std::string id;                     // the client's, echoed in the events
-	AudioClip audio;                    // mono at the session's sample rate (empty: a silent utterance)
-	std::vector<PhoneSegment> phones;   // with CDVs (phoneSegments), from 0
-	struct Mark {
-		std::string name;
-		Ticks time{0};
-	};
-	std::vector<Mark> marks;            // reported when reached
-	std::vector<BrowEvent> brows;       // SSML brow events (relative)
-	std::vector<Ticks> blinks;          // SSML blinks (relative)
-	std::vector<std::string> warnings;  // what was changed on the way (espeak-ng's text warnings)
-	Ticks duration() const;             // the sound's length, or the phones' end when longer
-};
-
-// The utterance espeak-ng speaks for `text` (plain or SSML: breaks, marks, blinks, brows; emotion
-// elements are refused — send an emotion command) in `voice` (empty: the language's default), resampled to
-// `sampleRate`. rateWpm 0 / pitch −1: the voice's defaults. `limits` bound the synthesis (a server's).
-// Throws Error (unknown voice, nothing to say, bad SSML, over a limit) or SpeechCancelled.
-Utterance speakText(const std::string& text, const Language& language, const std::string& voice, int sampleRate, int rateWpm = 0,
-                    int pitch = -1, const SpeechLimits& limits = {});
-
-// An utterance from a sound the caller has (any format libav decodes, in `audioPath`) and its timing in any
-// transcript format talkhead reads (`transcript`, named `transcriptName` in errors). Throws Error.
-Utterance utteranceFromAudio(const std::string& audioPath, const std::string& transcript, const std::string& transcriptName,
-                             const Language& language, int sampleRate);
 
 struct LiveOptions {
 	RenderOptions render;              // output size and fit, trajectory, dissolve (threads: unused)
