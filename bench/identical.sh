@@ -31,7 +31,22 @@ cases=(
 	"say-en-ssml|@TH@ say '<speak>Hello <blink/>there. <break time=\"300ms\"/><emotion name=\"anger\" intensity=\"0.7\">Stop <brows down=\"0.6\"/>that.</emotion><mark name=\"m\"/></speak>' --lang en-US --size 320x180 -o @OUT@/a.mp4 -q"
 	"batch|@TH@ batch $tmp/manifest.csv -o @OUT@/stimuli --seed 7 -q"
 	"live|@TH@ live $tmp/session.jsonl --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"render-timeline|@TH@ render --transcript $ex/que_noticia.TextGrid --emotion joy --lead-in 0.3 --tail 0.2 --size 160x90 --format y4m -o @OUT@/a.y4m --timeline-out @OUT@/t.json -q"
+	"say-save|@TH@ say 'Bom dia, tudo bem?' --size 160x90 -o @OUT@/a.mp4 --save-audio @OUT@/a.wav --save-transcript @OUT@/a.TextGrid --timeline-out @OUT@/t.json -q"
+	"say-dry-run|@TH@ say 'Que notícia excelente!' --dry-run"
 )
+# With the research data beside the project: speech from a real clip (its GRID alignment, its text aligned
+# to it, sentence cues aligned to it) and a driving video.
+grid="$root/../shared/data/grid"
+if [ -f "$grid/swwp2s.align" ] && [ -f "$grid/id2_vcd_swwp2s.mpg" ]; then
+	cases+=(
+		"render-grid-audio|@TH@ render --transcript $grid/swwp2s.align --audio $grid/id2_vcd_swwp2s.mpg --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+		"render-text-audio|@TH@ render --text 'set white with p two soon' --audio $grid/id2_vcd_swwp2s.mpg --lang en-US --size 160x90 --format y4m -o @OUT@/a.y4m --timeline-out @OUT@/t.json -q"
+		"render-cue-audio|@TH@ render --transcript $tmp/cue.srt --audio $grid/id2_vcd_swwp2s.mpg --lang en-US --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+		"render-drive|@TH@ render --transcript $grid/swwp2s.align --drive $grid/id2_vcd_swwp2s.mpg --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+	)
+	printf '1\n00:00:00,500 --> 00:00:02,800\nset white with p two soon\n' >"$tmp/cue.srt"
+fi
 cat >"$tmp/manifest.csv" <<CSV
 text,transcript,emotion,size,versus:emotion,condition
 Bom dia.,,joy:0.5,160x90,,a

@@ -14,6 +14,7 @@
 #include "media/video_reader.h"
 #include "cli/video_options.h"
 #include "media/audio.h"
+#include "perform/plan.h"
 #include "phonetics/language.h"
 
 namespace talkhead::cli {
@@ -79,8 +80,6 @@ int runRender(const std::vector<std::string>& argv) {
 		throw UsageError("render: --controls " + cmd.controls->path + " has curves and --drive gives them too: give one");
 	const Language& lang = languageOption(args, defaultLanguageFor(transcriptPath.value_or(""), args.get("--transcript-format", "")));
 	if (auto f = args.get("--text-file")) text = readTextFile(*f);
-
-	// Timeline.
 	ReadOptions ro;
 	ro.format = args.get("--transcript-format", "");
 	ro.tier = args.get("--tier", "");
@@ -88,96 +87,45 @@ int runRender(const std::vector<std::string>& argv) {
 	if (level != "auto") ro.level = level == "words" ? LabelLevel::Word : LabelLevel::Phone;
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
-	AudioClip audio;
-	Transcript tr;
-	bool aligned = false;         // sentence cues aligned to the audio: canonical IPA phones
-	std::vector<Interval> words;  // for the timeline sidecar, when known
 	// D55: the driving video, tracked first (its mouth may make the keyposes).
 	NonVerbalTrack nv;
 	LandmarkTrack driverLandmarks;
 	if (drive) nv = trackNonVerbal(*drive, driveOptions, args.get("--drive-model", ""), cmd.quiet, driveMouth ? &driverLandmarks : nullptr);
-	if (driveMouth) {
-		// No transcript: the keyposes come from the driver's mouth.
-	} else if (text) {
-		// Forced alignment of the text to the audio (align/align.h), as `talkhead align` does.
-		audio = decodeAudio(*audioPath);
-		AlignOptions ao;
-		ao.languageTag = lang.tag();
-		Alignment al;
-		try {
-			al = alignSpeech(audio, *text, ao);
-		} catch (const Error& e) {
-			throw Error(*audioPath, 0, e.what());
-		}
-		for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*audioPath + ": " + w).c_str());
-		if (!cmd.quiet) std::fprintf(stderr, "aligned: %s\n", alignmentSummary(al).c_str());
-		tr = al.phones;
-		words = al.words.intervals;
-		transcriptPath = *audioPath;
-	} else {
-		tr = readTranscript(*transcriptPath, ro);
-		noteWordLanguage(args, tr, lang, *transcriptPath);
-		if (tr.level == LabelLevel::Word) words = tr.intervals;
-		else if (cmd.timelineOut && tr.format == "textgrid" && *transcriptPath != "-") words = textGridWords(*transcriptPath, tr.tier);
-		// Sentence-level cues (subtitles, aeneas, utterance tiers) with the speech at hand: each cue's text is
-		// aligned to its own stretch of the audio (issue 29), not spread by espeak-ng's durations.
-		const bool sentences = std::any_of(tr.intervals.begin(), tr.intervals.end(), [](const Interval& i) { return i.label.find(' ') != std::string::npos; });
-		if (tr.level == LabelLevel::Word && sentences && audioPath) {
-			audio = decodeAudio(*audioPath);
-			tr = alignCues(tr, audio, lang.tag(), *audioPath);
-			aligned = true;
-			const auto cues = std::count_if(words.begin(), words.end(), [](const Interval& i) { return !isPauseLabel(i.label); });
-			if (!cmd.quiet) std::fprintf(stderr, "talkhead: %s: %zu cues aligned to %s\n", transcriptPath->c_str(), std::size_t(cues), audioPath->c_str());
-		}
-		for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*transcriptPath + ": " + w).c_str());
-	}
-	std::vector<PhoneSegment> phones;
-	if (!driveMouth) phones = phoneSegments(tr, lang, unknown, text || aligned ? Notation::Ipa : *notation);  // an alignment's phones are canonical IPA
-	Performance perf;
-	perf.rate = cmd.rate;
-	perf.emotion = cmd.emotion;
-	perf.modulation = cmd.modulation;
-	perf.intensity = cmd.intensity;
+	auto say = [](const std::string& line) { std::fprintf(stderr, "%s\n", safeLine(line).c_str()); };
+	TimedSpeech speech;  // none with --drive-mouth: the keyposes come from the driver's mouth
+	if (text) speech = speechFromText(*text, *audioPath, lang, unknown);
+	else if (transcriptPath)
+		speech = speechFromTranscript(*transcriptPath, ro, lang, unknown, *notation, audioPath, bool(cmd.timelineOut),
+		                              [&](const Transcript& t) { noteWordLanguage(args, t, lang, *transcriptPath); });
+	if (!cmd.quiet)
+		for (const std::string& n : speech.notes) say(n);
+	for (const std::string& w : speech.warnings) say("talkhead: warning: " + w);
+
+	PerformanceSpec spec = performanceSpec(cmd);
+	spec.phones = speech.phones;
+	spec.source = speech.name;
 	std::size_t exemplarChoices = 0;
+	Ticks videoEnd{0};
+	if (drive) videoEnd = nv.curves().end() + ticksFromSeconds(1 / nv.rate);
 	if (driveMouth) {
 		const DrivenMouth dm = talkhead::driveMouth(driverLandmarks, loadRenderModel(cmd.modelPath, cmd.components), cmd.emotion);
-		perf.keys = dm.keys;
+		spec.keys = dm.keys;
 		exemplarChoices = dm.exemplarChoices;
-	} else {
-		perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
+		spec.duration = videoEnd;
 	}
-	if (cmd.speechBrows > 0) {  // D49
-		const auto brows = speechBrows(phones, cmd.speechBrows);
-		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
-	}
-	// Duration: the audio's (decoded once without keeping it, unless aligned), or the transcript's.
-	perf.duration = driveMouth ? nv.curves().end() + ticksFromSeconds(1 / nv.rate) : phones.back().end;
+	// The sound (decoded once without keeping it, unless aligned; at the file's own sample rate).
 	std::unique_ptr<AudioSource> sound;
-	if (auto a = audioPath) {
-		// (At the file's own sample rate: no resampling, and an MP4 index a third of 48 kHz's for 16 kHz speech.)
-		const Ticks audioDur = audio.samples.empty() ? audioFileDuration(*a, 0) : audio.duration();
-		sound = audio.samples.empty() ? openAudioFile(*a, 0) : clipSource(audio);
-		const Ticks tolerance(kTicksPerSecond / 10);
-		if (!driveMouth && perf.duration > audioDur + tolerance) {
-			char buf[200];
-			std::snprintf(buf, sizeof buf, "the transcript (%.3f s) is longer than the audio (%.3f s) by %.3f s", toSeconds(perf.duration),
-			              toSeconds(audioDur), toSeconds(perf.duration - audioDur));
-			throw Error(*transcriptPath, 0, buf);
-		}
-		// A transcript covering a small part of a long audio: the face holds still for the rest. Say so.
-		const Ticks uncovered = audioDur - perf.duration;
-		if (!driveMouth && uncovered > Ticks(10 * kTicksPerSecond) && perf.duration * 2 < audioDur)
-			std::fprintf(stderr, "talkhead: warning: %s: the transcript covers %.1f s of %.1f s of audio; the face holds its last keypose, silent, for the other %.1f s\n",
-			             a->c_str(), toSeconds(perf.duration), toSeconds(audioDur), toSeconds(uncovered));
-		perf.duration = audioDur;
+	if (audioPath) {
+		spec.audioDuration = speech.audio.samples.empty() ? audioFileDuration(*audioPath, 0) : speech.audio.duration();
+		sound = speech.audio.samples.empty() ? openAudioFile(*audioPath, 0) : clipSource(speech.audio);
 	}
-	if (cmd.controls) applyControls(perf, *cmd.controls);
-	if (drive) {  // D55: the head, brows, eyes and blinks of the driving video
-		ControlTrack driven = controlsOf(nv);
-		// A driver longer than the sound: its blinks after the end are not drawn.
-		driven.blinks.erase(std::remove_if(driven.blinks.begin(), driven.blinks.end(), [&](Ticks t) { return t > perf.duration; }), driven.blinks.end());
-		applyControls(perf, driven);
-		const Ticks videoEnd = nv.curves().end() + ticksFromSeconds(1 / nv.rate);
+	if (cmd.controls) spec.controls.push_back(*cmd.controls);
+	// D55: the head, brows, eyes and blinks of the driving video (its blinks after the sound's end not drawn).
+	if (drive) spec.controls.push_back(clippedTo(controlsOf(nv), spec.audioDuration.value_or(spec.duration.value_or(spec.phones.empty() ? Ticks(0) : spec.phones.back().end))));
+	std::vector<std::string> warnings;
+	Performance perf = planPerformance(spec, &warnings);
+	for (const std::string& w : warnings) say("talkhead: warning: " + *audioPath + ": " + w);
+	if (drive) {
 		if (videoEnd + ticksFromSeconds(0.5) < perf.duration)
 			std::fprintf(stderr, "talkhead: warning: %s: the video (%.2f s) is shorter than the render (%.2f s); the head holds its last pose after it\n",
 			             drive->c_str(), toSeconds(videoEnd), toSeconds(perf.duration));
@@ -188,9 +136,9 @@ int runRender(const std::vector<std::string>& argv) {
 			                           " exemplars chosen by shape)").c_str() : "");
 	}
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).
-	if (!tr.tier.empty() && !cmd.quiet) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", transcriptPath->c_str(), tr.tier.c_str(), tr.tierNote.c_str());
+	if (!speech.read.tier.empty() && !cmd.quiet) say("talkhead: " + speech.name + ": tier '" + speech.read.tier + "' (" + speech.read.tierNote + ")");
 	sound = applyStimulusTiming(cmd, perf, std::move(sound));
-	runVideoCommand(cmd, perf, std::move(sound), t0, "", timelineOutput(cmd, perf, phones, words));
+	runVideoCommand(cmd, perf, std::move(sound), t0, "", timelineOutput(cmd, perf, speech.phones, speech.words));
 	return 0;
 }
 

@@ -16,6 +16,7 @@
 #include "cli/commands.h"
 #include "cli/video_options.h"
 #include "media/audio.h"
+#include "perform/plan.h"
 #include "perform/utterance.h"
 #include "phonetics/espeak.h"
 #include "phonetics/labels.h"
@@ -123,19 +124,10 @@ int runSay(const std::vector<std::string>& argv) {
 	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone (said
 	// once on stderr: the tables are meant to know every name their voice uses).
 	warnUnknownPhones(speech.phones, lang);
-	const std::vector<PhoneSegment> phones = phoneSegments(speech.phones, lang, UnknownPhone::Nearest, Notation::Espeak);
-	Performance perf;
-	perf.rate = cmd.rate;
-	perf.emotion = cmd.emotion;
-	perf.modulation = cmd.modulation;
-	perf.intensity = cmd.intensity;
-	perf.keys = keyposes(phones, cmd.rate.frameLength(), cmd.pauses);
-	if (cmd.speechBrows > 0) {  // D49
-		const auto brows = speechBrows(phones, cmd.speechBrows);
-		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
-	}
+	const TimedSpeech timed = speechFromEspeak(speech, lang);
+	const std::vector<PhoneSegment>& phones = timed.phones;
 	if (dryRun) {
-		std::cout << formatVisemes(phones, perf.keys, "tsv", lang.tag(), "espeak-ng");
+		std::cout << formatVisemes(phones, keyposes(phones, cmd.rate.frameLength(), cmd.pauses), "tsv", lang.tag(), "espeak-ng");
 		return 0;
 	}
 	AudioClip audio;
@@ -143,9 +135,11 @@ int runSay(const std::vector<std::string>& argv) {
 	audio.channels = 1;
 	audio.samples.reserve(speech.pcm.size());
 	for (short v : speech.pcm) audio.samples.push_back(float(v) / 32768.f);
-	perf.duration = audio.duration();
-	if (ssml) {
-		SpeechEvents events = ssmlEvents(*ssml, eventTimes, perf.duration, cmd.emotion, cmd.intensity);
+	PerformanceSpec spec = performanceSpec(cmd);
+	spec.phones = phones;
+	spec.duration = audio.duration();
+	if (ssml) {  // D45: marks reported, blinks, brows and emotions as a control track
+		SpeechEvents events = ssmlEvents(*ssml, eventTimes, *spec.duration, cmd.emotion, cmd.intensity);
 		for (const auto& m : events.marks) {
 			if (cmd.jsonProgress) std::fprintf(stderr, "{\"type\": \"mark\", \"name\": %s, \"time\": %.3f}\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
 			else if (!cmd.quiet) std::fprintf(stderr, "talkhead: mark %s at %.3f s\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
@@ -155,9 +149,10 @@ int runSay(const std::vector<std::string>& argv) {
 		track.blinks = std::move(events.blinks);
 		track.brows = std::move(events.brows);
 		track.emotions = std::move(events.emotions);
-		applyControls(perf, track);
+		spec.controls.push_back(std::move(track));
 	}
-	if (cmd.controls) applyControls(perf, *cmd.controls);
+	if (cmd.controls) spec.controls.push_back(*cmd.controls);
+	Performance perf = planPerformance(spec);
 	char prefix[64];
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
 	const std::vector<Keypose> keys = perf.keys;  // the speech's own times, for --save-transcript

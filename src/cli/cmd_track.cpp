@@ -192,17 +192,6 @@ NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& 
 	return nv;
 }
 
-ControlTrack controlsOf(const NonVerbalTrack& nv) {
-	ControlTrack c;
-	c.path = nv.source;
-	c.curves = nv.curves();
-	if (nv.options.eyes) {
-		c.blinks = nv.blinks;
-		c.drawnBlinks = false;
-	}
-	return c;
-}
-
 int runTrack(const std::vector<std::string>& argv) {
 	std::vector<OptionSpec> specs = {{"--output", "F.json", "the control track (required)", "-o"},
 	                                 {"--parts", "LIST", "what to track: head, brows, eyes, mouth (default head,brows,eyes)"},

@@ -17,7 +17,5 @@ std::vector<OptionSpec> nonVerbalOptionSpecs();
 // `landmarks`: where to keep the landmark track too (render --drive-mouth).
 NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& options, const std::string& dlibModel, bool quiet,
                               LandmarkTrack* landmarks = nullptr);
-// The analysis as a control track: curves, and the blinks (with drawn blinks off) when the eyes are tracked.
-ControlTrack controlsOf(const NonVerbalTrack& track);
 
 }  // namespace talkhead::cli

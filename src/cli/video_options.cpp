@@ -103,6 +103,17 @@ void noteWordLanguage(const Args& args, const Transcript& tr, const Language& la
 	             lang.tag().c_str());
 }
 
+PerformanceSpec performanceSpec(const VideoCommand& cmd) {
+	PerformanceSpec spec;
+	spec.rate = cmd.rate;
+	spec.pauses = cmd.pauses;
+	spec.emotion = cmd.emotion;
+	spec.intensity = cmd.intensity;
+	spec.modulation = cmd.modulation;
+	spec.speechBrows = cmd.speechBrows;
+	return spec;
+}
+
 void checkWritableFolder(const std::string& path) {
 	fs::path parent = fs::path(path).parent_path();
 	if (parent.empty()) parent = ".";

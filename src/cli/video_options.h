@@ -10,6 +10,7 @@
 #include "media/audio.h"
 #include "phonetics/language.h"
 #include "perform/controls.h"
+#include "perform/plan.h"
 #include "render/render.h"
 
 namespace talkhead::cli {
@@ -40,6 +41,9 @@ struct VideoCommand {
 	ComponentLevels components;                // --components REGION=N,… (Appendix C reductions)
 	std::optional<std::string> audioOut;       // --audio-out F.wav: the sound track as muxed
 };
+
+// The spec of a performance with the command's frame rate, pauses, emotion, modulation and speech brows.
+PerformanceSpec performanceSpec(const VideoCommand& cmd);
 
 // --lead-in / --tail / --av-offset on a performance whose duration is set: keyposes and events later by
 // the lead-in, the video longer by lead-in + tail, the audio (when there is one) shifted by lead-in +

@@ -467,4 +467,15 @@ Image8 plotNonVerbal(const NonVerbalTrack& t, int width) {
 	return out;
 }
 
+ControlTrack controlsOf(const NonVerbalTrack& nv) {
+	ControlTrack c;
+	c.path = nv.source;
+	c.curves = nv.curves();
+	if (nv.options.eyes) {
+		c.blinks = nv.blinks;
+		c.drawnBlinks = false;
+	}
+	return c;
+}
+
 }  // namespace talkhead

@@ -8,6 +8,7 @@
 
 #include "base/ticks.h"
 #include "image/image.h"
+#include "perform/controls.h"
 #include "synth/action_units.h"
 #include "synth/modulator.h"
 #include "track/landmarks.h"
@@ -63,5 +64,9 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 // The tracks over time: head roll and yaw, translation and scale, each action unit, the eye opening with
 // the blinks marked, dropped spans shaded.
 Image8 plotNonVerbal(const NonVerbalTrack& track, int width = 1400);
+
+// The analysis as a control track (what `track` writes and `render --drive` applies): the curves, and the
+// blinks (with drawn blinks off) when the eyes are tracked.
+ControlTrack controlsOf(const NonVerbalTrack& track);
 
 }  // namespace talkhead

@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "perform/plan.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "align/align.h"
+#include "base/error.h"
+#include "base/text.h"
+
+namespace talkhead {
+
+TimedSpeech speechFromTranscript(const std::string& path, const ReadOptions& read, const Language& language, UnknownPhone unknown,
+                                 Notation notation, const std::optional<std::string>& audioPath, bool wantWords,
+                                 const std::function<void(const Transcript&)>& onRead) {
+	TimedSpeech s;
+	s.name = path;
+	s.read = readTranscript(path, read);
+	if (onRead) onRead(s.read);
+	Transcript tr = s.read;
+	if (tr.level == LabelLevel::Word) s.words = tr.intervals;
+	else if (wantWords && tr.format == "textgrid" && path != "-") s.words = textGridWords(path, tr.tier);
+	// Sentence-level cues (subtitles, aeneas, utterance tiers) with the speech at hand: each cue's text is
+	// aligned to its own stretch of the audio (issue 29), not spread by espeak-ng's durations.
+	const bool sentences = std::any_of(tr.intervals.begin(), tr.intervals.end(), [](const Interval& i) { return i.label.find(' ') != std::string::npos; });
+	bool aligned = false;
+	if (tr.level == LabelLevel::Word && sentences && audioPath) {
+		s.audio = decodeAudio(*audioPath);
+		tr = alignCues(tr, s.audio, language.tag(), *audioPath);
+		aligned = true;
+		const auto cues = std::count_if(s.words.begin(), s.words.end(), [](const Interval& i) { return !isPauseLabel(i.label); });
+		s.notes.push_back("talkhead: " + path + ": " + std::to_string(cues) + " cues aligned to " + *audioPath);
+	}
+	for (const std::string& w : tr.warnings) s.warnings.push_back(path + ": " + w);
+	// An alignment's phones are canonical IPA.
+	s.phones = phoneSegments(tr, language, unknown, aligned ? Notation::Ipa : notation);
+	return s;
+}
+
+TimedSpeech speechFromText(const std::string& text, const std::string& audioPath, const Language& language, UnknownPhone unknown) {
+	TimedSpeech s;
+	s.name = audioPath;
+	s.audio = decodeAudio(audioPath);
+	AlignOptions ao;
+	ao.languageTag = language.tag();
+	Alignment al;
+	try {
+		al = alignSpeech(s.audio, text, ao);
+	} catch (const Error& e) {
+		throw Error(audioPath, 0, e.what());
+	}
+	for (const std::string& w : al.warnings) s.warnings.push_back(audioPath + ": " + w);
+	s.notes.push_back("aligned: " + alignmentSummary(al));
+	s.read = al.phones;
+	s.words = al.words.intervals;
+	s.phones = phoneSegments(al.phones, language, unknown, Notation::Ipa);
+	return s;
+}
+
+TimedSpeech speechFromEspeak(const Speech& speech, const Language& language) {
+	TimedSpeech s;
+	s.name = "espeak-ng";
+	s.read = speech.phones;
+	s.words = speech.words.intervals;
+	s.warnings = speech.warnings;
+	s.phones = phoneSegments(speech.phones, language, UnknownPhone::Nearest, Notation::Espeak);
+	return s;
+}
+
+ControlTrack clippedTo(ControlTrack track, Ticks end) {
+	auto& b = track.blinks;
+	b.erase(std::remove_if(b.begin(), b.end(), [&](Ticks t) { return t > end; }), b.end());
+	return track;
+}
+
+Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string>* warnings) {
+	Performance perf;
+	perf.rate = spec.rate;
+	perf.emotion = spec.emotion;
+	perf.intensity = spec.intensity;
+	perf.modulation = spec.modulation;
+	perf.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses);
+	if (spec.speechBrows > 0) {  // D49
+		const auto brows = speechBrows(spec.phones, spec.speechBrows);
+		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
+	}
+	const Ticks speechEnd = spec.phones.empty() ? Ticks(0) : spec.phones.back().end;
+	perf.duration = spec.duration ? *spec.duration : speechEnd;
+	if (spec.audioDuration) {
+		const Ticks audio = *spec.audioDuration;
+		if (!spec.phones.empty()) {
+			if (perf.duration > audio + Ticks(kTicksPerSecond / 10)) {
+				char b[200];
+				std::snprintf(b, sizeof b, "the transcript (%.3f s) is longer than the audio (%.3f s) by %.3f s", toSeconds(perf.duration), toSeconds(audio),
+				              toSeconds(perf.duration - audio));
+				throw Error(spec.source, 0, b);
+			}
+			// A transcript covering a small part of a long audio: the face holds still for the rest. Say so.
+			const Ticks uncovered = audio - perf.duration;
+			if (warnings && uncovered > Ticks(10 * kTicksPerSecond) && perf.duration * 2 < audio) {
+				char b[240];
+				std::snprintf(b, sizeof b, "the transcript covers %.1f s of %.1f s of audio; the face holds its last keypose, silent, for the other %.1f s",
+				              toSeconds(perf.duration), toSeconds(audio), toSeconds(uncovered));
+				warnings->push_back(b);
+			}
+		}
+		perf.duration = audio;
+	}
+	for (const ControlTrack& c : spec.controls) applyControls(perf, c);
+	return perf;
+}
+
+}  // namespace talkhead

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "base/frame_rate.h"
+#include "base/ticks.h"
+#include "media/audio.h"
+#include "perform/controls.h"
+#include "perform/performance.h"
+#include "phonetics/espeak.h"
+#include "phonetics/language.h"
+#include "phonetics/transcript.h"
+
+namespace talkhead {
+
+// Planning a performance (issue 30): what `render`, `say`, live sessions and `serve` all do between
+// "here is some speech" and "draw these keyposes". Two steps: the speech's phones from one of its sources
+// (a timed transcript, text with the audio it is spoken in, espeak-ng's speech), then planPerformance.
+
+// Speech in phones with their CDVs, from one source, and what was learned on the way.
+struct TimedSpeech {
+	std::vector<PhoneSegment> phones;
+	std::vector<Interval> words;      // when the source knows them (word-level files, alignments, espeak-ng)
+	AudioClip audio;                  // decoded when the source needed it (an alignment); else empty
+	std::string name;                 // the source, for messages: the transcript's path, or the audio's
+	std::vector<std::string> notes;   // one line each, for stderr: "aligned: …", "N cues aligned to …"
+	std::vector<std::string> warnings;  // the reader's, each "name: what"
+	Transcript read;                  // the transcript as read (its level, format, tier and why)
+};
+
+// A timed transcript in any format talkhead reads. Words are phonemised in `language`; sentence-level
+// cues (subtitles, aeneas, utterance tiers) are aligned each to its own stretch of `audioPath` when given
+// (issue 29), else spread by espeak-ng's durations. `wantWords`: a TextGrid's word tier is read too (for
+// the timeline sidecar). `onRead` sees the transcript as read, before any alignment (to say which language
+// its words are read in before an alignment that fails).
+TimedSpeech speechFromTranscript(const std::string& path, const ReadOptions& read, const Language& language, UnknownPhone unknown,
+                                 Notation notation, const std::optional<std::string>& audioPath, bool wantWords,
+                                 const std::function<void(const Transcript&)>& onRead = {});
+// What `audioPath` says, given as text: forced alignment (align/align.h).
+TimedSpeech speechFromText(const std::string& text, const std::string& audioPath, const Language& language, UnknownPhone unknown = UnknownPhone::Error);
+// espeak-ng's speech (say): its phones (names it has that the tables lack take the nearest known phone).
+TimedSpeech speechFromEspeak(const Speech& speech, const Language& language);
+
+// What to perform.
+struct PerformanceSpec {
+	std::vector<PhoneSegment> phones;  // the speech; keyposes at their midpoints (pauses: `pauses`)
+	std::vector<Keypose> keys;         // or the keyposes themselves (a driven mouth, D55), phones empty
+	FrameRate rate;
+	PauseStyle pauses = PauseStyle::Natural;
+	std::string emotion = "neutral";   // canonical
+	double intensity = 1;
+	ModulatorOptions modulation;       // blinks and head motion
+	double speechBrows = 0;            // brow raises with speech (D49); 0 = none
+	// The video's length: `duration` when set, else the audio's when there is one, else the speech's end.
+	std::optional<Ticks> duration;
+	std::optional<Ticks> audioDuration;
+	std::string source;                // names the speech in messages ("the transcript" is longer than …)
+	// Applied in order (SSML events, --controls, a driving video's track).
+	std::vector<ControlTrack> controls;
+};
+
+// Keyposes, duration, brows with speech, controls. Throws Error when the speech is longer than the audio
+// by more than 0.1 s; `warnings` gets one line for a speech covering a small part of a long audio.
+Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string>* warnings = nullptr);
+
+// Timeline: events of a control track past `end` dropped (a driving video longer than the speech).
+ControlTrack clippedTo(ControlTrack track, Ticks end);
+
+}  // namespace talkhead
