@@ -11,6 +11,7 @@
 #include "phonetics/espeak.h"
 #include "phonetics/labels.h"
 #include "phonetics/ssml.h"
+#include "perform/plan.h"
 #include "phonetics/transcript.h"
 
 namespace talkhead {
@@ -173,9 +174,18 @@ void LiveSession::addPending(Ticks t, LiveEvent e) {
 	pending_.insert(it, Pending{t, std::move(e)});
 }
 
+Performance LiveSession::plan(const Utterance& u) const {
+	PerformanceSpec spec;
+	spec.phones = u.phones;
+	spec.rate = o_.rate;
+	spec.pauses = o_.pauses;
+	spec.speechBrows = o_.speechBrows;
+	return planPerformance(spec);
+}
+
 void LiveSession::warm(const Utterance& u, const std::string& emotion, double intensity) const {
 	if (u.phones.empty()) return;
-	std::vector<Keypose> keys = talkhead::keyposes(u.phones, o_.rate.frameLength(), o_.pauses);
+	std::vector<Keypose> keys = plan(u).keys;
 	for (Keypose& k : keys) {
 		k.emotion = emotion.empty() ? o_.emotion : emotion;
 		k.intensity = intensity;
@@ -185,8 +195,9 @@ void LiveSession::warm(const Utterance& u, const std::string& emotion, double in
 
 Ticks LiveSession::enqueue(Utterance u) {
 	const Ticks start = std::max(nextTime(), queueEnd_);
-	std::vector<Keypose> fresh;
-	if (!u.phones.empty()) fresh = talkhead::keyposes(u.phones, o_.rate.frameLength(), o_.pauses);
+	Performance planned;
+	if (!u.phones.empty()) planned = plan(u);
+	std::vector<Keypose>& fresh = planned.keys;
 	for (Keypose& k : fresh) {
 		k.time += start;
 		if (k.emotion.empty()) k.emotion = emotion_;
@@ -222,11 +233,10 @@ Ticks LiveSession::enqueue(Utterance u) {
 	}
 	e.kind = LiveEvent::Kind::UtteranceEnded;
 	addPending(end, e);
-	if (o_.speechBrows > 0)
-		for (BrowEvent b : speechBrows(u.phones, o_.speechBrows)) {
-			b.time += start;
-			modOptions_.browEvents.push_back(b);
-		}
+	for (BrowEvent b : planned.modulation.browEvents) {  // speech brows (D49)
+		b.time += start;
+		modOptions_.browEvents.push_back(b);
+	}
 	for (BrowEvent b : u.brows) {
 		b.time += start;
 		modOptions_.browEvents.push_back(b);

@@ -130,6 +130,7 @@ private:
 	// keys_.size().
 	std::size_t committed() const;
 	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
+	Performance plan(const Utterance& u) const;  // its keyposes and speech brows, from 0
 	void replan();
 	void addPending(Ticks t, LiveEvent e);
 };
