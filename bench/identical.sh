@@ -44,6 +44,7 @@ if [ -f "$grid/swwp2s.align" ] && [ -f "$grid/id2_vcd_swwp2s.mpg" ]; then
 		"render-text-audio|@TH@ render --text 'set white with p two soon' --audio $grid/id2_vcd_swwp2s.mpg --lang en-US --size 160x90 --format y4m -o @OUT@/a.y4m --timeline-out @OUT@/t.json -q"
 		"render-cue-audio|@TH@ render --transcript $tmp/cue.srt --audio $grid/id2_vcd_swwp2s.mpg --lang en-US --size 160x90 --format y4m -o @OUT@/a.y4m -q"
 		"render-drive|@TH@ render --transcript $grid/swwp2s.align --drive $grid/id2_vcd_swwp2s.mpg --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+		"render-drive-mouth|@TH@ render --drive $grid/id2_vcd_swwp2s.mpg --drive-mouth --size 160x90 --format y4m -o @OUT@/a.y4m -q"
 	)
 	printf '1\n00:00:00,500 --> 00:00:02,800\nset white with p two soon\n' >"$tmp/cue.srt"
 fi

@@ -245,4 +245,13 @@ std::vector<std::string> splitCsvRecord(const std::string& line) {
 	return out;
 }
 
+std::string joined(const std::vector<std::string>& items, std::string_view sep) {
+	std::string s;
+	for (std::size_t i = 0; i < items.size(); ++i) {
+		if (i) s += sep;
+		s += items[i];
+	}
+	return s;
+}
+
 }  // namespace talkhead

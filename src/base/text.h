@@ -10,6 +10,8 @@ std::string_view trim(std::string_view s);
 std::vector<std::string> splitWhitespace(std::string_view s);
 // Splits on `sep`; no quoting.
 std::vector<std::string> split(std::string_view s, char sep);
+// The items with `sep` between them ("a, b, c").
+std::string joined(const std::vector<std::string>& items, std::string_view sep = ", ");
 // One CSV record split on commas, honouring double quotes ("a,b" and "" escapes).
 std::vector<std::string> splitCsvRecord(const std::string& line);
 // Whole file as UTF-8 text (decodeText: UTF-16 with or without a BOM converted, a UTF-8 BOM dropped);

@@ -1,17 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // talkhead render: transcript (+ audio, emotion) → talking-head video.
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
-#include "align/align.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/drive_options.h"
-#include "track/drive_mouth.h"
-#include "media/video_reader.h"
 #include "cli/video_options.h"
 #include "media/audio.h"
 #include "perform/plan.h"
@@ -50,69 +46,35 @@ int runRender(const std::vector<std::string>& argv) {
 	if (!args.positionals().empty()) throw UsageError("render: unexpected argument '" + args.positionals()[0] + "'");
 	// Every option is checked before any file is read.
 	auto transcriptPath = args.get("--transcript");
-	const auto drive = args.get("--drive");
-	const bool driveMouth = args.has("--drive-mouth");
-	if (driveMouth && !drive) throw UsageError("render: --drive-mouth goes with --drive VIDEO");
-	if (driveMouth && (transcriptPath || args.get("--text") || args.get("--text-file")))
-		throw UsageError("render: --drive-mouth takes the mouth from the video: give no --transcript or --text");
-	if (!drive && (args.get("--parts") || args.get("--drive-model") || args.get("--neutral-frames") || args.get("--neutral-seconds") || args.get("--max-turn")))
-		throw UsageError("render: --parts, --drive-model, --neutral-frames, --neutral-seconds and --max-turn go with --drive VIDEO");
-	const NonVerbalOptions driveOptions = parseNonVerbalOptions(args, "render", "head,brows,eyes");
+	Driving drive = parseDriving(args, "render");
 	// The sound: --audio, else (with --drive) the driving video's own.
 	std::optional<std::string> audioPath = args.get("--audio");
-	if (!audioPath && drive && VideoReader(*drive).info().hasAudio) audioPath = *drive;
+	if (!audioPath && drive.hasAudio()) audioPath = *drive.video;
 	std::optional<std::string> text = args.get("--text");
 	if (text && args.get("--text-file")) throw UsageError("render: give --text or --text-file, not both");
 	if (transcriptPath && (text || args.get("--text-file"))) throw UsageError("render: give --transcript or --text, not both");
-	if (!transcriptPath && !text && !args.get("--text-file") && !driveMouth) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
+	if (!transcriptPath && !text && !args.get("--text-file") && !drive.mouth) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
 	if ((text || args.get("--text-file")) && !audioPath)
-		throw UsageError(drive ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
+		throw UsageError(drive.video ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
 		                       : "render: --text needs --audio (the speech to align the text to)");
-	const std::string policy = args.get("--unknown", "error");
-	if (policy != "error" && policy != "nearest" && policy != "silence") throw UsageError("render: --unknown must be error, nearest or silence");
-	const UnknownPhone unknown = policy == "nearest" ? UnknownPhone::Nearest : policy == "silence" ? UnknownPhone::Silence : UnknownPhone::Error;
-	const auto notation = parseNotation(args.get("--notation", "auto"));
-	if (!notation) throw UsageError("render: --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
-	const std::string level = args.get("--level", "auto");
-	if (level != "auto" && level != "phones" && level != "words") throw UsageError("render: --level takes auto, phones or words");
+	TranscriptOptions to = parseTranscriptOptions(args, "render", "--transcript-format");
 	const VideoCommand cmd = parseVideoCommand(args, "render");
-	if (drive && cmd.controls && !cmd.controls->curves.empty())
+	if (drive.video && cmd.controls && !cmd.controls->curves.empty())
 		throw UsageError("render: --controls " + cmd.controls->path + " has curves and --drive gives them too: give one");
 	const Language& lang = languageOption(args, defaultLanguageFor(transcriptPath.value_or(""), args.get("--transcript-format", "")));
 	if (auto f = args.get("--text-file")) text = readTextFile(*f);
-	ReadOptions ro;
-	ro.format = args.get("--transcript-format", "");
-	ro.tier = args.get("--tier", "");
-	ro.timingText = args.get("--timing-text", "");
-	if (level != "auto") ro.level = level == "words" ? LabelLevel::Word : LabelLevel::Phone;
-	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
-	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
-	// D55: the driving video, tracked first (its mouth may make the keyposes).
-	NonVerbalTrack nv;
-	LandmarkTrack driverLandmarks;
-	if (drive) nv = trackNonVerbal(*drive, driveOptions, args.get("--drive-model", ""), cmd.quiet, driveMouth ? &driverLandmarks : nullptr);
-	auto say = [](const std::string& line) { std::fprintf(stderr, "%s\n", safeLine(line).c_str()); };
+	to.read.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
+	drive.track(cmd.quiet);  // D55: first (its mouth may make the keyposes)
 	TimedSpeech speech;  // none with --drive-mouth: the keyposes come from the driver's mouth
-	if (text) speech = speechFromText(*text, *audioPath, lang, unknown);
+	if (text) speech = speechFromText(*text, *audioPath, lang, to.unknown);
 	else if (transcriptPath)
-		speech = speechFromTranscript(*transcriptPath, ro, lang, unknown, *notation, audioPath, bool(cmd.timelineOut),
+		speech = speechFromTranscript(*transcriptPath, to.read, lang, to.unknown, to.notation, audioPath, bool(cmd.timelineOut),
 		                              [&](const Transcript& t) { noteWordLanguage(args, t, lang, *transcriptPath); });
-	if (!cmd.quiet)
-		for (const std::string& n : speech.notes) say(n);
-	for (const std::string& w : speech.warnings) say("talkhead: warning: " + w);
-
+	reportSpeech(cmd, speech);
 	PerformanceSpec spec = performanceSpec(cmd);
 	spec.phones = speech.phones;
 	spec.source = speech.name;
-	std::size_t exemplarChoices = 0;
-	Ticks videoEnd{0};
-	if (drive) videoEnd = nv.curves().end() + ticksFromSeconds(1 / nv.rate);
-	if (driveMouth) {
-		const DrivenMouth dm = talkhead::driveMouth(driverLandmarks, loadRenderModel(cmd.modelPath, cmd.components), cmd.emotion);
-		spec.keys = dm.keys;
-		exemplarChoices = dm.exemplarChoices;
-		spec.duration = videoEnd;
-	}
+	if (drive.mouth) drive.mouthKeys(spec, loadRenderModel(cmd.modelPath, cmd.components), cmd.emotion);
 	// The sound (decoded once without keeping it, unless aligned; at the file's own sample rate).
 	std::unique_ptr<AudioSource> sound;
 	if (audioPath) {
@@ -121,22 +83,14 @@ int runRender(const std::vector<std::string>& argv) {
 	}
 	if (cmd.controls) spec.controls.push_back(*cmd.controls);
 	// D55: the head, brows, eyes and blinks of the driving video (its blinks after the sound's end not drawn).
-	if (drive) spec.controls.push_back(clippedTo(controlsOf(nv), spec.audioDuration.value_or(spec.duration.value_or(spec.phones.empty() ? Ticks(0) : spec.phones.back().end))));
+	if (drive.video) spec.controls.push_back(clippedTo(controlsOf(drive.nv), spec.videoDuration()));
 	std::vector<std::string> warnings;
 	Performance perf = planPerformance(spec, &warnings);
-	for (const std::string& w : warnings) say("talkhead: warning: " + *audioPath + ": " + w);
-	if (drive) {
-		if (videoEnd + ticksFromSeconds(0.5) < perf.duration)
-			std::fprintf(stderr, "talkhead: warning: %s: the video (%.2f s) is shorter than the render (%.2f s); the head holds its last pose after it\n",
-			             drive->c_str(), toSeconds(videoEnd), toSeconds(perf.duration));
-		if (!cmd.quiet)
-			std::fprintf(stderr, "talkhead: %s drives the face: %zu frames, %zu blink(s)%s%s\n", drive->c_str(), nv.frames.size(), nv.blinks.size(),
-			             nv.bridged.empty() ? "" : ", some frames bridged",
-			             driveMouth ? (", the mouth: " + std::to_string(perf.keys.size()) + " keyposes (" + std::to_string(exemplarChoices) +
-			                           " exemplars chosen by shape)").c_str() : "");
-	}
+	for (const std::string& w : warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*audioPath + ": " + w).c_str());
+	drive.report(perf, cmd.quiet);
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).
-	if (!speech.read.tier.empty() && !cmd.quiet) say("talkhead: " + speech.name + ": tier '" + speech.read.tier + "' (" + speech.read.tierNote + ")");
+	if (!speech.read.tier.empty() && !cmd.quiet)
+		std::fprintf(stderr, "%s\n", safeLine("talkhead: " + speech.name + ": tier '" + speech.read.tier + "' (" + speech.read.tierNote + ")").c_str());
 	sound = applyStimulusTiming(cmd, perf, std::move(sound));
 	runVideoCommand(cmd, perf, std::move(sound), t0, "", timelineOutput(cmd, perf, speech.phones, speech.words));
 	return 0;

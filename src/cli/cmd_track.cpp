@@ -153,45 +153,6 @@ int runCompare(const std::vector<std::string>& argv) {
 	return 0;
 }
 
-NonVerbalOptions parseNonVerbalOptions(const Args& args, const std::string& command, const std::string& defaultParts) {
-	NonVerbalOptions o;
-	o.head = o.brows = o.eyes = o.mouth = false;
-	for (const std::string& part : split(args.get("--parts", defaultParts), ',')) {
-		if (part == "head") o.head = true;
-		else if (part == "brows") o.brows = true;
-		else if (part == "eyes") o.eyes = true;
-		else if (part == "mouth") o.mouth = true;
-		else throw UsageError(command + ": --parts takes head, brows, eyes and mouth, not '" + part + "'");
-	}
-	o.neutralSeconds = args.number("--neutral-seconds", o.neutralSeconds, 0.04, 60);
-	o.neutralFrames = int(args.number("--neutral-frames", 0, 0, 100000));
-	o.maxTurnDegrees = args.number("--max-turn", o.maxTurnDegrees, 5, 90);
-	return o;
-}
-
-std::vector<OptionSpec> nonVerbalOptionSpecs() {
-	return {{"--neutral-frames", "N", "neutral face: the per-point median of the first N frames with a face (default: the first second)"},
-	        {"--neutral-seconds", "S", "neutral face: over the first S seconds (default 1)"},
-	        {"--max-turn", "DEG", "drop (and bridge) frames whose head turns further than DEG degrees (default 30)"}};
-}
-
-NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& o, const std::string& dlibModel, bool quiet, LandmarkTrack* landmarks) {
-	LandmarkTrack lt;
-	if (endsWith(input, ".tsv")) {
-		lt = readLandmarksTsv(input);
-	} else {
-		TrackOptions to;
-		if (!dlibModel.empty()) to.modelPath = dlibModel;
-		ProgressBar bar(quiet);
-		lt = trackVideo(input, to, bar);
-		bar.finish();
-	}
-	NonVerbalTrack nv = analyseNonVerbal(lt, o);
-	for (const std::string& w : nv.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(input + ": " + w).c_str());
-	if (landmarks) *landmarks = std::move(lt);
-	return nv;
-}
-
 int runTrack(const std::vector<std::string>& argv) {
 	std::vector<OptionSpec> specs = {{"--output", "F.json", "the control track (required)", "-o"},
 	                                 {"--parts", "LIST", "what to track: head, brows, eyes, mouth (default head,brows,eyes)"},

@@ -21,12 +21,6 @@ namespace talkhead::cli {
 
 namespace {
 
-std::string joined(const std::vector<std::string>& v) {
-	std::string s;
-	for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-	return s;
-}
-
 // Writes text to PATH through a temporary name (or to stdout for "-").
 void writeOutput(const std::string& path, const std::string& text) {
 	if (path == "-") {
@@ -61,35 +55,17 @@ int runVisemes(const std::vector<std::string>& argv) {
 	          "visemes, Rhubarb cues) maps directly.");
 	if (!args.parse(argv)) return 0;
 	if (args.positionals().size() != 1) throw UsageError("visemes: expected one TRANSCRIPT argument (or - for standard input)");
-	ReadOptions ro;
-	ro.format = args.get("--format", "");
-	if (!ro.format.empty()) {
-		const auto& f = transcriptFormats();
-		if (std::find(f.begin(), f.end(), ro.format) == f.end())
-			throw UsageError("visemes: unknown --format '" + ro.format + "' (" + joined(f) + ")");
-	}
-	ro.tier = args.get("--tier", "");
-	ro.timingText = args.get("--timing-text", "");
-	if (const std::string level = args.get("--level", "auto"); level == "words") ro.level = LabelLevel::Word;
-	else if (level == "phones") ro.level = LabelLevel::Phone;
-	else if (level != "auto") throw UsageError("visemes: --level takes auto, phones or words");
-	ro.utterance = args.get("--utterance", "");
-	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
+	TranscriptOptions to = parseTranscriptOptions(args, "visemes", "--format");
+	ReadOptions& ro = to.read;
 	const std::string outFormat = args.get("--out-format", "tsv");
 	const auto& of = visemeOutputFormats();
 	if (std::find(of.begin(), of.end(), outFormat) == of.end())
 		throw UsageError("visemes: unknown --out-format '" + outFormat + "' (" + joined(of) + ")");
-	const std::string policy = args.get("--unknown", "error");
-	UnknownPhone unknown = UnknownPhone::Error;
-	if (policy == "nearest") unknown = UnknownPhone::Nearest;
-	else if (policy == "silence") unknown = UnknownPhone::Silence;
-	else if (policy != "error") throw UsageError("visemes: --unknown must be error, nearest or silence");
 	const auto rate = FrameRate::parse(args.get("--fps", "30"));
 	if (!rate) throw UsageError("visemes: --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
 	if (!pauses) throw UsageError("visemes: --pauses takes natural or thesis");
-	const auto notation = parseNotation(args.get("--notation", "auto"));
-	if (!notation) throw UsageError("visemes: --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
+	const Notation notation = to.notation;
 	const Language& lang = languageOption(args, defaultLanguageFor(args.positionals()[0], ro.format));
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 
@@ -99,16 +75,16 @@ int runVisemes(const std::vector<std::string>& argv) {
 	noteWordLanguage(args, tr, lang, path);
 	// The notation is decided once, here, so the evidence for it can be printed.
 	std::string evidence;
-	Notation used = *notation;
+	Notation used = notation;
 	if (used == Notation::Auto && tr.level == LabelLevel::Phone) used = detectNotation(tr, lang, &evidence);
-	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, unknown, used, &used);
+	std::vector<PhoneSegment> phones = phoneSegments(tr, lang, to.unknown, used, &used);
 	std::vector<Keypose> keys = keyposes(phones, rate->frameLength(), *pauses);
 	// Which TextGrid tier was read, and which notation the phones were read in (stderr, so the TSV stays
 	// clean; JSON also carries the notation).
 	if (!tr.tier.empty()) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", path.c_str(), tr.tier.c_str(), tr.tierNote.c_str());
 	if (tr.level == LabelLevel::Phone && used != Notation::Auto) {
 		std::fprintf(stderr, "talkhead: %s: phones read as %s%s\n", path.c_str(), notationName(used).c_str(),
-		             *notation != Notation::Auto ? " (--notation)" : evidence.empty() ? " (detected)" : (" (detected from " + evidence + ")").c_str());
+		             notation != Notation::Auto ? " (--notation)" : evidence.empty() ? " (detected)" : (" (detected from " + evidence + ")").c_str());
 	}
 	writeOutput(args.get("--output", "-"), formatVisemes(phones, keys, outFormat, lang.tag(), path, tr.level == LabelLevel::Phone ? notationName(used) : ""));
 	return 0;

@@ -13,6 +13,7 @@
 
 #include "base/atomic_file.h"
 #include "base/error.h"
+#include "base/json.h"
 #include "base/text.h"
 #include "phonetics/labels.h"
 #include "phonetics/timing_formats.h"
@@ -101,6 +102,42 @@ void noteWordLanguage(const Args& args, const Transcript& tr, const Language& la
 	}
 	std::fprintf(stderr, "talkhead: warning: %s: its words are read as %s (the default; the file names no language): --lang for another\n", safeLine(path).c_str(),
 	             lang.tag().c_str());
+}
+
+TranscriptOptions parseTranscriptOptions(const Args& args, const std::string& command, const std::string& formatOption) {
+	TranscriptOptions t;
+	ReadOptions& ro = t.read;
+	ro.format = args.get(formatOption, "");
+	if (const auto& f = transcriptFormats(); !ro.format.empty() && std::find(f.begin(), f.end(), ro.format) == f.end())
+		throw UsageError(command + ": unknown " + formatOption + " '" + ro.format + "' (" + joined(f) + ")");
+	ro.tier = args.get("--tier", "");
+	ro.timingText = args.get("--timing-text", "");
+	if (const std::string level = args.get("--level", "auto"); level == "words") ro.level = LabelLevel::Word;
+	else if (level == "phones") ro.level = LabelLevel::Phone;
+	else if (level != "auto") throw UsageError(command + ": --level takes auto, phones or words");
+	ro.utterance = args.get("--utterance", "");
+	ro.sampleRate = int(args.number("--sample-rate", 16000, 1000, 192000));
+	const std::string policy = args.get("--unknown", "error");
+	if (policy == "nearest") t.unknown = UnknownPhone::Nearest;
+	else if (policy == "silence") t.unknown = UnknownPhone::Silence;
+	else if (policy != "error") throw UsageError(command + ": --unknown must be error, nearest or silence");
+	const auto notation = parseNotation(args.get("--notation", "auto"));
+	if (!notation) throw UsageError(command + ": --notation takes auto, ipa, arpabet, sampa, xsampa, espeak, praat or br1");
+	t.notation = *notation;
+	return t;
+}
+
+void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech) {
+	if (!cmd.quiet)
+		for (const std::string& n : speech.notes) std::fprintf(stderr, "%s\n", safeLine(n).c_str());
+	for (const std::string& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
+}
+
+void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& marks) {
+	for (const auto& m : marks) {
+		if (cmd.jsonProgress) std::fprintf(stderr, "{\"type\": \"mark\", \"name\": %s, \"time\": %.3f}\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
+		else if (!cmd.quiet) std::fprintf(stderr, "talkhead: mark %s at %.3f s\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
+	}
 }
 
 PerformanceSpec performanceSpec(const VideoCommand& cmd) {

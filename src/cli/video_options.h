@@ -11,6 +11,7 @@
 #include "phonetics/language.h"
 #include "perform/controls.h"
 #include "perform/plan.h"
+#include "perform/utterance.h"
 #include "render/render.h"
 
 namespace talkhead::cli {
@@ -41,6 +42,23 @@ struct VideoCommand {
 	ComponentLevels components;                // --components REGION=N,… (Appendix C reductions)
 	std::optional<std::string> audioOut;       // --audio-out F.wav: the sound track as muxed
 };
+
+// How a timed transcript is read (visemes, render): the format option (`formatOption`: "--format" or
+// "--transcript-format", checked against the formats known), --tier, --timing-text, --level,
+// --utterance, --sample-rate, --unknown and --notation. The caller sets read.knownPhone once the language
+// is known.
+struct TranscriptOptions {
+	ReadOptions read;
+	UnknownPhone unknown = UnknownPhone::Error;
+	Notation notation = Notation::Auto;
+};
+TranscriptOptions parseTranscriptOptions(const Args& args, const std::string& command, const std::string& formatOption);
+
+// What reading the speech said: its notes (unless -q) and warnings, on stderr.
+void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech);
+
+// SSML marks on stderr, as JSON progress lines with --json-progress, else one line each unless -q.
+void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& marks);
 
 // The spec of a performance with the command's frame rate, pauses, emotion, modulation and speech brows.
 PerformanceSpec performanceSpec(const VideoCommand& cmd);

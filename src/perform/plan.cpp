@@ -63,6 +63,21 @@ TimedSpeech speechFromEspeak(const Speech& speech, const Language& language) {
 	s.read = speech.phones;
 	s.words = speech.words.intervals;
 	s.warnings = speech.warnings;
+	// espeak-ng's phoneme names are IPA; any it has that the tables lack take the nearest known phone, said in
+	// one line (the tables are meant to know every name their voice uses).
+	std::vector<std::string> unknown;
+	for (const auto& iv : speech.phones.intervals)
+		if (!iv.label.empty() && !language.normalize(iv.label) && std::find(unknown.begin(), unknown.end(), iv.label) == unknown.end())
+			unknown.push_back(iv.label);
+	std::string list;
+	for (const auto& u : unknown) {
+		const auto near = language.nearest(u);
+		std::string to;
+		if (near)
+			for (const auto& p : *near) to += (to.empty() ? "" : " ") + p;
+		list += (list.empty() ? "" : ", ") + u + " -> " + (near ? to : "silence");
+	}
+	if (!list.empty()) s.warnings.push_back("espeak-ng phones unknown to the " + language.tag() + " table, substituted: " + list);
 	s.phones = phoneSegments(speech.phones, language, UnknownPhone::Nearest, Notation::Espeak);
 	return s;
 }
@@ -71,6 +86,12 @@ ControlTrack clippedTo(ControlTrack track, Ticks end) {
 	auto& b = track.blinks;
 	b.erase(std::remove_if(b.begin(), b.end(), [&](Ticks t) { return t > end; }), b.end());
 	return track;
+}
+
+Ticks PerformanceSpec::videoDuration() const {
+	if (audioDuration) return *audioDuration;
+	if (duration) return *duration;
+	return phones.empty() ? Ticks(0) : phones.back().end;
 }
 
 Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string>* warnings) {

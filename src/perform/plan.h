@@ -60,6 +60,8 @@ struct PerformanceSpec {
 	std::string source;                // names the speech in messages ("the transcript" is longer than …)
 	// Applied in order (SSML events, --controls, a driving video's track).
 	std::vector<ControlTrack> controls;
+	// The video's length as planPerformance sets it.
+	Ticks videoDuration() const;
 };
 
 // Keyposes, duration, brows with speech, controls. Throws Error when the speech is longer than the audio

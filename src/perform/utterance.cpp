@@ -57,11 +57,9 @@ Utterance speakText(const std::string& text, const Language& language, const std
 	}
 	u.warnings = speech.warnings;
 	u.phones = phoneSegments(speech.phones, language, UnknownPhone::Nearest, Notation::Espeak);
-	std::vector<float> pcm(speech.pcm.size());
-	for (std::size_t i = 0; i < pcm.size(); ++i) pcm[i] = float(speech.pcm[i]) / 32768.f;
 	u.audio.sampleRate = sampleRate;
 	u.audio.channels = 1;
-	u.audio.samples = resampled(pcm, speech.sampleRate, sampleRate);
+	u.audio.samples = resampled(audioOf(speech).samples, speech.sampleRate, sampleRate);
 	return u;
 }
 
@@ -110,6 +108,38 @@ SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, T
 		}
 	}
 	return out;
+}
+
+ControlTrack controlTrackOf(SpeechEvents events, const std::string& path) {
+	ControlTrack track;
+	track.path = path;
+	track.blinks = std::move(events.blinks);
+	track.brows = std::move(events.brows);
+	track.emotions = std::move(events.emotions);
+	return track;
+}
+
+SpokenText speakWithEvents(const std::string& text, const std::string& textName, const std::string& voice, int rateWpm, int pitch) {
+	SpokenText s;
+	if (looksLikeSsml(text)) {
+		s.ssml = parseSsml(text, textName);
+		for (const auto& e : s.ssml->events)  // checked before any speech is synthesised
+			if (e.kind == SsmlText::Event::Kind::EmotionStart && !canonicalEmotion(e.name))
+				throw Error(textName, e.line, "column " + std::to_string(e.column) + ": unknown emotion '" + e.name + "'");
+		s.speech = espeakSpeakSsml(*s.ssml, voice, s.eventTimes, rateWpm, pitch);
+	} else {
+		s.speech = espeakSpeak(text, voice, rateWpm, pitch);
+	}
+	return s;
+}
+
+AudioClip audioOf(const Speech& speech) {
+	AudioClip audio;
+	audio.sampleRate = speech.sampleRate;
+	audio.channels = 1;
+	audio.samples.reserve(speech.pcm.size());
+	for (short v : speech.pcm) audio.samples.push_back(float(v) / 32768.f);
+	return audio;
 }
 
 }  // namespace talkhead

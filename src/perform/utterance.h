@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,5 +53,21 @@ struct SpeechEvents {
 };
 SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, Ticks end, const std::string& outerEmotion = "neutral",
                         double outerIntensity = 1);
+
+// A control track of the events (blinks, brows, emotion changes; the marks are reported, not performed),
+// named `path` in messages.
+ControlTrack controlTrackOf(SpeechEvents events, const std::string& path);
+
+// Text (plain, or SSML with emotions) spoken by espeak-ng in one pass, as `say` speaks it. SSML's emotion
+// names are checked before any speech is made (an error names `textName`, its line and column).
+struct SpokenText {
+	Speech speech;
+	std::optional<SsmlText> ssml;
+	std::vector<Ticks> eventTimes;  // per SSML event (espeakSpeakSsml)
+};
+SpokenText speakWithEvents(const std::string& text, const std::string& textName, const std::string& voice, int rateWpm = 0, int pitch = -1);
+
+// espeak-ng's 16-bit PCM as float samples (mono, its rate).
+AudioClip audioOf(const Speech& speech);
 
 }  // namespace talkhead

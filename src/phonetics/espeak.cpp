@@ -12,11 +12,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <set>
 
 #include "base/error.h"
 #include "base/text.h"
+#include "phonetics/language.h"
 
 namespace talkhead {
 
@@ -607,6 +609,27 @@ Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vect
 		eventTimes.push_back(t);
 	}
 	return out;
+}
+
+namespace {
+std::string primaryLanguage(const std::string& tag) { return toLower(tag.substr(0, tag.find('-'))); }
+}  // namespace
+
+std::string voiceLanguageMismatch(const std::string& voice, const Language& lang) {
+	const auto v = espeakVoiceLanguage(voice);
+	if (!v || primaryLanguage(v->language) == primaryLanguage(lang.tag())) return "";
+	static const std::map<std::string, std::string> names = {{"pt", "Portuguese"}, {"en", "English"}, {"es", "Spanish"}, {"fr", "French"},
+	                                                         {"de", "German"},     {"it", "Italian"}, {"nl", "Dutch"}};
+	const std::string primary = primaryLanguage(v->language);
+	const auto n = names.find(primary);
+	const std::string name = n != names.end() ? n->second : !v->name.empty() ? v->name : v->language;
+	std::string table;
+	for (const auto& a : Language::available())
+		if (toLower(a) == v->language) table = a;
+	for (const auto& a : Language::available())
+		if (table.empty() && primaryLanguage(a) == primary) table = a;
+	return "voice '" + voice + "' speaks " + name + " (" + v->language + ") but --lang is " + lang.tag() + "; add --lang " +
+	       (table.empty() ? primary + " --generic-visemes" : table);
 }
 
 }  // namespace talkhead

@@ -50,6 +50,12 @@ struct VoiceLanguage {
 };
 std::optional<VoiceLanguage> espeakVoiceLanguage(const std::string& voice);
 
+class Language;
+// The voice must speak the language of the viseme table (say --voice fr with the pt-BR table would give
+// French speech Portuguese visemes); regions may differ (a pt voice, the pt-BR table). Empty when it does
+// (or espeak-ng does not know the voice: its own error comes later), else why not and which --lang fits.
+std::string voiceLanguageMismatch(const std::string& voice, const Language& language);
+
 // Phonemises `text` with libespeak-ng (in process, synchronous, phoneme events with IPA names) and
 // returns the phones with the durations espeak-ng gives them; pauses are dropped. Throws Error.
 std::vector<SpokenPhone> espeakPhones(const std::string& text, const std::string& voice);
