@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
 		performance.rate = FrameRate{30, 1};
 		performance.keys = keyposes(phones, performance.rate.frameLength());
 		performance.duration = phones.back().end;
-		performance.emotion = argc > 5 ? argv[5] : "neutral";
+		performance.emotion = Emotion::parse(argc > 5 ? argv[5] : "neutral");
 		// The model, one sink (MP4 without audio), and the render.
 		const FaceModel model = loadRenderModel(argv[1]);
 		auto mp4 = makeMp4Sink(argv[3], Mp4Settings{}, nullptr);

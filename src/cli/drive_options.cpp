@@ -72,8 +72,8 @@ void Driving::track(bool quiet) {
 	end = nv.curves().end() + ticksFromSeconds(1 / nv.rate);
 }
 
-void Driving::mouthKeys(PerformanceSpec& spec, const FaceModel& model, const std::string& emotion) {
-	const DrivenMouth dm = driveMouth(landmarks, model, emotion);
+void Driving::mouthKeys(PerformanceSpec& spec, const FaceModel& model, Emotion emotion) {
+	const DrivenMouth dm = driveMouth(landmarks, model, emotion.label());
 	spec.keys = dm.keys;
 	spec.duration = end;
 	exemplarChoices = dm.exemplarChoices;

@@ -33,7 +33,7 @@ struct Driving {
 	void track(bool quiet);
 	std::size_t exemplarChoices = 0;  // with `mouth`
 	// --drive-mouth: the keyposes from the driver's mouth (the model actor's exemplars), over the video.
-	void mouthKeys(PerformanceSpec& spec, const FaceModel& model, const std::string& emotion);
+	void mouthKeys(PerformanceSpec& spec, const FaceModel& model, Emotion emotion);
 	// A video shorter than the render (a warning); what drove the face (unless quiet).
 	void report(const Performance& perf, bool quiet) const;
 };

@@ -209,7 +209,7 @@ Fit parseFit(const Args& args, const std::string& command) {
 	return fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
 }
 
-std::pair<std::string, double> parseEmotionOption(const Args& args, const std::string& command) {
+std::pair<Emotion, double> parseEmotionOption(const Args& args, const std::string& command) {
 	double intensity = 1;
 	// --emotion LABEL[:INTENSITY]: 0 = neutral, 1 = the corpus (default), up to 1.5 (extrapolated, with a warning).
 	std::string emotionArg = args.get("--emotion", "neutral");
@@ -221,9 +221,7 @@ std::pair<std::string, double> parseEmotionOption(const Args& args, const std::s
 		if (intensity > 1)
 			std::fprintf(stderr, "talkhead: warning: intensity %g is beyond the corpus's emotion: shapes and appearances are extrapolated\n", intensity);
 	}
-	const auto emotion = canonicalEmotion(emotionArg);
-	if (!emotion) throw Error("unknown emotion '" + emotionArg + "' (known: " + emotionList() + "; aliases such as sadness, disgust)");
-	return {*emotion, intensity};
+	return {Emotion::parse(emotionArg), intensity};
 }
 
 ModulatorOptions parseModulation(const Args& args, const std::string& command) {
@@ -362,7 +360,7 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	if (!cmd.quiet && !cmd.jsonProgress)
 		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %s fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
 		             cmd.output.c_str(), (long long)st.frames, st.width, st.height, perf.rate.str().c_str(), toSeconds(perf.duration),
-		             withAudio ? "audio" : "transcript", st.keyposes, perf.emotion.c_str(), secs, double(st.frames) / secs, toSeconds(perf.duration) / secs);
+		             withAudio ? "audio" : "transcript", st.keyposes, perf.emotion.label().c_str(), secs, double(st.frames) / secs, toSeconds(perf.duration) / secs);
 }
 
 std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio) {

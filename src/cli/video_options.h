@@ -27,7 +27,7 @@ struct VideoCommand {
 	std::string output, format = "mp4";  // -o (- = standard output, y4m only); mp4 | y4m
 	std::optional<std::string> framesDir, landmarksOut;
 	std::string modelPath;               // empty = the default face
-	std::string emotion = "neutral";     // canonical
+	Emotion emotion;
 	double intensity = 1;                // --emotion LABEL:INTENSITY
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
@@ -96,7 +96,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 // --fps, --fit, and --emotion LABEL[:INTENSITY] (canonical label; an unknown one is an Error).
 FrameRate parseFps(const Args& args, const std::string& command);
 Fit parseFit(const Args& args, const std::string& command);
-std::pair<std::string, double> parseEmotionOption(const Args& args, const std::string& command);
+std::pair<Emotion, double> parseEmotionOption(const Args& args, const std::string& command);
 // --blinks, --head-motion, --seed (render, say, serve, live).
 ModulatorOptions parseModulation(const Args& args, const std::string& command);
 // --speech-brows on|off|X (default `fallback`): 0 off, else the raise amount.

@@ -71,9 +71,9 @@ void addEvent(ControlTrack& track, const EventReader& r) {
 		ControlTrack::EmotionChange c;
 		c.time = time;
 		const std::string label = r.text("emotion");
-		const auto canonical = canonicalEmotion(label);
-		if (!canonical) r.fail("unknown emotion '" + shown(label) + "' (known: " + emotionList() + ")");
-		c.emotion = *canonical;
+		const auto emotion = Emotion::find(label);
+		if (!emotion) r.fail("unknown emotion '" + shown(label) + "' (known: " + emotionList() + ")");
+		c.emotion = *emotion;
 		c.intensity = r.number("intensity", 1, 0, 1.5);
 		c.ramp = ticksFromSeconds(r.number("ramp", 0.3, 0, 60));
 		track.emotions.push_back(c);
@@ -269,7 +269,7 @@ std::string controlTrackJson(const ControlTrack& t, const std::string& source, c
 	o += "\"events\": [";
 	std::vector<std::pair<Ticks, std::string>> events;
 	for (const auto& e : t.emotions)
-		events.emplace_back(e.time, "{\"type\": \"emotion\", \"time\": " + num(toSeconds(e.time)) + ", \"emotion\": " + jsonQuote(e.emotion) +
+		events.emplace_back(e.time, "{\"type\": \"emotion\", \"time\": " + num(toSeconds(e.time)) + ", \"emotion\": " + jsonQuote(e.emotion.label()) +
 		                                ", \"intensity\": " + num(e.intensity) + ", \"ramp\": " + num(toSeconds(e.ramp)) + "}");
 	for (Ticks b : t.blinks) events.emplace_back(b, "{\"type\": \"blink\", \"time\": " + num(toSeconds(b)) + "}");
 	for (const auto& g : t.gestures) {
@@ -401,14 +401,14 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 		if (t > perf.duration)
 			throw Error(track.path, 0, what + " at " + formatNumber(toSeconds(t)) + " s is past the end of the video (" + formatNumber(toSeconds(perf.duration)) + " s)");
 	};
-	for (const auto& c : track.emotions) past(c.time, "the emotion change to " + c.emotion);
+	for (const auto& c : track.emotions) past(c.time, "the emotion change to " + c.emotion.label());
 	for (Ticks t : track.blinks) past(t, "a blink");
 	for (const auto& g : track.gestures) past(g.time, g.kind == HeadGesture::Kind::Nod ? "a nod" : g.kind == HeadGesture::Kind::Shake ? "a shake" : "a turn");
 	for (const auto& b : track.brows) past(b.time, "a brows event");
 	for (const auto& a : track.actionUnits) past(a.time, "the action unit " + a.au);
 	// Each keypose takes the emotion in effect at its time.
 	for (Keypose& k : perf.keys) {
-		std::string before = perf.emotion;
+		Emotion before = perf.emotion;
 		double beforeIntensity = perf.intensity;
 		for (const auto& c : track.emotions) {
 			if (c.time > k.time) break;

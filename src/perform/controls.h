@@ -26,7 +26,7 @@ namespace talkhead {
 struct ControlTrack {
 	struct EmotionChange {
 		Ticks time{0}, ramp{0};
-		std::string emotion;  // canonical
+		Emotion emotion;
 		double intensity = 1;
 	};
 	std::string path;  // for messages

@@ -35,7 +35,7 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 	std::string s = "{\n  \"fps\": " + jsonQuote(p.rate.str()) + ",\n  \"frames\": " + std::to_string(p.frameCount()) + ",\n  \"duration\": " + sec(p.duration) +
 	                ",\n  \"lead_in\": " + sec(leadIn) + ",\n  \"tail\": " + sec(tail) + ",\n  \"av_offset\": " + sec(avOffset) + ",\n  \"speech_onset\": " +
 	                (onset < Ticks(0) ? std::string("null") : sec(onset + leadIn)) + ",\n  \"speech_offset\": " + (onset < Ticks(0) ? std::string("null") : sec(offset + leadIn)) +
-	                ",\n  \"emotion\": " + jsonQuote(p.emotion) + ",\n  \"words\": [";
+	                ",\n  \"emotion\": " + jsonQuote(p.emotion.label()) + ",\n  \"words\": [";
 	bool first = true;
 	for (const auto& w : words) {
 		const std::string l = toLower(w.label);
@@ -50,7 +50,7 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 	s += "\n  ],\n  \"keyposes\": [";
 	for (std::size_t i = 0; i < p.keys.size(); ++i)
 		s += std::string(i ? ",\n" : "\n") + "    {\"time\": " + sec(p.keys[i].time) + ", \"cdv\": " + jsonQuote(p.keys[i].cdv) +
-		     ", \"emotion\": " + jsonQuote(p.keys[i].emotion.empty() ? p.emotion : p.keys[i].emotion) + "}";
+		     ", \"emotion\": " + jsonQuote(p.keys[i].emotion.value_or(p.emotion).label()) + "}";
 	return s + "\n  ]\n}\n";
 }
 

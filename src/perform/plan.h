@@ -50,7 +50,7 @@ struct PerformanceSpec {
 	std::vector<Keypose> keys;         // or the keyposes themselves (a driven mouth, D55), phones empty
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
-	std::string emotion = "neutral";   // canonical
+	Emotion emotion;
 	double intensity = 1;
 	ModulatorOptions modulation;       // blinks and head motion
 	double speechBrows = 0;            // brow raises with speech (D49); 0 = none

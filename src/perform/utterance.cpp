@@ -84,9 +84,9 @@ Utterance utteranceFromAudio(const std::string& audioPath, const std::string& tr
 	return u;
 }
 
-SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, Ticks end, const std::string& outerEmotion, double outerIntensity) {
+SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, Ticks end, Emotion outerEmotion, double outerIntensity) {
 	SpeechEvents out;
-	std::vector<std::pair<std::string, double>> stack{{outerEmotion, outerIntensity}};
+	std::vector<std::pair<Emotion, double>> stack{{outerEmotion, outerIntensity}};
 	for (std::size_t i = 0; i < ssml.events.size() && i < times.size(); ++i) {
 		const SsmlText::Event& e = ssml.events[i];
 		const Ticks t = std::min(times[i], end);
@@ -97,7 +97,7 @@ SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, T
 		case SsmlText::Event::Kind::EmotionStart:
 		case SsmlText::Event::Kind::EmotionEnd:
 			if (e.kind == SsmlText::Event::Kind::EmotionStart) {
-				const auto c = canonicalEmotion(e.name);
+				const auto c = Emotion::find(e.name);
 				if (!c) throw Error("text", e.line, "column " + std::to_string(e.column) + ": unknown emotion '" + e.name + "'");
 				stack.emplace_back(*c, e.intensity);
 			} else if (stack.size() > 1) {
@@ -124,7 +124,7 @@ SpokenText speakWithEvents(const std::string& text, const std::string& textName,
 	if (looksLikeSsml(text)) {
 		s.ssml = parseSsml(text, textName);
 		for (const auto& e : s.ssml->events)  // checked before any speech is synthesised
-			if (e.kind == SsmlText::Event::Kind::EmotionStart && !canonicalEmotion(e.name))
+			if (e.kind == SsmlText::Event::Kind::EmotionStart && !Emotion::find(e.name))
 				throw Error(textName, e.line, "column " + std::to_string(e.column) + ": unknown emotion '" + e.name + "'");
 		s.speech = espeakSpeakSsml(*s.ssml, voice, s.eventTimes, rateWpm, pitch);
 	} else {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "phonetics/emotion.h"
 #include "phonetics/transcript.h"
 
 namespace talkhead {
@@ -103,9 +104,9 @@ struct Keypose {
 	// two after; "_" for a pause or the utterance's edge. A model with several samples of the CDV uses the
 	// one whose context matches best (FaceModel::findSample).
 	std::array<std::string, 5> context{"_", "_", "_", "_", "_"};
-	// Set per keypose by an emotion track (render controls); empty / negative: the performance's.
-	std::string emotion;
-	double intensity = -1;
+	// Set per keypose by an emotion track (render controls); unset: the performance's.
+	std::optional<Emotion> emotion;
+	std::optional<double> intensity;
 	// A specific sample of the model (render --drive-mouth: the actor's exemplar nearest the driver's
 	// mouth, D55); −1: resolved from (emotion, CDV, context).
 	long sample = -1;

@@ -108,9 +108,7 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	if (o_.rate.num < 1 || o_.rate.den < 1) throw Error("invalid frame rate " + o_.rate.str());
 	if (o_.sampleRate < 8000 || o_.sampleRate > 192000 || kTicksPerSecond % o_.sampleRate != 0)
 		throw Error("live: sample rate " + std::to_string(o_.sampleRate) + " Hz is not one of the rates a sample lasts a whole number of ticks at (8000, 11025, 16000, 22050, 24000, 32000, 44100, 48000, 96000, …)");
-	const auto e = canonicalEmotion(o_.emotion);
-	if (!e) throw Error("unknown emotion '" + safeQuote(o_.emotion) + "'");
-	emotion_ = *e;
+	emotion_ = o_.emotion;
 	intensity_ = o_.intensity;
 	SynthOptions so = o_.render.synth;
 	so.emotion = emotion_;
@@ -183,11 +181,11 @@ Performance LiveSession::plan(const Utterance& u) const {
 	return planPerformance(spec);
 }
 
-void LiveSession::warm(const Utterance& u, const std::string& emotion, double intensity) const {
+void LiveSession::warm(const Utterance& u, Emotion emotion, double intensity) const {
 	if (u.phones.empty()) return;
 	std::vector<Keypose> keys = plan(u).keys;
 	for (Keypose& k : keys) {
-		k.emotion = emotion.empty() ? o_.emotion : emotion;
+		k.emotion = emotion;
 		k.intensity = intensity;
 	}
 	synth_->prepare(keys);  // thread-safe; what is there already is skipped
@@ -200,8 +198,8 @@ Ticks LiveSession::enqueue(Utterance u) {
 	std::vector<Keypose>& fresh = planned.keys;
 	for (Keypose& k : fresh) {
 		k.time += start;
-		if (k.emotion.empty()) k.emotion = emotion_;
-		if (k.intensity < 0) k.intensity = intensity_;
+		if (!k.emotion) k.emotion = emotion_;
+		if (!k.intensity) k.intensity = intensity_;
 	}
 	// What frames already drawn depend on stays: the keys up to the first one after the last drawn frame.
 	const std::size_t c = committed();
@@ -246,15 +244,13 @@ Ticks LiveSession::enqueue(Utterance u) {
 	return start;
 }
 
-void LiveSession::setEmotion(const std::string& label, double intensity, Ticks ramp) {
-	const auto e = canonicalEmotion(label);
-	if (!e) throw Error("unknown emotion '" + safeQuote(label) + "'");
+void LiveSession::setEmotion(Emotion e, double intensity, Ticks ramp) {
 	if (!(intensity >= 0 && intensity <= 1.5)) throw Error("emotion intensity must be from 0 to 1.5");
 	const Ticks t = nextTime(), frame = o_.rate.frameLength();
 	const std::size_t c = committed();
 	if (c + 1 < keys_.size()) {
 		// Speaking: from the key after the one the face is moving to.
-		for (std::size_t i = c + 1; i < keys_.size(); ++i) keys_[i].emotion = *e, keys_[i].intensity = intensity;
+		for (std::size_t i = c + 1; i < keys_.size(); ++i) keys_[i].emotion = e, keys_[i].intensity = intensity;
 	} else {
 		// Holding, or moving to the last key: the last pose again in the new emotion, `ramp` later.
 		if (c >= keys_.size() && keys_.back().time < t) {
@@ -265,16 +261,16 @@ void LiveSession::setEmotion(const std::string& label, double intensity, Ticks r
 		}
 		Keypose k = keys_.back();
 		k.time = std::max(k.time + frame, t + std::max(ramp, frame));
-		k.emotion = *e;
+		k.emotion = e;
 		k.intensity = intensity;
 		k.breath = false;
 		keys_.push_back(k);
 	}
-	emotion_ = *e;
+	emotion_ = e;
 	intensity_ = intensity;
 	LiveEvent ev;
 	ev.kind = LiveEvent::Kind::Emotion;
-	ev.name = *e;
+	ev.name = e.label();
 	addPending(t, ev);
 	replan();
 }
@@ -330,8 +326,8 @@ void LiveSession::replan() {
 	brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time + b.duration < behind; }), brows.end());
 	auto& blinks = modOptions_.forcedBlinks;
 	blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b < behind; }), blinks.end());
-	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, Emotion::of(emotion_), horizon_, keys_);
-	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, Emotion::of(emotion_), horizon_, keys_);
+	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, emotion_, horizon_, keys_);
+	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, emotion_, horizon_, keys_);
 	synth_->setModulator(modulator_);
 }
 

@@ -28,7 +28,7 @@ namespace talkhead {
 struct LiveOptions {
 	RenderOptions render;              // output size and fit, trajectory, dissolve (threads: unused)
 	FrameRate rate{30, 1};
-	std::string emotion = "neutral";   // at the start
+	Emotion emotion;                   // at the start
 	double intensity = 1;
 	ModulatorOptions modulation;       // blinks and head motion, idle and speaking (seeded)
 	int sampleRate = 22050;            // of the session's sound (espeak-ng's own rate: no resampling for say)
@@ -61,19 +61,19 @@ public:
 	int sampleRate() const { return o_.sampleRate; }
 	std::int64_t nextFrame() const { return next_; }
 	Ticks nextTime() const { return o_.rate.time(next_); }
-	const std::string& emotion() const { return emotion_; }
+	Emotion emotion() const { return emotion_; }
 	double intensity() const { return intensity_; }
 
-	// Computes ahead the keypose images `u` will need in `emotion` (empty: the session's at the start) —
-	// the one call that may come from another thread while frames are drawn (a server's speech thread),
-	// so that enqueue() then costs a frame nothing.
-	void warm(const Utterance& u, const std::string& emotion, double intensity) const;
+	// Computes ahead the keypose images `u` will need in `emotion` — the one call that may come from
+	// another thread while frames are drawn (a server's speech thread), so that enqueue() then costs a
+	// frame nothing.
+	void warm(const Utterance& u, Emotion emotion, double intensity) const;
 	// Queues an utterance: it starts at the next frame, or when the speech queued before it ends. Returns
 	// its start (stream time).
 	Ticks enqueue(Utterance u);
 	// The emotion from the next frame on, reached over `ramp` when idle (at the next keypose when
-	// speaking). Throws Error for an unknown label or an intensity outside 0–1.5.
-	void setEmotion(const std::string& label, double intensity, Ticks ramp);
+	// speaking). Throws Error for an intensity outside 0–1.5.
+	void setEmotion(Emotion emotion, double intensity, Ticks ramp);
 	// Barge-in: the speech under way and everything queued is dropped (the sound fades out over 10 ms) and
 	// the mouth closes — at rest within 150 ms of the next frame.
 	void stop();
@@ -114,7 +114,7 @@ private:
 	bool drawnBefore_ = false;
 	std::int64_t next_ = 0;
 	std::vector<Keypose> keys_;
-	std::string emotion_;
+	Emotion emotion_;
 	double intensity_ = 1;
 	Ticks queueEnd_{0};
 	std::deque<Pending> pending_;

@@ -157,7 +157,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		box = fitBox(model.width, model.height, so.width, so.height, options.fit);
 		so.width = box.innerWidth, so.height = box.innerHeight;
 	}
-	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, Emotion::of(perf.emotion), perf.duration, perf.keys);
+	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.emotion, perf.duration, perf.keys);
 	Synthesizer synth(model, so);
 	const bool place = box.innerWidth > 0 && (box.innerWidth != outWidth || box.innerHeight != outHeight);
 	RenderStats st;
@@ -188,8 +188,8 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 		std::size_t i = 0;
 		while (i + 1 < keys.size() && keys[i + 1].time <= tau) ++i;
 		auto label = [&](const Keypose& k) {
-			const std::string& e = k.emotion.empty() ? perf.emotion : k.emotion;
-			const double in = k.intensity < 0 ? perf.intensity : k.intensity;
+			const std::string& e = k.emotion.value_or(perf.emotion).label();
+			const double in = k.intensity.value_or(perf.intensity);
 			char l[96];
 			std::snprintf(l, sizeof l, "%s %s:%.2g @%.3f", k.cdv.c_str(), e.c_str(), in, toSeconds(k.time));
 			return std::string(l);

@@ -115,9 +115,8 @@ LiveRequest parseLiveRequest(const std::string& json) {
 	if (r.id.size() > 200) throw Error("'id' is longer than 200 bytes");
 	const std::string& emotion = stringMember(v, "emotion", r.kind == LiveRequest::Kind::Emotion);
 	if (!emotion.empty()) {
-		const auto e = canonicalEmotion(emotion);
-		if (!e) throw Error("unknown emotion '" + safeQuote(emotion) + "' (" + emotionList() + ")");
-		r.emotion = *e;
+		r.emotion = Emotion::find(emotion);
+		if (!r.emotion) throw Error("unknown emotion '" + safeQuote(emotion) + "' (" + emotionList() + ")");
 	}
 	r.intensity = numberMember(v, "intensity", 0, 1.5).value_or(1);
 	if (auto ramp = numberMember(v, "ramp", 0, 10)) r.ramp = ticksFromSeconds(*ramp);

@@ -26,7 +26,7 @@ struct LiveRequest {
 	std::string id;                 // echoed in the events (optional)
 	std::string text, lang, voice;  // say
 	int rate = 0, pitch = -1;       // say: words per minute (80–450), pitch (0–100); 0 / −1 = the voice's
-	std::optional<std::string> emotion;  // emotion, or say/speak: the emotion from this utterance on
+	std::optional<Emotion> emotion;  // emotion, or say/speak: the emotion from this utterance on
 	double intensity = 1;
 	Ticks ramp{kTicksPerSecond * 3 / 10};
 	std::string audio;              // speak: the sound's bytes (any format libav reads, or raw PCM:)

@@ -223,7 +223,7 @@ void LiveWorker::speechLoop() {
 				c.utterance = prepareUtterance(c.request, o_.lang, o_.live.sampleRate, limits);
 				seconds = toSeconds(c.utterance->duration());
 				// Its keypose images made here, not in the frame thread (a frame would be late).
-				std::string emotion;
+				Emotion emotion;
 				double intensity = 1;
 				{
 					std::lock_guard<std::mutex> lock(m_);
@@ -294,9 +294,9 @@ void LiveWorker::frames(LiveSession& session) {
 	std::snprintf(head, sizeof head, "{\"type\": \"hello\", \"session\": %d, \"width\": %d, \"height\": %d, \"fps\": %.6g, \"rate\": \"%s\", \"sample_rate\": %d",
 	              id_, info.width, info.height, info.rate.fps(), info.rate.str().c_str(), session.sampleRate());
 	const std::string hello = std::string(head) + ", \"mime\": " + jsonQuote("video/mp4; codecs=\"" + writer.codecs() + "\"") +
-	                          ", \"emotion\": " + jsonQuote(session.emotion()) + ", \"emotions\": [" + emotions + "]}";
+	                          ", \"emotion\": " + jsonQuote(session.emotion().label()) + ", \"emotions\": [" + emotions + "]}";
 	if (record_) record_ << "{\"type\": \"session\", \"width\": " << info.width << ", \"height\": " << info.height << ", \"rate\": \"" << info.rate.str()
-	                     << "\", \"emotion\": " << jsonQuote(session.emotion()) << ", \"lang\": " << jsonQuote(o_.lang) << "}\n";
+	                     << "\", \"emotion\": " << jsonQuote(session.emotion().label()) << ", \"lang\": " << jsonQuote(o_.lang) << "}\n";
 	if (!send_(false, hello) || !send_(true, std::move(bytes))) return;
 	bytes.clear();
 	YuvImage frame;

@@ -95,7 +95,7 @@ private:
 	bool preparing_ = false;
 	int handed_ = 0;                                // say/speak prepared, not yet taken by the frame thread
 	double handedSeconds_ = 0;
-	std::string emotion_;                           // the session's, for warming (the frame thread's copy)
+	Emotion emotion_;                               // the session's, for warming (the frame thread's copy)
 	double intensity_ = 1;
 	std::atomic<bool> cancel_{false};               // the synthesis under way stops
 	std::atomic<std::int64_t> lastRequestNs_;

@@ -398,7 +398,7 @@ std::string groupOf(const std::string& cdv) {
 
 bool Synthesizer::fromActionUnits(const Keypose& key) const {
 	if (!auTemplates_ || o_.emotionSource == EmotionSource::Corpus) return false;
-	const std::string& emotion = emotionOf(key);
+	const std::string& emotion = emotionOf(key).label();
 	if (emotion == "neutral" || !defaultAuProfiles().count(emotion)) return false;
 	if (o_.emotionSource == EmotionSource::ActionUnits) return true;
 	for (const auto& s : model_.samples)
@@ -411,17 +411,17 @@ std::pair<long, long> Synthesizer::resolvePair(const Keypose& key) const {
 	const long sample = resolve(key);
 	// Intensity (D43): between the neutral keypose of the same CDV and context (0) and the emotion's (1).
 	const double intensity = intensityOf(key);
-	if (emotionOf(key) == "neutral" || intensity == 1.0) return {sample, -1};
+	if (emotionOf(key).isNeutral() || intensity == 1.0) return {sample, -1};
 	return {sample, resolve(key, "neutral")};
 }
 
-const std::string& Synthesizer::emotionOf(const Keypose& key) const { return key.emotion.empty() ? o_.emotion : key.emotion; }
-double Synthesizer::intensityOf(const Keypose& key) const { return key.intensity < 0 ? o_.intensity : key.intensity; }
+Emotion Synthesizer::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.emotion); }
+double Synthesizer::intensityOf(const Keypose& key) const { return key.intensity.value_or(o_.intensity); }
 std::string Synthesizer::indexKey(const Keypose& key) const {
-	return key.cdv + "\t" + emotionOf(key) + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
+	return key.cdv + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
 }
 
-long Synthesizer::resolve(const Keypose& key) const { return resolve(key, emotionOf(key)); }
+long Synthesizer::resolve(const Keypose& key) const { return resolve(key, emotionOf(key).label()); }
 
 long Synthesizer::resolve(const Keypose& key, const std::string& emotion) const {
 	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs;
@@ -473,7 +473,7 @@ std::vector<std::string> Synthesizer::substitutionsFor(const std::vector<Keypose
 	std::vector<std::string> out;
 	for (const auto& k : keys) {
 		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
-		const std::string& emotion = emotionOf(k);
+		const std::string& emotion = emotionOf(k).label();
 		const std::string line = emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
 		if ((s.emotion != emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 	}
@@ -567,7 +567,7 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 				continue;
 			const Pair pair = resolvePair(k);
 			const bool au = fromActionUnits(k);
-			const ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k) : std::string()};
+			const ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
 			fresh.push_back({&k, key});
 			if (images_.count(key) || std::find(pairs.begin(), pairs.end(), key) != pairs.end()) continue;
 			pairs.push_back(key);
@@ -645,7 +645,7 @@ void Synthesizer::prepare(const std::vector<Keypose>& keys) {
 	for (const auto& [k, key] : fresh) {
 		const KeyposeImage* image = images_.at(key).get();
 		index_[indexKey(*k)][k->context] = image;
-		const std::string& emotion = emotionOf(*k);
+		const std::string& emotion = emotionOf(*k).label();
 		const std::string line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
 		const bool asked = o_.emotionSource == EmotionSource::ActionUnits && image->usedEmotion == emotion + " (action units)";
 		if (!asked && (image->usedEmotion != emotion || image->usedCdv != k->cdv) &&

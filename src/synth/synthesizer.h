@@ -40,7 +40,7 @@ enum class WarpPath { Direct, Keypose };
 enum class EmotionSource { Corpus, ActionUnits, Auto };
 
 struct SynthOptions {
-	std::string emotion = "neutral";  // canonical label
+	Emotion emotion;                  // of keyposes without their own (default neutral)
 	double intensity = 1;             // 0 = the neutral keyposes, 1 = the corpus's emotion, up to 1.5 (D43)
 	int width = 0, height = 0;        // output size; 0 = the model's frame size
 	Trajectory trajectory = Trajectory::Hermite;  // feature points between keyposes (spec §5.5)
@@ -178,7 +178,7 @@ private:
 	long resolve(const Keypose& key, const std::string& emotion) const;
 	// The sample and, when the intensity mixes it in, the neutral sample of the same CDV and context (else −1).
 	std::pair<long, long> resolvePair(const Keypose& key) const;
-	const std::string& emotionOf(const Keypose& key) const;  // the keypose's emotion, else the options'
+	Emotion emotionOf(const Keypose& key) const;  // the keypose's emotion, else the options'
 	double intensityOf(const Keypose& key) const;
 	std::string indexKey(const Keypose& key) const;          // CDV, emotion and intensity
 	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the

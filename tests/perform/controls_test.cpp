@@ -22,7 +22,7 @@ Performance fourSeconds() {
 	Performance p;
 	p.rate = FrameRate{30, 1};
 	p.duration = ms(4000);
-	p.emotion = "joy";
+	p.emotion = Emotion::of("joy");
 	for (long t = 100; t < 4000; t += 200) p.keys.push_back(Keypose{ms(t), "a", 0, 0});
 	return p;
 }
@@ -70,15 +70,15 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 	for (const Keypose& k : p.keys) {
 		const double t = toSeconds(k.time);
 		if (t < 1.5) {  // before the change: the performance's own (or unset, which means the same)
-			EXPECT_TRUE(k.emotion.empty() || (k.emotion == "joy" && k.intensity == 1)) << t;
+			EXPECT_TRUE(!k.emotion || (k.emotion == Emotion::of("joy") && k.intensity == 1.0)) << t;
 		} else if (t < 2.0) {  // the first half of the ramp: joy fading out
-			EXPECT_EQ(k.emotion, "joy") << t;
-			EXPECT_NEAR(k.intensity, 1 - 2 * (t - 1.5), 1e-9) << t;
+			EXPECT_EQ(k.emotion, Emotion::of("joy")) << t;
+			EXPECT_NEAR(*k.intensity, 1 - 2 * (t - 1.5), 1e-9) << t;
 		} else if (t < 2.5) {  // the second half: anger fading in
-			EXPECT_EQ(k.emotion, "anger") << t;
-			EXPECT_NEAR(k.intensity, 0.8 * (2 * (t - 1.5) - 1), 1e-9) << t;
+			EXPECT_EQ(k.emotion, Emotion::of("anger")) << t;
+			EXPECT_NEAR(*k.intensity, 0.8 * (2 * (t - 1.5) - 1), 1e-9) << t;
 		} else {
-			EXPECT_EQ(k.emotion, "anger") << t;
+			EXPECT_EQ(k.emotion, Emotion::of("anger")) << t;
 			EXPECT_EQ(k.intensity, 0.8) << t;
 		}
 	}
@@ -87,7 +87,7 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 	// The modulator blinks there even with its own blinks off, and nods (down, then back).
 	p.modulation.blinks = false;
 	p.modulation.headMotion = false;
-	const ShapeModulator m(p.modulation, Emotion::of(p.emotion), p.duration, p.keys);
+	const ShapeModulator m(p.modulation, p.emotion, p.duration, p.keys);
 	ASSERT_EQ(m.blinks().size(), 1u);
 	EXPECT_EQ(m.blinks()[0].start, ms(3500));
 	EXPECT_EQ(m.eyeClosure(ms(3500 + 85)), 1.0);
@@ -225,7 +225,7 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	Performance p = fourSeconds();
 	applyControls(p, t);
 	EXPECT_FALSE(p.modulation.blinks);
-	const ShapeModulator m(p.modulation, Emotion::of(p.emotion), p.duration, p.keys);
+	const ShapeModulator m(p.modulation, p.emotion, p.duration, p.keys);
 	EXPECT_NEAR(m.head(ms(600)).roll, c.roll[1], 1e-6);
 	EXPECT_EQ(m.head(ms(600)).angle, 0);  // no drawn sinusoids
 	EXPECT_NEAR(m.head(ms(650)).scale, 1.01, 1e-6);

@@ -86,7 +86,7 @@ Performance threeSyllables() {
 	perf.rate = FrameRate{25, 1};
 	perf.keys = keyposes(p, perf.rate.frameLength());
 	perf.duration = ms(500);
-	perf.emotion = "joy";
+	perf.emotion = Emotion::of("joy");
 	return perf;
 }
 }  // namespace

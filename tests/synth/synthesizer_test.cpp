@@ -132,7 +132,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 	for (const WarpPath path : {WarpPath::Direct, WarpPath::Keypose})
 	for (const std::string emotion : {"joy", "anger"}) {
 		SynthOptions o;
-		o.emotion = emotion;
+		o.emotion = Emotion::parse(emotion);
 		o.warpPath = path;
 		Synthesizer synth(f.model, o);
 		// A timeline through every viseme of the model: 200 ms phones, keyposes at their midpoints.
@@ -180,7 +180,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 TEST(Synthesizer, missingEntriesFallBackAndSaySo) {
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = "fear";  // not in the small model
+	o.emotion = Emotion::of("fear");  // not in the small model
 	Synthesizer synth(f.model, o);
 	synth.keypose("a");
 	synth.keypose("p2");  // not in the model at all: neutral p2 missing → the group's p1
@@ -199,7 +199,7 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	Synthesizer neutral(f.model, n);
 	const Points rest = neutral.keypose("sil").shape;
 	SynthOptions o;
-	o.emotion = "fear";
+	o.emotion = Emotion::of("fear");
 	o.emotionSource = EmotionSource::Auto;
 	Synthesizer fear(f.model, o);
 	const KeyposeImage& k = fear.keypose("sil");
@@ -208,7 +208,7 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	EXPECT_EQ(k.y, neutral.keypose("sil").y);                   // the neutral appearance, reshaped
 	ASSERT_EQ(fear.substitutions().size(), 1u);
 	EXPECT_EQ(fear.substitutions()[0], "fear sil -> fear (action units) sil");
-	o.emotion = "joy";  // in the model: Auto uses the corpus
+	o.emotion = Emotion::of("joy");  // in the model: Auto uses the corpus
 	Synthesizer joyCorpus(f.model, o);
 	EXPECT_EQ(joyCorpus.keypose("sil").usedEmotion, "joy");
 	o.emotionSource = EmotionSource::ActionUnits;
@@ -258,7 +258,7 @@ TEST(Synthesizer, actionUnitEventsMoveThePointsOnTheirSide) {
 TEST(Synthesizer, sameInputsGiveTheSameFrames) {
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = "joy";
+	o.emotion = Emotion::of("joy");
 	o.width = 640;
 	o.height = 360;  // scaled output
 	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "u", 0}};
@@ -291,7 +291,7 @@ TEST(Synthesizer, yuvFramesAndBothWarpOrdersDrawTheSameFrame) {
 	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "p1", 0}, {ms(300), ms(450), "", "", "u", 0}};
 	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
 	SynthOptions o;
-	o.emotion = "joy";
+	o.emotion = Emotion::of("joy");
 	o.width = 480;
 	o.height = 270;
 	Synthesizer direct(f.model, o);
@@ -334,7 +334,7 @@ TEST(Synthesizer, keyposesAreMadeOnlyForTheFramesThatNeedThem) {
 	// Substitutions are known before any keypose is made, and agree with the ones prepare() reports.
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = "fear";
+	o.emotion = Emotion::of("fear");
 	Synthesizer synth(f.model, o);
 	std::vector<Keypose> k2 = {Keypose{ms(100), "a", 0, 0}, Keypose{ms(300), "p2", 0, 0}};
 	const auto planned = synth.substitutionsFor(k2);
@@ -370,7 +370,7 @@ TEST(Synthesizer, theBackgroundBeyondTheAnchorsNeverMovesAndReusedBuffersDrawThe
 	// the same bytes as a fresh one (RGB and YUV).
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = "joy";
+	o.emotion = Emotion::of("joy");
 	Synthesizer synth(f.model, o);
 	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "p1", 0}, {ms(300), ms(450), "", "", "u", 0},
 	                                    {ms(450), ms(600), "", "", "i1", 0}};
@@ -438,7 +438,7 @@ TEST(ShapeModulator, blinksCloseTheEyesAndOpenThemAgainSeeded) {
 	mo.seed = 8;
 	EXPECT_NE(ShapeModulator(mo, Emotion::of("joy"), ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
 	SynthOptions o;
-	o.emotion = "joy";
+	o.emotion = Emotion::of("joy");
 	Synthesizer plain(f.model, o);
 	o.modulator = mod;
 	Synthesizer blinking(f.model, o);
@@ -482,7 +482,7 @@ TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame)
 		for (long t = 0; t < 30000; t += 33)
 			EXPECT_LT(std::abs(mod->head(ms(t + 33)).angle - mod->head(ms(t)).angle), 0.1 * mod->maxAngle());
 		SynthOptions o;
-		o.emotion = "joy";
+		o.emotion = Emotion::of("joy");
 		o.modulator = mod;
 		Synthesizer synth(f.model, o);
 		synth.prepare(keys);
@@ -511,7 +511,7 @@ TEST(Synthesizer, intensityGoesFromTheNeutralKeyposesToTheEmotionAndBeyond) {
 	const auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
 	auto frame = [&](const std::string& emotion, double intensity, long t) {
 		SynthOptions o;
-		o.emotion = emotion;
+		o.emotion = Emotion::parse(emotion);
 		o.intensity = intensity;
 		Synthesizer s(f.model, o);
 		s.prepare(keys);
@@ -543,10 +543,10 @@ TEST(Synthesizer, keyposesTakeTheirOwnEmotionWhenATrackSetsIt) {
 	                                    {ms(600), ms(800), "", "", "u", 0}};
 	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
 	ASSERT_EQ(keys.size(), 4u);
-	keys[2].emotion = keys[3].emotion = "anger";
+	keys[2].emotion = keys[3].emotion = Emotion::of("anger");
 	keys[2].intensity = keys[3].intensity = 1;
 	SynthOptions o;
-	o.emotion = "joy";
+	o.emotion = Emotion::of("joy");
 	Synthesizer synth(f.model, o);
 	synth.prepare(keys);
 	Synthesizer::Workspace ws;
@@ -569,7 +569,7 @@ TEST(ShapeModulator, browsRiseForARaiseAndComeDownAndTogetherForAFrown) {
 	mo.blinks = mo.headMotion = false;
 	mo.browEvents = {BrowEvent{ms(500), ms(800), 1, 0}, BrowEvent{ms(2000), ms(800), 0, 1}};
 	SynthOptions o;
-	o.emotion = "joy";
+	o.emotion = Emotion::of("joy");
 	Synthesizer plain(f.model, o);
 	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("joy"), ms(3000), keys);
 	Synthesizer moved(f.model, o);
