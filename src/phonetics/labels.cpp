@@ -19,7 +19,8 @@ std::string dataFile(const std::string& rel) {
 
 std::vector<EmotionLabel> loadEmotionLabels(const std::string& path) {
 	TsvTable t = readTsv(path);
-	const auto cl = t.column("label"), cv = t.column("valence"), ca = t.column("aliases"), cs = t.column("specification");
+	const auto cl = t.column("label"), cv = t.column("valence"), ca = t.column("aliases"), cs = t.column("specification"), cen = t.column("term_en"),
+	           cpt = t.column("term_pt");
 	std::vector<EmotionLabel> out;
 	std::set<std::string> seen;
 	for (const auto& r : t.rows) {
@@ -31,6 +32,8 @@ std::vector<EmotionLabel> loadEmotionLabels(const std::string& path) {
 		if (r.fields[ca] != "-")
 			for (const auto& a : split(r.fields[ca], ',')) e.aliases.push_back(toLower(trim(a)));
 		e.specification = r.fields[cs];
+		if (r.fields[cen] != "-") e.termEn = r.fields[cen];
+		if (r.fields[cpt] != "-") e.termPt = r.fields[cpt];
 		for (const auto& name : [&] { auto n = e.aliases; n.push_back(toLower(e.label)); return n; }())
 			if (!seen.insert(name).second) throw Error(path, r.line, "label or alias '" + name + "' is used twice");
 		out.push_back(std::move(e));

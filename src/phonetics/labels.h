@@ -12,6 +12,7 @@ struct EmotionLabel {
 	char valence = '0';  // '+', '-', '0'
 	std::vector<std::string> aliases;
 	std::string specification;
+	std::string termEn, termPt;  // what a perceptual test's participant votes for (Table 6.1); empty for neutral
 };
 
 // The canonical keypose classes (phonetics/visemes.tsv): 22 consonantal and 11 vocalic context-

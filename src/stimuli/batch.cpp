@@ -9,6 +9,7 @@
 #include <numeric>
 #include <set>
 
+#include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/atomic_file.h"
 #include "base/frame_rate.h"
@@ -17,6 +18,7 @@
 #include "base/json.h"
 #include "base/text.h"
 #include "media/image_io.h"
+#include "phonetics/emotion.h"
 #include "phonetics/labels.h"
 #include "render/render.h"
 
@@ -533,18 +535,18 @@ std::size_t mergeShards(const std::string& outDir, const std::vector<std::string
 	return missing;
 }
 
+namespace {
+// The thesis's order of the 22 terms (Table 6.1), for the answers and the truths (neutral first).
+const std::vector<std::string>& thesisOrder() {
+	static const std::vector<std::string> o = {"happy-for", "joy", "hope", "satisfaction", "relief", "pride", "gratification", "gratitude",
+	                                           "admiration", "love", "pity", "distress", "fear", "resentment", "fears-confirmed", "shame",
+	                                           "reproach", "remorse", "gloating", "disappointment", "hate", "anger"};
+	return o;
+}
+}  // namespace
+
 std::string playerHtml(const std::vector<std::string>& ids, const std::vector<StimulusResult>& results,
                        const std::vector<std::vector<std::size_t>>& orders, int replays, const std::string& lang) {
-	// The thesis's voting terms (Table 6.1), in its order: canonical label, English, Portuguese.
-	static const char* terms[][3] = {
-	    {"happy-for", "happy for someone", "FELIZ POR ALGUÉM"}, {"joy", "cheerful", "CONTENTE"}, {"hope", "hopeful", "ESPERANÇOSA"},
-	    {"satisfaction", "satisfied", "SATISFEITA"}, {"relief", "relieved", "ALIVIADA"}, {"pride", "proud", "ORGULHOSA"},
-	    {"gratification", "rewarded", "RECOMPENSADA"}, {"gratitude", "thankful", "GRATA"}, {"admiration", "admired", "ADMIRADA"},
-	    {"love", "in love", "APAIXONADA"}, {"pity", "sorry for someone", "COM PENA"}, {"distress", "sad", "TRISTE"},
-	    {"fear", "fearful", "AMEDRONTADA"}, {"resentment", "resentful", "RESSENTIDA"}, {"fears-confirmed", "resigned", "CONFORMADA"},
-	    {"shame", "embarrassed", "ENVERGONHADA"}, {"reproach", "reproaching something", "CENSURANDO ALGO"}, {"remorse", "remorseful", "COM REMORSO"},
-	    {"gloating", "gloating", "ESCARNECENDO ALGUÉM"}, {"disappointment", "disappointed", "DESAPONTADA"}, {"hate", "disgusted", "COM NOJO"},
-	    {"anger", "angry", "COM RAIVA"}, {"none", "none of the above", "NDA (nenhuma das anteriores)"}};
 	const bool pt = lang == "pt";
 	std::string data = "{\"replays\": " + std::to_string(replays) + ", \"stimuli\": {";
 	for (std::size_t i = 0; i < ids.size(); ++i) data += std::string(i ? ", " : "") + jsonQuote(ids[i]) + ": " + jsonQuote(results[i].file);
@@ -554,9 +556,13 @@ std::string playerHtml(const std::vector<std::string>& ids, const std::vector<St
 		for (std::size_t k = 0; k < orders[q].size(); ++k) data += std::string(k ? ", " : "") + jsonQuote(ids[orders[q][k]]);
 		data += "]";
 	}
+	// The thesis's voting terms (phonetics/emotions.tsv, Table 6.1), in its order, then "none of the above".
 	data += "], \"emotions\": [";
-	for (std::size_t t = 0; t < sizeof terms / sizeof terms[0]; ++t)
-		data += std::string(t ? ", " : "") + "[" + jsonQuote(terms[t][0]) + ", " + jsonQuote(terms[t][pt ? 2 : 1]) + "]";
+	for (const std::string& label : thesisOrder()) {
+		const EmotionLabel& e = emotionLabels()[Emotion::of(label).index()];
+		data += "[" + jsonQuote(e.label) + ", " + jsonQuote(pt ? e.termPt : e.termEn) + "], ";
+	}
+	data += "[\"none\", " + jsonQuote(pt ? "NDA (nenhuma das anteriores)" : "none of the above") + "]";
 	data += "], \"valence\": [[\"negative\", " + jsonQuote(pt ? "NEGATIVA" : "negative") + "], [\"neutral\", " + jsonQuote(pt ? "NEUTRA" : "neutral") +
 	        "], [\"positive\", " + jsonQuote(pt ? "POSITIVA" : "positive") + "], [\"no-opinion\", " + jsonQuote(pt ? "NÃO SEI OPINAR" : "no opinion") + "]]";
 	data += ", \"text\": {\"valence\": " + jsonQuote(pt ? "A emoção expressa é:" : "The emotion expressed is:") +
@@ -564,139 +570,22 @@ std::string playerHtml(const std::vector<std::string>& ids, const std::vector<St
 	// </script> cannot occur inside the data: jsonQuote leaves '/' alone, so escape '<'.
 	std::string safe;
 	for (char c : data) safe += c == '<' ? std::string("\\u003c") : std::string(1, c);
-	return R"(<!doctype html>
-<html lang=")" + std::string(pt ? "pt" : "en") + R"(">
-<head>
-<meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<title>talkhead perceptual test</title>
-<style>
-body { font: 18px/1.4 sans-serif; margin: 0; background: #202124; color: #eee; }
-main { max-width: 960px; margin: 0 auto; padding: 24px; }
-video { display: block; margin: 0 auto 16px; max-width: 100%; height: 8cm; background: #000; }
-fieldset { border: 1px solid #666; border-radius: 8px; }
-.choices { display: grid; grid-template-columns: repeat(auto-fill, minmax(200px, 1fr)); gap: 6px; }
-label.choice { display: block; padding: 6px 10px; border: 1px solid #555; border-radius: 6px; cursor: pointer; }
-label.choice:focus-within { outline: 3px solid #8ab4f8; }
-input[type=radio]:checked + span { font-weight: bold; color: #8ab4f8; }
-button { font: inherit; padding: 8px 20px; margin-top: 12px; }
-</style>
-</head>
-<body>
-<main>
-<section id="start">
-  <h1>Perceptual test</h1>
-  <form id="startForm">
-    <label>Participant number <input id="pid" type="number" min="1" required autofocus></label>
-    <button type="submit">Start</button>
-  </form>
-  <p id="startError" role="alert"></p>
-</section>
-<section id="trial" hidden>
-  <p id="progress" aria-live="polite"></p>
-  <video id="video" playsinline preload="auto"></video>
-  <p id="videoError" role="alert"></p>
-  <button id="replay" type="button" hidden>Replay</button>
-  <form id="answer" hidden>
-    <fieldset><legend id="prompt"></legend><div id="choices" class="choices"></div></fieldset>
-    <button id="confirm" type="submit">Confirm</button>
-  </form>
-</section>
-<section id="done" hidden>
-  <h1>Thank you.</h1>
-  <p><a id="download" download="answers.csv" href="#">Download the answers (CSV)</a></p>
-  <pre id="csv"></pre>
-</section>
-</main>
-<script>
-"use strict";
-const DATA = )" + safe + R"(;
-const $ = (id) => document.getElementById(id);
-let participant = 0, order = [], position = 0, phase = "valence", plays = 0, endedAt = 0;
-const rows = [["participant", "position", "id", "valence", "valence_ms", "emotion", "emotion_ms"]];
-let current = null;
-$("startForm").addEventListener("submit", (e) => {
-  e.preventDefault();
-  const n = parseInt($("pid").value, 10);
-  if (!(n >= 1 && n <= DATA.orders.length)) { $("startError").textContent = "Participant numbers go from 1 to " + DATA.orders.length + "."; return; }
-  participant = n; order = DATA.orders[n - 1];
-  $("start").hidden = true; $("trial").hidden = false;
-  next();
-});
-function next() {
-  if (position >= order.length) return finish();
-  current = {id: order[position], valence: "", valence_ms: "", emotion: "", emotion_ms: ""};
-  phase = "valence";
-  $("progress").textContent = (position + 1) + " / " + order.length;
-  play();
-}
-function play() {
-  plays = 0;
-  $("answer").hidden = true; $("replay").hidden = true; $("videoError").textContent = "";
-  const v = $("video");
-  v.src = DATA.stimuli[current.id];
-  v.currentTime = 0;
-  const p = v.play();
-  if (p) p.catch(() => {});
-}
-$("video").addEventListener("ended", () => { endedAt = performance.now(); ask(); });
-$("video").addEventListener("error", () => { $("videoError").textContent = "This video cannot play here."; endedAt = performance.now(); ask(); });
-$("replay").addEventListener("click", () => { plays++; $("replay").hidden = true; $("answer").hidden = true; $("video").currentTime = 0; $("video").play(); });
-function ask() {
-  const list = phase === "valence" ? DATA.valence : DATA.emotions;
-  $("prompt").textContent = DATA.text[phase];
-  const box = $("choices");
-  box.textContent = "";
-  list.forEach(([value, text], i) => {
-    const label = document.createElement("label");
-    label.className = "choice";
-    const input = document.createElement("input");
-    input.type = "radio"; input.name = "choice"; input.value = value; input.required = true;
-    if (i === 0) input.id = "firstChoice";
-    const span = document.createElement("span");
-    span.textContent = " " + text;
-    label.append(input, span);
-    box.append(label);
-  });
-  $("answer").hidden = false;
-  $("replay").hidden = plays >= DATA.replays;
-  $("firstChoice").focus();
-}
-$("answer").addEventListener("submit", (e) => {
-  e.preventDefault();
-  const chosen = document.querySelector("input[name=choice]:checked");
-  if (!chosen) return;
-  const ms = Math.round(performance.now() - endedAt);
-  current[phase] = chosen.value; current[phase + "_ms"] = ms;
-  if (phase === "valence") { phase = "emotion"; play(); return; }
-  rows.push([participant, position + 1, current.id, current.valence, current.valence_ms, current.emotion, current.emotion_ms]);
-  position++;
-  next();
-});
-function finish() {
-  $("video").removeAttribute("src");
-  $("trial").hidden = true; $("done").hidden = false;
-  const csv = rows.map((r) => r.join(",")).join("\n") + "\n";
-  $("csv").textContent = csv;
-  const a = $("download");
-  a.href = URL.createObjectURL(new Blob([csv], {type: "text/csv"}));
-  a.download = "answers-" + String(participant).padStart(2, "0") + ".csv";
-  a.focus();
-}
-</script>
-</body>
-</html>
-)";
+	const auto page = findDataFile("examples/perceptual-test/player.html");
+	if (!page) throw Error("the player page examples/perceptual-test/player.html is not installed");
+	std::string html = readTextFile(*page);
+	// The page's own comments stay out of the stimuli folder.
+	const std::string from = "<!-- SPDX", to = "-->\n";
+	if (const auto a = html.find(from); a != std::string::npos)
+		if (const auto b = html.find(to, html.find(to, a) + to.size()); b != std::string::npos) html.erase(a, b + to.size() - a);
+	for (const auto& [key, value] : {std::pair<std::string, std::string>{"{{LANG}}", pt ? "pt" : "en"}, {"{{DATA}}", safe}}) {
+		const auto at = html.find(key);
+		if (at == std::string::npos) throw Error(*page, 0, "the player page has no " + key);
+		html.replace(at, key.size(), value);
+	}
+	return html;
 }
 
 namespace {
-// The thesis's order of the 22 terms (Table 6.1), for the answers and the truths (neutral first).
-const std::vector<std::string>& thesisOrder() {
-	static const std::vector<std::string> o = {"happy-for", "joy", "hope", "satisfaction", "relief", "pride", "gratification", "gratitude",
-	                                           "admiration", "love", "pity", "distress", "fear", "resentment", "fears-confirmed", "shame",
-	                                           "reproach", "remorse", "gloating", "disappointment", "hate", "anger"};
-	return o;
-}
 std::vector<std::vector<std::string>> csvRows(const std::string& path) {
 	std::vector<std::vector<std::string>> rows;
 	for (const auto& line : split(readTextFile(path), '\n')) {

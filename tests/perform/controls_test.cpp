@@ -36,7 +36,7 @@ TEST(Controls, eventsAreReadAndBadOnesNamed) {
 		{"type": "shake", "time": 0.5, "amount": 2}]})",
 	                                     "c.json");
 	ASSERT_EQ(t.emotions.size(), 1u);
-	EXPECT_EQ(t.emotions[0].emotion, "distress");  // the alias, canonical
+	EXPECT_EQ(t.emotions[0].emotion.label(), "distress");  // the alias, canonical
 	EXPECT_EQ(t.emotions[0].intensity, 0.5);
 	EXPECT_EQ(t.emotions[0].ramp, ms(400));
 	ASSERT_EQ(t.blinks.size(), 1u);
@@ -163,7 +163,7 @@ TEST(Controls, aTextGridTierIsAControlTrack) {
 	EXPECT_EQ(t.actionUnits[0].side, 1);
 	EXPECT_EQ(t.actionUnits[0].onset + t.actionUnits[0].apex + t.actionUnits[0].offset, ms(1000));  // the interval
 	ASSERT_EQ(t.emotions.size(), 1u);
-	EXPECT_EQ(t.emotions[0].emotion, "anger");
+	EXPECT_EQ(t.emotions[0].emotion.label(), "anger");
 	EXPECT_EQ(t.emotions[0].ramp, ms(200));
 	ASSERT_EQ(t.gestures.size(), 1u);
 	EXPECT_EQ(t.gestures[0].amount, 0.5);
