@@ -31,5 +31,22 @@ for dir in "$SRC"/*/; do
 		case " ${allowed[$mod]} " in *" $inc "*) ;; *) echo "forbidden: $line"; fail=1 ;; esac
 	done < <(grep -rHn '#include "[a-z_]*/' "$dir")
 done
+# Outside src/: corpus-tools/ (a library under the CLI: image, phonetics and media, as CMakeLists.txt links
+# it; its dlib check program reads corpora), and bench/ and examples/, which use the library as a program would: any module, never the CLI's
+# own code (what a program needs is in the library), never a path into src/ ("../src/…").
+check_dir() {  # DIR ALLOWED-MODULES
+	local dir=$1 allowed=$2
+	[ -d "$dir" ] || return 0
+	while IFS= read -r line; do
+		inc=$(sed -E 's/.*#include "([a-z_]+)\/.*/\1/' <<<"${line#*:}")
+		case " $allowed " in *" $inc "*) ;; *) echo "forbidden: $line"; fail=1 ;; esac
+	done < <(grep -rHn --include='*.cpp' --include='*.h' '#include "[a-z_]*/' "$dir")
+	if grep -rHn --include='*.cpp' --include='*.h' '#include "\.\./' "$dir"; then echo "forbidden: relative includes above"; fail=1; fi
+}
+root=$(dirname "$SRC")
+check_dir "$root/corpus-tools" "base geometry image media phonetics corpus"
+library="base geometry image warp model media phonetics corpus synth align perform track render stimuli serve viz"
+check_dir "$root/bench" "$library"
+check_dir "$root/examples" "$library"
 [ $fail = 0 ] && echo "module dependencies ok"
 exit $fail
