@@ -105,8 +105,8 @@ struct Keypose {
 	// one whose context matches best (FaceModel::findSample).
 	std::array<std::string, 5> context{"_", "_", "_", "_", "_"};
 	// Set per keypose by an emotion track (render controls); unset: the performance's.
-	std::optional<Emotion> emotion;
-	std::optional<double> intensity;
+	std::optional<Emotion> emotion{};
+	std::optional<double> intensity{};
 	// A specific sample of the model (render --drive-mouth: the actor's exemplar nearest the driver's
 	// mouth, D55); −1: resolved from (emotion, CDV, context).
 	long sample = -1;

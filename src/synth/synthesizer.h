@@ -1,11 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <array>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "image/yuv.h"
@@ -13,7 +10,6 @@
 #include "phonetics/language.h"
 #include "synth/action_units.h"
 #include "synth/modulator.h"
-#include "warp/piecewise_affine.h"
 
 namespace talkhead {
 
@@ -62,24 +58,22 @@ struct KeyposeImage {
 	std::string usedEmotion, usedCdv;  // the model entry it came from (after fallbacks)
 };
 
-// Blinks (D42): one eye's closed lid drawn in the mean-shape frame (a box inside the face box, model
-// pixels, soft alpha), as RGB, luma and interleaved chroma; dissolved in as the lids close.
-struct ClosedLidPatch {
-	int x0 = 0, y0 = 0, w = 0, h = 0;  // even corners and size
-	std::vector<float> alpha, alphaC;  // luma-resolution and chroma-resolution weights
-	double from = 0;  // 0: dissolved in at min(1, 1.6 × closure) (D42); else from this closure to shut (D50)
-	std::vector<std::uint8_t> rgb, y, uv;
-};
-
 // The synthesizer of Costa (2015) §5: keypose appearances composited coarse to fine into the baseface and
 // warped to their shapes (cached per CDV), then frames by Hermite point trajectories, forward and
 // backward piecewise-affine warps and a cross-dissolve. Thread-safe: renderFrame may be called from
 // several threads (each with its own FrameWorkspace).
+struct FaceRig;
+class KeyposeCache;
+class PiecewiseAffineWarp;
+
 class Synthesizer {
 public:
 	Synthesizer(const FaceModel& model, const SynthOptions& options);
-	int width() const { return width_; }
-	int height() const { return height_; }
+	~Synthesizer();
+	Synthesizer(const Synthesizer&) = delete;
+	Synthesizer& operator=(const Synthesizer&) = delete;
+	int width() const;
+	int height() const;
 
 	// The keypose of a CDV for the emotion (computed once; the corpus's first sample of it when it has
 	// several: a timeline's keyposes pick theirs by phone context). Missing (emotion, CDV) entries fall back
@@ -94,7 +88,11 @@ public:
 
 	// Per-thread scratch: warps and mean-frame buffers, reused from frame to frame (no allocation).
 	struct Workspace {
-		std::unique_ptr<PiecewiseAffineWarp> warp, chromaWarp;
+		Workspace();
+		~Workspace();
+		Workspace(Workspace&&) noexcept;
+		Workspace& operator=(Workspace&&) noexcept;
+		std::unique_ptr<PiecewiseAffineWarp> warp, chromaWarp;  // the warp stays inside synth/
 		Image8 meanRgb, rgb;                     // mean-frame RGB (baseface outside the face box); RGB frame
 		std::vector<std::uint8_t> meanY, meanUV;  // the same in YUV 4:2:0 (chroma interleaved)
 		double warpSeconds = 0;  // CPU time spent in the dissolve and warp passes, for benchmarks
@@ -130,57 +128,10 @@ public:
 private:
 	const FaceModel& model_;
 	SynthOptions o_;
-	int width_, height_;
-	double scaleX_, scaleY_;
-	mutable std::mutex mutex_;
-	// Keypose images by (sample, neutral sample or −1, intensity), and which one each (CDV, emotion,
-	// intensity; phone context) uses.
-	// A non-empty 4th element: the sample is neutral and its shape takes that emotion's action units (D48).
-	using ImageKey = std::tuple<long, long, double, std::string>;
-	std::map<ImageKey, std::unique_ptr<KeyposeImage>> images_;
-	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
-	std::vector<std::string> substitutions_;
-	int roiX0_ = 0, roiY0_ = 0, roiX1_ = 0, roiY1_ = 0;  // face box in the model frame (even corners)
-	// D41: static anchors around the face (model pixels; in output luma and chroma pixels) and the warp
-	// meshes over face points + anchors + frame border: every triangle, and the moving ones (those with a
-	// face vertex). The others never change, so the frame outside the moving triangles is the background,
-	// drawn once, and a frame costs a warp of the moving part only.
-	Points anchors_, anchorsOut_, anchorsOutChroma_;
-	TriangleMesh mesh_, movingMesh_;
-	Points meanSource_, meanSourceChroma_;               // s̄ + anchors + frame border, in luma and chroma pixels
-	YuvImage backgroundYuv_;                              // Direct path: the static frame at the output size
-	mutable std::once_flag backgroundRgbOnce_;
-	mutable Image8 backgroundRgb_;
-	const Image8& backgroundRgb() const;                  // the same in RGB (made on first use)
-	Points anchored(const Points& face, bool chroma) const;  // output-pixel face points + anchors + border
-	std::vector<std::uint8_t> baseY_, baseUV_;           // the baseface in YUV 4:2:0
-	std::vector<EyeSpec> eyes_;
-	std::vector<BrowSpec> brows_;
-	double eyeDistance_ = 0;  // between the eyes' centres on the mean shape, model pixels (brow motion's unit)
-	std::optional<AuTemplates> auTemplates_;  // the scheme's, loaded when action units are asked for
-	EyeFrame auFrame_;                        // the mean shape's eye frame
-	std::vector<int> auEventIndex_;           // per modulator AU event: its template
-	std::vector<int> auCurveIndex_;           // per modulator AU curve: its template
-	bool fromActionUnits(const Keypose& key) const;  // whether this keypose's emotion comes from action units
-	std::vector<ClosedLidPatch> eyePatches_;
-	Eigen::RowVector2d centre_{0, 0};  // the mean shape's centre (head rotation), model pixels
-	Eigen::RowVector2d eyeMid_{0, 0};  // between the eyes on the mean shape (a tracked head's pivot, D55)
-	bool stabilise_ = false;           // a tracked head (D55): keypose shapes aligned on their eye corners to s̄
-	Eigen::VectorXd stabiliseWeights_;
-	double faceSize_ = 1;              // the mean shape's larger side, model pixels
-	// What the face box and the lid patches were made for (setModulator's limits).
-	bool sizedForHead_ = false, sizedForBlinks_ = false;
-	double headAngle_ = 0, headShift_ = 0;
+	std::unique_ptr<FaceRig> rig_;         // what frames are drawn on (synth/face_rig.h)
+	std::unique_ptr<KeyposeCache> cache_;  // the keyposes' images (synth/keypose_cache.h)
 	void closeEyes(Points& points, double closure) const;
 	void drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const;
-	const KeyposeImage& cached(const Keypose& key) const;
-	long resolve(const Keypose& key) const;  // the model sample used for a keypose (CDV, context)
-	long resolve(const Keypose& key, const std::string& emotion) const;
-	// The sample and, when the intensity mixes it in, the neutral sample of the same CDV and context (else −1).
-	std::pair<long, long> resolvePair(const Keypose& key) const;
-	Emotion emotionOf(const Keypose& key) const;  // the keypose's emotion, else the options'
-	double intensityOf(const Keypose& key) const;
-	std::string indexKey(const Keypose& key) const;          // CDV, emotion and intensity
 	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the
 	// dissolve weight (Eq. 5.4: t or the Hermite ease) as a double and in 1/256.
 	struct Between {
@@ -191,8 +142,6 @@ private:
 	};
 	// Also sets `points`: the feature points at τ in output pixels.
 	Between locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const;
-	KeyposeImage makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
-	                         const std::vector<Eigen::VectorXf>& synthesized) const;
 };
 
 }  // namespace talkhead

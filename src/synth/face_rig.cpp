@@ -1,0 +1,395 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The face rig (issue 30: the synthesizer split in three): what frames are drawn on, made once per model,
+// output size and options — the face box, the scheme's eyes and brows, the static anchors and meshes
+// (D41), the background, the baseface in YUV, the action-unit templates (D48) and the closed lids (D42, D50).
+#include "synth/face_rig.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "base/error.h"
+#include "geometry/scheme.h"
+#include "warp/piecewise_affine.h"
+
+namespace talkhead {
+
+namespace {
+// D41: the anchors' distance outside everything that moves, as a fraction of the mean shape's larger side.
+constexpr double kAnchorMargin = 0.15;
+}  // namespace
+
+Points withAnchors(const Points& face, const Points& anchors, int width, int height) {
+	Points p(face.rows() + anchors.rows(), 2);
+	p << face, anchors;
+	return withFrameBorder(p, width, height);
+}
+
+Points toChroma(const Points& p) { return (p.array() - 0.5) * 0.5; }
+
+// y of a polyline (points in order of x, as lids run corner to corner) at x; NaN outside its x range.
+double polylineY(const std::vector<Eigen::RowVector2d>& line, double x) {
+	for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+		const double xa = line[i](0), xb = line[i + 1](0);
+		if ((x >= std::min(xa, xb) && x <= std::max(xa, xb)) && xa != xb) return line[i](1) + (x - xa) / (xb - xa) * (line[i + 1](1) - line[i](1));
+	}
+	return std::nan("");
+}
+
+std::vector<Eigen::RowVector2d> lidLine(const Points& p, const EyeSpec& e, bool upper) {
+	std::vector<Eigen::RowVector2d> line{p.row(e.corner0)};
+	for (int i : upper ? e.upper : e.lower) line.push_back(p.row(i));
+	line.push_back(p.row(e.corner1));
+	return line;
+}
+
+
+namespace {
+
+// The scheme's eyes: the model's, else the shipped scheme of the same name and points (models built before
+// schemes had 'eye' lines).
+// (And its brows, the same way.)
+Scheme partsOf(const FaceModel& model) {
+	Scheme parts;
+	parts.eyes = model.scheme.eyes;
+	parts.brows = model.scheme.brows;
+	if (!parts.eyes.empty() || !parts.brows.empty()) return parts;
+	try {
+		const Scheme s = loadScheme(model.scheme.name);
+		if (s.pointNames == model.scheme.pointNames) parts.eyes = s.eyes, parts.brows = s.brows;
+	} catch (const Error&) {
+	}
+	return parts;
+}
+
+// The closed lid of one eye in the mean-shape frame (D42): between the upper lid (raised a little, to
+// cover its lash line) and the lower lid, the skin of a band just above the upper lid, column by column,
+// shaded slightly toward a dark lash line along the lower lid, where a shut eye's lashes meet. Soft edges.
+// Luma, chroma and chroma-resolution alpha of a patch whose RGB and alpha are set.
+void finishPatch(ClosedLidPatch& patch, YuvRange range) {
+	const int cw = patch.w / 2, ch = patch.h / 2;
+	patch.y.resize(std::size_t(patch.w) * patch.h);
+	patch.uv.resize(std::size_t(cw) * ch * 2);
+	rgbToYuv420(patch.rgb.data(), std::size_t(patch.w) * 3, patch.w, patch.h, range, patch.y.data(), std::size_t(patch.w), patch.uv.data(),
+	            patch.uv.data() + 1, std::size_t(cw) * 2, 2);
+	patch.alphaC.resize(std::size_t(cw) * ch);
+	for (int y = 0; y < ch; ++y)
+		for (int x = 0; x < cw; ++x) {
+			const std::size_t a = std::size_t(2 * y) * patch.w + std::size_t(2 * x);
+			patch.alphaC[std::size_t(y) * cw + std::size_t(x)] = 0.25f * (patch.alpha[a] + patch.alpha[a + 1] + patch.alpha[a + patch.w] + patch.alpha[a + patch.w + 1]);
+		}
+}
+
+// D50: the shut eye from the corpus's closed-eyes image `closed` (its appearance composited in the mean
+// frame): the lid's skin from 0.3 eye widths above the open upper lid down to just below the lower lid,
+// copied as it is: warped to the shut lids' shape it gives back the closed-eyes image's own lid, crease
+// and lashes. In the open eye's slit the shut image has no area of its own (its lash line is smeared
+// across it), so this patch comes in only as the lids finish closing (from 60 % shut), over the drawn lid
+// of D42 (whose skin is then taken from the shut image's lid), which covers the half-closed eye.
+ClosedLidPatch closedLidFrom(const FaceModel& m, const Image8& closed, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range) {
+	ClosedLidPatch patch;
+	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
+	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
+	if (!(width > 2)) return patch;
+	const double above = 0.30 * width, below = 0.05 * width, feather = std::max(1.0, 0.08 * width);
+	double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
+	for (const auto* line : {&up, &lo})
+		for (const auto& q : *line) xmin = std::min(xmin, q(0)), xmax = std::max(xmax, q(0)), ymin = std::min(ymin, q(1)), ymax = std::max(ymax, q(1));
+	const int x0 = std::max(rx0, (int(std::floor(xmin - 2 * feather)) - 1) & ~1), y0 = std::max(ry0, (int(std::floor(ymin - above - feather)) - 1) & ~1);
+	const int x1 = std::min(rx1, (int(std::ceil(xmax + 2 * feather)) + 2) & ~1), y1 = std::min(ry1, (int(std::ceil(ymax + below + feather)) + 2) & ~1);
+	if (x1 - x0 < 2 || y1 - y0 < 2) return patch;
+	patch.x0 = x0, patch.y0 = y0, patch.w = x1 - x0, patch.h = y1 - y0;
+	patch.alpha.assign(std::size_t(patch.w) * patch.h, 0.f);
+	patch.rgb.resize(std::size_t(patch.w) * patch.h * 3);
+	patch.from = 0.6;
+	for (int x = x0; x < x1; ++x) {
+		const double xc = std::clamp(double(x), xmin, xmax);
+		const double yu = polylineY(up, xc), yl = polylineY(lo, xc);
+		const double top = (std::isnan(yu) ? ymin : yu) - above, bottom = (std::isnan(yl) ? ymax : yl) + below;
+		const double side = std::min(x - (xmin - 2 * feather), (xmax + 2 * feather) - x) / feather;
+		for (int y = y0; y < y1; ++y) {
+			const std::size_t i = std::size_t(y - y0) * std::size_t(patch.w) + std::size_t(x - x0);
+			const double inside = std::min({(double(y) - top) / feather, (bottom - double(y)) / feather, side});
+			patch.alpha[i] = float(std::clamp(inside, 0.0, 1.0));
+			for (int c = 0; c < 3; ++c) patch.rgb[3 * i + std::size_t(c)] = closed.row(y)[3 * x + c];
+		}
+	}
+	finishPatch(patch, range);
+	return patch;
+}
+
+ClosedLidPatch closedLid(const FaceModel& m, const Image8& b, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range) {
+	ClosedLidPatch patch;
+	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
+	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
+	if (!(width > 2)) return patch;
+	const double cover = 0.12 * width, below = 0.03 * width, feather = std::max(1.0, 0.06 * width), band = std::max(2.0, 0.15 * width);
+	double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
+	for (const auto* line : {&up, &lo})
+		for (const auto& q : *line) xmin = std::min(xmin, q(0)), xmax = std::max(xmax, q(0)), ymin = std::min(ymin, q(1)), ymax = std::max(ymax, q(1));
+	const int x0 = std::max(rx0, (int(std::floor(xmin - feather)) - 1) & ~1), y0 = std::max(ry0, (int(std::floor(ymin - cover - feather)) - 1) & ~1);
+	const int x1 = std::min(rx1, (int(std::ceil(xmax + feather)) + 2) & ~1), y1 = std::min(ry1, (int(std::ceil(ymax + below + feather)) + 2) & ~1);
+	if (x1 - x0 < 2 || y1 - y0 < 2) return patch;
+	patch.x0 = x0, patch.y0 = y0, patch.w = x1 - x0, patch.h = y1 - y0;
+	patch.alpha.assign(std::size_t(patch.w) * patch.h, 0.f);
+	patch.rgb.resize(std::size_t(patch.w) * patch.h * 3);
+	// Per column: the lid's top and bottom, and the skin just above the covered lid margin (a band below the
+	// crease), then smoothed across columns so no crease or lash of the open eye streaks the lid.
+	const int n = x1 - x0;
+	const std::size_t cols = static_cast<std::size_t>(n);
+	std::vector<double> tops(cols), bottoms(cols), lashes(cols), skin(cols * 3), smooth(cols * 3);
+	for (int x = x0; x < x1; ++x) {
+		const std::size_t j = std::size_t(x - x0);
+		const double xc = std::clamp(double(x), xmin, xmax);
+		const double yu = polylineY(up, xc), yl = polylineY(lo, xc);
+		tops[j] = (std::isnan(yu) ? ymin : yu) - cover;
+		bottoms[j] = (std::isnan(yl) ? ymax : yl) + below;
+		lashes[j] = (std::isnan(yl) ? ymax : yl) - 0.02 * width;
+		std::vector<int> column[3];
+		for (int y = int(std::floor(tops[j] - band)); y < int(std::floor(tops[j])); ++y) {
+			const int yy = std::clamp(y, 0, b.height - 1), xx = std::clamp(x, 0, b.width - 1);
+			for (int c = 0; c < 3; ++c) column[c].push_back(b.row(yy)[3 * xx + c]);
+		}
+		for (int c = 0; c < 3; ++c) {  // the median: robust to a stray line in the band
+			auto& v = column[c];
+			std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+			skin[3 * j + std::size_t(c)] = v.empty() ? 128 : v[v.size() / 2];
+		}
+	}
+	const int reach = std::max(1, int(0.12 * width));
+	for (int j = 0; j < n; ++j)
+		for (int c = 0; c < 3; ++c) {
+			double sum = 0;
+			int count = 0;
+			for (int k = std::max(0, j - reach); k <= std::min(n - 1, j + reach); ++k) sum += skin[3 * std::size_t(k) + std::size_t(c)], ++count;
+			smooth[3 * std::size_t(j) + std::size_t(c)] = sum / count;
+		}
+	const double sigma = std::max(0.8, 0.03 * width);
+	for (int x = x0; x < x1; ++x) {
+		const std::size_t j = std::size_t(x - x0);
+		const double top = tops[j], bottom = bottoms[j];
+		const double side = std::min(x - (xmin - feather), (xmax + feather) - x) / feather;  // fade at the corners
+		for (int y = y0; y < y1; ++y) {
+			const std::size_t i = std::size_t(y - y0) * std::size_t(patch.w) + j;
+			const double inside = std::min({(double(y) - (top - feather)) / feather, ((bottom + feather) - double(y)) / feather, side});
+			patch.alpha[i] = float(std::clamp(inside, 0.0, 1.0));
+			const double t = std::clamp((double(y) - top) / std::max(1.0, bottom - top), 0.0, 1.0);
+			const double d = double(y) - lashes[j];
+			const double shade = (1 - 0.06 * t) * (1 - 0.7 * std::exp(-(d * d) / (2 * sigma * sigma)) * std::clamp(side, 0.0, 1.0));
+			for (int c = 0; c < 3; ++c)
+				patch.rgb[3 * i + std::size_t(c)] = std::uint8_t(std::clamp(smooth[3 * j + std::size_t(c)] * shade + 0.5, 0.0, 255.0));
+		}
+	}
+	finishPatch(patch, range);
+	return patch;
+}
+}  // namespace
+
+FaceRig::FaceRig(const FaceModel& model, const SynthOptions& o) : model_(model) {
+	placeFace(model, o);
+	placeAnchors(model, o);
+	loadActionUnits(model, o);
+	makeMeshes(model, o);
+	makeClosedLids(model, o);
+}
+
+// The output size, the face box, the mean shape's size and centre, the eyes and brows, a tracked head's pivot.
+void FaceRig::placeFace(const FaceModel& model, const SynthOptions& o) {
+	width = o.width > 0 ? o.width : model.width;
+	height = o.height > 0 ? o.height : model.height;
+	scaleX = double(width) / model.width;
+	scaleY = double(height) / model.height;
+	// The face box: every region pixel, grown by one and with even corners (whole chroma blocks).
+	int x0 = model.width, y0 = model.height, x1 = 0, y1 = 0;
+	for (const auto& r : model.regions)
+		for (std::int32_t idx : r.pixels) {
+			const int x = idx % model.width, y = idx / model.width;
+			x0 = std::min(x0, x);
+			y0 = std::min(y0, y);
+			x1 = std::max(x1, x + 1);
+			y1 = std::max(y1, y + 1);
+		}
+	if (x1 > x0 && y1 > y0) {
+		roiX0 = std::max(0, x0 - 1) & ~1;
+		roiY0 = std::max(0, y0 - 1) & ~1;
+		roiX1 = std::min(model.width, (x1 + 2) & ~1);
+		roiY1 = std::min(model.height, (y1 + 2) & ~1);
+	}
+	{
+		const Eigen::RowVector2d lo = model.meanShape.colwise().minCoeff(), hi = model.meanShape.colwise().maxCoeff();
+		faceSize = std::max(1.0, (hi - lo).maxCoeff());
+		centre = model.meanShape.colwise().mean();
+	}
+	const Scheme parts = partsOf(model);
+	eyes = parts.eyes;
+	brows = parts.brows;
+	if (eyes.size() >= 2) {
+		auto centre = [&](const EyeSpec& e) { return (model.meanShape.row(e.corner0) + model.meanShape.row(e.corner1)) / 2; };
+		eyeDistance = (centre(eyes[0]) - centre(eyes[1])).norm();
+	}
+	if (!(eyeDistance > 0)) eyeDistance = 0.3 * faceSize;
+	eyeMid = centre;
+	if (o.modulator && o.modulator->curves().hasHead() && eyes.size() >= 2) {
+		stabilise = true;
+		stabiliseWeights = Eigen::VectorXd::Zero(model.pointCount());
+		for (const EyeSpec& e : eyes) stabiliseWeights(e.corner0) = stabiliseWeights(e.corner1) = 1;
+		if (model.scheme.name == "ibug-68" && model.pointCount() == 68) {  // and the nose, as talkhead track registers heads
+			stabiliseWeights(27) = 0.5, stabiliseWeights(30) = 1;
+			for (int i : {31, 33, 35}) stabiliseWeights(i) = 0.5;
+		}
+	}
+	if (eyes.size() >= 2)
+		eyeMid = (model.meanShape.row(eyes[0].corner0) + model.meanShape.row(eyes[0].corner1) + model.meanShape.row(eyes[1].corner0) +
+		           model.meanShape.row(eyes[1].corner1)) / 4;
+}
+
+// D41: the static anchors, outside everything that moves (head motion included).
+void FaceRig::placeAnchors(const FaceModel& model, const SynthOptions& o) {
+	// D41: anchors a quarter of the face's size outside everything that moves (every training shape and the
+	// face box), fixed in every frame.
+	{
+		std::vector<Points> extent = model.alignedShapes;
+		extent.push_back(model.meanShape);
+		// Every pixel the regions paste: per row, the outer corners of its leftmost and rightmost pixels.
+		std::vector<int> left(std::size_t(model.height), model.width), right(std::size_t(model.height), -1);
+		for (const auto& r : model.regions)
+			for (std::int32_t idx : r.pixels) {
+				const std::size_t y = std::size_t(idx / model.width);
+				left[y] = std::min(left[y], idx % model.width);
+				right[y] = std::max(right[y], idx % model.width);
+			}
+		std::vector<double> corners;
+		for (int y = 0; y < model.height; ++y)
+			if (right[std::size_t(y)] >= 0)
+				corners.insert(corners.end(), {double(left[std::size_t(y)]), double(y), double(left[std::size_t(y)]), y + 1.0,
+				                               right[std::size_t(y)] + 1.0, double(y), right[std::size_t(y)] + 1.0, y + 1.0});
+		extent.push_back(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>(corners.data(), Eigen::Index(corners.size() / 2), 2));
+		// Head motion (D42) moves everything by up to its rotation about the centre plus its shift: the
+		// anchors move out by as much.
+		double headRoom = 0;
+		if (o.modulator) {
+			sizedForHead = true;
+			headAngle = o.modulator->maxAngle();
+			headShift = o.modulator->maxShift();
+			sizedForBlinks = !o.modulator->blinks().empty();
+			double radius = 0;
+			for (Eigen::Index i = 0; i < model.meanShape.rows(); ++i) radius = std::max(radius, (model.meanShape.row(i) - centre).norm());
+			// (Curves turn about the point between the eyes: up to |eyeMid − centre| further out.)
+			headRoom = o.modulator->maxAngle() * (radius + (eyeMid - centre).norm()) * 1.5 + o.modulator->maxShift() * faceSize +
+			           o.modulator->maxCurveShift() * eyeDistance + o.modulator->maxCurveScale() * (radius + (eyeMid - centre).norm());
+		}
+		anchors = anchorRing(extent, kAnchorMargin * faceSize + headRoom, model.width, model.height);
+	}
+}
+
+// D48: the action-unit templates and the modulator's events and curves in them.
+void FaceRig::loadActionUnits(const FaceModel& model, const SynthOptions& o) {
+	{
+		// D48: the scheme's action-unit templates, when an emotion or an event needs them.
+		const bool auEvents = o.modulator && (!o.modulator->auEvents().empty() || !o.modulator->curves().aus.empty());
+		if (o.emotionSource != EmotionSource::Corpus || auEvents) {
+			Scheme scheme = model.scheme;
+			scheme.eyes = eyes;
+			auTemplates = findAuTemplates(scheme);
+			if (!auTemplates && (auEvents || o.emotionSource == EmotionSource::ActionUnits))
+				throw Error("no action-unit templates for scheme " + scheme.name + " (models/au-templates/" + scheme.name +
+				            ".tsv; make them from a corpus with the emotions with 'talkhead corpus au-templates')");
+			if (auTemplates) auFrame = eyeFrame(scheme, model.meanShape);
+			if (auEvents)
+				for (const AuEvent& e : o.modulator->auEvents()) {
+					const int a = auTemplates->find(e.au);
+					if (a < 0) throw Error("the action-unit templates of scheme " + scheme.name + " have no " + e.au);
+					auEventIndex.push_back(a);
+				}
+			if (o.modulator)
+				for (const ControlCurves::Au& c : o.modulator->curves().aus) {
+					const int a = auTemplates->find(c.au);
+					if (a < 0) throw Error("the action-unit templates of scheme " + scheme.name + " have no " + c.au);
+					auCurveIndex.push_back(a);
+				}
+		}
+	}
+}
+
+// The meshes over the mean shape and the anchors, the baseface in YUV and the static background.
+void FaceRig::makeMeshes(const FaceModel& model, const SynthOptions& o) {
+	const int k = model.pointCount();
+	anchorsOut = anchors;
+	anchorsOut.col(0) *= scaleX;
+	anchorsOut.col(1) *= scaleY;
+	anchorsOutChroma = toChroma(anchorsOut);
+	const int cw = (model.width + 1) / 2, ch = (model.height + 1) / 2;
+	meanSource = withAnchors(model.meanShape, anchors, model.width, model.height);
+	meanSourceChroma = withAnchors(toChroma(model.meanShape), toChroma(anchors), cw, ch);
+	mesh = delaunayTriangulation(meanSource);
+	movingMesh.vertexCount = mesh.vertexCount;
+	for (const Triangle& t : mesh.triangles)
+		if (t[0] < k || t[1] < k || t[2] < k) movingMesh.triangles.push_back(t);
+	if (o.warpPath == WarpPath::Direct && !model.baseface.empty()) {
+		baseY.resize(std::size_t(model.width) * model.height);
+		baseUV.resize(std::size_t(cw) * ch * 2);
+		rgbToYuv420(model.baseface.data.data(), std::size_t(model.width) * 3, model.width, model.height, o.yuvRange, baseY.data(),
+		            std::size_t(model.width), baseUV.data(), baseUV.data() + 1, std::size_t(cw) * 2, 2);
+		// The background: the mean shape's frame, whose static triangles every frame shares.
+		Points mean = model.meanShape;
+		mean.col(0) *= scaleX;
+		mean.col(1) *= scaleY;
+		backgroundYuv.resize(width, height);
+		PiecewiseAffineWarp luma(mesh, anchored(mean, false), width, height);
+		luma.setSource(meanSource);
+		std::uint8_t* y[1] = {backgroundYuv.y.data()};
+		luma.applyPlanes(baseY.data(), model.width, model.height, std::size_t(model.width), 1, y, std::size_t(width));
+		const int outCw = backgroundYuv.chromaWidth(), outCh = backgroundYuv.chromaHeight();
+		PiecewiseAffineWarp chroma(mesh, anchored(toChroma(mean), true), outCw, outCh);
+		chroma.setSource(meanSourceChroma);
+		std::uint8_t* uv[2] = {backgroundYuv.u.data(), backgroundYuv.v.data()};
+		chroma.applyPlanes(baseUV.data(), cw, ch, std::size_t(cw) * 2, 2, uv, std::size_t(outCw));
+	}
+}
+
+// D42, D50: the closed lids, when the modulator blinks.
+void FaceRig::makeClosedLids(const FaceModel& model, const SynthOptions& o) {
+	if (o.modulator && !o.modulator->blinks().empty() && !model.baseface.empty()) {
+		// D50: the corpus's closed-eyes image, in the mean frame, gives the shut lid where the model has one.
+		Image8 closed;
+		if (model.closedEyesIndex >= 0 && std::size_t(model.closedEyesIndex) < model.sampleCount()) {
+			std::vector<Eigen::VectorXf> a(model.regions.size());
+			for (std::size_t r = 0; r < model.regions.size(); ++r) {
+				const RegionModel& reg = model.regions[r];
+				if (reg.hasAppearanceCache()) {
+					std::vector<std::uint8_t> bytes(std::size_t(reg.appearanceSize()));
+					reg.readCachedAppearance(std::size_t(model.closedEyesIndex), bytes.data());
+					a[r] = Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(bytes.data(), Eigen::Index(bytes.size())).cast<float>();
+				} else {
+					Eigen::MatrixXf c(reg.pca.components(), 1);
+					c.col(0) = sampleCoefficients(reg, std::size_t(model.closedEyesIndex));
+					a[r] = synthesizeAppearances(reg, c).col(0);
+				}
+			}
+			closed = toU8(compositeRegions(model, a));
+		}
+		for (const EyeSpec& e : eyes) {
+			eyePatches.push_back(closedLid(model, closed.empty() ? model.baseface : closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
+			if (!closed.empty()) eyePatches.push_back(closedLidFrom(model, closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
+		}
+	}
+}
+
+
+Points FaceRig::anchored(const Points& face, bool chroma) const {
+	return chroma ? withAnchors(face, anchorsOutChroma, (width + 1) / 2, (height + 1) / 2) : withAnchors(face, anchorsOut, width, height);
+}
+
+const Image8& FaceRig::backgroundRgb() const {
+	std::call_once(backgroundRgbOnce_, [&] {
+		Points mean = model_.meanShape;
+		mean.col(0) *= scaleX;
+		mean.col(1) *= scaleY;
+		PiecewiseAffineWarp warp(mesh, anchored(mean, false), width, height);
+		warp.setSource(meanSource);
+		backgroundRgb_ = Image8(width, height, 3);
+		warp.apply(model_.baseface, backgroundRgb_);
+	});
+	return backgroundRgb_;
+}
+
+}  // namespace talkhead

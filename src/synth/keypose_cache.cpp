@@ -1,0 +1,274 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The keypose cache (issue 30: the synthesizer split in three): which model sample each keypose uses
+// (emotion, CDV and context, with the fallbacks), its appearance composited once, shared by every frame.
+#include "synth/keypose_cache.h"
+
+#include <algorithm>
+
+#include "base/parallel.h"
+#include "phonetics/labels.h"
+#include "synth/face_rig.h"
+#include "warp/piecewise_affine.h"
+
+namespace talkhead {
+
+KeyposeCache::KeyposeCache(const FaceModel& model, const SynthOptions& options, const FaceRig& rig) : model_(model), o_(options), rig_(rig) {}
+
+namespace {
+// The homorganic group (first phone) of a CDV, from phonetics/visemes.tsv.
+std::string groupOf(const std::string& cdv) {
+	for (const auto& v : visemeLabels())
+		if (v.label == cdv) return v.group.empty() ? v.label : v.group.front();
+	return cdv;
+}
+}  // namespace
+
+bool KeyposeCache::fromActionUnits(const Keypose& key) const {
+	if (!rig_.auTemplates || o_.emotionSource == EmotionSource::Corpus) return false;
+	const std::string& emotion = emotionOf(key).label();
+	if (emotion == "neutral" || !defaultAuProfiles().count(emotion)) return false;
+	if (o_.emotionSource == EmotionSource::ActionUnits) return true;
+	for (const auto& s : model_.samples)
+		if (s.emotion == emotion) return false;
+	return true;
+}
+
+std::pair<long, long> KeyposeCache::resolvePair(const Keypose& key) const {
+	if (fromActionUnits(key)) return {resolve(key, "neutral"), -1};
+	const long sample = resolve(key);
+	// Intensity (D43): between the neutral keypose of the same CDV and context (0) and the emotion's (1).
+	const double intensity = intensityOf(key);
+	if (emotionOf(key).isNeutral() || intensity == 1.0) return {sample, -1};
+	return {sample, resolve(key, "neutral")};
+}
+
+Emotion KeyposeCache::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.emotion); }
+double KeyposeCache::intensityOf(const Keypose& key) const { return key.intensity.value_or(o_.intensity); }
+std::string KeyposeCache::indexKey(const Keypose& key) const {
+	return key.cdv + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
+}
+
+long KeyposeCache::resolve(const Keypose& key) const { return resolve(key, emotionOf(key).label()); }
+
+long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const {
+	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs;
+	// among several samples of one entry, the best phone context (FaceModel::findSample).
+	const std::string& cdv = key.cdv;
+	const auto* context = &key.context;
+	if (key.sample >= 0 && std::size_t(key.sample) < model_.sampleCount() && model_.samples[std::size_t(key.sample)].emotion == emotion) return key.sample;
+	long sample = model_.findSample(emotion, cdv, context);
+	if (sample < 0) sample = model_.findSample("neutral", cdv, context);
+	if (sample < 0)
+		for (const auto& v : visemeLabels())
+			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) {
+				sample = model_.findSample(emotion, v.label, context);
+				if (sample < 0) sample = model_.findSample("neutral", v.label, context);
+			}
+	if (sample < 0) {
+		// Last resort: the emotion's silence, then anything of the emotion, then the first sample.
+		sample = model_.findSample(emotion, "sil");
+		for (std::size_t i = 0; sample < 0 && i < model_.sampleCount(); ++i)
+			if (model_.samples[i].emotion == emotion) sample = long(i);
+		if (sample < 0) sample = 0;
+	}
+	return sample;
+}
+
+const KeyposeImage& KeyposeCache::keypose(const std::string& cdv) {
+	Keypose k{Ticks(0), cdv, 0, 0};
+	k.context = {"", "", "", "", ""};  // no context: the corpus's first sample of the CDV
+	prepare({k});
+	return cached(k);
+}
+
+const KeyposeImage& KeyposeCache::cached(const Keypose& key) const {
+	std::lock_guard<std::mutex> lock(mutex_);
+	auto it = index_.find(indexKey(key));
+	if (it != index_.end()) {
+		auto jt = it->second.find(key.context);
+		if (jt != it->second.end()) return *jt->second;
+	}
+	throw std::logic_error("Synthesizer: keypose not prepared: " + key.cdv);
+}
+
+std::vector<std::string> KeyposeCache::substitutions() const {
+	std::lock_guard<std::mutex> lock(mutex_);
+	return substitutions_;
+}
+
+std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypose>& keys) const {
+	std::vector<std::string> out;
+	for (const auto& k : keys) {
+		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
+		const std::string& emotion = emotionOf(k).label();
+		const std::string line = emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
+		if ((s.emotion != emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
+	}
+	return out;
+}
+
+
+KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
+                                      const std::vector<Eigen::VectorXf>& synthesized) const {
+	KeyposeImage k;
+	const SampleInfo& s = model_.samples[std::size_t(sample)];
+	k.usedEmotion = s.emotion;
+	k.usedCdv = s.cdv;
+	k.shape = shape;
+	const std::size_t nr = model_.regions.size();
+	if (o_.warpPath == WarpPath::Keypose) {
+		std::vector<Eigen::VectorXf> a(nr);
+		for (std::size_t r = 0; r < nr; ++r) {
+			if (cached8[r]) {
+				a[r].resize(model_.regions[r].appearanceSize());
+				for (Eigen::Index j = 0; j < a[r].size(); ++j) a[r](j) = cached8[r][j];
+			} else {
+				a[r] = synthesized[r];
+			}
+		}
+		PiecewiseAffineWarp warp(rig_.mesh, withAnchors(k.shape, rig_.anchors, model_.width, model_.height), model_.width, model_.height);
+		warp.setSource(rig_.meanSource);
+		k.image = Image8(model_.width, model_.height, 3);
+		warp.apply(compositeRegions(model_, a), k.image);
+		return k;
+	}
+	// Spec §5.3 in the face box only (the baseface elsewhere): regions pasted coarse → fine through their
+	// soft masks, in float, then rounded to 8 bits.
+	const int rw = rig_.roiX1 - rig_.roiX0, rh = rig_.roiY1 - rig_.roiY0, W = model_.width;
+	thread_local std::vector<float> crop;  // reused: fresh pages cost more than the compositing here
+	crop.resize(std::size_t(rw) * rh * 3);
+	for (int y = 0; y < rh; ++y) {
+		const std::uint8_t* b = model_.baseface.row(rig_.roiY0 + y) + std::size_t(rig_.roiX0) * 3;
+		for (int i = 0; i < rw * 3; ++i) crop[std::size_t(y) * rw * 3 + std::size_t(i)] = b[i];
+	}
+	for (std::size_t r = 0; r < nr; ++r) {
+		const RegionModel& reg = model_.regions[r];
+		const std::size_t q = reg.pixels.size();
+		for (std::size_t p = 0; p < q; ++p) {
+			const int idx = reg.pixels[p], x = idx % W - rig_.roiX0, y = idx / W - rig_.roiY0;
+			float* px = &crop[(std::size_t(y) * rw + std::size_t(x)) * 3];
+			const float w = reg.alpha[p];
+			for (std::size_t c = 0; c < 3; ++c) {
+				const float a = cached8[r] ? float(cached8[r][c * q + p]) : synthesized[r](Eigen::Index(c * q + p));
+				px[c] = w * a + (1 - w) * px[c];
+			}
+		}
+	}
+	k.rgb.resize(crop.size());
+	for (std::size_t i = 0; i < crop.size(); ++i) {
+		const float v = crop[i] + 0.5f;
+		k.rgb[i] = std::uint8_t(v <= 0.f ? 0.f : (v >= 255.f ? 255.f : v));
+	}
+	const int cw = (rw + 1) / 2, ch = (rh + 1) / 2;
+	k.y.resize(std::size_t(rw) * rh);
+	k.uv.resize(std::size_t(cw) * ch * 2);
+	if (rw > 0 && rh > 0)
+		rgbToYuv420(k.rgb.data(), std::size_t(rw) * 3, rw, rh, o_.yuvRange, k.y.data(), std::size_t(rw), k.uv.data(), k.uv.data() + 1,
+		            std::size_t(cw) * 2, 2);
+	return k;
+}
+
+void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
+	// The (CDV, context) pairs not seen yet, their (sample, neutral sample) pairs, the pairs without an
+	// image yet, and the samples those need.
+	using Pair = std::pair<long, long>;
+	std::vector<std::pair<const Keypose*, ImageKey>> fresh;
+	std::vector<ImageKey> pairs;
+	std::vector<long> samples;
+	{
+		std::lock_guard<std::mutex> lock(mutex_);
+		for (const auto& k : keys) {
+			auto it = index_.find(indexKey(k));
+			if (it != index_.end() && it->second.count(k.context)) continue;
+			if (std::any_of(fresh.begin(), fresh.end(), [&](const auto& f) { return indexKey(*f.first) == indexKey(k) && f.first->context == k.context; }))
+				continue;
+			const Pair pair = resolvePair(k);
+			const bool au = fromActionUnits(k);
+			const ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
+			fresh.push_back({&k, key});
+			if (images_.count(key) || std::find(pairs.begin(), pairs.end(), key) != pairs.end()) continue;
+			pairs.push_back(key);
+			for (long sample : {pair.first, pair.second})
+				if (sample >= 0 && std::find(samples.begin(), samples.end(), sample) == samples.end()) samples.push_back(sample);
+		}
+	}
+	if (fresh.empty()) return;
+	// Appearances: each sample's 8-bit reconstruction from the model's cache (read from disk on demand),
+	// or, for a model without one, one GEMM per region for all the keyposes (the basis is read once).
+	std::vector<Eigen::MatrixXf> synthesized(model_.regions.size());
+	for (std::size_t r = 0; r < model_.regions.size(); ++r) {
+		const RegionModel& reg = model_.regions[r];
+		if (reg.hasAppearanceCache()) continue;
+		Eigen::MatrixXf c(reg.pca.components(), Eigen::Index(samples.size()));
+		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(reg, std::size_t(samples[j]));
+		synthesized[r] = synthesizeAppearances(reg, c);
+	}
+	auto column = [&](long sample) { return Eigen::Index(std::find(samples.begin(), samples.end(), sample) - samples.begin()); };
+	std::vector<std::unique_ptr<KeyposeImage>> made(pairs.size());
+	parallelFor(pairs.size(), 0, [&](std::size_t j) {
+		const std::size_t nr = model_.regions.size();
+		auto load = [&](long sample, std::vector<std::vector<std::uint8_t>>& bytes, std::vector<const std::uint8_t*>& cached8,
+		                std::vector<Eigen::VectorXf>& synth) {
+			bytes.resize(nr), cached8.assign(nr, nullptr), synth.resize(nr);
+			for (std::size_t r = 0; r < nr; ++r) {
+				const RegionModel& reg = model_.regions[r];
+				if (reg.hasAppearanceCache()) {
+					bytes[r].resize(std::size_t(reg.appearanceSize()));
+					reg.readCachedAppearance(std::size_t(sample), bytes[r].data());
+					cached8[r] = bytes[r].data();
+				} else {
+					synth[r] = synthesized[r].col(column(sample));
+				}
+			}
+		};
+		std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
+		std::vector<const std::uint8_t*> cached8, baseCached8;
+		std::vector<Eigen::VectorXf> synth, baseSynth;
+		const auto& [sample, base, intensity, auEmotion] = pairs[j];
+		load(sample, bytes, cached8, synth);
+		if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
+			Points shape = model_.alignedShapes[std::size_t(sample)];
+			applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, defaultAuProfiles().at(auEmotion), intensity), rig_.auFrame);
+			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth));
+			made[j]->usedEmotion = auEmotion + " (action units)";
+			return;
+		}
+		if (base < 0) {
+			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, model_.alignedShapes[std::size_t(sample)], cached8, synth));
+			return;
+		}
+		// D43: shape and appearance of neutral + intensity × (emotion − neutral), per region.
+		load(base, baseBytes, baseCached8, baseSynth);
+		std::vector<Eigen::VectorXf> mixed(nr);
+		const float t = float(intensity);
+		for (std::size_t r = 0; r < nr; ++r) {
+			const Eigen::Index n = model_.regions[r].appearanceSize();
+			auto value = [&](const std::vector<const std::uint8_t*>& c8, const std::vector<Eigen::VectorXf>& sy, Eigen::Index i) {
+				return c8[r] ? float(c8[r][i]) : sy[r](i);
+			};
+			mixed[r].resize(n);
+			for (Eigen::Index i = 0; i < n; ++i) {
+				const float b = value(baseCached8, baseSynth, i);
+				mixed[r](i) = b + t * (value(cached8, synth, i) - b);
+			}
+		}
+		const Points& a = model_.alignedShapes[std::size_t(sample)];
+		const Points& b = model_.alignedShapes[std::size_t(base)];
+		const std::vector<const std::uint8_t*> none(nr, nullptr);
+		made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
+	});
+	std::lock_guard<std::mutex> lock(mutex_);
+	for (std::size_t j = 0; j < pairs.size(); ++j) images_.emplace(pairs[j], std::move(made[j]));
+	for (const auto& [k, key] : fresh) {
+		const KeyposeImage* image = images_.at(key).get();
+		index_[indexKey(*k)][k->context] = image;
+		const std::string& emotion = emotionOf(*k).label();
+		const std::string line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
+		const bool asked = o_.emotionSource == EmotionSource::ActionUnits && image->usedEmotion == emotion + " (action units)";
+		if (!asked && (image->usedEmotion != emotion || image->usedCdv != k->cdv) &&
+		    std::find(substitutions_.begin(), substitutions_.end(), line) == substitutions_.end())
+			substitutions_.push_back(line);
+	}
+}
+
+}  // namespace talkhead

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+#include <array>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "model/face_model.h"
+#include "phonetics/language.h"
+#include "synth/synthesizer.h"
+
+namespace talkhead {
+
+struct FaceRig;
+
+// The keypose cache (issue 30: the second of the synthesizer's three parts): which model sample a keypose
+// uses — its emotion's for its CDV and phone context, with the fallbacks (neutral, the homorganic group,
+// the emotion's silence; each substitution said once) — and that sample's appearance composited once
+// (coarse to fine, in the face box; or, on the thesis's path, warped to its shape), mixed toward neutral
+// by the intensity (D43) or moved by the emotion's action units (D48). Thread-safe.
+class KeyposeCache {
+public:
+	KeyposeCache(const FaceModel& model, const SynthOptions& options, const FaceRig& rig);
+	// The keypose of a CDV in the options' emotion (see Synthesizer::keypose).
+	const KeyposeImage& keypose(const std::string& cdv);
+	// Computes every keypose of a timeline that is not there yet.
+	void prepare(const std::vector<Keypose>& keys);
+	// A prepared keypose's image.
+	const KeyposeImage& cached(const Keypose& key) const;
+	std::vector<std::string> substitutions() const;
+	std::vector<std::string> substitutionsFor(const std::vector<Keypose>& keys) const;
+
+private:
+	const FaceModel& model_;
+	SynthOptions o_;
+	const FaceRig& rig_;
+	mutable std::mutex mutex_;
+	// Keypose images by (sample, neutral sample or −1, intensity), and which one each (CDV, emotion,
+	// intensity; phone context) uses. A non-empty 4th element: the sample is neutral and its shape takes
+	// that emotion's action units (D48).
+	using ImageKey = std::tuple<long, long, double, std::string>;
+	std::map<ImageKey, std::unique_ptr<KeyposeImage>> images_;
+	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
+	std::vector<std::string> substitutions_;
+	bool fromActionUnits(const Keypose& key) const;  // whether this keypose's emotion comes from action units
+	long resolve(const Keypose& key) const;          // the model sample used for a keypose (CDV, context)
+	long resolve(const Keypose& key, const std::string& emotion) const;
+	// The sample and, when the intensity mixes it in, the neutral sample of the same CDV and context (else −1).
+	std::pair<long, long> resolvePair(const Keypose& key) const;
+	Emotion emotionOf(const Keypose& key) const;  // the keypose's emotion, else the options'
+	double intensityOf(const Keypose& key) const;
+	std::string indexKey(const Keypose& key) const;  // CDV, emotion and intensity
+	KeyposeImage makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
+	                         const std::vector<Eigen::VectorXf>& synthesized) const;
+};
+
+}  // namespace talkhead
