@@ -32,6 +32,7 @@ cases=(
 	"batch|@TH@ batch $tmp/manifest.csv -o @OUT@/stimuli --seed 7 --player --player-lang pt -q"
 	"batch-player-en|@TH@ batch $tmp/manifest.csv -o @OUT@/stimuli --seed 7 --player -q"
 	"live|@TH@ live $tmp/session.jsonl --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"live-mp4|@TH@ live $tmp/session.jsonl --size 320x180 -o @OUT@/a.mp4"
 	"render-timeline|@TH@ render --transcript $ex/que_noticia.TextGrid --emotion joy --lead-in 0.3 --tail 0.2 --size 160x90 --format y4m -o @OUT@/a.y4m --timeline-out @OUT@/t.json -q"
 	"say-save|@TH@ say 'Bom dia, tudo bem?' --size 160x90 -o @OUT@/a.mp4 --save-audio @OUT@/a.wav --save-transcript @OUT@/a.TextGrid --timeline-out @OUT@/t.json -q"
 	"say-dry-run|@TH@ say 'Que notícia excelente!' --dry-run"

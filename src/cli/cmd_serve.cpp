@@ -8,7 +8,6 @@
 #include <memory>
 #include <tuple>
 
-#include "base/atomic_file.h"
 #include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/json.h"
@@ -16,7 +15,6 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/video_options.h"
-#include "media/video_writer.h"
 #include "render/frame_sink.h"
 #include "render/live.h"
 #include "render/render.h"
@@ -235,51 +233,43 @@ int runLive(const std::vector<std::string>& argv) {
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
 	LiveSession session(model, o);
 	const StreamInfo& info = session.info();
-	VideoOptions vo;
-	vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = int(args.number("--crf", 20, 0, 51));
-	// Written under a temporary name, renamed when complete (nothing partial).
-	StagedFile staged(*out);
-	staged.write([&](const std::string& tmp) {
-		std::unique_ptr<Mp4Writer> mp4;
-		std::unique_ptr<Y4mWriter> y4m;
-		std::unique_ptr<std::FILE, int (*)(std::FILE*)> y4mFile(nullptr, &std::fclose);
-		// The session's sound never ends: the video's length of it.
-		const std::unique_ptr<AudioSource> sound = shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total));
-		if (format == "mp4") {
-			mp4 = std::make_unique<Mp4Writer>(tmp, vo, sound.get());
-		} else {
-			y4mFile.reset(std::fopen(tmp.c_str(), "wb"));
-			if (!y4mFile) throw Error(tmp, 0, "cannot write");
-			y4m = std::make_unique<Y4mWriter>(y4mFile.get(), vo, tmp);
-		}
-		const bool quiet = args.has("--quiet");
-		YuvImage frame;
-		Points points;
-		std::vector<LiveEvent> events;
-		std::size_t next = 0;
-		for (std::int64_t n = 0; n < total; ++n) {
-			for (; next < steps.size() && steps[next].frame <= n; ++next) {
-				const Step& s = steps[next];
-				try {
-					const LiveRequest r = parseLiveRequest(s.json);
-					std::optional<Utterance> u;
-					if (r.kind == LiveRequest::Kind::Say || r.kind == LiveRequest::Kind::Speak) u = prepareUtterance(r, lang, o.sampleRate);
-					applyLiveRequest(session, r, std::move(u));
-				} catch (const std::exception& e) {
-					throw Error(script, s.line, describeException(e));
-				}
+	Mp4Settings mp4;
+	mp4.crf = int(args.number("--crf", 20, 0, 51));
+	// Through a frame sink, as render writes (a temporary name, renamed when complete: nothing partial). The
+	// session's sound never ends: the video's length of it.
+	const std::unique_ptr<FrameSink> sink =
+	    format == "mp4" ? makeMp4Sink(*out, mp4, shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total))) : makeY4mSink(*out);
+	sink->begin(info);
+	const bool quiet = args.has("--quiet");
+	YuvImage frame;
+	Points points;
+	std::vector<LiveEvent> events;
+	std::size_t next = 0;
+	for (std::int64_t n = 0; n < total; ++n) {
+		for (; next < steps.size() && steps[next].frame <= n; ++next) {
+			const Step& s = steps[next];
+			try {
+				const LiveRequest r = parseLiveRequest(s.json);
+				std::optional<Utterance> u;
+				if (r.kind == LiveRequest::Kind::Say || r.kind == LiveRequest::Kind::Speak) u = prepareUtterance(r, lang, o.sampleRate);
+				applyLiveRequest(session, r, std::move(u));
+			} catch (const std::exception& e) {
+				throw Error(script, s.line, describeException(e));
 			}
-			events.clear();
-			session.drawNext(frame, points, events);
-			if (mp4) mp4->write(frame);
-			else y4m->write(frame);
-			if (!quiet)
-				for (const LiveEvent& e : events) std::printf("%s\n", liveEventJson(e).c_str());
 		}
-		if (mp4) mp4->finish();
-		if (y4mFile && std::fclose(y4mFile.release()) != 0) throw Error(tmp, 0, "cannot write");
-	});
-	staged.commit();
+		events.clear();
+		session.drawNext(frame, points, events);
+		RenderedFrame rf;
+		rf.index = n;
+		rf.time = info.rate.time(n);
+		rf.yuv = &frame;
+		rf.points = &points;
+		sink->frame(rf);
+		if (!quiet)
+			for (const LiveEvent& e : events) std::printf("%s\n", liveEventJson(e).c_str());
+	}
+	sink->finish();
+	sink->commit();
 	return 0;
 }
 

@@ -21,4 +21,14 @@ int runBatch(const std::vector<std::string>& args);
 int runServe(const std::vector<std::string>& args);
 int runLive(const std::vector<std::string>& args);
 
+// The one command table: name, one-line summary (talkhead --help), entry point, in the order of the help.
+struct Command {
+	const char* name;
+	const char* summary;
+	int (*run)(const std::vector<std::string>& args);
+};
+const std::vector<Command>& commands();
+// The command of that name, or nullptr.
+const Command* findCommand(const std::string& name);
+
 }  // namespace talkhead::cli

@@ -20,27 +20,15 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: talkhead <command> [options]\n"
-    "\n"
-    "Renders videos of a talking face (Costa 2015 expressive speech animation).\n"
-    "\n"
-    "commands:\n"
-    "  build     build a face model (.thm) from an annotated image corpus\n"
-    "  inspect   summarise a face model, draw it (-o DIR), measure reconstruction (--recon)\n"
-    "  corpus    corpus tools: 'synth' (synthetic corpus), 'landmarks' (track a video), 'from-video' (corpus from a video)\n"
-    "  render    render a talking-head video from a transcript, audio and an emotion\n"
-    "  say       text in, talking-head video with speech out (espeak-ng, in process)\n"
-    "  align     forced alignment: speech audio (or video) + its text -> TextGrid of words and phones\n"
-    "  compare   lip-sync measures of a synthesized video against a real speaker's video\n"
-    "  track     a person's head motion, brows, eyes and blinks from a video, as a control track\n"
-    "  visemes   map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes\n"
-    "  batch     perceptual-test stimuli from a manifest: blind IDs, key, balanced orders, resumable, shards\n"
-    "  serve     live streams for chatbots and voice assistants: WebSocket in, fragmented MP4 + JSON events out\n"
-    "  live      render a live session's script (serve --record) offline, frame for frame\n"
-    "\n"
-    "  talkhead <command> --help   options of one command\n"
-    "  talkhead --version          version\n";
+std::string usage() {
+	std::string u = "usage: talkhead <command> [options]\n\nRenders videos of a talking face (Costa 2015 expressive speech animation).\n\ncommands:\n";
+	for (const auto& c : talkhead::cli::commands()) {
+		char line[512];
+		std::snprintf(line, sizeof line, "  %-9s %s\n", c.name, c.summary);
+		u += line;
+	}
+	return u + "\n  talkhead <command> --help   options of one command\n  talkhead --version          version\n";
+}
 
 }  // namespace
 
@@ -52,10 +40,10 @@ int main(int argc, char** argv) {
 	std::vector<std::string> args(argv + 1, argv + argc);
 	if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
 		if (args.empty()) {
-			std::fputs(kUsage, stderr);
+			std::fputs(usage().c_str(), stderr);
 			return 2;
 		}
-		std::cout << kUsage;
+		std::cout << usage();
 		return 0;
 	}
 	if (args[0] == "--version" || args[0] == "-V") {
@@ -65,21 +53,10 @@ int main(int argc, char** argv) {
 	const std::string command = args[0];
 	std::vector<std::string> rest(args.begin() + 1, args.end());
 	try {
-		if (command == "build") return cli::runBuild(rest);
-		if (command == "inspect") return cli::runInspect(rest);
-		if (command == "corpus") return cli::runCorpus(rest);
-		if (command == "visemes") return cli::runVisemes(rest);
-		if (command == "render") return cli::runRender(rest);
-		if (command == "say") return cli::runSay(rest);
-		if (command == "align") return cli::runAlign(rest);
-		if (command == "compare") return cli::runCompare(rest);
-		if (command == "track") return cli::runTrack(rest);
-		if (command == "batch") return cli::runBatch(rest);
-		if (command == "serve") return cli::runServe(rest);
-		if (command == "live") return cli::runLive(rest);
+		if (const cli::Command* c = cli::findCommand(command)) return c->run(rest);
 		throw cli::UsageError("unknown command '" + command + "'");
 	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), command == "build" || command == "inspect" || command == "corpus" || command == "visemes" || command == "render" || command == "say" || command == "align" || command == "compare" || command == "track" || command == "batch" || command == "serve" || command == "live" ? (command + " ").c_str() : "");
+		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), cli::findCommand(command) ? (command + " ").c_str() : "");
 		return 2;
 	} catch (const std::bad_alloc&) {
 		std::fprintf(stderr, "talkhead: error: out of memory\n");
