@@ -33,6 +33,8 @@ cases=(
 	"batch-player-en|@TH@ batch $tmp/manifest.csv -o @OUT@/stimuli --seed 7 --player -q"
 	"live|@TH@ live $tmp/session.jsonl --size 320x180 --format y4m -o @OUT@/a.y4m -q"
 	"live-mp4|@TH@ live $tmp/session.jsonl --size 320x180 -o @OUT@/a.mp4"
+	"render-fit-pad|@TH@ render --transcript $ex/que_noticia.TextGrid --size 200x200 --fit pad --format y4m -o @OUT@/a.y4m -q"
+	"live-fit-crop|@TH@ live $tmp/session.jsonl --size 200x90 --fit crop --format y4m -o @OUT@/a.y4m -q"
 	"render-timeline|@TH@ render --transcript $ex/que_noticia.TextGrid --emotion joy --lead-in 0.3 --tail 0.2 --size 160x90 --format y4m -o @OUT@/a.y4m --timeline-out @OUT@/t.json -q"
 	"say-save|@TH@ say 'Bom dia, tudo bem?' --size 160x90 -o @OUT@/a.mp4 --save-audio @OUT@/a.wav --save-transcript @OUT@/a.TextGrid --timeline-out @OUT@/t.json -q"
 	"say-dry-run|@TH@ say 'Que notícia excelente!' --dry-run"

@@ -114,15 +114,9 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	so.emotion = emotion_;
 	so.intensity = intensity_;
 	so.yuvRange = YuvRange::Limited;
-	if (so.width <= 0 && so.height <= 0 && (model.width % 2 || model.height % 2)) {
-		so.width = std::max(2, model.width & ~1);
-		so.height = std::max(2, model.height & ~1);
-	}
-	const int outWidth = so.width, outHeight = so.height;
-	if (so.width > 0 && so.height > 0) {
-		box_ = fitBox(model.width, model.height, so.width, so.height, o_.render.fit);
-		so.width = box_.innerWidth, so.height = box_.innerHeight;
-	}
+	const OutputFit fit = fitOutput(model.width, model.height, so, o_.render.fit);
+	box_ = fit.box;
+	const int outWidth = fit.outWidth, outHeight = fit.outHeight;
 	keys_.push_back(rest(Ticks(0)));
 	modOptions_ = o_.modulation;
 	// The face box is sized once, for the liveliest head any emotion gets (head motion's largest factor).
@@ -133,7 +127,7 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	so.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), keys_);
 	if (ShapeModulator::headFactorFor(Emotion::of("joy")) < factor) throw std::logic_error("LiveSession: the envelope's emotion is not the liveliest");
 	synth_ = std::make_unique<Synthesizer>(model, so);
-	place_ = box_.innerWidth > 0 && (box_.innerWidth != outWidth || box_.innerHeight != outHeight);
+	place_ = fit.place;
 	info_.width = place_ ? outWidth : synth_->width();
 	info_.height = place_ ? outHeight : synth_->height();
 	info_.rate = o_.rate;

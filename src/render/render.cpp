@@ -80,6 +80,21 @@ FaceModel loadRenderModel(const std::string& path, const ComponentLevels& levels
 	return model;
 }
 
+OutputFit fitOutput(int modelWidth, int modelHeight, SynthOptions& so, Fit fit) {
+	OutputFit f;
+	if (so.width <= 0 && so.height <= 0 && (modelWidth % 2 || modelHeight % 2)) {
+		so.width = std::max(2, modelWidth & ~1);
+		so.height = std::max(2, modelHeight & ~1);
+	}
+	f.outWidth = so.width, f.outHeight = so.height;
+	if (so.width > 0 && so.height > 0) {
+		f.box = fitBox(modelWidth, modelHeight, so.width, so.height, fit);
+		so.width = f.box.innerWidth, so.height = f.box.innerHeight;
+	}
+	f.place = f.box.innerWidth > 0 && (f.box.innerWidth != f.outWidth || f.box.innerHeight != f.outHeight);
+	return f;
+}
+
 FitBox fitBox(int mw, int mh, int w, int h, Fit fit) {
 	FitBox b{w, h, 0, 0};
 	// The same aspect (within a pixel), stretch, or no model size: draw straight at the output size.
@@ -144,22 +159,13 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 	so.emotion = perf.emotion;
 	so.intensity = perf.intensity;
 	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
-	// 4:2:0 video needs even sizes: a model with an odd width or height renders one pixel smaller (the
-	// warps resample to the output size anyway).
-	if (so.width <= 0 && so.height <= 0 && (model.width % 2 || model.height % 2)) {
-		so.width = std::max(2, model.width & ~1);
-		so.height = std::max(2, model.height & ~1);
-	}
-	// Another aspect than the model's frame: draw at the fitted size, then crop or pad (FitBox).
-	FitBox box{0, 0, 0, 0};
-	const int outWidth = so.width, outHeight = so.height;
-	if (so.width > 0 && so.height > 0) {
-		box = fitBox(model.width, model.height, so.width, so.height, options.fit);
-		so.width = box.innerWidth, so.height = box.innerHeight;
-	}
+	// Even sizes for 4:2:0; another aspect than the model's frame drawn at the fitted size, then cropped or padded.
+	const OutputFit fit = fitOutput(model.width, model.height, so, options.fit);
+	const FitBox& box = fit.box;
+	const bool place = fit.place;
+	const int outWidth = fit.outWidth, outHeight = fit.outHeight;
 	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.emotion, perf.duration, perf.keys);
 	Synthesizer synth(model, so);
-	const bool place = box.innerWidth > 0 && (box.innerWidth != outWidth || box.innerHeight != outHeight);
 	RenderStats st;
 	st.frames = frames;
 	st.width = place ? outWidth : synth.width();

@@ -34,6 +34,15 @@ struct FitBox {
 	int innerWidth = 0, innerHeight = 0, x = 0, y = 0;
 };
 FitBox fitBox(int modelWidth, int modelHeight, int width, int height, Fit fit);
+// The synthesizer's drawing size for the output `so` asks for (render and live sessions alike): even sizes
+// for 4:2:0 (a model with an odd side renders one pixel smaller), and another aspect than the model's frame
+// drawn at the fitted size (`so` is set to it), then cropped or padded into the output when `place`.
+struct OutputFit {
+	FitBox box;
+	int outWidth = 0, outHeight = 0;  // what was asked for (0: the model's size)
+	bool place = false;               // the drawn frame is placed into an output of another size
+};
+OutputFit fitOutput(int modelWidth, int modelHeight, SynthOptions& so, Fit fit);
 // `inner` placed into `out` (resized to width × height) with its corner at (x, y): what overflows is cut,
 // what is left is filled by repeating the nearest edge pixel.
 void placeFitted(const YuvImage& inner, YuvImage& out, int width, int height, int x, int y);
