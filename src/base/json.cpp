@@ -202,4 +202,21 @@ std::string jsonQuote(const std::string& s) {
 	return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+JsonObject& JsonObject::add(std::string_view key, const std::string& text) { return raw(key, jsonQuote(text)); }
+
+JsonObject& JsonObject::add(std::string_view key, double value, const char* format) {
+	if (!std::isfinite(value)) return raw(key, "null");
+	char b[64];
+	std::snprintf(b, sizeof b, format, value);
+	return raw(key, b);
+}
+
+JsonObject& JsonObject::raw(std::string_view key, std::string_view json) {
+	if (!body_.empty()) body_ += ", ";
+	body_ += jsonQuote(std::string(key));
+	body_ += ": ";
+	body_ += json;
+	return *this;
+}
+
 }  // namespace talkhead

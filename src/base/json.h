@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace talkhead {
@@ -34,5 +35,26 @@ std::optional<std::string> jsonTopLevelMember(const std::string& text, const std
 
 // Escapes a string for JSON output (quotes included).
 std::string jsonQuote(const std::string& s);
+
+// One JSON object on one line, in talkhead's style — {"key": value, "key": value}, members in the order
+// added — for events, progress lines, replies and reports (issue 30: no hand concatenation). Strings are
+// escaped (jsonQuote); numbers take a printf format, and a number that is not finite is written null.
+class JsonObject {
+public:
+	JsonObject& add(std::string_view key, const std::string& text);
+	JsonObject& add(std::string_view key, const char* text) { return add(key, std::string(text)); }
+	JsonObject& add(std::string_view key, bool value) { return raw(key, value ? "true" : "false"); }
+	JsonObject& add(std::string_view key, long long value) { return raw(key, std::to_string(value)); }
+	JsonObject& add(std::string_view key, int value) { return add(key, static_cast<long long>(value)); }
+	JsonObject& add(std::string_view key, long value) { return add(key, static_cast<long long>(value)); }
+	JsonObject& add(std::string_view key, unsigned long value) { return raw(key, std::to_string(value)); }
+	JsonObject& add(std::string_view key, double value, const char* format);
+	// A value that is JSON already (an array, an object, null).
+	JsonObject& raw(std::string_view key, std::string_view json);
+	std::string str() const { return "{" + body_ + "}"; }
+
+private:
+	std::string body_;
+};
 
 }  // namespace talkhead

@@ -217,9 +217,10 @@ int runBatch(const std::vector<std::string>& argv) {
 	auto report = [&](const BatchRow& row, const char* status, double seconds, const std::string& message) {
 		const std::size_t done = ok + skipped + failed;
 		if (progressMode == "json") {
-			std::fprintf(stderr, "{\"type\": \"stimulus\", \"done\": %zu, \"total\": %zu, \"id\": \"%s\", \"row\": %ld, \"status\": \"%s\", \"seconds\": %.3f%s%s}\n",
-			             done, inShard, ids[row.index].c_str(), row.line, status, seconds, message.empty() ? "" : ", \"message\": ",
-			             message.empty() ? "" : jsonQuote(message).c_str());
+			JsonObject j;
+			j.add("type", "stimulus").add("done", done).add("total", inShard).add("id", ids[row.index]).add("row", row.line).add("status", status).add("seconds", seconds, "%.3f");
+			if (!message.empty()) j.add("message", message);
+			std::fprintf(stderr, "%s\n", j.str().c_str());
 			std::fflush(stderr);
 		} else if (progressMode == "bar") {
 			bar.report(inShard ? double(done) / double(inShard) : 1.0,

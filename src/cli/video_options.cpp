@@ -135,7 +135,7 @@ void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech) {
 
 void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& marks) {
 	for (const auto& m : marks) {
-		if (cmd.jsonProgress) std::fprintf(stderr, "{\"type\": \"mark\", \"name\": %s, \"time\": %.3f}\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
+		if (cmd.jsonProgress) std::fprintf(stderr, "%s\n", JsonObject().add("type", "mark").add("name", m.name).add("time", toSeconds(m.time), "%.3f").str().c_str());
 		else if (!cmd.quiet) std::fprintf(stderr, "talkhead: mark %s at %.3f s\n", jsonQuote(m.name).c_str(), toSeconds(m.time));
 	}
 }

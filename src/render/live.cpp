@@ -38,14 +38,14 @@ const char* liveEventName(LiveEvent::Kind kind) {
 	return "?";
 }
 
-std::string liveEventJson(const LiveEvent& e) {
-	char b[96];
-	std::snprintf(b, sizeof b, ", \"frame\": %lld, \"time\": %.3f", static_cast<long long>(e.frame), toSeconds(e.time));
-	std::string j = std::string("{\"type\": \"") + liveEventName(e.kind) + "\"" + b;
-	if (!e.id.empty()) j += ", \"id\": " + jsonQuote(e.id);
-	if (!e.name.empty()) j += std::string(e.kind == LiveEvent::Kind::Viseme ? ", \"viseme\": " : (e.kind == LiveEvent::Kind::Emotion ? ", \"emotion\": " : ", \"name\": ")) + jsonQuote(e.name);
-	if (e.kind == LiveEvent::Kind::UtteranceEnded) j += e.interrupted ? ", \"interrupted\": true" : ", \"interrupted\": false";
-	return j + "}";
+std::string liveEventJson(const LiveEvent& e, std::optional<double> latencyMs) {
+	JsonObject j;
+	j.add("type", liveEventName(e.kind)).add("frame", static_cast<long long>(e.frame)).add("time", toSeconds(e.time), "%.3f");
+	if (!e.id.empty()) j.add("id", e.id);
+	if (!e.name.empty()) j.add(e.kind == LiveEvent::Kind::Viseme ? "viseme" : e.kind == LiveEvent::Kind::Emotion ? "emotion" : "name", e.name);
+	if (e.kind == LiveEvent::Kind::UtteranceEnded) j.add("interrupted", e.interrupted);
+	if (latencyMs) j.add("latency_ms", *latencyMs, "%.1f");
+	return j.str();
 }
 
 // The session's sound: utterances placed at sample positions, silence between; read in order.

@@ -48,7 +48,8 @@ struct LiveEvent {
 const char* liveEventName(LiveEvent::Kind kind);  // "utterance_started", "utterance_ended", "mark", …
 // One event as JSON (docs/serve-protocol.md): {"type", "frame", "time", and "id", "viseme", "emotion",
 // "name", "interrupted" as the kind has them}.
-std::string liveEventJson(const LiveEvent& e);
+// `latencyMs`: an utterance_started event's latency from its request (serve).
+std::string liveEventJson(const LiveEvent& e, std::optional<double> latencyMs = std::nullopt);
 
 class LiveSession {
 public:

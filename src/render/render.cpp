@@ -49,11 +49,12 @@ public:
 		const int percent = int(fraction * 100);
 		if (percent == lastPercent_) return;
 		lastPercent_ = percent;
-		std::fprintf(out_, "{\"type\": \"progress\", \"frame\": %lld, \"frames\": %lld, \"value\": %.3f}\n", (long long)done, (long long)total, fraction);
+		const std::string line = JsonObject().add("type", "progress").add("frame", (long long)done).add("frames", (long long)total).add("value", fraction, "%.3f").str();
+		std::fprintf(out_, "%s\n", line.c_str());
 		std::fflush(out_);
 	}
 	void finished(const RenderStats& s) override {
-		std::fprintf(out_, "{\"type\": \"done\", \"frames\": %lld, \"seconds\": %.3f}\n", (long long)s.frames, s.totalSeconds);
+		std::fprintf(out_, "%s\n", JsonObject().add("type", "done").add("frames", (long long)s.frames).add("seconds", s.totalSeconds, "%.3f").str().c_str());
 		std::fflush(out_);
 	}
 

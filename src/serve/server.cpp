@@ -52,7 +52,7 @@ constexpr std::size_t kMaxAuthMessage = 4096;       // an auth message; larger b
 constexpr int kAuthSeconds = 10;                    // to authenticate after the upgrade
 constexpr int kMaxConnections = 512;                // TCP connections at once (HTTP and sessions)
 
-std::string errorJson(const std::string& message) { return "{\"type\": \"error\", \"message\": " + jsonQuote(safeLine(message)) + "}"; }
+std::string errorJson(const std::string& message) { return JsonObject().add("type", "error").add("message", safeLine(message)).str(); }
 
 // The sessions' interface the server keeps (one io thread uses it).
 class SessionBase {
@@ -477,8 +477,11 @@ private:
 			return reply(req, http::status::ok, "text/html; charset=utf-8", server_.demoPage);
 		}
 		if (target == "/health") {
-			const std::string j = "{\"sessions\": " + std::to_string(server_.sessions.load()) + ", \"max_sessions\": " + std::to_string(server_.o.maxSessions) +
-			                      ", \"shutting_down\": " + (server_.shuttingDown ? "true" : "false") + "}\n";
+			const std::string j = JsonObject()
+			                          .add("sessions", static_cast<long long>(server_.sessions.load()))
+			                          .add("max_sessions", server_.o.maxSessions)
+			                          .add("shutting_down", bool(server_.shuttingDown))
+			                          .str() + "\n";
 			return reply(req, server_.shuttingDown ? http::status::service_unavailable : http::status::ok, "application/json", j);
 		}
 		if (target == "/metrics") {

@@ -72,7 +72,7 @@ LiveWorker::~LiveWorker() {
 	if (intake_.joinable()) intake_.join();
 	if (speech_.joinable()) speech_.join();  // before the frames: it may be warming the frame thread's session
 	if (frames_.joinable()) frames_.join();
-	if (record_) record_ << "{\"type\": \"end\", \"frame\": " << drawn_ << "}\n";
+	if (record_) record_ << JsonObject().add("type", "end").add("frame", static_cast<long long>(drawn_)).str() << "\n";
 	if (o_.log && drawn_ > 0) {
 		char b[200];
 		std::snprintf(b, sizeof b, "session %d: %lld frames, %.1f ms each to draw and encode, %lld late by more than a frame (latest %.0f ms after its time)", id_,
@@ -114,11 +114,19 @@ void LiveWorker::request(std::string text, bool oversize) {
 	inboxCv_.notify_all();
 }
 
-std::string LiveWorker::idJson(const std::string& id) const { return id.empty() ? std::string() : ", \"id\": " + jsonQuote(id); }
+namespace {
+// {"type": "error" or "warning", "message": …, "id": …}: what a session tells its client.
+std::string messageJson(const char* type, const std::string& message, const std::string& id) {
+	JsonObject j;
+	j.add("type", type).add("message", safeLine(message));
+	if (!id.empty()) j.add("id", id);
+	return j.str();
+}
+}  // namespace
 
 void LiveWorker::error(const std::string& message, const std::string& id) {
 	++counters_.requestErrors;
-	send_(false, "{\"type\": \"error\", \"message\": " + jsonQuote(safeLine(message)) + idJson(id) + "}");
+	send_(false, messageJson("error", message, id));
 }
 
 SpeechLimits LiveWorker::limitsNow() const {
@@ -233,7 +241,7 @@ void LiveWorker::speechLoop() {
 				std::lock_guard<std::mutex> warming(warmMutex_);
 				if (LiveSession* s = session_.load()) s->warm(*c.utterance, emotion, intensity);
 				for (const auto& w : c.utterance->warnings)
-					send_(false, "{\"type\": \"warning\", \"message\": " + jsonQuote(safeLine(w)) + idJson(c.request.id) + "}");
+					send_(false, messageJson("warning", w, c.request.id));
 			} catch (const SpeechCancelled&) {
 				std::lock_guard<std::mutex> lock(m_);
 				preparing_ = false;
@@ -270,7 +278,7 @@ void LiveWorker::frameLoop() {
 		} forget{session_, warmMutex_};
 		frames(session);
 	} catch (const std::exception& e) {
-		send_(false, "{\"type\": \"error\", \"message\": " + jsonQuote(safeLine(describeException(e))) + "}");
+		send_(false, messageJson("error", describeException(e), ""));
 		if (o_.log) o_.log("session " + std::to_string(id_) + ": " + describeException(e));
 		close_(End::Failed);
 	}
@@ -290,13 +298,28 @@ void LiveWorker::frames(LiveSession& session) {
 	                     &session.audio());
 	std::string emotions;
 	for (const auto& e : emotionLabels()) emotions += (emotions.empty() ? "" : ", ") + jsonQuote(e.label);
-	char head[256];
-	std::snprintf(head, sizeof head, "{\"type\": \"hello\", \"session\": %d, \"width\": %d, \"height\": %d, \"fps\": %.6g, \"rate\": \"%s\", \"sample_rate\": %d",
-	              id_, info.width, info.height, info.rate.fps(), info.rate.str().c_str(), session.sampleRate());
-	const std::string hello = std::string(head) + ", \"mime\": " + jsonQuote("video/mp4; codecs=\"" + writer.codecs() + "\"") +
-	                          ", \"emotion\": " + jsonQuote(session.emotion().label()) + ", \"emotions\": [" + emotions + "]}";
-	if (record_) record_ << "{\"type\": \"session\", \"width\": " << info.width << ", \"height\": " << info.height << ", \"rate\": \"" << info.rate.str()
-	                     << "\", \"emotion\": " << jsonQuote(session.emotion().label()) << ", \"lang\": " << jsonQuote(o_.lang) << "}\n";
+	const std::string hello = JsonObject()
+	                              .add("type", "hello")
+	                              .add("session", id_)
+	                              .add("width", info.width)
+	                              .add("height", info.height)
+	                              .add("fps", info.rate.fps(), "%.6g")
+	                              .add("rate", info.rate.str())
+	                              .add("sample_rate", session.sampleRate())
+	                              .add("mime", "video/mp4; codecs=\"" + writer.codecs() + "\"")
+	                              .add("emotion", session.emotion().label())
+	                              .raw("emotions", "[" + emotions + "]")
+	                              .str();
+	if (record_)
+		record_ << JsonObject()
+		               .add("type", "session")
+		               .add("width", info.width)
+		               .add("height", info.height)
+		               .add("rate", info.rate.str())
+		               .add("emotion", session.emotion().label())
+		               .add("lang", o_.lang)
+		               .str()
+		        << "\n";
 	if (!send_(false, hello) || !send_(true, std::move(bytes))) return;
 	bytes.clear();
 	YuvImage frame;
@@ -397,20 +420,17 @@ void LiveWorker::frames(LiveSession& session) {
 			stats_->lastLateNs = nowNs();
 		}
 		for (const LiveEvent& e : events) {
-			std::string j = liveEventJson(e);
+			std::optional<double> latencyMs;
 			if (e.kind == LiveEvent::Kind::UtteranceStarted) {
 				auto it = requestTimes.find(e.id);
 				if (it != requestTimes.end()) {
 					const double latency = std::chrono::duration<double>(sent - it->second).count();
 					counters_.latency(latency);
-					char b[64];
-					std::snprintf(b, sizeof b, ", \"latency_ms\": %.1f}", 1000 * latency);
-					j.pop_back();
-					j += b;
+					latencyMs = 1000 * latency;
 					requestTimes.erase(it);
 				}
 			}
-			if (!send_(false, std::move(j))) return;
+			if (!send_(false, liveEventJson(e, latencyMs))) return;
 		}
 		if (!bytes.empty()) {
 			if (!send_(true, std::move(bytes))) return;

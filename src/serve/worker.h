@@ -108,7 +108,6 @@ private:
 	std::mutex warmMutex_;                          // held while the speech thread warms it
 	std::thread intake_, speech_, frames_;
 
-	std::string idJson(const std::string& id) const;
 	void error(const std::string& message, const std::string& id);
 	void intakeLoop();
 	void speechLoop();

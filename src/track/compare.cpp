@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "base/error.h"
+#include "base/json.h"
 #include "track/from_video.h"
 
 namespace talkhead {
@@ -120,15 +121,17 @@ LipSyncReport compareLipSync(const LandmarkTrack& synth, const LandmarkTrack& re
 }
 
 std::string LipSyncReport::json() const {
-	auto num = [](double v) {
-		if (!std::isfinite(v)) return std::string("null");
-		char b[32];
-		std::snprintf(b, sizeof b, "%.4f", v);
-		return std::string(b);
-	};
-	return "{\"duration\": " + num(duration) + ", \"rate_hz\": " + num(rateHz) + ", \"samples\": " + std::to_string(samples) + ", \"r_lag0\": " + num(r0) +
-	       ", \"r_best\": " + num(bestR) + ", \"best_lag_ms\": " + num(bestLagMs) + ", \"lmd\": " + num(lmd) + ", \"coverage_synth\": " + num(coverageSynth) +
-	       ", \"coverage_real\": " + num(coverageReal) + "}";
+	return JsonObject()
+	    .add("duration", duration, "%.4f")
+	    .add("rate_hz", rateHz, "%.4f")
+	    .add("samples", static_cast<long long>(samples))
+	    .add("r_lag0", r0, "%.4f")
+	    .add("r_best", bestR, "%.4f")
+	    .add("best_lag_ms", bestLagMs, "%.4f")
+	    .add("lmd", lmd, "%.4f")
+	    .add("coverage_synth", coverageSynth, "%.4f")
+	    .add("coverage_real", coverageReal, "%.4f")
+	    .str();
 }
 
 std::string LipSyncReport::text() const {

@@ -116,3 +116,20 @@ TEST(Ticks, conversionSaturatesInsteadOfOverflowing) {
 	EXPECT_EQ(ticksFromSeconds(std::nan("")).count(), 0);
 	EXPECT_EQ(ticksFromSeconds(HUGE_VAL), ticksFromSeconds(1e9));
 }
+
+// Issue 30: one-line JSON is written by JsonObject, in the order added, escaped, never invalid.
+TEST(JsonObject, membersInOrderEscapedAndNeverInvalid) {
+	const std::string j = JsonObject()
+	                          .add("type", "mark")
+	                          .add("name", "a \"quoted\"\nname")
+	                          .add("frame", 12)
+	                          .add("time", 1.23456, "%.3f")
+	                          .add("ok", true)
+	                          .add("nan", std::nan(""), "%.3f")
+	                          .raw("list", "[1, 2]")
+	                          .str();
+	EXPECT_EQ(j, R"({"type": "mark", "name": "a \"quoted\"\nname", "frame": 12, "time": 1.235, "ok": true, "nan": null, "list": [1, 2]})");
+	EXPECT_EQ(parseJson(j, "j").find("name")->string, "a \"quoted\"\nname");
+	EXPECT_EQ(JsonObject().str(), "{}");
+}
+
