@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# Behaviour unchanged (issue 30): renders the README's examples, `say` (text and SSML), a control track, a
-# driving-free batch with a side-by-side row, and a live session script (`talkhead live`, the serve path
-# frame for frame) with two talkhead binaries, and compares every output byte for byte (y4m frames, WAV/MP4
-# bytes, key and orders). Prints one line per case and exits 1 on any difference.
+# Behaviour unchanged (issue 30): ~25 cases — the README's renders (emotions, sources, fit, controls,
+# sidecars), `say` (text, SSML, saved speech and transcript, dry run), two batches with their players, live
+# session scripts (`talkhead live`, the serve path frame for frame; y4m and mp4), and with the research data
+# beside the project a GRID clip with its audio, its text aligned, a sentence cue aligned, a driving video and
+# a driven mouth — rendered by two talkhead binaries; every output is compared byte for byte (frames, MP4
+# and WAV bytes, keys, orders, sidecars, stdout). One line per case; exit 1 on any difference.
 #   bench/identical.sh BASE_TALKHEAD [NEW_TALKHEAD]   two built binaries (NEW: build/talkhead)
-#   bench/identical.sh GIT_REF [NEW_TALKHEAD]         builds GIT_REF's CLI in a scratch worktree first
+#   bench/identical.sh GIT_REF [NEW_TALKHEAD]         first builds GIT_REF's CLI in a scratch worktree (a full
+#                                                     build: ~10 min on 2 cores), with NEW's default face
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 base=${1:?usage: bench/identical.sh BASE_TALKHEAD|GIT_REF [NEW_TALKHEAD]}
@@ -14,8 +17,10 @@ if [ -x "$base" ]; then base=$(realpath "$base"); else
 	wt="$tmp/base-tree"
 	git -C "$root" worktree add --detach "$wt" "$base" >/dev/null
 	echo "building $base in $wt (the CLI only)"
-	cmake -S "$wt" -B "$wt/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >"$tmp/cmake.log" 2>&1
-	ninja -C "$wt/build" talkhead_cli >"$tmp/build.log" 2>&1 || { tail -20 "$tmp/build.log"; exit 1; }
+	# The default face reused from this checkout's build (both sides then draw the same model).
+	cmake -S "$wt" -B "$wt/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DTALKHEAD_DEFAULT_MODEL_FROM="$(dirname "$new")/models" >"$tmp/cmake.log" 2>&1 ||
+		{ tail -20 "$tmp/cmake.log"; exit 1; }
+	ninja -C "$wt/build" talkhead_cli default_model >"$tmp/build.log" 2>&1 || { tail -20 "$tmp/build.log"; exit 1; }
 	base="$wt/build/talkhead"
 fi
 ex="$root/examples"
