@@ -168,6 +168,61 @@ KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const s
 	return k;
 }
 
+// One keypose image (a worker of prepare): its samples' appearances, from the cache or `synthesized`
+// (columns in the order of `samples`), mixed toward neutral or moved by action units as `key` says.
+std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const std::vector<Eigen::MatrixXf>& synthesized, const std::vector<long>& samples) const {
+	auto column = [&](long sample) { return Eigen::Index(std::find(samples.begin(), samples.end(), sample) - samples.begin()); };
+	const std::size_t nr = model_.regions.size();
+	auto load = [&](long sample, std::vector<std::vector<std::uint8_t>>& bytes, std::vector<const std::uint8_t*>& cached8,
+	                std::vector<Eigen::VectorXf>& synth) {
+		bytes.resize(nr), cached8.assign(nr, nullptr), synth.resize(nr);
+		for (std::size_t r = 0; r < nr; ++r) {
+			const RegionModel& reg = model_.regions[r];
+			if (reg.hasAppearanceCache()) {
+				bytes[r].resize(std::size_t(reg.appearanceSize()));
+				reg.readCachedAppearance(std::size_t(sample), bytes[r].data());
+				cached8[r] = bytes[r].data();
+			} else {
+				synth[r] = synthesized[r].col(column(sample));
+			}
+		}
+	};
+	std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
+	std::vector<const std::uint8_t*> cached8, baseCached8;
+	std::vector<Eigen::VectorXf> synth, baseSynth;
+	const auto& [sample, base, intensity, auEmotion] = key;
+	load(sample, bytes, cached8, synth);
+	if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
+		Points shape = model_.alignedShapes[std::size_t(sample)];
+		applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, defaultAuProfiles().at(auEmotion), intensity), rig_.auFrame);
+		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth));
+		made->usedEmotion = auEmotion + " (action units)";
+		return made;
+	}
+	if (base < 0) {
+		return std::make_unique<KeyposeImage>(makeKeypose(sample, model_.alignedShapes[std::size_t(sample)], cached8, synth));
+	}
+	// D43: shape and appearance of neutral + intensity × (emotion − neutral), per region.
+	load(base, baseBytes, baseCached8, baseSynth);
+	std::vector<Eigen::VectorXf> mixed(nr);
+	const float t = float(intensity);
+	for (std::size_t r = 0; r < nr; ++r) {
+		const Eigen::Index n = model_.regions[r].appearanceSize();
+		auto value = [&](const std::vector<const std::uint8_t*>& c8, const std::vector<Eigen::VectorXf>& sy, Eigen::Index i) {
+			return c8[r] ? float(c8[r][i]) : sy[r](i);
+		};
+		mixed[r].resize(n);
+		for (Eigen::Index i = 0; i < n; ++i) {
+			const float b = value(baseCached8, baseSynth, i);
+			mixed[r](i) = b + t * (value(cached8, synth, i) - b);
+		}
+	}
+	const Points& a = model_.alignedShapes[std::size_t(sample)];
+	const Points& b = model_.alignedShapes[std::size_t(base)];
+	const std::vector<const std::uint8_t*> none(nr, nullptr);
+	return std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
+}
+
 void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 	// The (CDV, context) pairs not seen yet, their (sample, neutral sample) pairs, the pairs without an
 	// image yet, and the samples those need.
@@ -203,60 +258,8 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 		for (std::size_t j = 0; j < samples.size(); ++j) c.col(Eigen::Index(j)) = sampleCoefficients(reg, std::size_t(samples[j]));
 		synthesized[r] = synthesizeAppearances(reg, c);
 	}
-	auto column = [&](long sample) { return Eigen::Index(std::find(samples.begin(), samples.end(), sample) - samples.begin()); };
 	std::vector<std::unique_ptr<KeyposeImage>> made(pairs.size());
-	parallelFor(pairs.size(), 0, [&](std::size_t j) {
-		const std::size_t nr = model_.regions.size();
-		auto load = [&](long sample, std::vector<std::vector<std::uint8_t>>& bytes, std::vector<const std::uint8_t*>& cached8,
-		                std::vector<Eigen::VectorXf>& synth) {
-			bytes.resize(nr), cached8.assign(nr, nullptr), synth.resize(nr);
-			for (std::size_t r = 0; r < nr; ++r) {
-				const RegionModel& reg = model_.regions[r];
-				if (reg.hasAppearanceCache()) {
-					bytes[r].resize(std::size_t(reg.appearanceSize()));
-					reg.readCachedAppearance(std::size_t(sample), bytes[r].data());
-					cached8[r] = bytes[r].data();
-				} else {
-					synth[r] = synthesized[r].col(column(sample));
-				}
-			}
-		};
-		std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
-		std::vector<const std::uint8_t*> cached8, baseCached8;
-		std::vector<Eigen::VectorXf> synth, baseSynth;
-		const auto& [sample, base, intensity, auEmotion] = pairs[j];
-		load(sample, bytes, cached8, synth);
-		if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
-			Points shape = model_.alignedShapes[std::size_t(sample)];
-			applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, defaultAuProfiles().at(auEmotion), intensity), rig_.auFrame);
-			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth));
-			made[j]->usedEmotion = auEmotion + " (action units)";
-			return;
-		}
-		if (base < 0) {
-			made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, model_.alignedShapes[std::size_t(sample)], cached8, synth));
-			return;
-		}
-		// D43: shape and appearance of neutral + intensity × (emotion − neutral), per region.
-		load(base, baseBytes, baseCached8, baseSynth);
-		std::vector<Eigen::VectorXf> mixed(nr);
-		const float t = float(intensity);
-		for (std::size_t r = 0; r < nr; ++r) {
-			const Eigen::Index n = model_.regions[r].appearanceSize();
-			auto value = [&](const std::vector<const std::uint8_t*>& c8, const std::vector<Eigen::VectorXf>& sy, Eigen::Index i) {
-				return c8[r] ? float(c8[r][i]) : sy[r](i);
-			};
-			mixed[r].resize(n);
-			for (Eigen::Index i = 0; i < n; ++i) {
-				const float b = value(baseCached8, baseSynth, i);
-				mixed[r](i) = b + t * (value(cached8, synth, i) - b);
-			}
-		}
-		const Points& a = model_.alignedShapes[std::size_t(sample)];
-		const Points& b = model_.alignedShapes[std::size_t(base)];
-		const std::vector<const std::uint8_t*> none(nr, nullptr);
-		made[j] = std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
-	});
+	parallelFor(pairs.size(), 0, [&](std::size_t j) { made[j] = makeImage(pairs[j], synthesized, samples); });
 	std::lock_guard<std::mutex> lock(mutex_);
 	for (std::size_t j = 0; j < pairs.size(); ++j) images_.emplace(pairs[j], std::move(made[j]));
 	for (const auto& [k, key] : fresh) {

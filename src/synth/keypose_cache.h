@@ -53,6 +53,7 @@ private:
 	Emotion emotionOf(const Keypose& key) const;  // the keypose's emotion, else the options'
 	double intensityOf(const Keypose& key) const;
 	std::string indexKey(const Keypose& key) const;  // CDV, emotion and intensity
+	std::unique_ptr<KeyposeImage> makeImage(const ImageKey& key, const std::vector<Eigen::MatrixXf>& synthesized, const std::vector<long>& samples) const;
 	KeyposeImage makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
 	                         const std::vector<Eigen::VectorXf>& synthesized) const;
 };
