@@ -89,6 +89,17 @@ std::optional<std::string> Args::get(const std::string& name) const {
 	return it->second;
 }
 
+const std::string& Args::onePositional(const std::string& what) const {
+	if (positionals_.size() != 1) throw UsageError(command_ + ": " + what);
+	return positionals_[0];
+}
+
+std::string Args::required(const std::string& name, const std::string& what) const {
+	auto v = get(name);
+	if (!v) throw UsageError(command_ + ": " + what);
+	return *v;
+}
+
 std::string Args::get(const std::string& name, const std::string& fallback) const { return get(name).value_or(fallback); }
 
 double Args::number(const std::string& name, double fallback, double min, double max) const {

@@ -38,6 +38,10 @@ public:
 	std::string get(const std::string& name, const std::string& fallback) const;
 	double number(const std::string& name, double fallback, double min, double max) const;
 	const std::vector<std::string>& positionals() const { return positionals_; }
+	// The one positional argument; UsageError("COMMAND: " + what) when there is not exactly one.
+	const std::string& onePositional(const std::string& what) const;
+	// The value of a required option; UsageError("COMMAND: " + what) when it is not given.
+	std::string required(const std::string& name, const std::string& what) const;
 
 private:
 	const OptionSpec* find(const std::string& token) const;

@@ -25,7 +25,7 @@ int runAlign(const std::vector<std::string>& argv) {
 	          "that 'talkhead render --transcript' reads. Method: dynamic time warping of MFCC features against\n"
 	          "espeak-ng renditions of the same text (docs/decisions.md D30).");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("align: give one audio or video file");
+	args.onePositional("give one audio or video file");
 	const std::string input = args.positionals()[0];
 	auto output = args.get("--output");
 	if (!output) throw UsageError("align: -o OUT.TextGrid is required");

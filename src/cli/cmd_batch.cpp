@@ -164,7 +164,7 @@ int runBatch(const std::vector<std::string>& argv) {
 		else if (!args.has("--quiet")) std::fprintf(stderr, "batch: %zu shards joined into %s\n", args.positionals().size(), merge->c_str());
 		return missing ? 1 : 0;
 	}
-	if (args.positionals().size() != 1) throw UsageError("batch: expected one MANIFEST (CSV or JSON)");
+	args.onePositional("expected one MANIFEST (CSV or JSON)");
 	auto out = args.get("--output");
 	if (!out) throw UsageError("batch: -o OUTDIR is required");
 	const std::uint64_t seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));

@@ -74,7 +74,7 @@ int runBuild(const std::vector<std::string>& argv) {
 	          "face region) from a CH-Unicamp CSV corpus or a folder of images with .asf/.pts landmark files.\n"
 	          "All components are kept unless --components or --evr says otherwise.");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("build: expected one CORPUS argument");
+	args.onePositional("expected one CORPUS argument");
 	auto output = args.get("--output");
 	if (!output) throw UsageError("build: -o MODEL.thm is required");
 	const bool quiet = args.has("--quiet");

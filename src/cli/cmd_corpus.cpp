@@ -86,7 +86,7 @@ int runAuTemplates(const std::vector<std::string>& argv) {
 	          "(--profiles) times one template each. 'render --controls' (\"au\" events) and\n"
 	          "'--emotion-source au' use the templates of the model's scheme.");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("corpus au-templates: expected one CORPUS (a CSV or a folder)");
+	args.onePositional("expected one CORPUS (a CSV or a folder)");
 	auto out = args.get("--output");
 	if (!out) throw UsageError("corpus au-templates: -o F.tsv is required");
 	const std::string path = args.positionals()[0];

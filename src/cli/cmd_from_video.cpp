@@ -45,7 +45,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	          "The head may move: frames are stored with their points as they are (the builder's Procrustes removes\n"
 	          "pose); the baseface is the most neutral frame unless --baseface says which.");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("corpus from-video: give one video");
+	args.onePositional("give one video");
 	auto out = args.get("--output");
 	if (!out) throw UsageError("corpus from-video: -o DIR is required");
 	const std::string video = args.positionals()[0];

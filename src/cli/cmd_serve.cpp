@@ -178,7 +178,7 @@ int runLive(const std::vector<std::string>& argv) {
 	          "as espeak-ng's in-process state allows, D51; speak requests exactly). Events go to standard output as\n"
 	          "JSON lines.");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("live: give one session script");
+	args.onePositional("give one session script");
 	const std::string script = args.positionals()[0];
 	const auto out = args.get("--output");
 	if (!out) throw UsageError("live: -o OUT is required");

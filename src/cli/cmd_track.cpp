@@ -68,7 +68,7 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	          "status, confidence, x y per point) and contact.png (points drawn on sampled frames). Frames where\n"
 	          "the face is lost are marked 'lost' in landmarks.tsv, with no .pts.");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("corpus landmarks: give one video or image folder");
+	args.onePositional("give one video or image folder");
 	auto out = args.get("--output");
 	if (!out) throw UsageError("corpus landmarks: -o DIR is required");
 	const std::string input = args.positionals()[0];
@@ -168,7 +168,7 @@ int runTrack(const std::vector<std::string>& argv) {
 	          "scheme's action-unit templates), and the blinks. Frames where the face is lost or turned past\n"
 	          "--max-turn are dropped and bridged by Hermite interpolation (a warning names spans of 0.5 s or more).");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("track: give one video (or a landmarks.tsv)");
+	args.onePositional("give one video (or a landmarks.tsv)");
 	const auto out = args.get("--output");
 	if (!out) throw UsageError("track: -o F.json is required");
 	const NonVerbalOptions o = parseNonVerbalOptions(args, "track", "head,brows,eyes");

@@ -54,7 +54,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	          "marks, TextGrid word or utterance tiers) is phonemised with espeak-ng; viseme-level input (Polly\n"
 	          "visemes, Rhubarb cues) maps directly.");
 	if (!args.parse(argv)) return 0;
-	if (args.positionals().size() != 1) throw UsageError("visemes: expected one TRANSCRIPT argument (or - for standard input)");
+	args.onePositional("expected one TRANSCRIPT argument (or - for standard input)");
 	TranscriptOptions to = parseTranscriptOptions(args, "visemes", "--format");
 	ReadOptions& ro = to.read;
 	const std::string outFormat = args.get("--out-format", "tsv");
