@@ -188,46 +188,9 @@ int runLive(const std::vector<std::string>& argv) {
 	const std::string lang = args.get("--lang", "en-US");
 	Language::get(lang);
 	// The script: requests by frame, and its end.
-	struct Step {
-		std::int64_t frame;
-		std::string json;
-		long line;
-	};
-	std::vector<Step> steps;
-	std::int64_t total = -1;
-	{
-		const std::string text = readTextFile(script);
-		long no = 0;
-		for (const std::string& raw : split(text, '\n')) {
-			++no;
-			const std::string line(trim(raw));
-			if (line.empty()) continue;
-			const JsonValue v = parseJson(line, script, no);
-			if (v.kind != JsonValue::Kind::Object) throw Error(script, no, "each line is a JSON object");
-			const JsonValue* type = v.find("type");
-			const JsonValue* frame = v.find("frame");
-			auto frameOf = [&]() {
-				if (!frame || frame->kind != JsonValue::Kind::Number || !(frame->number >= 0 && frame->number <= 1e8) || frame->number != std::floor(frame->number))
-					throw Error(script, no, "'frame' must be a whole number from 0 to 100000000");
-				return std::int64_t(frame->number);
-			};
-			if (type && type->kind == JsonValue::Kind::String && type->string == "session") continue;
-			if (type && type->kind == JsonValue::Kind::String && type->string == "end") {
-				total = frameOf();
-				continue;
-			}
-			const JsonValue* request = v.find("request");
-			if (!request || request->kind != JsonValue::Kind::Object) throw Error(script, no, "a step needs 'frame' and 'request' (an object)");
-			// The request's own text, re-serialised by the JSON reader's rules: find it in the line.
-			const auto at = line.find("\"request\"");
-			const auto open = line.find('{', at);
-			std::string body = line.substr(open);
-			while (!body.empty() && body.back() != '}') body.pop_back();
-			body.pop_back();  // the step's closing brace
-			steps.push_back({frameOf(), std::string(trim(body)), no});
-		}
-	}
-	std::stable_sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) { return a.frame < b.frame; });
+	const SessionScript sessionScript = readSessionScript(script);
+	const std::vector<SessionScript::Step>& steps = sessionScript.steps;
+	std::int64_t total = sessionScript.end;
 	if (auto n = args.get("--frames-total")) total = std::int64_t(args.number("--frames-total", 0, 1, 1e7));
 	if (total < 0) throw Error(script, 0, "no end line ({\"type\": \"end\", \"frame\": N}): give --frames-total N");
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
@@ -247,7 +210,7 @@ int runLive(const std::vector<std::string>& argv) {
 	std::size_t next = 0;
 	for (std::int64_t n = 0; n < total; ++n) {
 		for (; next < steps.size() && steps[next].frame <= n; ++next) {
-			const Step& s = steps[next];
+			const SessionScript::Step& s = steps[next];
 			try {
 				const LiveRequest r = parseLiveRequest(s.json);
 				std::optional<Utterance> u;

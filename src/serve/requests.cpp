@@ -229,6 +229,42 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 	return u;
 }
 
+SessionScript readSessionScript(const std::string& path) {
+	SessionScript out;
+	const std::string text = readTextFile(path);
+	long no = 0;
+	for (const std::string& raw : split(text, '\n')) {
+		++no;
+		const std::string line(trim(raw));
+		if (line.empty()) continue;
+		const JsonValue v = parseJson(line, path, no);
+		if (v.kind != JsonValue::Kind::Object) throw Error(path, no, "each line is a JSON object");
+		const JsonValue* type = v.find("type");
+		const JsonValue* frame = v.find("frame");
+		auto frameOf = [&]() {
+			if (!frame || frame->kind != JsonValue::Kind::Number || !(frame->number >= 0 && frame->number <= 1e8) || frame->number != std::floor(frame->number))
+				throw Error(path, no, "'frame' must be a whole number from 0 to 100000000");
+			return std::int64_t(frame->number);
+		};
+		if (type && type->kind == JsonValue::Kind::String && type->string == "session") continue;
+		if (type && type->kind == JsonValue::Kind::String && type->string == "end") {
+			out.end = frameOf();
+			continue;
+		}
+		const JsonValue* request = v.find("request");
+		if (!request || request->kind != JsonValue::Kind::Object) throw Error(path, no, "a step needs 'frame' and 'request' (an object)");
+		// The request's own text, re-serialised by the JSON reader's rules: find it in the line.
+		const auto at = line.find("\"request\"");
+		const auto open = line.find('{', at);
+		std::string body = line.substr(open);
+		while (!body.empty() && body.back() != '}') body.pop_back();
+		body.pop_back();  // the step's closing brace
+		out.steps.push_back({frameOf(), std::string(trim(body)), no});
+	}
+	std::stable_sort(out.steps.begin(), out.steps.end(), [](const SessionScript::Step& a, const SessionScript::Step& b) { return a.frame < b.frame; });
+	return out;
+}
+
 void applyLiveRequest(LiveSession& session, const LiveRequest& r, std::optional<Utterance> utterance) {
 	switch (r.kind) {
 	case LiveRequest::Kind::Stop: session.stop(); break;

@@ -44,6 +44,20 @@ Utterance prepareUtterance(const LiveRequest& request, const std::string& defaul
 // Applies a request to the session at its next frame (say and speak: with their prepared utterance).
 void applyLiveRequest(LiveSession& session, const LiveRequest& request, std::optional<Utterance> utterance);
 
+// A recorded session (serve --record; talkhead live): one JSON object a line — {"frame": N, "request": {…}}
+// steps (sorted by frame, the request's own text kept), an optional {"type": "end", "frame": N} (`end`, −1
+// when absent) and {"type": "session", …} (informational). Throws Error naming the file and line.
+struct SessionScript {
+	struct Step {
+		std::int64_t frame = 0;
+		std::string json;  // the request as written
+		long line = 0;
+	};
+	std::vector<Step> steps;
+	std::int64_t end = -1;
+};
+SessionScript readSessionScript(const std::string& path);
+
 // What one session may queue (issue 28 item 5); a request past a limit gets an error event naming it.
 struct SessionLimits {
 	int queuedRequests = 32;        // say and speak requests waiting, being prepared or queued to play
