@@ -105,28 +105,25 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);
 		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
 	}
-	const Ticks speechEnd = spec.phones.empty() ? Ticks(0) : spec.phones.back().end;
-	perf.duration = spec.duration ? *spec.duration : speechEnd;
-	if (spec.audioDuration) {
-		const Ticks audio = *spec.audioDuration;
-		if (!spec.phones.empty()) {
-			if (perf.duration > audio + Ticks(kTicksPerSecond / 10)) {
-				char b[200];
-				std::snprintf(b, sizeof b, "the transcript (%.3f s) is longer than the audio (%.3f s) by %.3f s", toSeconds(perf.duration), toSeconds(audio),
-				              toSeconds(perf.duration - audio));
-				throw Error(spec.source, 0, b);
-			}
-			// A transcript covering a small part of a long audio: the face holds still for the rest. Say so.
-			const Ticks uncovered = audio - perf.duration;
-			if (warnings && uncovered > Ticks(10 * kTicksPerSecond) && perf.duration * 2 < audio) {
-				char b[240];
-				std::snprintf(b, sizeof b, "the transcript covers %.1f s of %.1f s of audio; the face holds its last keypose, silent, for the other %.1f s",
-				              toSeconds(perf.duration), toSeconds(audio), toSeconds(uncovered));
-				warnings->push_back(b);
-			}
+	if (spec.audioDuration && !spec.phones.empty()) {
+		// The speech against its audio (a driven mouth has no phones: the video's length is given).
+		const Ticks speech = spec.duration.value_or(spec.phones.back().end), audio = *spec.audioDuration;
+		if (speech > audio + Ticks(kTicksPerSecond / 10)) {
+			char b[200];
+			std::snprintf(b, sizeof b, "the transcript (%.3f s) is longer than the audio (%.3f s) by %.3f s", toSeconds(speech), toSeconds(audio),
+			              toSeconds(speech - audio));
+			throw Error(spec.source, 0, b);
 		}
-		perf.duration = audio;
+		// A transcript covering a small part of a long audio: the face holds still for the rest. Say so.
+		const Ticks uncovered = audio - speech;
+		if (warnings && uncovered > Ticks(10 * kTicksPerSecond) && speech * 2 < audio) {
+			char b[240];
+			std::snprintf(b, sizeof b, "the transcript covers %.1f s of %.1f s of audio; the face holds its last keypose, silent, for the other %.1f s",
+			              toSeconds(speech), toSeconds(audio), toSeconds(uncovered));
+			warnings->push_back(b);
+		}
 	}
+	perf.duration = spec.videoDuration();
 	for (const ControlTrack& c : spec.controls) applyControls(perf, c);
 	return perf;
 }
