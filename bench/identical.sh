@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Behaviour unchanged (issue 30): ~25 cases — the README's renders (emotions, sources, fit, controls,
-# sidecars), `say` (text, SSML, saved speech and transcript, dry run), two batches with their players, live
-# session scripts (`talkhead live`, the serve path frame for frame; y4m and mp4), and with the research data
-# beside the project a GRID clip with its audio, its text aligned, a sentence cue aligned, a driving video and
-# a driven mouth — rendered by two talkhead binaries; every output is compared byte for byte (frames, MP4
+# Behaviour unchanged (issue 30): ~27 cases — the README's renders (emotions, sources, fit, controls,
+# sidecars), visemes as JSON and Rhubarb JSON, `say` (text, SSML, saved speech and transcript, dry run), two
+# batches with their players, live session scripts (`talkhead live`, the serve path frame for frame; y4m and
+# mp4), and with the research data beside the project a GRID clip with its audio, its text aligned, a
+# sentence cue aligned, a driving video, a driven mouth, a forced alignment and a tracked control track — rendered by two talkhead binaries; every output is compared byte for byte (frames, MP4
 # and WAV bytes, keys, orders, sidecars, stdout). One line per case; exit 1 on any difference.
 #   bench/identical.sh BASE_TALKHEAD [NEW_TALKHEAD]   two built binaries (NEW: build/talkhead)
 #   bench/identical.sh GIT_REF [NEW_TALKHEAD]         first builds GIT_REF's CLI in a scratch worktree (a full
@@ -43,6 +43,8 @@ cases=(
 	"render-timeline|@TH@ render --transcript $ex/que_noticia.TextGrid --emotion joy --lead-in 0.3 --tail 0.2 --size 160x90 --format y4m -o @OUT@/a.y4m --timeline-out @OUT@/t.json -q"
 	"say-save|@TH@ say 'Bom dia, tudo bem?' --size 160x90 -o @OUT@/a.mp4 --save-audio @OUT@/a.wav --save-transcript @OUT@/a.TextGrid --timeline-out @OUT@/t.json -q"
 	"say-dry-run|@TH@ say 'Que notícia excelente!' --dry-run"
+	"visemes-json|@TH@ visemes $ex/que_noticia.TextGrid --out-format json"
+	"visemes-rhubarb|@TH@ visemes $ex/que_noticia.TextGrid --out-format rhubarb-json -o @OUT@/r.json"
 )
 # With the research data beside the project: speech from a real clip (its GRID alignment, its text aligned
 # to it, sentence cues aligned to it) and a driving video.
@@ -53,6 +55,8 @@ if [ -f "$grid/swwp2s.align" ] && [ -f "$grid/id2_vcd_swwp2s.mpg" ]; then
 		"render-text-audio|@TH@ render --text 'set white with p two soon' --audio $grid/id2_vcd_swwp2s.mpg --lang en-US --size 160x90 --format y4m -o @OUT@/a.y4m --timeline-out @OUT@/t.json -q"
 		"render-cue-audio|@TH@ render --transcript $tmp/cue.srt --audio $grid/id2_vcd_swwp2s.mpg --lang en-US --size 160x90 --format y4m -o @OUT@/a.y4m -q"
 		"render-drive|@TH@ render --transcript $grid/swwp2s.align --drive $grid/id2_vcd_swwp2s.mpg --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+		"align-text|@TH@ align $grid/id2_vcd_swwp2s.mpg --text 'set white with p two soon' --lang en-US -o @OUT@/a.TextGrid -q"
+		"track-controls|@TH@ track $grid/id2_vcd_swwp2s.mpg --parts head,brows,eyes,mouth -o @OUT@/c.json -q"
 		"render-drive-mouth|@TH@ render --drive $grid/id2_vcd_swwp2s.mpg --drive-mouth --size 160x90 --format y4m -o @OUT@/a.y4m -q"
 	)
 	printf '1\n00:00:00,500 --> 00:00:02,800\nset white with p two soon\n' >"$tmp/cue.srt"

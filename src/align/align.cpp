@@ -329,6 +329,50 @@ bool samePhones(const Rendition& a, const Rendition& b) {
 	return true;
 }
 
+// The phone boundaries: the median over the renditions, then the utterance's edges snapped to the voice
+// activity, phones in order and of a minimum length, the ends, and short pauses given to their neighbours.
+std::vector<Ticks> phoneBoundaries(const Rendition& ref, const std::vector<RenditionResult>& results, const Activity& activity, const FeatureOptions& fo,
+                                   const AlignTuning& t, Ticks audioDuration) {
+	const double duration = toSeconds(audioDuration);
+	const double vadStart = frameCentre(activity.first, fo), vadEnd = frameCentre(activity.last, fo);
+	const std::size_t P = ref.phones.intervals.size();
+	std::vector<double> b(P + 1);
+	for (std::size_t k = 0; k <= P; ++k) {
+		std::vector<double> v;
+		for (const auto& r : results) v.push_back(r.boundaries[k]);
+		b[k] = std::clamp(median(v), 0.0, duration);
+	}
+	b[0] = 0;
+	b[P] = duration;
+	if (t.snapEdgesSeconds > 0) {
+		// The utterance's edges: where the voice-activity measure puts them, unless the warping disagrees by
+		// more than snapEdgesSeconds (e.g. a noise burst before the speech).
+		std::size_t f = 0, l = P;
+		while (f < P && ref.phones.intervals[f].label.empty()) ++f;
+		while (l > 0 && ref.phones.intervals[l - 1].label.empty()) --l;
+		if (f < l) {
+			if (std::abs(b[f] - vadStart) <= t.snapEdgesSeconds) b[f] = vadStart;
+			if (std::abs(b[l] - vadEnd) <= t.snapEdgesSeconds) b[l] = vadEnd;
+		}
+	}
+	const double minPhone = t.minPhoneSeconds;
+	for (std::size_t k = 1; k <= P; ++k) b[k] = std::max(b[k], b[k - 1] + (ref.phones.intervals[k - 1].label.empty() ? 0.0 : minPhone));
+	b[P] = std::max(b[P], duration);
+	for (std::size_t k = P; k-- > 1;) b[k] = std::min(b[k], b[k + 1] - (ref.phones.intervals[k].label.empty() ? 0.0 : minPhone));
+	for (std::size_t k = 1; k < P; ++k) b[k] = std::max(b[k], 0.0);
+	// Short pauses (a rendition's word gap that the speaker did not make) go to their neighbours.
+	std::vector<Ticks> bt(P + 1);
+	for (std::size_t k = 0; k <= P; ++k) bt[k] = ticksFromSeconds(b[k]);
+	bt[P] = audioDuration;
+	for (std::size_t k = 1; k + 1 < P; ++k) {
+		const Interval& p = ref.phones.intervals[k];
+		if (!p.label.empty() || bt[k + 1] - bt[k] >= ticksFromSeconds(t.minPauseSeconds)) continue;
+		const Ticks mid = bt[k] + (bt[k + 1] - bt[k]) / 2;
+		bt[k] = bt[k + 1] = mid;
+	}
+	return bt;
+}
+
 }  // namespace
 
 Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& o) {
@@ -374,43 +418,9 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	const Rendition& ref = renditions[0];
 	if (ref.words.empty()) throw Error("nothing to align: the text has no speakable words");
 	const double duration = toSeconds(audio.duration());
-	// Median boundaries over the renditions, then order, minimum lengths and the ends.
 	const std::size_t P = ref.phones.intervals.size();
-	std::vector<double> b(P + 1);
-	for (std::size_t k = 0; k <= P; ++k) {
-		std::vector<double> v;
-		for (const auto& r : results) v.push_back(r.boundaries[k]);
-		b[k] = std::clamp(median(v), 0.0, duration);
-	}
-	b[0] = 0;
-	b[P] = duration;
+	const std::vector<Ticks> bt = phoneBoundaries(ref, results, activity, fo, t, audio.duration());
 	const double vadStart = frameCentre(activity.first, fo), vadEnd = frameCentre(activity.last, fo);
-	if (t.snapEdgesSeconds > 0) {
-		// The utterance's edges: where the voice-activity measure puts them, unless the warping disagrees by
-		// more than snapEdgesSeconds (e.g. a noise burst before the speech).
-		std::size_t f = 0, l = P;
-		while (f < P && ref.phones.intervals[f].label.empty()) ++f;
-		while (l > 0 && ref.phones.intervals[l - 1].label.empty()) --l;
-		if (f < l) {
-			if (std::abs(b[f] - vadStart) <= t.snapEdgesSeconds) b[f] = vadStart;
-			if (std::abs(b[l] - vadEnd) <= t.snapEdgesSeconds) b[l] = vadEnd;
-		}
-	}
-	const double minPhone = t.minPhoneSeconds;
-	for (std::size_t k = 1; k <= P; ++k) b[k] = std::max(b[k], b[k - 1] + (ref.phones.intervals[k - 1].label.empty() ? 0.0 : minPhone));
-	b[P] = std::max(b[P], duration);
-	for (std::size_t k = P; k-- > 1;) b[k] = std::min(b[k], b[k + 1] - (ref.phones.intervals[k].label.empty() ? 0.0 : minPhone));
-	for (std::size_t k = 1; k < P; ++k) b[k] = std::max(b[k], 0.0);
-	// Short pauses (a rendition's word gap that the speaker did not make) go to their neighbours.
-	std::vector<Ticks> bt(P + 1);
-	for (std::size_t k = 0; k <= P; ++k) bt[k] = ticksFromSeconds(b[k]);
-	bt[P] = audio.duration();
-	for (std::size_t k = 1; k + 1 < P; ++k) {
-		const Interval& p = ref.phones.intervals[k];
-		if (!p.label.empty() || bt[k + 1] - bt[k] >= ticksFromSeconds(t.minPauseSeconds)) continue;
-		const Ticks mid = bt[k] + (bt[k + 1] - bt[k]) / 2;
-		bt[k] = bt[k + 1] = mid;
-	}
 	Transcript espeakPhonesOut;
 	espeakPhonesOut.path = "alignment";
 	for (std::size_t k = 0; k < P; ++k)
@@ -476,15 +486,7 @@ std::string alignmentTextGrid(const Alignment& al, Ticks duration) {
 	o << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n\nxmin = 0\nxmax = " << sec(end) << "\ntiers? <exists>\nsize = 2\nitem []:\n";
 	int n = 0;
 	for (const auto& [name, tier] : {std::pair<const char*, const Transcript*>{"words", &al.words}, {"phones", &al.phones}}) {
-		// Contiguous from 0 to the end: gaps become empty intervals.
-		std::vector<Interval> iv;
-		Ticks at{0};
-		for (const Interval& i : tier->intervals) {
-			if (i.start > at) iv.push_back({at, i.start, "", 0});
-			if (i.end > std::max(at, i.start)) iv.push_back({std::max(at, i.start), i.end, i.label, 0});
-			at = std::max(at, i.end);
-		}
-		if (at < end) iv.push_back({at, end, "", 0});
+		const std::vector<Interval> iv = withPauses(tier->intervals, Ticks(0), end);  // contiguous from 0 to the end
 		o << "    item [" << ++n << "]:\n        class = \"IntervalTier\"\n        name = \"" << name << "\"\n        xmin = 0\n        xmax = " << sec(end)
 		  << "\n        intervals: size = " << iv.size() << "\n";
 		for (std::size_t i = 0; i < iv.size(); ++i)

@@ -185,6 +185,37 @@ float frameDistance(const FeatureMatrix& a, int i, const FeatureMatrix& b, int j
 	return std::sqrt(s);
 }
 
+namespace {
+
+// The path back from (i, j) to (0, 0) through the step codes (dtw's), in order from the start.
+std::vector<std::pair<int, int>> backtrack(const std::vector<std::int8_t>& step, const std::vector<std::size_t>& offset, const std::vector<int>& lo, int i, int j) {
+	std::vector<std::pair<int, int>> path;
+	while (true) {
+		path.emplace_back(i, j);
+		if (i == 0 && j == 0) break;
+		const int code = step[offset[std::size_t(i)] + std::size_t(j - lo[std::size_t(i)])];
+		if (code == 100) {
+			--i;
+		} else if (code == 101) {
+			--j;
+		} else if (code > 0) {
+			for (int k = 1; k < code; ++k) path.emplace_back(i - k, j);
+			i -= code;
+			--j;
+		} else if (code < 0) {
+			for (int k = 1; k < -code; ++k) path.emplace_back(i, j - k);
+			--i;
+			j += code;
+		} else {
+			throw std::logic_error("dtw: broken back-pointer");
+		}
+	}
+	std::reverse(path.begin(), path.end());
+	return path;
+}
+
+}  // namespace
+
 DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<bool>& pauseA, const std::vector<bool>& pauseB, const DtwOptions& o) {
 	const int n = a.frames, m = b.frames;
 	if (n == 0 || m == 0) throw std::invalid_argument("dtw: empty sequence");
@@ -265,28 +296,7 @@ DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<
 	if (!(total < kInf)) throw std::invalid_argument("dtw: no path within the band and slope limits");
 	DtwResult r;
 	r.cost = double(total) / double(n + m);
-	int i = n - 1, j = m - 1;
-	while (true) {
-		r.path.emplace_back(i, j);
-		if (i == 0 && j == 0) break;
-		const int code = step[offset[std::size_t(i)] + std::size_t(j - lo[std::size_t(i)])];
-		if (code == 100) {
-			--i;
-		} else if (code == 101) {
-			--j;
-		} else if (code > 0) {
-			for (int k = 1; k < code; ++k) r.path.emplace_back(i - k, j);
-			i -= code;
-			--j;
-		} else if (code < 0) {
-			for (int k = 1; k < -code; ++k) r.path.emplace_back(i, j - k);
-			--i;
-			j += code;
-		} else {
-			throw std::logic_error("dtw: broken back-pointer");
-		}
-	}
-	std::reverse(r.path.begin(), r.path.end());
+	r.path = backtrack(step, offset, lo, n - 1, m - 1);
 	return r;
 }
 

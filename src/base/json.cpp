@@ -212,11 +212,45 @@ JsonObject& JsonObject::add(std::string_view key, double value, const char* form
 }
 
 JsonObject& JsonObject::raw(std::string_view key, std::string_view json) {
-	if (!body_.empty()) body_ += ", ";
-	body_ += jsonQuote(std::string(key));
-	body_ += ": ";
-	body_ += json;
+	std::string member = jsonQuote(std::string(key));
+	member += ": ";
+	member += json;
+	members_.emplace_back(std::move(nextSeparator_), std::move(member));
+	nextSeparator_.clear();
 	return *this;
+}
+
+JsonObject& JsonObject::then(std::string_view separator) {
+	nextSeparator_ = separator;
+	return *this;
+}
+
+namespace {
+
+template <typename Items, typename Separator, typename Text>
+std::string laidOut(char open, char close, const Items& items, const JsonLayout& layout, Separator separatorOf, Text textOf) {
+	std::string s(1, open);
+	if (items.empty()) return s + close;
+	s += layout.lead;
+	for (std::size_t i = 0; i < items.size(); ++i) {
+		if (i) s += separatorOf(items[i]);
+		s += textOf(items[i]);
+	}
+	s += layout.trail;
+	return s + close;
+}
+
+}  // namespace
+
+std::string JsonObject::str(const JsonLayout& layout) const {
+	return laidOut(
+	    '{', '}', members_, layout,
+	    [&](const auto& m) { return m.first.empty() ? std::string(layout.separator) : m.first; }, [](const auto& m) -> const std::string& { return m.second; });
+}
+
+std::string JsonArray::str(const JsonLayout& layout) const {
+	return laidOut(
+	    '[', ']', items_, layout, [&](const std::string&) { return std::string(layout.separator); }, [](const std::string& t) -> const std::string& { return t; });
 }
 
 }  // namespace talkhead

@@ -36,9 +36,17 @@ std::optional<std::string> jsonTopLevelMember(const std::string& text, const std
 // Escapes a string for JSON output (quotes included).
 std::string jsonQuote(const std::string& s);
 
-// One JSON object on one line, in talkhead's style — {"key": value, "key": value}, members in the order
-// added — for events, progress lines, replies and reports (issue 30: no hand concatenation). Strings are
-// escaped (jsonQuote); numbers take a printf format, and a number that is not finite is written null.
+// Where the whitespace goes in a JSON object or array written by JsonObject / JsonArray: after the opening
+// bracket, between two members or items, and before the closing bracket. The default is one line,
+// {"a": 1, "b": 2}; files people read put a member or item a line, e.g. {"\n  ", ",\n  ", "\n"}.
+struct JsonLayout {
+	std::string_view lead = "", separator = ", ", trail = "";
+};
+
+// One JSON object, in talkhead's style — {"key": value, "key": value}, members in the order added — for
+// events, progress lines, replies, reports and the files talkhead writes (issue 30: no hand
+// concatenation). Strings are escaped (jsonQuote); numbers take a printf format, and a number that is not
+// finite is written null. An empty object is {}.
 class JsonObject {
 public:
 	JsonObject& add(std::string_view key, const std::string& text);
@@ -49,12 +57,33 @@ public:
 	JsonObject& add(std::string_view key, long value) { return add(key, static_cast<long long>(value)); }
 	JsonObject& add(std::string_view key, unsigned long value) { return raw(key, std::to_string(value)); }
 	JsonObject& add(std::string_view key, double value, const char* format);
-	// A value that is JSON already (an array, an object, null).
+	// A value that is JSON already (an array, an object, null, a number formatted by the caller).
 	JsonObject& raw(std::string_view key, std::string_view json);
-	std::string str() const { return "{" + body_ + "}"; }
+	// The next member follows `separator` instead of the layout's (a document whose first members share a
+	// line and whose last ones do not).
+	JsonObject& then(std::string_view separator);
+	bool empty() const { return members_.empty(); }
+	std::string str(const JsonLayout& layout = {}) const;
 
 private:
-	std::string body_;
+	std::vector<std::pair<std::string, std::string>> members_;  // separator before it ("" = the layout's), member
+	std::string nextSeparator_;
+};
+
+// One JSON array of values that are JSON already (JsonObject::str(), jsonQuote(…), numbers), laid out as
+// JsonObject's; an empty array is [].
+class JsonArray {
+public:
+	JsonArray& raw(std::string json) {
+		items_.push_back(std::move(json));
+		return *this;
+	}
+	JsonArray& add(const std::string& text) { return raw(jsonQuote(text)); }
+	bool empty() const { return items_.empty(); }
+	std::string str(const JsonLayout& layout = {}) const;
+
+private:
+	std::vector<std::string> items_;
 };
 
 }  // namespace talkhead

@@ -27,8 +27,7 @@ int runAlign(const std::vector<std::string>& argv) {
 	if (!args.parse(argv)) return 0;
 	args.onePositional("give one audio or video file");
 	const std::string input = args.positionals()[0];
-	auto output = args.get("--output");
-	if (!output) throw UsageError("align: -o OUT.TextGrid is required");
+	const std::string output = args.required("--output", "-o OUT.TextGrid is required");
 	std::string text;
 	if (auto f = args.get("--text-file")) {
 		if (args.has("--text")) throw UsageError("align: give --text or --text-file, not both");
@@ -46,8 +45,8 @@ int runAlign(const std::vector<std::string>& argv) {
 	if (args.has("--force")) options.mismatchBelow = 0;
 	const Alignment al = alignSpeechFile(input, text, options);
 	const std::string grid = alignmentTextGrid(al, al.phones.intervals.empty() ? Ticks(0) : al.phones.intervals.back().end);
-	if (*output == "-") std::fwrite(grid.data(), 1, grid.size(), stdout);
-	else writeFileAtomically(*output, grid);
+	if (output == "-") std::fwrite(grid.data(), 1, grid.size(), stdout);
+	else writeFileAtomically(output, grid);
 	for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(input + ": " + w).c_str());
 	if (!args.has("--quiet")) std::fprintf(stderr, "%s: %s\n", input.c_str(), alignmentSummary(al).c_str());
 	return 0;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
 #include "base/atomic_file.h"
 #include "base/error.h"
@@ -127,8 +128,10 @@ void renderSideBySide(const BatchRow& row, const std::string& path, const std::s
 
 }  // namespace
 
-int runBatch(const std::vector<std::string>& argv) {
-	Args args("batch", "talkhead batch MANIFEST -o OUTDIR [options]   |   talkhead batch --merge OUTDIR SHARD_DIR…",
+namespace {
+
+Args batchArgs() {
+	return Args("batch", "talkhead batch MANIFEST -o OUTDIR [options]   |   talkhead batch --merge OUTDIR SHARD_DIR…",
 	          {{"--output", "OUTDIR", "folder for the stimuli (ID.mp4), key.csv and the orders (required)", "-o"},
 	           {"--seed", "N", "seed of the blind IDs and the orders (default 1)"},
 	           {"--participants", "N", "presentation orders to write, one per participant (default: one full design: n stimuli, 2n when n is odd)"},
@@ -149,7 +152,10 @@ int runBatch(const std::vector<std::string>& argv) {
 	          "skips stimuli already complete (checked against key.csv's SHA-256); a failing row is reported and\n"
 	          "the others go on; the exit code is 0 only when every row of the shard succeeded. Columns: README\n"
 	          "'Perceptual-test stimuli'.");
-	if (!args.parse(argv)) return 0;
+}
+
+// --score and --merge: the two modes that render nothing.
+int runScoreOrMerge(const Args& args) {
 	if (auto key = args.get("--score")) {
 		if (args.positionals().empty()) throw UsageError("batch --score KEY.csv: name the answer files (answers-NN.csv)");
 		const Score s = scoreAnswers(*key, args.positionals());
@@ -157,16 +163,123 @@ int runBatch(const std::vector<std::string>& argv) {
 		if (auto png = args.get("--confusion")) writeConfusionPng(s, *png);
 		return 0;
 	}
-	if (auto merge = args.get("--merge")) {
-		if (args.positionals().empty()) throw UsageError("batch --merge OUTDIR: name the shard folders to join");
-		const std::size_t missing = mergeShards(*merge, args.positionals());
-		if (missing) std::fprintf(stderr, "talkhead: error: %s: %zu stimuli are in no shard yet (key.csv says 'missing')\n", merge->c_str(), missing);
-		else if (!args.has("--quiet")) std::fprintf(stderr, "batch: %zu shards joined into %s\n", args.positionals().size(), merge->c_str());
-		return missing ? 1 : 0;
+	const std::string merge = *args.get("--merge");
+	if (args.positionals().empty()) throw UsageError("batch --merge OUTDIR: name the shard folders to join");
+	const std::size_t missing = mergeShards(merge, args.positionals());
+	if (missing) std::fprintf(stderr, "talkhead: error: %s: %zu stimuli are in no shard yet (key.csv says 'missing')\n", merge.c_str(), missing);
+	else if (!args.has("--quiet")) std::fprintf(stderr, "batch: %zu shards joined into %s\n", args.positionals().size(), merge.c_str());
+	return missing ? 1 : 0;
+}
+
+// One run over a manifest's rows: renders the shard's stimuli, resumes complete ones, reports each, and
+// keeps key.csv current after every stimulus.
+struct BatchRun {
+	const Manifest& m;
+	const std::vector<std::string>& ids;
+	std::string out, keyPath, threads, progressMode;
+	std::size_t shard = 0, shards = 1, inShard = 0;
+	std::map<std::string, std::string> previous;  // ID → SHA-256 from an earlier run's key.csv
+	std::vector<StimulusResult> results;
+	std::size_t ok = 0, skipped = 0, failed = 0;
+	std::vector<std::pair<long, std::string>> failures;  // row line, message
+	ProgressBar bar;
+	std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+
+	BatchRun(const Manifest& manifest, const std::vector<std::string>& blindIds, bool noBar) : m(manifest), ids(blindIds), results(manifest.rows.size()), bar(noBar) {}
+
+	double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+
+	// One progress event per stimulus of the shard: a JSON line, or the bar.
+	void report(const BatchRow& row, const char* status, double seconds, const std::string& message) {
+		const std::size_t done = ok + skipped + failed;
+		if (progressMode == "json") {
+			JsonObject j;
+			j.add("type", "stimulus").add("done", done).add("total", inShard).add("id", ids[row.index]).add("row", row.line).add("status", status).add("seconds", seconds, "%.3f");
+			if (!message.empty()) j.add("message", message);
+			std::fprintf(stderr, "%s\n", j.str().c_str());
+			std::fflush(stderr);
+		} else if (progressMode == "bar") {
+			bar.report(inShard ? double(done) / double(inShard) : 1.0,
+			           std::to_string(done) + "/" + std::to_string(inShard) + (failed ? ", " + std::to_string(failed) + " failed" : ""));
+		}
 	}
+
+	void row(const BatchRow& row) {
+		std::error_code ec;
+		StimulusResult& res = results[row.index];
+		res.file = ids[row.index] + ".mp4";
+		const std::string path = (fs::path(out) / res.file).string();
+		if (row.index % shards != shard) {
+			// Another shard's row: kept as complete when another shard already made it in this folder.
+			auto p = previous.find(ids[row.index]);
+			const bool done = p != previous.end() && fs::is_regular_file(path, ec) && sha256File(path) == p->second;
+			res.status = done ? "ok" : "not-in-shard";
+			if (done) res.sha256 = p->second;
+			return;
+		}
+		// Resume: a file whose checksum key.csv already holds is complete.
+		if (auto p = previous.find(ids[row.index]); p != previous.end() && fs::is_regular_file(path, ec) && sha256File(path) == p->second) {
+			res.status = "ok", res.sha256 = p->second;  // complete (the key does not say which run made it)
+			++skipped;
+			report(row, "complete", 0, "");
+			return;
+		}
+		const auto started = std::chrono::steady_clock::now();
+		const std::string timeline = (fs::path(out) / (ids[row.index] + ".json")).string();
+		try {
+			std::string message;
+			auto run = [&](std::vector<std::string> a) {
+				const int rc = runChild(a, &message);
+				if (rc != 0) throw Error(message.empty() ? "exit code " + std::to_string(rc) : message);
+			};
+			if (!row.sideBySide) {
+				std::vector<std::string> a{row.command};
+				a.insert(a.end(), row.args.begin(), row.args.end());
+				a.insert(a.end(), {"-o", path, "-q", "--threads", threads, "--timeline-out", timeline});
+				run(a);
+			} else {
+				renderSideBySide(row, path, timeline, threads, run);
+			}
+			res.status = "ok", res.sha256 = sha256File(path);
+			++ok;
+			report(row, "rendered", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), "");
+		} catch (const std::exception& e) {
+			res.status = "failed", res.message = e.what();
+			++failed;
+			failures.emplace_back(row.line, e.what());
+			bar.finish();
+			std::fprintf(stderr, "talkhead: error: %s\n", safeLine(m.path + ":" + std::to_string(row.line) + ": " + e.what()).c_str());
+			report(row, "failed", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), e.what());
+		}
+		// After every stimulus, so a batch stopped half-way resumes from where it was.
+		writeFileAtomically(keyPath, keyCsv(m, ids, results));
+	}
+
+	void summary(std::size_t orders) const {
+		const std::size_t n = m.rows.size();
+		if (progressMode == "json")
+			std::fprintf(stderr, "%s\n",
+			             JsonObject().add("type", "summary").add("stimuli", n).add("in_shard", inShard).add("rendered", ok).add("complete", skipped).add("failed", failed)
+			                 .add("seconds", elapsed(), "%.3f").str().c_str());
+		if (progressMode != "none") {
+			// The summary table: counts per outcome, then every failed row.
+			std::fprintf(stderr, "batch: %zu stimuli%s in %.1f s; key.csv and %zu orders in %s\n", n,
+			             shards > 1 ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str() : "", elapsed(), orders, out.c_str());
+			std::fprintf(stderr, "  %-18s %6zu\n  %-18s %6zu\n  %-18s %6zu\n", "rendered", ok, "already complete", skipped, "failed", failed);
+			if (shards > 1) std::fprintf(stderr, "  %-18s %6zu\n", "other shards", n - inShard);
+			for (const auto& [line, message] : failures) std::fprintf(stderr, "  failed: %s:%ld: %s\n", m.path.c_str(), line, message.c_str());
+		}
+	}
+};
+
+}  // namespace
+
+int runBatch(const std::vector<std::string>& argv) {
+	Args args = batchArgs();
+	if (!args.parse(argv)) return 0;
+	if (args.has("--score") || args.has("--merge")) return runScoreOrMerge(args);
 	args.onePositional("expected one MANIFEST (CSV or JSON)");
-	auto out = args.get("--output");
-	if (!out) throw UsageError("batch: -o OUTDIR is required");
+	const std::string out = args.required("--output", "-o OUTDIR is required");
 	const std::uint64_t seed = std::uint64_t(args.number("--seed", 1, 0, 9007199254740991.0));
 	std::size_t shard = 0, shards = 1;
 	if (auto s = args.get("--shard")) {
@@ -202,108 +315,32 @@ int runBatch(const std::vector<std::string>& argv) {
 	const auto orders = presentationOrders(n, participants, seed, labels.empty() ? nullptr : &labels, &warning);
 	if (!warning.empty()) std::fprintf(stderr, "talkhead: warning: --no-repeat: %s\n", warning.c_str());
 
+	BatchRun run(m, ids, progressMode != "bar");
+	run.out = out, run.threads = threads, run.progressMode = progressMode, run.shard = shard, run.shards = shards;
 	std::error_code ec;
-	fs::create_directories(*out, ec);
-	if (ec) throw Error(*out, 0, "cannot create folder: " + ec.message());
-	const std::string keyPath = (fs::path(*out) / "key.csv").string();
-	const auto previous = readKeyChecksums(keyPath);
-	std::vector<StimulusResult> results(n);
-	std::size_t ok = 0, skipped = 0, failed = 0;
-	const std::size_t inShard = n / shards + (shard < n % shards ? 1 : 0);
-	ProgressBar bar(progressMode != "bar");
-	const auto t0 = std::chrono::steady_clock::now();
-	auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-	// One progress event per stimulus of the shard: a JSON line, or the bar.
-	auto report = [&](const BatchRow& row, const char* status, double seconds, const std::string& message) {
-		const std::size_t done = ok + skipped + failed;
-		if (progressMode == "json") {
-			JsonObject j;
-			j.add("type", "stimulus").add("done", done).add("total", inShard).add("id", ids[row.index]).add("row", row.line).add("status", status).add("seconds", seconds, "%.3f");
-			if (!message.empty()) j.add("message", message);
-			std::fprintf(stderr, "%s\n", j.str().c_str());
-			std::fflush(stderr);
-		} else if (progressMode == "bar") {
-			bar.report(inShard ? double(done) / double(inShard) : 1.0,
-			           std::to_string(done) + "/" + std::to_string(inShard) + (failed ? ", " + std::to_string(failed) + " failed" : ""));
-		}
-	};
-	std::vector<std::pair<long, std::string>> failures;  // row line, message
+	fs::create_directories(out, ec);
+	if (ec) throw Error(out, 0, "cannot create folder: " + ec.message());
+	run.keyPath = (fs::path(out) / "key.csv").string();
+	run.previous = readKeyChecksums(run.keyPath);
+	run.inShard = n / shards + (shard < n % shards ? 1 : 0);
 	assignSides(m, seed);
-	for (const BatchRow& row : m.rows) {
-		StimulusResult& res = results[row.index];
-		res.file = ids[row.index] + ".mp4";
-		const std::string path = (fs::path(*out) / res.file).string();
-		if (row.index % shards != shard) {
-			// Another shard's row: kept as complete when another shard already made it in this folder.
-			auto p = previous.find(ids[row.index]);
-			const bool done = p != previous.end() && fs::is_regular_file(path, ec) && sha256File(path) == p->second;
-			res.status = done ? "ok" : "not-in-shard";
-			if (done) res.sha256 = p->second;
-			continue;
-		}
-		// Resume: a file whose checksum key.csv already holds is complete.
-		if (auto p = previous.find(ids[row.index]); p != previous.end() && fs::is_regular_file(path, ec) && sha256File(path) == p->second) {
-			res.status = "ok", res.sha256 = p->second;  // complete (the key does not say which run made it)
-			++skipped;
-			report(row, "complete", 0, "");
-			continue;
-		}
-		const auto started = std::chrono::steady_clock::now();
-		const std::string timeline = (fs::path(*out) / (ids[row.index] + ".json")).string();
-		try {
-			std::string message;
-			auto run = [&](std::vector<std::string> a) {
-				const int rc = runChild(a, &message);
-				if (rc != 0) throw Error(message.empty() ? "exit code " + std::to_string(rc) : message);
-			};
-			if (!row.sideBySide) {
-				std::vector<std::string> a{row.command};
-				a.insert(a.end(), row.args.begin(), row.args.end());
-				a.insert(a.end(), {"-o", path, "-q", "--threads", threads, "--timeline-out", timeline});
-				run(a);
-			} else {
-				renderSideBySide(row, path, timeline, threads, run);
-			}
-			res.status = "ok", res.sha256 = sha256File(path);
-			++ok;
-			report(row, "rendered", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), "");
-		} catch (const std::exception& e) {
-			res.status = "failed", res.message = e.what();
-			++failed;
-			failures.emplace_back(row.line, e.what());
-			bar.finish();
-			std::fprintf(stderr, "talkhead: error: %s\n", safeLine(m.path + ":" + std::to_string(row.line) + ": " + e.what()).c_str());
-			report(row, "failed", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), e.what());
-		}
-		// After every stimulus, so a batch stopped half-way resumes from where it was.
-		writeFileAtomically(keyPath, keyCsv(m, ids, results));
-	}
-	bar.finish();
-	writeFileAtomically(keyPath, keyCsv(m, ids, results));
+	for (const BatchRow& row : m.rows) run.row(row);
+	run.bar.finish();
+	writeFileAtomically(run.keyPath, keyCsv(m, ids, run.results));
 	const int width = participants >= 100 ? 3 : 2;
 	for (std::size_t q = 0; q < orders.size(); ++q) {
 		char name[32];
 		std::snprintf(name, sizeof name, "order-%0*zu.csv", width, q + 1);
-		writeFileAtomically((fs::path(*out) / name).string(), orderCsv(orders[q], ids, results));
+		writeFileAtomically((fs::path(out) / name).string(), orderCsv(orders[q], ids, run.results));
 	}
 	if (args.has("--player") || args.has("--player-replays") || args.has("--player-lang")) {
 		const std::string lang = args.get("--player-lang", "en");
 		if (lang != "en" && lang != "pt") throw UsageError("batch: --player-lang takes en or pt");
 		const int replays = int(args.number("--player-replays", 0, 0, 10));
-		writeFileAtomically((fs::path(*out) / "index.html").string(), playerHtml(ids, results, orders, replays, lang));
+		writeFileAtomically((fs::path(out) / "index.html").string(), playerHtml(ids, run.results, orders, replays, lang));
 	}
-	if (progressMode == "json")
-		std::fprintf(stderr, "{\"type\": \"summary\", \"stimuli\": %zu, \"in_shard\": %zu, \"rendered\": %zu, \"complete\": %zu, \"failed\": %zu, \"seconds\": %.3f}\n", n,
-		             inShard, ok, skipped, failed, elapsed());
-	if (progressMode != "none") {
-		// The summary table: counts per outcome, then every failed row.
-		std::fprintf(stderr, "batch: %zu stimuli%s in %.1f s; key.csv and %zu orders in %s\n", n,
-		             shards > 1 ? (" (shard " + std::to_string(shard) + "/" + std::to_string(shards) + ")").c_str() : "", elapsed(), orders.size(), out->c_str());
-		std::fprintf(stderr, "  %-18s %6zu\n  %-18s %6zu\n  %-18s %6zu\n", "rendered", ok, "already complete", skipped, "failed", failed);
-		if (shards > 1) std::fprintf(stderr, "  %-18s %6zu\n", "other shards", n - inShard);
-		for (const auto& [line, message] : failures) std::fprintf(stderr, "  failed: %s:%ld: %s\n", m.path.c_str(), line, message.c_str());
-	}
-	return failed ? 1 : 0;
+	run.summary(orders.size());
+	return run.failed ? 1 : 0;
 }
 
 }  // namespace talkhead::cli

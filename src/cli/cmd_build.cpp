@@ -75,8 +75,7 @@ int runBuild(const std::vector<std::string>& argv) {
 	          "All components are kept unless --components or --evr says otherwise.");
 	if (!args.parse(argv)) return 0;
 	args.onePositional("expected one CORPUS argument");
-	auto output = args.get("--output");
-	if (!output) throw UsageError("build: -o MODEL.thm is required");
+	const std::string output = args.required("--output", "-o MODEL.thm is required");
 	const bool quiet = args.has("--quiet");
 	BuildOptions opts;
 	opts.threads = unsigned(args.number("--threads", 0, 0, 256));
@@ -105,10 +104,10 @@ int runBuild(const std::vector<std::string>& argv) {
 	parseComponentOption(args, "--evr", &regionNames, opts);
 
 	// Check the output location before the expensive part.
-	std::filesystem::path out(*output);
+	std::filesystem::path out(output);
 	std::error_code ec;
 	if (!out.parent_path().empty() && !std::filesystem::is_directory(out.parent_path(), ec))
-		throw Error(*output, 0, "cannot write model: folder '" + out.parent_path().string() + "' does not exist");
+		throw Error(output, 0, "cannot write model: folder '" + out.parent_path().string() + "' does not exist");
 
 	int width, height;
 	imageSize(corpus.entries.front().imagePath, width, height);
@@ -123,11 +122,11 @@ int runBuild(const std::vector<std::string>& argv) {
 	ProgressBar bar(quiet);
 	FaceModel model = buildFaceModel(
 	    scheme, shapes, samples, width, height, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, opts, bar);
-	saveModel(model, *output);
+	saveModel(model, output);
 	bar.finish();
 	if (!quiet) {
 		double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-		std::fprintf(stderr, "built %s: %zu images %dx%d, %d points (%s), Procrustes %d iterations;", output->c_str(), model.sampleCount(),
+		std::fprintf(stderr, "built %s: %zu images %dx%d, %d points (%s), Procrustes %d iterations;", output.c_str(), model.sampleCount(),
 		             width, height, model.pointCount(), scheme.name.c_str(), model.procrustesIterations);
 		for (const auto& r : model.regions)
 			std::fprintf(stderr, " %s %zu px %ld PCs;", r.name.c_str(), r.pixels.size(), long(r.pca.components()));

@@ -34,8 +34,7 @@ int runSynth(const std::vector<std::string>& argv) {
 	          "'talkhead build DIR/corpus.csv -o face.thm'.");
 	if (!args.parse(argv)) return 0;
 	if (!args.positionals().empty()) throw UsageError("corpus synth: unexpected argument '" + args.positionals()[0] + "'");
-	auto out = args.get("--output");
-	if (!out) throw UsageError("corpus synth: -o DIR is required");
+	const std::string out = args.required("--output", "-o DIR is required");
 	SynthCorpusOptions o;
 	if (auto s = args.get("--size")) parseSize("corpus synth: --size", *s, o.width, o.height, 64, false);
 	o.seed = std::uint64_t(args.number("--seed", 1, 0, 9.0e15));
@@ -63,13 +62,13 @@ int runSynth(const std::vector<std::string>& argv) {
 	const bool quiet = args.has("--quiet");
 	const auto t0 = std::chrono::steady_clock::now();
 	ProgressBar bar(quiet);
-	writeSynthCorpus(*out, o, bar);
+	writeSynthCorpus(out, o, bar);
 	bar.finish();
 	if (!quiet) {
 		const std::size_t n = (o.emotions.empty() ? emotionLabels().size() : o.emotions.size()) *
 		                      (o.visemes.empty() ? visemeLabels().size() : o.visemes.size());
 		double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-		std::fprintf(stderr, "wrote %s/corpus.csv: %zu images %dx%d in %.1f s\n", out->c_str(), n, o.width, o.height, secs);
+		std::fprintf(stderr, "wrote %s/corpus.csv: %zu images %dx%d in %.1f s\n", out.c_str(), n, o.width, o.height, secs);
 	}
 	return 0;
 }
@@ -87,8 +86,7 @@ int runAuTemplates(const std::vector<std::string>& argv) {
 	          "'--emotion-source au' use the templates of the model's scheme.");
 	if (!args.parse(argv)) return 0;
 	args.onePositional("expected one CORPUS (a CSV or a folder)");
-	auto out = args.get("--output");
-	if (!out) throw UsageError("corpus au-templates: -o F.tsv is required");
+	const std::string out = args.required("--output", "-o F.tsv is required");
 	const std::string path = args.positionals()[0];
 	const Corpus corpus = loadCorpus(path);
 	const Scheme scheme = loadScheme(args.get("--scheme", corpus.schemeName));
@@ -107,9 +105,9 @@ int runAuTemplates(const std::vector<std::string>& argv) {
 		for (const auto& au : fit.unused) comment += " " + au;
 		comment += ": no template.";
 	}
-	writeFileAtomically(*out, formatAuTemplates(fit.templates, scheme, comment));
+	writeFileAtomically(out, formatAuTemplates(fit.templates, scheme, comment));
 	if (!args.has("--quiet"))
-		std::fprintf(stderr, "wrote %s: %zu action units x %d points from %s\n", out->c_str(), fit.templates.names.size(), scheme.pointCount(), summary);
+		std::fprintf(stderr, "wrote %s: %zu action units x %d points from %s\n", out.c_str(), fit.templates.names.size(), scheme.pointCount(), summary);
 	return 0;
 }
 

@@ -20,6 +20,35 @@
 
 namespace talkhead::cli {
 
+namespace {
+
+// The phones of the video's speech (and its words, where known), from --transcript, or --text/--text-file
+// aligned to the audio (the video's own track, or --audio).
+std::vector<PhoneSegment> videoSpeech(const Args& args, const std::string& video, const VideoInfo& info, const Language& lang, bool quiet,
+                                      std::vector<Interval>& words) {
+	const std::string audio = args.get("--audio", video);
+	if (!args.has("--audio") && !info.hasAudio)
+		throw Error(video, 0, "has no audio track to align the text with (give --audio, or --select-by-shape)");
+	Transcript phoneTranscript;
+	if (auto t = args.get("--transcript")) {
+		phoneTranscript = readTranscript(*t);
+	} else {
+		const std::string text = args.has("--text") ? *args.get("--text") : readTextFile(*args.get("--text-file"));
+		AlignOptions ao;
+		ao.languageTag = lang.tag();
+		Alignment a = alignSpeechFile(audio, text, ao);
+		for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
+		if (!quiet) std::fprintf(stderr, "aligned the text to %s (confidence %.2f)\n", audio.c_str(), a.confidence);
+		phoneTranscript = a.phones;
+		words = a.words.intervals;
+	}
+	if (phoneTranscript.level == LabelLevel::Word) words = phoneTranscript.intervals;
+	// An alignment's phones are canonical IPA; a transcript's notation is decided from its labels.
+	return phoneSegments(phoneTranscript, lang, UnknownPhone::Error, args.get("--transcript") ? Notation::Auto : Notation::Ipa);
+}
+
+}  // namespace
+
 int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	Args args("corpus from-video", "talkhead corpus from-video VIDEO [--transcript T | --text \"…\"] [options] -o CORPUS_DIR",
 	          {{"--output", "DIR", "corpus folder to write: corpus.csv, frames/, contact.png, landmarks.tsv (required)", "-o"},
@@ -46,8 +75,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	          "pose); the baseface is the most neutral frame unless --baseface says which.");
 	if (!args.parse(argv)) return 0;
 	args.onePositional("give one video");
-	auto out = args.get("--output");
-	if (!out) throw UsageError("corpus from-video: -o DIR is required");
+	const std::string out = args.required("--output", "-o DIR is required");
 	const std::string video = args.positionals()[0];
 	const int textSources = int(args.has("--transcript")) + int(args.has("--text")) + int(args.has("--text-file"));
 	if (textSources > 1) throw UsageError("corpus from-video: give one of --transcript, --text and --text-file");
@@ -81,29 +109,11 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	std::vector<PhoneSegment> phones;
 	std::vector<Interval> words;
 	if (!byShape) {
-		const std::string audio = args.get("--audio", video);
-		if (!args.has("--audio") && !info.hasAudio)
-			throw Error(video, 0, "has no audio track to align the text with (give --audio, or --select-by-shape)");
-		Transcript phoneTranscript;
-		if (auto t = args.get("--transcript")) {
-			phoneTranscript = readTranscript(*t);
-		} else {
-			const std::string text = args.has("--text") ? *args.get("--text") : readTextFile(*args.get("--text-file"));
-			AlignOptions ao;
-			ao.languageTag = lang.tag();
-			Alignment a = alignSpeechFile(audio, text, ao);
-			for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
-			if (!quiet) std::fprintf(stderr, "aligned the text to %s (confidence %.2f)\n", audio.c_str(), a.confidence);
-			phoneTranscript = a.phones;
-			words = a.words.intervals;
-		}
-		if (phoneTranscript.level == LabelLevel::Word) words = phoneTranscript.intervals;
-		// An alignment's phones are canonical IPA; a transcript's notation is decided from its labels.
-		phones = phoneSegments(phoneTranscript, lang, UnknownPhone::Error, args.get("--transcript") ? Notation::Auto : Notation::Ipa);
+		phones = videoSpeech(args, video, info, lang, quiet, words);
 		// Times in the transcript are relative to the audio, which starts with the video.
 	}
 
-	OutputDir dir(*out);
+	OutputDir dir(out);
 	ProgressBar bar(quiet);
 	LandmarkTrack track;
 	if (auto lm = args.get("--landmarks")) {
@@ -119,7 +129,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	dir.commit();
 	if (!quiet) {
 		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-		std::fprintf(stderr, "wrote %s/corpus.csv: %zu frames by %s for %zu CDVs, baseface frame %lld; face in %zu of %zu frames; %.1f s\n", out->c_str(),
+		std::fprintf(stderr, "wrote %s/corpus.csv: %zu frames by %s for %zu CDVs, baseface frame %lld; face in %zu of %zu frames; %.1f s\n", out.c_str(),
 		             plan.entries.size(), plan.method == "shape" ? (autoShape ? "mouth shape (no transcript or text given)" : "mouth shape") : "phones",
 		             std::size_t(visemeLabels().size() - plan.missing.size()), (long long)plan.basefaceFrame, track.foundCount(), track.frames.size(), secs);
 		if (!plan.missing.empty()) {

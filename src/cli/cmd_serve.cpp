@@ -59,6 +59,40 @@ std::vector<OptionSpec> with(std::vector<OptionSpec> a, const std::vector<Option
 
 }  // namespace
 
+namespace {
+
+// Who may open sessions: the token (required off loopback), the allowed origins and hosts, TLS.
+void securityOptions(const Args& args, ServeOptions& o) {
+	const bool loopback = isLoopbackHost(o.host);
+	// The token: never from a log, and preferably not from the command line (ps shows it).
+	if (auto file = args.get("--token-file")) {
+		const std::string text = readTextFile(*file);
+		o.token = std::string(trim(text.substr(0, text.find('\n'))));
+		if (o.token.empty()) throw Error(*file, 1, "the token file is empty");
+	} else if (auto t = args.get("--token")) {
+		o.token = *t;
+	} else if (const char* env = std::getenv("TALKHEAD_TOKEN"); env && *env) {
+		o.token = env;
+	}
+	if (!o.token.empty() && o.token.size() < 16) throw UsageError("serve: the token must be at least 16 characters");
+	if (!loopback && o.token.empty())
+		throw UsageError("serve: listening on " + safeQuote(o.host) + " (not loopback) needs a token: --token-file FILE, $TALKHEAD_TOKEN or --token");
+	auto list = [&](const char* name) {
+		std::vector<std::string> out;
+		if (auto v = args.get(name))
+			for (const std::string& item : split(*v, ','))
+				if (!trim(item).empty()) out.emplace_back(trim(item));
+		return out;
+	};
+	o.allowOrigins = list("--allow-origin");
+	o.allowHosts = list("--allow-host");
+	o.tlsCert = args.get("--tls-cert", "");
+	o.tlsKey = args.get("--tls-key", "");
+	if (o.tlsCert.empty() != o.tlsKey.empty()) throw UsageError("serve: --tls-cert and --tls-key go together");
+}
+
+}  // namespace
+
 int runServe(const std::vector<std::string>& argv) {
 	Args args("serve", "talkhead serve [--listen 127.0.0.1:8765] [--demo] [--model M.thm] [--size WxH] [--fps N]",
 	          with(liveOptionSpecs(),
@@ -117,32 +151,7 @@ int runServe(const std::vector<std::string>& argv) {
 		o.recordDir = *dir;
 	}
 	if (o.host == "localhost") o.host = "127.0.0.1";
-	const bool loopback = isLoopbackHost(o.host);
-	// The token: never from a log, and preferably not from the command line (ps shows it).
-	if (auto file = args.get("--token-file")) {
-		const std::string text = readTextFile(*file);
-		o.token = std::string(trim(text.substr(0, text.find('\n'))));
-		if (o.token.empty()) throw Error(*file, 1, "the token file is empty");
-	} else if (auto t = args.get("--token")) {
-		o.token = *t;
-	} else if (const char* env = std::getenv("TALKHEAD_TOKEN"); env && *env) {
-		o.token = env;
-	}
-	if (!o.token.empty() && o.token.size() < 16) throw UsageError("serve: the token must be at least 16 characters");
-	if (!loopback && o.token.empty())
-		throw UsageError("serve: listening on " + safeQuote(o.host) + " (not loopback) needs a token: --token-file FILE, $TALKHEAD_TOKEN or --token");
-	auto list = [&](const char* name) {
-		std::vector<std::string> out;
-		if (auto v = args.get(name))
-			for (const std::string& item : split(*v, ','))
-				if (!trim(item).empty()) out.emplace_back(trim(item));
-		return out;
-	};
-	o.allowOrigins = list("--allow-origin");
-	o.allowHosts = list("--allow-host");
-	o.tlsCert = args.get("--tls-cert", "");
-	o.tlsKey = args.get("--tls-key", "");
-	if (o.tlsCert.empty() != o.tlsKey.empty()) throw UsageError("serve: --tls-cert and --tls-key go together");
+	securityOptions(args, o);
 	o.idleSeconds = args.number("--idle-timeout", 300, 0, 86400 * 7);
 	o.limits.queuedRequests = int(args.number("--max-queued-requests", 32, 1, 100000));
 	o.limits.queuedSeconds = args.number("--max-queued-speech", 900, 1, 86400);
@@ -180,8 +189,7 @@ int runLive(const std::vector<std::string>& argv) {
 	if (!args.parse(argv)) return 0;
 	args.onePositional("give one session script");
 	const std::string script = args.positionals()[0];
-	const auto out = args.get("--output");
-	if (!out) throw UsageError("live: -o OUT is required");
+	const std::string out = args.required("--output", "-o OUT is required");
 	const std::string format = args.get("--format", "mp4");
 	if (format != "mp4" && format != "y4m") throw UsageError("live: --format must be mp4 or y4m");
 	LiveOptions o = liveOptions(args, "live");
@@ -201,7 +209,7 @@ int runLive(const std::vector<std::string>& argv) {
 	// Through a frame sink, as render writes (a temporary name, renamed when complete: nothing partial). The
 	// session's sound never ends: the video's length of it.
 	const std::unique_ptr<FrameSink> sink =
-	    format == "mp4" ? makeMp4Sink(*out, mp4, shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total))) : makeY4mSink(*out);
+	    format == "mp4" ? makeMp4Sink(out, mp4, shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total))) : makeY4mSink(out);
 	sink->begin(info);
 	const bool quiet = args.has("--quiet");
 	YuvImage frame;

@@ -69,8 +69,7 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	          "the face is lost are marked 'lost' in landmarks.tsv, with no .pts.");
 	if (!args.parse(argv)) return 0;
 	args.onePositional("give one video or image folder");
-	auto out = args.get("--output");
-	if (!out) throw UsageError("corpus landmarks: -o DIR is required");
+	const std::string out = args.required("--output", "-o DIR is required");
 	const std::string input = args.positionals()[0];
 	TrackOptions o;
 	o.every = int(args.number("--every", 1, 1, 10000));
@@ -87,7 +86,7 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	const bool quiet = args.has("--quiet");
 	const auto t0 = std::chrono::steady_clock::now();
 
-	OutputDir dir(*out);
+	OutputDir dir(out);
 	ProgressBar bar(quiet);
 	std::unique_ptr<ThumbnailPicker> picker;
 	const bool writeEachPts = !args.has("--no-pts");
@@ -120,7 +119,7 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	if (!quiet) {
 		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		const std::size_t lost = track.frames.size() - track.foundCount();
-		std::fprintf(stderr, "wrote %s: %zu frames, face in %zu (%zu lost), in %.1f s (%.0f frames/s)", out->c_str(), track.frames.size(), track.foundCount(), lost,
+		std::fprintf(stderr, "wrote %s: %zu frames, face in %zu (%zu lost), in %.1f s (%.0f frames/s)", out.c_str(), track.frames.size(), track.foundCount(), lost,
 		             secs, double(track.frames.size()) / std::max(1e-9, secs));
 		if (track.frames.size() > 2 && std::filesystem::is_regular_file(input))
 			std::fprintf(stderr, "; rigid-point jitter %.4f raw -> %.4f eye distances", rigidJitter(track, true), rigidJitter(track, false));
@@ -169,12 +168,11 @@ int runTrack(const std::vector<std::string>& argv) {
 	          "--max-turn are dropped and bridged by Hermite interpolation (a warning names spans of 0.5 s or more).");
 	if (!args.parse(argv)) return 0;
 	args.onePositional("give one video (or a landmarks.tsv)");
-	const auto out = args.get("--output");
-	if (!out) throw UsageError("track: -o F.json is required");
+	const std::string out = args.required("--output", "-o F.json is required");
 	const NonVerbalOptions o = parseNonVerbalOptions(args, "track", "head,brows,eyes");
 	std::string plot = args.get("--plot", "");
-	if (plot.empty()) plot = (endsWith(*out, ".json") ? out->substr(0, out->size() - 5) : *out) + ".png";
-	checkWritableFolder(*out);
+	if (plot.empty()) plot = (endsWith(out, ".json") ? out.substr(0, out.size() - 5) : out) + ".png";
+	checkWritableFolder(out);
 	checkWritableFolder(plot);
 	const std::string input = args.positionals()[0];
 	const bool quiet = args.has("--quiet");
@@ -184,7 +182,7 @@ int runTrack(const std::vector<std::string>& argv) {
 	std::snprintf(note, sizeof note, "talkhead track: %zu frames at %.3f fps, neutral from %zu frames; head roll in degrees, x y in eye distances", nv.frames.size(),
 	              nv.rate, nv.neutralCount);
 	// Both under temporary names first: a failure or a stop leaves neither.
-	StagedFile png(plot), json(*out);
+	StagedFile png(plot), json(out);
 	png.write([&](const std::string& t) { writeImage(t, plotNonVerbal(nv)); });
 	json.write([&](const std::string& t) { writeFileAtomically(t, controlTrackJson(controls, input, note)); });
 	png.commit();
@@ -194,7 +192,7 @@ int runTrack(const std::vector<std::string>& argv) {
 		for (const auto& f : nv.frames) maxRoll = std::max(maxRoll, std::abs(f.roll) * 57.29577951308232);
 		double bridged = 0;
 		for (const auto& [a, b] : nv.bridged) bridged += toSeconds(b - a);
-		std::fprintf(stderr, "%s: %zu frames, %zu blinks, head roll up to %.1f deg, %zu action-unit curves, %.1f s bridged; plot %s\n", out->c_str(),
+		std::fprintf(stderr, "%s: %zu frames, %zu blinks, head roll up to %.1f deg, %zu action-unit curves, %.1f s bridged; plot %s\n", out.c_str(),
 		             nv.frames.size(), nv.blinks.size(), maxRoll, nv.channels.size(), bridged, plot.c_str());
 	}
 	return 0;

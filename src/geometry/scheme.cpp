@@ -17,6 +17,77 @@ int Scheme::indexOf(const std::string& n) const {
 	return -1;
 }
 
+namespace {
+
+// region NAME [grow=X] [feather=X] : POINT POINT …   (a point, or A>B@T)
+RegionSpec parseRegion(const Scheme& s, const std::vector<std::string>& f, const std::string& file, long ln) {
+	RegionSpec r;
+	if (f.size() < 2) throw Error(file, ln, "expected 'region NAME [grow=X] [feather=X] : POINT POINT …'");
+	r.name = f[1];
+	std::size_t i = 2;
+	for (; i < f.size() && f[i] != ":"; ++i) {
+		auto eq = f[i].find('=');
+		double v;
+		if (eq == std::string::npos || !parseDouble(f[i].substr(eq + 1), v))
+			throw Error(file, ln, "bad region option '" + f[i] + "' (expected grow=X or feather=X)");
+		std::string key = f[i].substr(0, eq);
+		if (key == "grow") r.grow = v;
+		else if (key == "feather") r.feather = v;
+		else throw Error(file, ln, "unknown region option '" + key + "'");
+	}
+	if (i == f.size()) throw Error(file, ln, "region '" + r.name + "': missing ':' before the boundary points");
+	std::set<std::pair<int, int>> seen;
+	for (++i; i < f.size(); ++i) {
+		// A point, or A>B@T: the point T of the way from A to B (T < 0: beyond A, away from B).
+		std::string a = f[i], b;
+		double t = 0;
+		if (auto gt = f[i].find('>'); gt != std::string::npos) {
+			auto at = f[i].find('@', gt);
+			a = f[i].substr(0, gt);
+			b = f[i].substr(gt + 1, at == std::string::npos ? std::string::npos : at - gt - 1);
+			if (at == std::string::npos || !parseDouble(f[i].substr(at + 1), t) || !(t >= -3 && t <= 3) || t == 0 || t == 1)
+				throw Error(file, ln, "region '" + r.name + "': bad boundary point '" + f[i] + "' (expected A>B@T with −3 ≤ T ≤ 3, T not 0 or 1)");
+		}
+		int idx = s.indexOf(a), other = b.empty() ? -1 : s.indexOf(b);
+		if (idx < 0) throw Error(file, ln, "region '" + r.name + "': unknown point '" + a + "'");
+		if (!b.empty() && (other < 0 || other == idx)) throw Error(file, ln, "region '" + r.name + "': bad second point '" + b + "' in '" + f[i] + "'");
+		if (!seen.insert({idx, other}).second) throw Error(file, ln, "region '" + r.name + "': point '" + f[i] + "' repeated");
+		r.boundary.push_back(idx);
+		r.towards.push_back(other);
+		r.fraction.push_back(t);
+	}
+	if (r.boundary.size() < 3) throw Error(file, ln, "region '" + r.name + "' needs at least 3 boundary points");
+	if (r.grow <= -1 || r.feather < 0) throw Error(file, ln, "region '" + r.name + "': grow must be > −1 and feather ≥ 0");
+	return r;
+}
+
+// eye NAME corners A B upper P … lower Q …  (lid points ordered from corner A to corner B)
+EyeSpec parseEye(const Scheme& s, const std::vector<std::string>& f, const std::string& file, long ln) {
+	const std::string usage = "expected 'eye NAME corners A B upper P … lower Q …'";
+	if (f.size() < 2) throw Error(file, ln, usage);
+	EyeSpec e;
+	e.name = f[1];
+	std::vector<int>* list = nullptr;
+	std::vector<int> corners;
+	for (std::size_t i = 2; i < f.size(); ++i) {
+		if (f[i] == "corners") list = &corners;
+		else if (f[i] == "upper") list = &e.upper;
+		else if (f[i] == "lower") list = &e.lower;
+		else if (!list) throw Error(file, ln, usage);
+		else {
+			const int idx = s.indexOf(f[i]);
+			if (idx < 0) throw Error(file, ln, "eye '" + e.name + "': unknown point '" + f[i] + "'");
+			list->push_back(idx);
+		}
+	}
+	if (corners.size() != 2 || e.upper.empty() || e.lower.empty())
+		throw Error(file, ln, "eye '" + e.name + "': needs 2 corners and at least one upper and one lower lid point");
+	e.corner0 = corners[0], e.corner1 = corners[1];
+	return e;
+}
+
+}  // namespace
+
 Scheme parseScheme(const std::string& text, const std::string& file) {
 	Scheme s;
 	std::map<std::string, double> classes;
@@ -65,71 +136,9 @@ Scheme parseScheme(const std::string& text, const std::string& file) {
 	}
 	if (s.name.empty()) throw Error(file, 0, "missing 'scheme NAME' line");
 	if (s.pointNames.size() < 3) throw Error(file, 0, "a scheme needs at least 3 points");
-	for (auto& [ln, f] : regionLines) {
-		RegionSpec r;
-		if (f.size() < 2) throw Error(file, ln, "expected 'region NAME [grow=X] [feather=X] : POINT POINT …'");
-		r.name = f[1];
-		std::size_t i = 2;
-		for (; i < f.size() && f[i] != ":"; ++i) {
-			auto eq = f[i].find('=');
-			double v;
-			if (eq == std::string::npos || !parseDouble(f[i].substr(eq + 1), v))
-				throw Error(file, ln, "bad region option '" + f[i] + "' (expected grow=X or feather=X)");
-			std::string key = f[i].substr(0, eq);
-			if (key == "grow") r.grow = v;
-			else if (key == "feather") r.feather = v;
-			else throw Error(file, ln, "unknown region option '" + key + "'");
-		}
-		if (i == f.size()) throw Error(file, ln, "region '" + r.name + "': missing ':' before the boundary points");
-		std::set<std::pair<int, int>> seen;
-		for (++i; i < f.size(); ++i) {
-			// A point, or A>B@T: the point T of the way from A to B (T < 0: beyond A, away from B).
-			std::string a = f[i], b;
-			double t = 0;
-			if (auto gt = f[i].find('>'); gt != std::string::npos) {
-				auto at = f[i].find('@', gt);
-				a = f[i].substr(0, gt);
-				b = f[i].substr(gt + 1, at == std::string::npos ? std::string::npos : at - gt - 1);
-				if (at == std::string::npos || !parseDouble(f[i].substr(at + 1), t) || !(t >= -3 && t <= 3) || t == 0 || t == 1)
-					throw Error(file, ln, "region '" + r.name + "': bad boundary point '" + f[i] + "' (expected A>B@T with −3 ≤ T ≤ 3, T not 0 or 1)");
-			}
-			int idx = s.indexOf(a), other = b.empty() ? -1 : s.indexOf(b);
-			if (idx < 0) throw Error(file, ln, "region '" + r.name + "': unknown point '" + a + "'");
-			if (!b.empty() && (other < 0 || other == idx)) throw Error(file, ln, "region '" + r.name + "': bad second point '" + b + "' in '" + f[i] + "'");
-			if (!seen.insert({idx, other}).second) throw Error(file, ln, "region '" + r.name + "': point '" + f[i] + "' repeated");
-			r.boundary.push_back(idx);
-			r.towards.push_back(other);
-			r.fraction.push_back(t);
-		}
-		if (r.boundary.size() < 3) throw Error(file, ln, "region '" + r.name + "' needs at least 3 boundary points");
-		if (r.grow <= -1 || r.feather < 0) throw Error(file, ln, "region '" + r.name + "': grow must be > −1 and feather ≥ 0");
-		s.regions.push_back(std::move(r));
-	}
+	for (const auto& [ln, f] : regionLines) s.regions.push_back(parseRegion(s, f, file, ln));
 	if (s.regions.empty()) throw Error(file, 0, "a scheme needs at least one region");
-	// eye NAME corners A B upper P … lower Q …  (lid points ordered from corner A to corner B)
-	for (auto& [ln, f] : eyeLines) {
-		const std::string usage = "expected 'eye NAME corners A B upper P … lower Q …'";
-		if (f.size() < 2) throw Error(file, ln, usage);
-		EyeSpec e;
-		e.name = f[1];
-		std::vector<int>* list = nullptr;
-		std::vector<int> corners;
-		for (std::size_t i = 2; i < f.size(); ++i) {
-			if (f[i] == "corners") list = &corners;
-			else if (f[i] == "upper") list = &e.upper;
-			else if (f[i] == "lower") list = &e.lower;
-			else if (!list) throw Error(file, ln, usage);
-			else {
-				const int idx = s.indexOf(f[i]);
-				if (idx < 0) throw Error(file, ln, "eye '" + e.name + "': unknown point '" + f[i] + "'");
-				list->push_back(idx);
-			}
-		}
-		if (corners.size() != 2 || e.upper.empty() || e.lower.empty())
-			throw Error(file, ln, "eye '" + e.name + "': needs 2 corners and at least one upper and one lower lid point");
-		e.corner0 = corners[0], e.corner1 = corners[1];
-		s.eyes.push_back(std::move(e));
-	}
+	for (const auto& [ln, f] : eyeLines) s.eyes.push_back(parseEye(s, f, file, ln));
 	s.weights = Eigen::Map<Eigen::VectorXd>(weights.data(), Eigen::Index(weights.size()));
 	if (!(s.weights.sum() > 0)) throw Error(file, 0, "all alignment weights are zero");
 	return s;

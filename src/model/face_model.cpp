@@ -64,6 +64,46 @@ void fillColumn(const RegionModel& r, const Image& frame, const Points& aligned,
 
 }  // namespace
 
+namespace {
+
+// The regions' masks in the mean-shape frame: their pixels and soft alpha.
+std::vector<RegionModel> regionMasks(const Scheme& scheme, const Points& meanShape, int width, int height) {
+	std::vector<RegionModel> regions;
+	for (const RegionSpec& spec : scheme.regions) {
+		RegionModel r;
+		r.name = spec.name;
+		Points boundary = regionBoundary(spec, meanShape);
+		double featherPx = spec.feather * std::sqrt(regionArea(boundary, spec.grow));
+		std::vector<float> alpha = softRegionMask(boundary, spec.grow, featherPx, width, height);
+		for (std::size_t p = 0; p < alpha.size(); ++p) {
+			if (alpha[p] > 0.f) {
+				r.pixels.push_back(std::int32_t(p));
+				r.alpha.push_back(alpha[p]);
+			}
+		}
+		if (r.pixels.empty()) throw Error("region '" + spec.name + "' of scheme " + scheme.name + " covers no pixel of the mean shape");
+		regions.push_back(std::move(r));
+	}
+	return regions;
+}
+
+// The render-time cache: each sample's reconstruction, 8-bit, by GEMM in chunks of samples.
+void cacheAppearances(RegionModel& region, std::size_t m) {
+	const std::size_t q3 = std::size_t(region.appearanceSize());
+	region.sampleAppearances.resize(m * q3);
+	for (std::size_t first = 0; first < m; first += 128) {
+		const std::size_t count = std::min<std::size_t>(128, m - first);
+		const Eigen::MatrixXf a = synthesizeAppearances(
+		    region, region.pca.trainingCoefficients.middleRows(Eigen::Index(first), Eigen::Index(count)).transpose());
+		for (std::size_t k = 0; k < count; ++k) {
+			std::uint8_t* dst = &region.sampleAppearances[(first + k) * q3];
+			quantizeAppearance(a.col(Eigen::Index(k)).data(), q3, dst);
+		}
+	}
+}
+
+}  // namespace
+
 FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes, const std::vector<SampleInfo>& samples,
                          int width, int height, const ImageSource& images, const BuildOptions& options,
                          ProgressSink& progress) {
@@ -96,22 +136,7 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 	if (options.closedEyes >= long(shapes.size())) throw std::logic_error("buildFaceModel: closed-eyes index out of range");
 	model.closedEyesIndex = options.closedEyes;
 
-	// Region masks in the mean-shape frame.
-	for (const RegionSpec& spec : scheme.regions) {
-		RegionModel r;
-		r.name = spec.name;
-		Points boundary = regionBoundary(spec, model.meanShape);
-		double featherPx = spec.feather * std::sqrt(regionArea(boundary, spec.grow));
-		std::vector<float> alpha = softRegionMask(boundary, spec.grow, featherPx, width, height);
-		for (std::size_t p = 0; p < alpha.size(); ++p) {
-			if (alpha[p] > 0.f) {
-				r.pixels.push_back(std::int32_t(p));
-				r.alpha.push_back(alpha[p]);
-			}
-		}
-		if (r.pixels.empty()) throw Error("region '" + spec.name + "' of scheme " + scheme.name + " covers no pixel of the mean shape");
-		model.regions.push_back(std::move(r));
-	}
+	model.regions = regionMasks(scheme, model.meanShape, width, height);
 
 	// Appearance: warp every image to s̄ and fill each region's data matrix row.
 	std::vector<Eigen::MatrixXf> data(model.regions.size());
@@ -160,18 +185,7 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 		auto it = options.regionPca.find(region.name);
 		region.pca = correlationPca(data[r], it != options.regionPca.end() ? it->second : options.pca);
 		data[r] = Eigen::MatrixXf();  // free as we go
-		// The render-time cache: each sample's reconstruction, 8-bit, by GEMM in chunks of samples.
-		const std::size_t q3 = std::size_t(region.appearanceSize());
-		region.sampleAppearances.resize(m * q3);
-		for (std::size_t first = 0; first < m; first += 128) {
-			const std::size_t count = std::min<std::size_t>(128, m - first);
-			const Eigen::MatrixXf a = synthesizeAppearances(
-			    region, region.pca.trainingCoefficients.middleRows(Eigen::Index(first), Eigen::Index(count)).transpose());
-			for (std::size_t k = 0; k < count; ++k) {
-				std::uint8_t* dst = &region.sampleAppearances[(first + k) * q3];
-				quantizeAppearance(a.col(Eigen::Index(k)).data(), q3, dst);
-			}
-		}
+		cacheAppearances(region, m);
 	}
 	progress.report(1.0, "done");
 	return model;

@@ -565,19 +565,22 @@ FaceModel loadModel(const std::string& path, ModelParts parts, const ComponentLe
 
 namespace {
 
-FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const ComponentLevels& levels) {
-	FaceModel m;
-	Scheme& s = m.scheme;
-	auto one = [&](const std::string& name) {
-		auto v = r.strings(name);
-		if (v.size() != 1) r.fail("record '" + name + "' should hold one string");
-		return v[0];
-	};
-	auto count = [&](const std::string& name, double maxValue) {
-		double v = r.scalar(name);
-		if (!(v >= 0 && v <= maxValue)) r.fail("record '" + name + "' is out of range");
-		return std::int64_t(v);
-	};
+std::string oneString(Reader& r, const std::string& name) {
+	auto v = r.strings(name);
+	if (v.size() != 1) r.fail("record '" + name + "' should hold one string");
+	return v[0];
+}
+
+std::int64_t countOf(Reader& r, const std::string& name, double maxValue) {
+	double v = r.scalar(name);
+	if (!(v >= 0 && v <= maxValue)) r.fail("record '" + name + "' is out of range");
+	return std::int64_t(v);
+}
+
+Scheme readSchemeRecords(Reader& r, std::uint32_t version) {
+	Scheme s;
+	auto one = [&](const std::string& name) { return oneString(r, name); };
+	auto count = [&](const std::string& name, double maxValue) { return countOf(r, name, maxValue); };
 	s.name = one("scheme.name");
 	s.pointNames = r.strings("scheme.points");
 	s.pointClasses = r.strings("scheme.classes");
@@ -615,6 +618,13 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const Compon
 		rs.feather = gf[1];
 		s.regions.push_back(rs);
 	}
+	return s;
+}
+
+// The frame, the shapes, the samples' labels, the meshes and the baseface.
+void readShapeRecords(Reader& r, std::uint32_t version, FaceModel& m) {
+	auto count = [&](const std::string& name, double maxValue) { return countOf(r, name, maxValue); };
+	const Eigen::Index k = Eigen::Index(m.scheme.pointNames.size());
 	m.width = int(count("width", 1e5));
 	m.height = int(count("height", 1e5));
 	if (count("points", 1e5) != k) r.fail("point count differs from the scheme");
@@ -656,122 +666,164 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const Compon
 	m.baseface.height = m.height;
 	m.baseface.channels = 3;
 	m.baseface.data = std::move(base);
-	std::int64_t regions = count("regions", 64);
-	std::shared_ptr<int> fd;  // shared by the regions' on-disk appearance caches
-	for (std::int64_t i = 0; i < regions; ++i) {
-		RegionModel rm;
-		rm.name = one("name");
-		rm.pixels = r.i32("pixels");
-		for (auto p : rm.pixels)
-			if (p < 0 || std::int64_t(p) >= std::int64_t(m.width) * m.height) r.fail("region pixel index out of range");
-		rm.alpha = r.f32("alpha");
-		const Eigen::Index n = 3 * rm.pixelCount() + 2 * k;
-		if (rm.alpha.size() != rm.pixels.size()) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
-		// The mean and scale of the combined vectors serve projection and the basis product only: a render
-		// load (which uses the appearance cache) skips them, unless the region is reduced.
-		const auto level = levels.find(rm.name);
-		const bool reduce = level != levels.end();
-		auto vectorInto = [&](const std::string& name, Eigen::VectorXf& v) {
-			if (!bases && !reduce) {
-				r.skip(name, Type::F32, 4);
-				return;
-			}
-			r.arrayInto<float>(name, Type::F32, [&](std::size_t count) {
-				if (Eigen::Index(count) != n) r.fail("region '" + rm.name + "' " + name + " has the wrong size");
-				v.resize(n);
-				return v.data();
-			});
-		};
-		vectorInto("mean", rm.pca.mean);
-		vectorInto("sigma", rm.pca.sigma);
-		auto eig = r.f64("eigenvalues");
-		const Eigen::Index l = Eigen::Index(count("components", 1e7));
-		if (Eigen::Index(eig.size()) < l) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
-		rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
-		Eigen::Index kept = l;  // basis columns held
-		if (reduce) {
-			const ComponentLevel& lv = level->second;
-			if (lv.count > 0) {
-				if (lv.count > l)
-					throw Error(r.path(), 0, "--components asks for " + std::to_string(lv.count) + " components of region '" + rm.name + "', which keeps " +
-					                             std::to_string(l));
-				kept = Eigen::Index(lv.count);
-			} else {
-				kept = lv.evr >= 1.0 ? l : std::min(l, std::max<Eigen::Index>(1, rm.pca.componentsFor(lv.evr)));
-			}
-		}
+}
+
+// What a region's load does with its PCA: all of it (a full load), only the kept columns (a render with
+// --components), or none (a render: the appearance cache serves).
+struct RegionLoad {
+	bool bases;   // a full load
+	bool reduce;  // --components names the region
+	ComponentLevel level;
+	std::size_t samples;
+	Eigen::Index points;
+};
+
+// The region's PCA records; returns how many basis columns are kept.
+Eigen::Index readRegionPca(Reader& r, RegionModel& rm, const RegionLoad& ld, std::vector<double>& eig) {
+	const bool bases = ld.bases, reduce = ld.reduce;
+	const std::size_t samples = ld.samples;
+	const Eigen::Index n = 3 * rm.pixelCount() + 2 * ld.points;
+	auto count = [&](const std::string& name, double maxValue) { return countOf(r, name, maxValue); };
+	// The mean and scale of the combined vectors serve projection and the basis product only: a render
+	// load (which uses the appearance cache) skips them, unless the region is reduced.
+	auto vectorInto = [&](const std::string& name, Eigen::VectorXf& v) {
 		if (!bases && !reduce) {
-			r.skip("basis", Type::F32, 4);
-			r.skip("coefficients", Type::F32, 4);
+			r.skip(name, Type::F32, 4);
+			return;
+		}
+		r.arrayInto<float>(name, Type::F32, [&](std::size_t count) {
+			if (Eigen::Index(count) != n) r.fail("region '" + rm.name + "' " + name + " has the wrong size");
+			v.resize(n);
+			return v.data();
+		});
+	};
+	vectorInto("mean", rm.pca.mean);
+	vectorInto("sigma", rm.pca.sigma);
+	eig = r.f64("eigenvalues");
+	const Eigen::Index l = Eigen::Index(count("components", 1e7));
+	if (Eigen::Index(eig.size()) < l) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
+	rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
+	Eigen::Index kept = l;  // basis columns held
+	if (reduce) {
+		const ComponentLevel& lv = ld.level;
+		if (lv.count > 0) {
+			if (lv.count > l)
+				throw Error(r.path(), 0, "--components asks for " + std::to_string(lv.count) + " components of region '" + rm.name + "', which keeps " +
+				                             std::to_string(l));
+			kept = Eigen::Index(lv.count);
 		} else {
-			if (bases) {
-				r.arrayInto<float>("basis", Type::F32, [&](std::size_t count) {
-					if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
-					rm.pca.basis.resize(n, l);
-					return rm.pca.basis.data();
-				});
-			} else {  // the first `kept` columns (column-major: a prefix), the rest only hashed
-				const std::size_t count = r.expect("basis", Type::F32, 4);
-				if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
-				rm.pca.basis.resize(n, kept);
-				r.raw(rm.pca.basis.data(), std::size_t(n * kept) * 4);
-				r.readThrough(std::size_t(n * (l - kept)) * 4);
-				r.endRecord();
-			}
-			r.arrayInto<float>("coefficients", Type::F32, [&](std::size_t count) {
-				if (count != samples * std::size_t(l)) r.fail("region '" + rm.name + "' coefficients have the wrong size");
-				rm.pca.trainingCoefficients.resize(Eigen::Index(samples), l);
-				return rm.pca.trainingCoefficients.data();
-			});
+			kept = lv.evr >= 1.0 ? l : std::min(l, std::max<Eigen::Index>(1, rm.pca.componentsFor(lv.evr)));
 		}
-		const std::size_t q3 = std::size_t(3 * rm.pixelCount());
-		std::uint64_t cacheOffset = 0;
-		std::size_t cacheCount = 0;
-		if (!bases) {  // render: the cache stays on disk, read per sample through its checksums
-			cacheCount = r.expect("appearances", Type::U8, 1);
-			cacheOffset = r.position();
-			r.skipData(cacheCount + 8);
-		} else {
-			r.arrayInto<std::uint8_t>("appearances", Type::U8, [&](std::size_t count) {
-				cacheCount = count;
-				resizePrefaulted(rm.sampleAppearances, count);
-				return rm.sampleAppearances.data();
-			});
-		}
-		if (cacheCount != 0 && cacheCount != samples * q3) r.fail("region '" + rm.name + "' appearance cache has the wrong size");
-		auto sums = r.u64("appearanceChecksums");
-		if (sums.size() != (cacheCount ? samples : 0)) r.fail("region '" + rm.name + "' appearance checksums have the wrong size");
-		// A full load verifies every sample against its own checksum too, as a render does for the samples it
-		// reads: both loads agree on what is damaged.
-		for (std::size_t i = 0; bases && i < sums.size(); ++i)
-			if (checksum64(&rm.sampleAppearances[i * q3], q3) != sums[i])
-				r.fail("checksum mismatch in the cached appearance of sample " + std::to_string(i) + " (region " + rm.name + ")");
-		if (!bases && cacheCount) {
-			if (!fd) {
-				const int raw = ::open(r.path().c_str(), O_RDONLY | O_CLOEXEC);
-				if (raw < 0) r.fail(std::string("cannot reopen: ") + std::strerror(errno));
-				fd = std::shared_ptr<int>(new int(raw), [](int* p) {
-					::close(*p);
-					delete p;
-				});
-			}
-			rm.appearanceSource = std::make_shared<FileAppearanceSource>(fd, r.path(), cacheOffset, q3, std::move(sums), rm.name);
-		}
-		if (reduce) {
-			if (bases) {  // a full load keeps its PCA; the source gets copies
-				rm.appearanceSource = std::make_shared<ReducedAppearanceSource>(rm.pca.mean, rm.pca.sigma, rm.pca.basis.leftCols(kept),
-				                                                                rm.pca.trainingCoefficients, Eigen::Index(q3), kept);
-			} else {  // a render holds only the reduced source (the kept columns move into it)
-				rm.appearanceSource = std::make_shared<ReducedAppearanceSource>(std::move(rm.pca.mean), std::move(rm.pca.sigma), std::move(rm.pca.basis),
-				                                                                std::move(rm.pca.trainingCoefficients), Eigen::Index(q3), kept);
-				rm.pca = CorrelationPca{};
-				rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
-			}
-			rm.sampleAppearances.clear();
-			rm.sampleAppearances.shrink_to_fit();
-		}
-		m.regions.push_back(std::move(rm));
 	}
+	if (!bases && !reduce) {
+		r.skip("basis", Type::F32, 4);
+		r.skip("coefficients", Type::F32, 4);
+	} else {
+		if (bases) {
+			r.arrayInto<float>("basis", Type::F32, [&](std::size_t count) {
+				if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
+				rm.pca.basis.resize(n, l);
+				return rm.pca.basis.data();
+			});
+		} else {  // the first `kept` columns (column-major: a prefix), the rest only hashed
+			const std::size_t count = r.expect("basis", Type::F32, 4);
+			if (Eigen::Index(count) != n * l) r.fail("region '" + rm.name + "' basis has the wrong size");
+			rm.pca.basis.resize(n, kept);
+			r.raw(rm.pca.basis.data(), std::size_t(n * kept) * 4);
+			r.readThrough(std::size_t(n * (l - kept)) * 4);
+			r.endRecord();
+		}
+		r.arrayInto<float>("coefficients", Type::F32, [&](std::size_t count) {
+			if (count != samples * std::size_t(l)) r.fail("region '" + rm.name + "' coefficients have the wrong size");
+			rm.pca.trainingCoefficients.resize(Eigen::Index(samples), l);
+			return rm.pca.trainingCoefficients.data();
+		});
+	}
+	return kept;
+}
+
+// The region's appearance cache: in memory (a full load, every sample checked) or left on disk behind a
+// source that reads and checks each sample (a render; `fd` is shared by the regions).
+void readRegionAppearances(Reader& r, RegionModel& rm, const RegionLoad& ld, std::shared_ptr<int>& fd) {
+	const bool bases = ld.bases;
+	const std::size_t samples = ld.samples;
+	const std::size_t q3 = std::size_t(3 * rm.pixelCount());
+	std::uint64_t cacheOffset = 0;
+	std::size_t cacheCount = 0;
+	if (!bases) {  // render: the cache stays on disk, read per sample through its checksums
+		cacheCount = r.expect("appearances", Type::U8, 1);
+		cacheOffset = r.position();
+		r.skipData(cacheCount + 8);
+	} else {
+		r.arrayInto<std::uint8_t>("appearances", Type::U8, [&](std::size_t count) {
+			cacheCount = count;
+			resizePrefaulted(rm.sampleAppearances, count);
+			return rm.sampleAppearances.data();
+		});
+	}
+	if (cacheCount != 0 && cacheCount != samples * q3) r.fail("region '" + rm.name + "' appearance cache has the wrong size");
+	auto sums = r.u64("appearanceChecksums");
+	if (sums.size() != (cacheCount ? samples : 0)) r.fail("region '" + rm.name + "' appearance checksums have the wrong size");
+	// A full load verifies every sample against its own checksum too, as a render does for the samples it
+	// reads: both loads agree on what is damaged.
+	for (std::size_t i = 0; bases && i < sums.size(); ++i)
+		if (checksum64(&rm.sampleAppearances[i * q3], q3) != sums[i])
+			r.fail("checksum mismatch in the cached appearance of sample " + std::to_string(i) + " (region " + rm.name + ")");
+	if (!bases && cacheCount) {
+		if (!fd) {
+			const int raw = ::open(r.path().c_str(), O_RDONLY | O_CLOEXEC);
+			if (raw < 0) r.fail(std::string("cannot reopen: ") + std::strerror(errno));
+			fd = std::shared_ptr<int>(new int(raw), [](int* p) {
+				::close(*p);
+				delete p;
+			});
+		}
+		rm.appearanceSource = std::make_shared<FileAppearanceSource>(fd, r.path(), cacheOffset, q3, std::move(sums), rm.name);
+	}
+}
+
+RegionModel readRegion(Reader& r, const FaceModel& m, RegionLoad ld, const ComponentLevels& levels, std::shared_ptr<int>& fd) {
+	auto one = [&](const std::string& name) { return oneString(r, name); };
+	const bool bases = ld.bases;
+	RegionModel rm;
+	rm.name = one("name");
+	rm.pixels = r.i32("pixels");
+	for (auto p : rm.pixels)
+		if (p < 0 || std::int64_t(p) >= std::int64_t(m.width) * m.height) r.fail("region pixel index out of range");
+	rm.alpha = r.f32("alpha");
+	if (rm.alpha.size() != rm.pixels.size()) r.fail("region '" + rm.name + "' arrays have inconsistent sizes");
+	const auto level = levels.find(rm.name);
+	ld.reduce = level != levels.end();
+	if (ld.reduce) ld.level = level->second;
+	std::vector<double> eig;
+	const Eigen::Index kept = readRegionPca(r, rm, ld, eig);
+	readRegionAppearances(r, rm, ld, fd);
+	const bool reduce = ld.reduce;
+	const std::size_t q3 = std::size_t(3 * rm.pixelCount());
+	if (reduce) {
+		if (bases) {  // a full load keeps its PCA; the source gets copies
+			rm.appearanceSource = std::make_shared<ReducedAppearanceSource>(rm.pca.mean, rm.pca.sigma, rm.pca.basis.leftCols(kept),
+			                                                                rm.pca.trainingCoefficients, Eigen::Index(q3), kept);
+		} else {  // a render holds only the reduced source (the kept columns move into it)
+			rm.appearanceSource = std::make_shared<ReducedAppearanceSource>(std::move(rm.pca.mean), std::move(rm.pca.sigma), std::move(rm.pca.basis),
+			                                                                std::move(rm.pca.trainingCoefficients), Eigen::Index(q3), kept);
+			rm.pca = CorrelationPca{};
+			rm.pca.eigenvalues = Eigen::Map<Eigen::VectorXd>(eig.data(), Eigen::Index(eig.size()));
+		}
+		rm.sampleAppearances.clear();
+		rm.sampleAppearances.shrink_to_fit();
+	}
+	return rm;
+}
+
+FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const ComponentLevels& levels) {
+	FaceModel m;
+	m.scheme = readSchemeRecords(r, version);
+	readShapeRecords(r, version, m);
+	const std::int64_t regions = countOf(r, "regions", 64);
+	std::shared_ptr<int> fd;  // shared by the regions' on-disk appearance caches
+	const RegionLoad load{bases, false, {}, m.samples.size(), Eigen::Index(m.scheme.pointNames.size())};
+	for (std::int64_t i = 0; i < regions; ++i) m.regions.push_back(readRegion(r, m, load, levels, fd));
 	if (!r.atEnd()) r.fail("trailing data after the last record");
 	for (const auto& [name, level] : levels) {
 		if (m.regionIndex(name) >= 0) continue;

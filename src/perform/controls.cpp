@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <tuple>
+#include <vector>
 
 #include "base/error.h"
 #include "base/json.h"
@@ -252,75 +254,87 @@ ControlTrack parseControls(const std::string& text, const std::string& path) {
 	return track;
 }
 
-std::string controlTrackJson(const ControlTrack& t, const std::string& source, const std::string& note) {
-	std::string o = "{";
-	auto num = [](double v) {
-		char b[32];
-		std::snprintf(b, sizeof b, "%.4f", v);
-		std::string s = b;
-		while (s.size() > 1 && s.back() == '0') s.pop_back();
-		if (s.back() == '.') s.pop_back();
-		if (s == "-0") s = "0";
-		return s;
+namespace {
+
+// A number as the control files write it: up to 4 decimals, trailing zeros dropped, never "-0".
+std::string controlNumber(double v) {
+	char b[32];
+	std::snprintf(b, sizeof b, "%.4f", v);
+	std::string s = b;
+	while (s.size() > 1 && s.back() == '0') s.pop_back();
+	if (s.back() == '.') s.pop_back();
+	if (s == "-0") s = "0";
+	return s;
+}
+
+std::string seconds(Ticks t) { return controlNumber(toSeconds(t)); }
+
+const char* sideName(int side) { return side > 0 ? "left" : side < 0 ? "right" : "both"; }
+
+// The track's events, one object each, in time order (stable: kinds in the order below at equal times).
+std::vector<std::string> eventObjects(const ControlTrack& t) {
+	std::vector<std::pair<Ticks, JsonObject>> events;
+	auto event = [&](Ticks time, const char* type) -> JsonObject& {
+		events.emplace_back(time, JsonObject());
+		return events.back().second.add("type", type).raw("time", seconds(time));
 	};
-	if (!source.empty()) o += "\"source\": " + jsonQuote(source) + ",\n ";
-	if (!note.empty()) o += "\"note\": " + jsonQuote(note) + ",\n ";
-	if (!t.drawnBlinks) o += "\"drawn_blinks\": false,\n ";
-	o += "\"events\": [";
-	std::vector<std::pair<Ticks, std::string>> events;
 	for (const auto& e : t.emotions)
-		events.emplace_back(e.time, "{\"type\": \"emotion\", \"time\": " + num(toSeconds(e.time)) + ", \"emotion\": " + jsonQuote(e.emotion.label()) +
-		                                ", \"intensity\": " + num(e.intensity) + ", \"ramp\": " + num(toSeconds(e.ramp)) + "}");
-	for (Ticks b : t.blinks) events.emplace_back(b, "{\"type\": \"blink\", \"time\": " + num(toSeconds(b)) + "}");
+		event(e.time, "emotion").add("emotion", e.emotion.label()).raw("intensity", controlNumber(e.intensity)).raw("ramp", seconds(e.ramp));
+	for (Ticks b : t.blinks) event(b, "blink");
 	for (const auto& g : t.gestures) {
-		std::string e = "{\"type\": \"" + std::string(g.kind == HeadGesture::Kind::Nod ? "nod" : g.kind == HeadGesture::Kind::Shake ? "shake" : "turn") +
-		                "\", \"time\": " + num(toSeconds(g.time)) + ", \"duration\": " + num(toSeconds(g.duration)) + ", \"amount\": " + num(g.amount);
-		if (g.kind == HeadGesture::Kind::Turn)
-			e += std::string(", \"direction\": \"") + (g.directionX > 0 ? "left" : g.directionX < 0 ? "right" : g.directionY < 0 ? "up" : "down") + "\"";
-		events.emplace_back(g.time, e + "}");
+		JsonObject& e = event(g.time, g.kind == HeadGesture::Kind::Nod ? "nod" : g.kind == HeadGesture::Kind::Shake ? "shake" : "turn");
+		e.raw("duration", seconds(g.duration)).raw("amount", controlNumber(g.amount));
+		if (g.kind == HeadGesture::Kind::Turn) e.add("direction", g.directionX > 0 ? "left" : g.directionX < 0 ? "right" : g.directionY < 0 ? "up" : "down");
 	}
 	for (const auto& b : t.brows) {
-		std::string e = "{\"type\": \"brows\", \"time\": " + num(toSeconds(b.time)) + ", \"duration\": " + num(toSeconds(b.duration));
-		if (b.raise > 0) e += ", \"raise\": " + num(b.raise);
-		if (b.frown > 0) e += ", \"frown\": " + num(b.frown);
-		events.emplace_back(b.time, e + "}");
+		JsonObject& e = event(b.time, "brows").raw("duration", seconds(b.duration));
+		if (b.raise > 0) e.raw("raise", controlNumber(b.raise));
+		if (b.frown > 0) e.raw("frown", controlNumber(b.frown));
 	}
 	for (const auto& a : t.actionUnits)
-		events.emplace_back(a.time, "{\"type\": \"au\", \"time\": " + num(toSeconds(a.time)) + ", \"au\": \"" + a.au + "\", \"intensity\": " +
-		                                num(a.intensity) + ", \"side\": \"" + (a.side > 0 ? "left" : a.side < 0 ? "right" : "both") + "\", \"onset\": " +
-		                                num(toSeconds(a.onset)) + ", \"apex\": " + num(toSeconds(a.apex)) + ", \"offset\": " + num(toSeconds(a.offset)) + "}");
+		event(a.time, "au").add("au", a.au).raw("intensity", controlNumber(a.intensity)).add("side", sideName(a.side)).raw("onset", seconds(a.onset))
+		    .raw("apex", seconds(a.apex)).raw("offset", seconds(a.offset));
 	std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-	for (std::size_t i = 0; i < events.size(); ++i) o += (i ? ",\n  " : "\n  ") + events[i].second;
-	o += events.empty() ? "]" : "\n ]";
-	const ControlCurves& c = t.curves;
-	if (!c.empty()) {
-		auto array = [&](const std::vector<float>& v, double factor) {
-			std::string a = "[";
-			for (std::size_t i = 0; i < v.size(); ++i) a += (i ? "," : "") + num(double(v[i]) * factor);
-			return a + "]";
-		};
-		o += ",\n \"curves\": {\"rate\": " + num(c.rate) + ", \"start\": " + num(toSeconds(c.start));
-		if (c.hasHead()) {
-			std::string h;
-			auto add = [&](const char* name, const std::vector<float>& v, double factor) {
-				if (!v.empty()) h += std::string(h.empty() ? "" : ",\n   ") + "\"" + name + "\": " + array(v, factor);
-			};
-			add("roll", c.roll, 180 / kPi);
-			add("x", c.x, 1);
-			add("y", c.y, 1);
-			add("scale", c.scale, 1);
-			o += ",\n  \"head\": {" + h + "}";
-		}
-		if (!c.aus.empty()) {
-			o += ",\n  \"au\": [";
-			for (std::size_t i = 0; i < c.aus.size(); ++i)
-				o += std::string(i ? ",\n   " : "\n   ") + "{\"au\": \"" + c.aus[i].au + "\", \"side\": \"" +
-				     (c.aus[i].side > 0 ? "left" : c.aus[i].side < 0 ? "right" : "both") + "\", \"weight\": " + array(c.aus[i].weight, 1) + "}";
-			o += "]";
-		}
-		o += "}";
+	std::vector<std::string> out;
+	for (const auto& e : events) out.push_back(e.second.str());
+	return out;
+}
+
+std::string curvesObject(const ControlCurves& c) {
+	auto array = [](const std::vector<float>& v, double factor) {
+		JsonArray a;
+		for (float x : v) a.raw(controlNumber(double(x) * factor));
+		return a.str({"", ",", ""});
+	};
+	JsonObject o;
+	o.raw("rate", controlNumber(c.rate)).raw("start", seconds(c.start));
+	if (c.hasHead()) {
+		JsonObject h;
+		using Curve = std::tuple<const char*, const std::vector<float>*, double>;
+		for (const auto& [name, v, factor] : std::initializer_list<Curve>{{"roll", &c.roll, 180 / kPi}, {"x", &c.x, 1}, {"y", &c.y, 1}, {"scale", &c.scale, 1}})
+			if (!v->empty()) h.raw(name, array(*v, factor));
+		o.then(",\n  ").raw("head", h.str({"", ",\n   ", ""}));
 	}
-	return o + "}\n";
+	if (!c.aus.empty()) {
+		JsonArray aus;
+		for (const auto& a : c.aus) aus.raw(JsonObject().add("au", a.au).add("side", sideName(a.side)).raw("weight", array(a.weight, 1)).str());
+		o.then(",\n  ").raw("au", aus.str({"\n   ", ",\n   ", ""}));
+	}
+	return o.str();
+}
+
+}  // namespace
+
+std::string controlTrackJson(const ControlTrack& t, const std::string& source, const std::string& note) {
+	JsonObject o;
+	if (!source.empty()) o.add("source", source);
+	if (!note.empty()) o.add("note", note);
+	if (!t.drawnBlinks) o.add("drawn_blinks", false);
+	JsonArray events;
+	for (std::string& e : eventObjects(t)) events.raw(std::move(e));
+	o.raw("events", events.str({"\n  ", ",\n  ", "\n "}));
+	if (!t.curves.empty()) o.raw("curves", curvesObject(t.curves));
+	return o.str({"", ",\n ", ""}) + "\n";
 }
 
 ControlTrack parseControlTier(const std::string& text, const std::string& path, const std::string& tierName) {

@@ -32,26 +32,22 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 			if (onset < Ticks(0)) onset = ph.start;
 			offset = ph.end;
 		}
-	std::string s = "{\n  \"fps\": " + jsonQuote(p.rate.str()) + ",\n  \"frames\": " + std::to_string(p.frameCount()) + ",\n  \"duration\": " + sec(p.duration) +
-	                ",\n  \"lead_in\": " + sec(leadIn) + ",\n  \"tail\": " + sec(tail) + ",\n  \"av_offset\": " + sec(avOffset) + ",\n  \"speech_onset\": " +
-	                (onset < Ticks(0) ? std::string("null") : sec(onset + leadIn)) + ",\n  \"speech_offset\": " + (onset < Ticks(0) ? std::string("null") : sec(offset + leadIn)) +
-	                ",\n  \"emotion\": " + jsonQuote(p.emotion.label()) + ",\n  \"words\": [";
-	bool first = true;
+	const JsonLayout itemLines{"\n    ", ",\n    ", "\n  "};
+	JsonArray wordItems, phoneItems, keyItems;
 	for (const auto& w : words) {
 		const std::string l = toLower(w.label);
 		if (l.empty() || l == "sil" || l == "sp" || l == "_" || l == "<p:>" || l == "#") continue;
-		s += std::string(first ? "\n" : ",\n") + "    {\"start\": " + sec(w.start + leadIn) + ", \"end\": " + sec(w.end + leadIn) + ", \"word\": " + jsonQuote(w.label) + "}";
-		first = false;
+		wordItems.raw(JsonObject().raw("start", sec(w.start + leadIn)).raw("end", sec(w.end + leadIn)).add("word", w.label).str());
 	}
-	s += std::string(first ? "" : "\n  ") + "],\n  \"phones\": [";
-	for (std::size_t i = 0; i < phones.size(); ++i)
-		s += std::string(i ? ",\n" : "\n") + "    {\"start\": " + sec(phones[i].start + leadIn) + ", \"end\": " + sec(phones[i].end + leadIn) +
-		     ", \"phone\": " + jsonQuote(phones[i].phone) + ", \"cdv\": " + jsonQuote(phones[i].cdv) + "}";
-	s += "\n  ],\n  \"keyposes\": [";
-	for (std::size_t i = 0; i < p.keys.size(); ++i)
-		s += std::string(i ? ",\n" : "\n") + "    {\"time\": " + sec(p.keys[i].time) + ", \"cdv\": " + jsonQuote(p.keys[i].cdv) +
-		     ", \"emotion\": " + jsonQuote(p.keys[i].emotion.value_or(p.emotion).label()) + "}";
-	return s + "\n  ]\n}\n";
+	for (const auto& ph : phones)
+		phoneItems.raw(JsonObject().raw("start", sec(ph.start + leadIn)).raw("end", sec(ph.end + leadIn)).add("phone", ph.phone).add("cdv", ph.cdv).str());
+	for (const auto& k : p.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv).add("emotion", k.emotion.value_or(p.emotion).label()).str());
+	JsonObject o;
+	o.add("fps", p.rate.str()).add("frames", p.frameCount()).raw("duration", sec(p.duration)).raw("lead_in", sec(leadIn)).raw("tail", sec(tail));
+	o.raw("av_offset", sec(avOffset)).raw("speech_onset", onset < Ticks(0) ? "null" : sec(onset + leadIn));
+	o.raw("speech_offset", onset < Ticks(0) ? "null" : sec(offset + leadIn)).add("emotion", p.emotion.label());
+	o.raw("words", wordItems.str(itemLines)).raw("phones", phoneItems.str(itemLines)).raw("keyposes", keyItems.str(itemLines));
+	return o.str({"\n  ", ",\n  ", "\n"}) + "\n";
 }
 
 }  // namespace talkhead

@@ -503,6 +503,45 @@ std::vector<Interval> expandWords(const Transcript& words, const std::string& ta
 
 namespace talkhead {
 
+namespace {
+
+// Appends one spoken segment of an SSML text at `at`; returns where the speech now ends. The segment's words
+// also go to `words`.
+Ticks appendSegment(Speech& out, const Speech& sp, Ticks at, bool breakBefore, bool breakAfter, std::vector<Interval>& words) {
+	// Next to a <break> the segment's own edge silence goes, so the pause is the break's length: from
+	// its first word's start, to its last phone's end.
+	const Ticks spEnd = ticksFromSeconds(double(sp.pcm.size()) / sp.sampleRate);
+	Ticks from{0}, to = spEnd;
+	if (breakBefore && !sp.words.intervals.empty()) from = sp.words.intervals.front().start;
+	if (breakAfter)
+		for (auto it = sp.phones.intervals.rbegin(); it != sp.phones.intervals.rend(); ++it)
+			if (!it->label.empty()) {
+				to = it->end;
+				break;
+			}
+	const std::size_t a = std::size_t(std::llround(toSeconds(from) * sp.sampleRate)), b = std::min(sp.pcm.size(), std::size_t(std::llround(toSeconds(to) * sp.sampleRate)));
+	const Ticks offset = at - from;
+	out.pcm.insert(out.pcm.end(), sp.pcm.begin() + long(std::min(a, b)), sp.pcm.begin() + long(b));
+	const Ticks end = ticksFromSeconds(double(out.pcm.size()) / out.sampleRate);
+	for (Interval iv : sp.phones.intervals) {
+		iv.start = std::max(iv.start, from) + offset;
+		iv.end = std::min(iv.end, to) + offset;
+		if (iv.end <= iv.start) continue;
+		if (iv.label.empty() && !out.phones.intervals.empty() && out.phones.intervals.back().label.empty()) out.phones.intervals.back().end = iv.end;
+		else out.phones.intervals.push_back(iv);
+	}
+	if (!out.phones.intervals.empty()) out.phones.intervals.back().end = end;
+	for (Interval w : sp.words.intervals) {
+		w.start = std::max(w.start, from) + offset;
+		w.end = std::min(w.end, to) + offset;
+		words.push_back(w);
+		out.words.intervals.push_back(w);
+	}
+	return end;
+}
+
+}  // namespace
+
 Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vector<Ticks>& eventTimes, int rateWpm, int pitch, const SpeechLimits& limits) {
 	// The breaks are known before anything is spoken: too many seconds of them are refused at once (a text
 	// of <break time="60s"/> would otherwise make hours of silence, issue 28 item 5).
@@ -557,36 +596,7 @@ Speech espeakSpeakSsml(const SsmlText& ssml, const std::string& voice, std::vect
 				out.pcm.assign(std::size_t(std::llround(seconds * sp.sampleRate)), 0);
 			}
 			out.sampleRate = sp.sampleRate;
-			// Next to a <break> the segment's own edge silence goes, so the pause is the break's length: from
-			// its first word's start, to its last phone's end.
-			const Ticks spEnd = ticksFromSeconds(double(sp.pcm.size()) / sp.sampleRate);
-			Ticks from{0}, to = spEnd;
-			if (s > 0 && ssml.segments[s - 1].pauseAfter > Ticks(0) && !sp.words.intervals.empty()) from = sp.words.intervals.front().start;
-			if (seg.pauseAfter > Ticks(0))
-				for (auto it = sp.phones.intervals.rbegin(); it != sp.phones.intervals.rend(); ++it)
-					if (!it->label.empty()) {
-						to = it->end;
-						break;
-					}
-			const std::size_t a = std::size_t(std::llround(toSeconds(from) * sp.sampleRate)), b = std::min(sp.pcm.size(), std::size_t(std::llround(toSeconds(to) * sp.sampleRate)));
-			const Ticks offset = at - from;
-			out.pcm.insert(out.pcm.end(), sp.pcm.begin() + long(std::min(a, b)), sp.pcm.begin() + long(b));
-			const Ticks end = ticksFromSeconds(double(out.pcm.size()) / out.sampleRate);
-			for (Interval iv : sp.phones.intervals) {
-				iv.start = std::max(iv.start, from) + offset;
-				iv.end = std::min(iv.end, to) + offset;
-				if (iv.end <= iv.start) continue;
-				if (iv.label.empty() && !out.phones.intervals.empty() && out.phones.intervals.back().label.empty()) out.phones.intervals.back().end = iv.end;
-				else out.phones.intervals.push_back(iv);
-			}
-			if (!out.phones.intervals.empty()) out.phones.intervals.back().end = end;
-			for (Interval w : sp.words.intervals) {
-				w.start = std::max(w.start, from) + offset;
-				w.end = std::min(w.end, to) + offset;
-				segmentWords[s].push_back(w);
-				out.words.intervals.push_back(w);
-			}
-			at = end;
+			at = appendSegment(out, sp, at, s > 0 && ssml.segments[s - 1].pauseAfter > Ticks(0), seg.pauseAfter > Ticks(0), segmentWords[s]);
 			anySpeech = true;
 		}
 		segmentEnd[s] = at;

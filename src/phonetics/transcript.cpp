@@ -898,7 +898,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 		tr.level = *o.level;
 	}
 
-	// Validation: sort, reject overlaps, drop zero-length intervals, fill gaps with pauses.
+	// Validation: sort, reject overlaps, drop zero-length intervals, fill gaps with pauses (withPauses).
 	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& a, const Interval& b) { return a.start < b.start; });
 	std::vector<Interval> clean;
 	for (const Interval& iv : tr.intervals) {
@@ -912,12 +912,27 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 			              toSeconds(prev.end - iv.start));
 			throw Error(path, iv.line, buf);
 		}
-		if (!clean.empty() && iv.start > clean.back().end) clean.push_back({clean.back().end, iv.start, "", iv.line});  // a gap: pause
 		clean.push_back(iv);
 	}
 	if (clean.empty()) throw Error(path, 0, "the transcript has no interval of non-zero length");
-	tr.intervals = std::move(clean);
+	tr.intervals = withPauses(clean);
 	return tr;
+}
+
+std::vector<Interval> withPauses(const std::vector<Interval>& sorted, std::optional<Ticks> from, std::optional<Ticks> to) {
+	std::vector<Interval> out;
+	out.reserve(sorted.size() * 2 + 1);
+	Ticks at = from ? *from : sorted.empty() ? Ticks(0) : sorted.front().start;
+	for (const Interval& i : sorted) {
+		if (i.start > at) out.push_back({at, i.start, "", i.line});  // a gap: a pause
+		if (i.end > std::max(at, i.start)) {
+			out.push_back(i);
+			out.back().start = std::max(at, i.start);
+		}
+		at = std::max(at, i.end);
+	}
+	if (to && at < *to) out.push_back({at, *to, "", 0});
+	return out;
 }
 
 Transcript readTranscript(const std::string& path, const ReadOptions& o) {

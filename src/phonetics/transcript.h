@@ -20,6 +20,11 @@ struct Interval {
 	long line = 0;      // source line, for error messages (0 = unknown)
 };
 
+// The intervals (sorted by start; one that overlaps the interval before it starts where that one ends,
+// one of no length is dropped) made contiguous: every gap becomes an empty interval, a pause — from
+// `from` and to `to` where given. Transcripts are validated with it; alignments are written with it.
+std::vector<Interval> withPauses(const std::vector<Interval>& sorted, std::optional<Ticks> from = {}, std::optional<Ticks> to = {});
+
 // A timed transcript in the one internal representation: intervals sorted by start, non-overlapping.
 struct Transcript {
 	std::string path;                   // for error messages ("-" = standard input)

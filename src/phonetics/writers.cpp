@@ -71,6 +71,10 @@ std::vector<Cue> rhubarbCues(const std::vector<PhoneSegment>& ph) {
 
 }  // namespace
 
+// A document a member a line, and its arrays an item a line (visemes and Rhubarb JSON).
+constexpr JsonLayout kMemberLines{"\n  ", ",\n  ", "\n"};
+constexpr JsonLayout kItemLines{"\n    ", ",\n    ", "\n  "};
+
 std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector<Keypose>& keys, const std::string& format,
                           const std::string& lang, const std::string& source, const std::string& notation) {
 	std::ostringstream o;
@@ -81,19 +85,21 @@ std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector
 		for (std::size_t i = 0; i < ph.size(); ++i)
 			o << sec(ph[i].start) << '\t' << sec(ph[i].end) << '\t' << ph[i].phone << '\t' << ph[i].cdv << '\t' << (kt[i].empty() ? "-" : kt[i]) << '\n';
 	} else if (format == "json") {
-		o << "{\n  \"language\": " << jsonQuote(lang) << ",\n  \"source\": " << jsonQuote(source);
-		if (!notation.empty()) o << ",\n  \"notation\": " << jsonQuote(notation);
-		o << ",\n  \"duration\": " << sec(end)
-		  << ",\n  \"phones\": [\n";
+		JsonArray phones, keyposes;
 		for (std::size_t i = 0; i < ph.size(); ++i)
-			o << "    {\"start\": " << sec(ph[i].start) << ", \"end\": " << sec(ph[i].end) << ", \"label\": " << jsonQuote(ph[i].label)
-			  << ", \"phone\": " << jsonQuote(ph[i].phone) << ", \"cdv\": " << jsonQuote(ph[i].cdv)
-			  << ", \"keypose\": " << (kt[i].empty() ? "null" : kt[i]) << "}" << (i + 1 < ph.size() ? "," : "") << "\n";
-		o << "  ],\n  \"keyposes\": [\n";
-		for (std::size_t i = 0; i < keys.size(); ++i)
-			o << "    {\"time\": " << sec(keys[i].time) << ", \"cdv\": " << jsonQuote(keys[i].cdv) << (keys[i].breath ? ", \"breath\": true" : "") << "}"
-			  << (i + 1 < keys.size() ? "," : "") << "\n";
-		o << "  ]\n}\n";
+			phones.raw(JsonObject().raw("start", sec(ph[i].start)).raw("end", sec(ph[i].end)).add("label", ph[i].label).add("phone", ph[i].phone)
+			               .add("cdv", ph[i].cdv).raw("keypose", kt[i].empty() ? "null" : kt[i]).str());
+		for (const Keypose& k : keys) {
+			JsonObject key;
+			key.raw("time", sec(k.time)).add("cdv", k.cdv);
+			if (k.breath) key.add("breath", true);
+			keyposes.raw(key.str());
+		}
+		JsonObject doc;
+		doc.add("language", lang).add("source", source);
+		if (!notation.empty()) doc.add("notation", notation);
+		doc.raw("duration", sec(end)).raw("phones", phones.str(kItemLines)).raw("keyposes", keyposes.str(kItemLines));
+		o << doc.str(kMemberLines) << "\n";
 	} else if (format == "textgrid") {
 		o << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n\nxmin = 0\nxmax = " << sec(end) << "\ntiers? <exists>\nsize = 3\nitem []:\n";
 		auto tier = [&](int n, const char* name, auto labelOf) {
@@ -116,11 +122,13 @@ std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector
 		o << sec(end).substr(0, sec(end).size() - 4) << "\tX\n";
 	} else if (format == "rhubarb-json") {
 		auto cues = rhubarbCues(ph);
-		o << "{\n  \"metadata\": {\n    \"soundFile\": " << jsonQuote(source) << ",\n    \"duration\": " << sec(end) << "\n  },\n  \"mouthCues\": [\n";
-		for (std::size_t i = 0; i < cues.size(); ++i)
-			o << "    { \"start\": " << sec(cues[i].start) << ", \"end\": " << sec(cues[i].end) << ", \"value\": \"" << cues[i].shape << "\" }"
-			  << (i + 1 < cues.size() ? "," : "") << "\n";
-		o << "  ]\n}\n";
+		JsonArray mouthCues;
+		for (const auto& c : cues)
+			mouthCues.raw(JsonObject().raw("start", sec(c.start)).raw("end", sec(c.end)).add("value", c.shape).str({" ", ", ", " "}));
+		JsonObject doc;
+		doc.raw("metadata", JsonObject().add("soundFile", source).raw("duration", sec(end)).str(kItemLines));
+		doc.raw("mouthCues", mouthCues.str(kItemLines));
+		o << doc.str(kMemberLines) << "\n";
 	} else {
 		throw Error("unknown output format '" + format + "' (tsv, json, textgrid, rhubarb-tsv, rhubarb-json)");
 	}

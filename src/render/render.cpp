@@ -147,47 +147,141 @@ void placeFitted(const YuvImage& inner, YuvImage& out, int w, int h, int x, int 
 	placePlane(inner.v.data(), inner.chromaWidth(), inner.chromaHeight(), out.v.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
 }
 
-RenderStats renderPerformance(const FaceModel& model, const Performance& perf, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
-                              RenderProgress* progress) {
-	const auto t0 = Clock::now();
-	RenderProgress none;
-	RenderProgress& prog = progress ? *progress : none;
-	if (perf.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
-	if (perf.rate.num < 1 || perf.rate.den < 1) throw Error("invalid frame rate " + perf.rate.str());
-	const std::vector<Keypose>& keys = perf.keys;
-	const std::int64_t frames = perf.frameCount();
-	SynthOptions so = options.synth;
-	so.emotion = perf.emotion;
-	so.intensity = perf.intensity;
-	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
-	// Even sizes for 4:2:0; another aspect than the model's frame drawn at the fitted size, then cropped or padded.
-	const OutputFit fit = fitOutput(model.width, model.height, so, options.fit);
-	const FitBox& box = fit.box;
-	const bool place = fit.place;
-	const int outWidth = fit.outWidth, outHeight = fit.outHeight;
-	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.emotion, perf.duration, perf.keys);
-	Synthesizer synth(model, so);
-	RenderStats st;
-	st.frames = frames;
-	st.width = place ? outWidth : synth.width();
-	st.height = place ? outHeight : synth.height();
-	st.keyposes = keys.size();
-	st.substitutions = synth.substitutionsFor(keys);
-	StreamInfo info;
-	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = so.yuvRange;
-	info.pointNames = model.scheme.pointNames;
-	for (FrameSink* s : sinks) s->begin(info);
-	prog.started(info, st.substitutions);
-	bool rgbFrames = false;
-	std::vector<FrameSink*> ordered, anyThread;
-	for (FrameSink* s : sinks) {
-		rgbFrames = rgbFrames || s->needsRgb();
-		(s->anyThread() ? anyThread : ordered).push_back(s);
+namespace {
+
+// Frames drawn together: their buffers, reused batch after batch.
+struct Batch {
+	std::vector<Image8> rgb, innerRgb;
+	std::vector<YuvImage> yuv, innerYuv;
+	std::vector<Points> pts;
+	std::vector<char> drawn;  // the slot's buffer holds an earlier frame of this render, untouched since
+	std::int64_t first = 0;
+	std::size_t count = 0;
+};
+
+// Batches in flight: up to 4 within ~96 MiB of frames (2 at least: one drawn while one is written).
+std::vector<Batch> makeBatches(const RenderStats& st, bool rgbFrames, bool place, std::size_t batch) {
+	const double frameBytes = double(st.width) * st.height * (1.5 + (rgbFrames ? 3 : 0)) * (place ? 2 : 1);
+	const std::size_t slots = std::clamp<std::size_t>(std::size_t(96.0 * 1024 * 1024 / (frameBytes * double(batch))), 2, 4);
+	std::vector<Batch> batches(slots);
+	for (auto& b : batches) {
+		b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch), b.drawn.assign(batch, 0);
+		if (place) b.innerRgb.resize(batch), b.innerYuv.resize(batch);
+	}
+	return batches;
+}
+
+// The queue between the drawing thread and the writing one: batches drawn (in order) and batches free.
+// A failure while drawing is handed to the writer; stop() ends the drawing on every way out.
+class BatchQueue {
+public:
+	explicit BatchQueue(std::vector<Batch>& batches) {
+		for (auto& b : batches) spare_.push_back(&b);
+	}
+	// The drawer's side: a free batch (nullptr once stopped), a drawn one handed on, the end or a failure.
+	Batch* takeSpare() {
+		std::unique_lock<std::mutex> lock(m_);
+		changed_.wait(lock, [&] { return stop_ || !spare_.empty(); });
+		if (stop_) return nullptr;
+		Batch* b = spare_.front();
+		spare_.pop_front();
+		return b;
+	}
+	void putDrawn(Batch* b) { push(drawn_, b); }
+	void fail(std::exception_ptr e) {
+		std::lock_guard<std::mutex> lock(m_);
+		error_ = std::move(e);
+		stop_ = true;
+	}
+	void drawingDone() {
+		std::lock_guard<std::mutex> lock(m_);
+		done_ = true;
+		changed_.notify_all();
+	}
+	// The writer's side: the next drawn batch (nullptr when all are written; the drawer's error rethrown).
+	Batch* takeDrawn() {
+		std::unique_lock<std::mutex> lock(m_);
+		changed_.wait(lock, [&] { return !drawn_.empty() || done_; });
+		if (error_) std::rethrow_exception(error_);
+		if (drawn_.empty()) return nullptr;
+		Batch* b = drawn_.front();
+		drawn_.pop_front();
+		return b;
+	}
+	void putSpare(Batch* b) { push(spare_, b); }
+	void stop() {
+		{
+			std::lock_guard<std::mutex> lock(m_);
+			stop_ = true;
+		}
+		changed_.notify_all();
 	}
 
-	// --debug-overlay: the time, the keyposes around it (viseme, emotion, intensity, position between them),
-	// the lids and the head.
-	auto overlayLines = [&](Ticks tau) {
+private:
+	void push(std::deque<Batch*>& q, Batch* b) {
+		{
+			std::lock_guard<std::mutex> lock(m_);
+			q.push_back(b);
+		}
+		changed_.notify_all();
+	}
+	std::mutex m_;
+	std::condition_variable changed_;
+	std::deque<Batch*> drawn_, spare_;
+	bool done_ = false, stop_ = false;
+	std::exception_ptr error_;
+};
+
+// Draws one frame of a performance into a batch slot (any thread): the synthesizer's frame, the debug
+// overlay, the fit into the output frame, the any-thread sinks.
+struct FramePainter {
+	const Performance& perf;
+	const Synthesizer& synth;
+	const SynthOptions& so;
+	const RenderOptions& options;
+	const OutputFit& fit;
+	const RenderStats& st;
+	bool rgbFrames;
+	const std::vector<FrameSink*>& anyThread;
+
+	RenderedFrame frameOf(const Batch& bt, std::size_t k) const {
+		RenderedFrame f;
+		f.index = bt.first + std::int64_t(k);
+		f.time = perf.frameTime(f.index);
+		f.yuv = &bt.yuv[k];
+		f.rgb = rgbFrames ? &bt.rgb[k] : nullptr;
+		f.points = &bt.pts[k];
+		return f;
+	}
+
+	void draw(Batch& bt, std::size_t k, Synthesizer::Workspace& ws) const {
+		const Ticks tau = perf.frameTime(bt.first + std::int64_t(k));
+		const bool place = fit.place;
+		Image8& rgb = place ? bt.innerRgb[k] : bt.rgb[k];
+		YuvImage& yuv = place ? bt.innerYuv[k] : bt.yuv[k];
+		if (rgbFrames) {
+			synth.renderFrame(tau, perf.keys, ws, rgb, bt.pts[k], bt.drawn[k]);
+			if (options.debugOverlay) drawDebugOverlay(rgb, bt.pts[k], overlayLines(tau));
+			rgbToYuv420(rgb, yuv, so.yuvRange);
+		} else {
+			synth.renderFrameYuv(tau, perf.keys, ws, yuv, bt.pts[k], bt.drawn[k]);
+			if (options.debugOverlay) drawDebugOverlay(yuv, bt.pts[k], overlayLines(tau));
+		}
+		bt.drawn[k] = !options.debugOverlay;  // the overlay writes over the static background
+		if (place) {  // into the output frame: crop or pad, points moved with it
+			placeFitted(yuv, bt.yuv[k], st.width, st.height, fit.box.x, fit.box.y);
+			if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, fit.box.x, fit.box.y);
+			bt.pts[k].col(0).array() += fit.box.x;
+			bt.pts[k].col(1).array() += fit.box.y;
+		}
+		const RenderedFrame f = frameOf(bt, k);
+		for (FrameSink* s : anyThread) s->frame(f);
+	}
+
+	// --debug-overlay: the time, the keyposes around it (viseme, emotion, intensity, position between
+	// them), the lids and the head.
+	std::vector<std::string> overlayLines(Ticks tau) const {
+		const std::vector<Keypose>& keys = perf.keys;
 		std::vector<std::string> lines;
 		char b[160];
 		std::snprintf(b, sizeof b, "t %.3f s", toSeconds(tau));
@@ -215,7 +309,46 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 			lines.emplace_back(b);
 		}
 		return lines;
-	};
+	}
+};
+
+}  // namespace
+
+RenderStats renderPerformance(const FaceModel& model, const Performance& perf, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
+                              RenderProgress* progress) {
+	const auto t0 = Clock::now();
+	RenderProgress none;
+	RenderProgress& prog = progress ? *progress : none;
+	if (perf.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
+	if (perf.rate.num < 1 || perf.rate.den < 1) throw Error("invalid frame rate " + perf.rate.str());
+	const std::vector<Keypose>& keys = perf.keys;
+	const std::int64_t frames = perf.frameCount();
+	SynthOptions so = options.synth;
+	so.emotion = perf.emotion;
+	so.intensity = perf.intensity;
+	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
+	// Even sizes for 4:2:0; another aspect than the model's frame drawn at the fitted size, then cropped or padded.
+	const OutputFit fit = fitOutput(model.width, model.height, so, options.fit);
+	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.emotion, perf.duration, perf.keys);
+	Synthesizer synth(model, so);
+	RenderStats st;
+	st.frames = frames;
+	st.width = fit.place ? fit.outWidth : synth.width();
+	st.height = fit.place ? fit.outHeight : synth.height();
+	st.keyposes = keys.size();
+	st.substitutions = synth.substitutionsFor(keys);
+	StreamInfo info;
+	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = so.yuvRange;
+	info.pointNames = model.scheme.pointNames;
+	for (FrameSink* s : sinks) s->begin(info);
+	prog.started(info, st.substitutions);
+	bool rgbFrames = false;
+	std::vector<FrameSink*> ordered, anyThread;
+	for (FrameSink* s : sinks) {
+		rgbFrames = rgbFrames || s->needsRgb();
+		(s->anyThread() ? anyThread : ordered).push_back(s);
+	}
+
 	// Frames are independent. Drawing threads draw batches of frames a few batches ahead while this
 	// thread feeds finished batches to the sinks in order. The drawing threads run at a lower priority
 	// (kDrawNice) than this thread and the encoder's threads, which the sinks started: the encoder is the
@@ -224,52 +357,17 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 	// stream starts at once.
 	const unsigned nThreads = resolveThreads(options.threads);
 	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
-	struct Batch {
-		std::vector<Image8> rgb, innerRgb;
-		std::vector<YuvImage> yuv, innerYuv;
-		std::vector<Points> pts;
-		std::vector<char> drawn;  // the slot's buffer holds an earlier frame of this render, untouched since
-		std::int64_t first = 0;
-		std::size_t count = 0;
-	};
-	// Batches in flight: up to 4 within ~96 MiB of frames (2 at least: one drawn while one is written).
-	const double frameBytes = double(st.width) * st.height * (1.5 + (rgbFrames ? 3 : 0)) * (place ? 2 : 1);
-	const std::size_t slots = std::clamp<std::size_t>(std::size_t(96.0 * 1024 * 1024 / (frameBytes * double(batch))), 2, 4);
-	std::vector<Batch> batches(slots);
-	for (auto& b : batches) {
-		b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch), b.drawn.assign(batch, 0);
-		if (place) b.innerRgb.resize(batch), b.innerYuv.resize(batch);
-	}
+	std::vector<Batch> batches = makeBatches(st, rgbFrames, fit.place, batch);
 	std::vector<Synthesizer::Workspace> workspaces(batch);
-	auto frameOf = [&](const Batch& bt, std::size_t k) {
-		RenderedFrame f;
-		f.index = bt.first + std::int64_t(k);
-		f.time = perf.frameTime(f.index);
-		f.yuv = &bt.yuv[k];
-		f.rgb = rgbFrames ? &bt.rgb[k] : nullptr;
-		f.points = &bt.pts[k];
-		return f;
-	};
-	// The queue between the drawing and this thread: batches drawn (in order), batches free.
-	std::mutex queueMutex;
-	std::condition_variable queueChanged;
-	std::deque<Batch*> drawn, spare;
-	for (auto& b : batches) spare.push_back(&b);
-	bool drawingDone = false, stop = false;
-	std::exception_ptr drawError;
+	const FramePainter painter{perf, synth, so, options, fit, st, rgbFrames, anyThread};
+	BatchQueue queue(batches);
 	std::thread drawer([&] {
 		try {
 			setpriority(PRIO_PROCESS, 0, kDrawNice);  // this thread only (Linux); best effort
 			WorkerPool pool(nThreads);                // started here: same priority
 			for (std::int64_t first = 0; first < frames;) {
-				Batch* next = nullptr;
-				{
-					std::unique_lock<std::mutex> lock(queueMutex);
-					queueChanged.wait(lock, [&] { return stop || !spare.empty(); });
-					if (stop) break;
-					next = spare.front();
-					spare.pop_front();
-				}
+				Batch* next = queue.takeSpare();
+				if (!next) break;
 				Batch& bt = *next;
 				bt.first = first;
 				bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(first == 0 ? nThreads : batch), frames - first));
@@ -278,81 +376,33 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perf, c
 				synth.prepare(Synthesizer::keyposesBetween(keys, perf.frameTime(bt.first), perf.frameTime(first - 1), synth.margin()));
 				st.keyposeSeconds += since(tPrep);
 				const auto tDraw = Clock::now();
-				pool.run(bt.count, [&](std::size_t k) {
-					const Ticks tau = perf.frameTime(bt.first + std::int64_t(k));
-					Image8& rgb = place ? bt.innerRgb[k] : bt.rgb[k];
-					YuvImage& yuv = place ? bt.innerYuv[k] : bt.yuv[k];
-					if (rgbFrames) {
-						synth.renderFrame(tau, keys, workspaces[k], rgb, bt.pts[k], bt.drawn[k]);
-						if (options.debugOverlay) drawDebugOverlay(rgb, bt.pts[k], overlayLines(tau));
-						rgbToYuv420(rgb, yuv, so.yuvRange);
-					} else {
-						synth.renderFrameYuv(tau, keys, workspaces[k], yuv, bt.pts[k], bt.drawn[k]);
-						if (options.debugOverlay) drawDebugOverlay(yuv, bt.pts[k], overlayLines(tau));
-					}
-					bt.drawn[k] = !options.debugOverlay;  // the overlay writes over the static background
-					if (place) {  // into the output frame: crop or pad, points moved with it
-						placeFitted(yuv, bt.yuv[k], st.width, st.height, box.x, box.y);
-						if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, box.x, box.y);
-						bt.pts[k].col(0).array() += box.x;
-						bt.pts[k].col(1).array() += box.y;
-					}
-					const RenderedFrame f = frameOf(bt, k);
-					for (FrameSink* s : anyThread) s->frame(f);
-				});
+				pool.run(bt.count, [&](std::size_t k) { painter.draw(bt, k, workspaces[k]); });
 				st.drawSeconds += since(tDraw);
-				{
-					std::lock_guard<std::mutex> lock(queueMutex);
-					drawn.push_back(&bt);
-				}
-				queueChanged.notify_all();
+				queue.putDrawn(&bt);
 			}
 		} catch (...) {
-			std::lock_guard<std::mutex> lock(queueMutex);
-			drawError = std::current_exception();
-			stop = true;
+			queue.fail(std::current_exception());
 		}
-		std::lock_guard<std::mutex> lock(queueMutex);
-		drawingDone = true;
-		queueChanged.notify_all();
+		queue.drawingDone();
 	});
 	struct StopDrawer {  // on every way out: no more batches, and the drawer joined before the buffers go
-		std::mutex& m;
-		std::condition_variable& cv;
-		bool& stop;
+		BatchQueue& queue;
 		std::thread& t;
 		~StopDrawer() {
-			{
-				std::lock_guard<std::mutex> lock(m);
-				stop = true;
-			}
-			cv.notify_all();
+			queue.stop();
 			if (t.joinable()) t.join();
 		}
-	} stopDrawer{queueMutex, queueChanged, stop, drawer};
-	for (;;) {
-		Batch* bt = nullptr;
-		{
-			std::unique_lock<std::mutex> lock(queueMutex);
-			queueChanged.wait(lock, [&] { return !drawn.empty() || drawingDone; });
-			if (drawError) std::rethrow_exception(drawError);
-			if (drawn.empty()) break;
-			bt = drawn.front();
-			drawn.pop_front();
-		}
+	} stopDrawer{queue, drawer};
+	while (Batch* bt = queue.takeDrawn()) {
 		const auto tWrite = Clock::now();
 		for (std::size_t k = 0; k < bt->count; ++k) {
-			const RenderedFrame f = frameOf(*bt, k);
+			const RenderedFrame f = painter.frameOf(*bt, k);
 			for (FrameSink* s : ordered) s->frame(f);
 		}
 		st.writeSeconds += since(tWrite);
 		if (bt->first == 0) st.firstFrameSeconds = since(t0);
 		prog.frames(bt->first + std::int64_t(bt->count), frames);
-		{
-			std::lock_guard<std::mutex> lock(queueMutex);
-			spare.push_back(bt);
-		}
-		queueChanged.notify_all();
+		queue.putSpare(bt);
 	}
 	drawer.join();
 	const auto tFinish = Clock::now();

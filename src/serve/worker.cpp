@@ -106,7 +106,7 @@ void LiveWorker::request(std::string text, bool oversize) {
 	std::lock_guard<std::mutex> lock(m_);
 	if (inbox_.size() >= kInboxMessages || inboxBytes_ + text.size() > 2 * o_.maxMessage) {
 		// Requests arrive faster than they can be read: this one is answered at once (its id unknown: not parsed).
-		send_(false, "{\"type\": \"error\", \"message\": \"requests arrive faster than the session reads them: this one is dropped\"}");
+		send_(false, JsonObject().add("type", "error").add("message", "requests arrive faster than the session reads them: this one is dropped").str());
 		return;
 	}
 	inboxBytes_ += text.size();
@@ -284,6 +284,105 @@ void LiveWorker::frameLoop() {
 	}
 }
 
+bool LiveWorker::hello(LiveSession& session, const std::string& codecs) {
+	const StreamInfo& info = session.info();
+	JsonArray emotions;
+	for (const auto& e : emotionLabels()) emotions.add(e.label);
+	const std::string hello = JsonObject()
+	                              .add("type", "hello")
+	                              .add("session", id_)
+	                              .add("width", info.width)
+	                              .add("height", info.height)
+	                              .add("fps", info.rate.fps(), "%.6g")
+	                              .add("rate", info.rate.str())
+	                              .add("sample_rate", session.sampleRate())
+	                              .add("mime", "video/mp4; codecs=\"" + codecs + "\"")
+	                              .add("emotion", session.emotion().label())
+	                              .raw("emotions", emotions.str())
+	                              .str();
+	if (record_)
+		record_ << JsonObject()
+		               .add("type", "session")
+		               .add("width", info.width)
+		               .add("height", info.height)
+		               .add("rate", info.rate.str())
+		               .add("emotion", session.emotion().label())
+		               .add("lang", o_.lang)
+		               .str()
+		        << "\n";
+	return send_(false, hello);
+}
+
+void LiveWorker::apply(LiveSession& session, Command& c, std::int64_t frame) {
+	applyLiveRequest(session, c.request, std::move(c.utterance));
+	std::lock_guard<std::mutex> lock(m_);
+	emotion_ = session.emotion();
+	intensity_ = session.intensity();
+	if (record_) record_ << JsonObject().add("frame", frame).raw("request", c.json).str() << "\n";
+}
+
+bool LiveWorker::take(LiveSession& session, std::deque<Command>& todo, std::deque<Command>& ready, std::int64_t n) {
+	for (Command& c : todo) {
+		try {
+			if (c.request.kind == LiveRequest::Kind::Stop) {
+				// Prepared utterances that never started end now, interrupted (as queued ones do in the session).
+				for (const Command& r : ready) {
+					LiveEvent e;
+					e.kind = LiveEvent::Kind::UtteranceEnded;
+					e.frame = n;
+					e.time = session.nextTime();
+					e.id = r.request.id;
+					e.interrupted = true;
+					if (!send_(false, liveEventJson(e))) return false;
+				}
+				ready.clear();
+				apply(session, c, n);
+			} else if (c.utterance) {
+				ready.push_back(std::move(c));
+			} else {
+				apply(session, c, n);
+			}
+		} catch (const std::exception& e) {
+			error(describeException(e), c.request.id);
+		}
+	}
+	return true;
+}
+
+void LiveWorker::account(double took, double behind, double frameSeconds) {
+	work_ += took;
+	worst_ = std::max(worst_, behind);
+	++counters_.frames;
+	if (behind > frameSeconds) {
+		++late_;
+		++counters_.lateFrames;
+		stats_->lastLateNs = nowNs();
+	}
+}
+
+bool LiveWorker::ends(bool closing, bool busy, ServeClock::time_point deadline, bool& told) {
+	if (closing) {
+		if (!told) {
+			told = true;
+			if (!send_(false, JsonObject().add("type", "closing").add("reason", "shutdown").add("message", "the server is shutting down").str())) return true;
+		}
+		if (busy && ServeClock::now() < deadline) return false;
+		close_(End::Shutdown);
+		return true;
+	}
+	if (o_.idleSeconds <= 0 || busy || double(nowNs() - lastRequestNs_.load()) * 1e-9 <= o_.idleSeconds) return false;
+	{
+		std::lock_guard<std::mutex> lock(m_);
+		if (preparing_ || !speechQueue_.empty() || !inbox_.empty()) return false;
+	}
+	++counters_.closedIdle;
+	char b[120];
+	std::snprintf(b, sizeof b, "no request for %g s: the session is closed (--idle-timeout)", o_.idleSeconds);
+	send_(false, JsonObject().add("type", "closing").add("reason", "idle").add("message", b).str());
+	close_(End::Idle);
+	return true;
+}
+
 void LiveWorker::frames(LiveSession& session) {
 	{
 		std::lock_guard<std::mutex> lock(m_);
@@ -296,31 +395,7 @@ void LiveWorker::frames(LiveSession& session) {
 	vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = o_.crf, vo.preset = o_.preset, vo.threads = o_.encoderThreads;
 	Mp4LiveWriter writer([&bytes](const std::uint8_t* d, std::size_t n) { bytes.append(reinterpret_cast<const char*>(d), n); return true; }, vo,
 	                     &session.audio());
-	std::string emotions;
-	for (const auto& e : emotionLabels()) emotions += (emotions.empty() ? "" : ", ") + jsonQuote(e.label);
-	const std::string hello = JsonObject()
-	                              .add("type", "hello")
-	                              .add("session", id_)
-	                              .add("width", info.width)
-	                              .add("height", info.height)
-	                              .add("fps", info.rate.fps(), "%.6g")
-	                              .add("rate", info.rate.str())
-	                              .add("sample_rate", session.sampleRate())
-	                              .add("mime", "video/mp4; codecs=\"" + writer.codecs() + "\"")
-	                              .add("emotion", session.emotion().label())
-	                              .raw("emotions", "[" + emotions + "]")
-	                              .str();
-	if (record_)
-		record_ << JsonObject()
-		               .add("type", "session")
-		               .add("width", info.width)
-		               .add("height", info.height)
-		               .add("rate", info.rate.str())
-		               .add("emotion", session.emotion().label())
-		               .add("lang", o_.lang)
-		               .str()
-		        << "\n";
-	if (!send_(false, hello) || !send_(true, std::move(bytes))) return;
+	if (!hello(session, writer.codecs()) || !send_(true, std::move(bytes))) return;
 	bytes.clear();
 	YuvImage frame;
 	Points points;
@@ -333,13 +408,6 @@ void LiveWorker::frames(LiveSession& session) {
 	std::int64_t loadCpu = stats_->cpuNs.load(), loadWall = nowNs();
 	double load = -1;  // the session's cores, smoothed over seconds
 	bool told = false;  // of the shutdown
-	auto apply = [&](Command& c, std::int64_t n) {
-		applyLiveRequest(session, c.request, std::move(c.utterance));
-		std::lock_guard<std::mutex> lock(m_);
-		emotion_ = session.emotion();
-		intensity_ = session.intensity();
-		if (record_) record_ << "{\"frame\": " << n << ", \"request\": " << c.json << "}\n";
-	};
 	for (std::int64_t n = 0;; ++n) {
 		std::deque<Command> todo;
 		bool closing = false;
@@ -356,37 +424,14 @@ void LiveWorker::frames(LiveSession& session) {
 			closing = closing_;
 			deadline = deadline_;
 		}
-		for (Command& c : todo) {
-			try {
-				if (c.request.kind == LiveRequest::Kind::Stop) {
-					// Prepared utterances that never started end now, interrupted (as queued ones do in the session).
-					for (const Command& r : ready) {
-						LiveEvent e;
-						e.kind = LiveEvent::Kind::UtteranceEnded;
-						e.frame = n;
-						e.time = session.nextTime();
-						e.id = r.request.id;
-						e.interrupted = true;
-						if (!send_(false, liveEventJson(e))) return;
-					}
-					ready.clear();
-					apply(c, n);
-				} else if (c.utterance) {
-					ready.push_back(std::move(c));
-				} else {
-					apply(c, n);
-				}
-			} catch (const std::exception& e) {
-				error(describeException(e), c.request.id);
-			}
-		}
+		if (!take(session, todo, ready, n)) return;
 		// Into the session when the speech before is about to end.
 		while (!ready.empty() && session.queueEnd() <= session.nextTime() + ticksFromSeconds(kHandoff)) {
 			Command c = std::move(ready.front());
 			ready.pop_front();
 			try {
 				requestTimes[c.request.id] = c.received;
-				apply(c, n);
+				apply(session, c, n);
 			} catch (const std::exception& e) {
 				error(describeException(e), c.request.id);
 			}
@@ -402,9 +447,7 @@ void LiveWorker::frames(LiveSession& session) {
 		drawn_ = session.nextFrame();
 		const auto sent = ServeClock::now();
 		// Pace: a frame out later than one frame after its time is late (the stream falls behind).
-		const double took = std::chrono::duration<double>(sent - t0).count(), behind = std::chrono::duration<double>(sent - due).count();
-		work_ += took;
-		worst_ = std::max(worst_, behind);
+		account(std::chrono::duration<double>(sent - t0).count(), std::chrono::duration<double>(sent - due).count(), frameSeconds);
 		cpu.add();
 		if (n % 15 == 14) {  // every half second: all its threads' CPU time over the wall time
 			const std::int64_t c = stats_->cpuNs.load(), w = nowNs();
@@ -412,12 +455,6 @@ void LiveWorker::frames(LiveSession& session) {
 			load = load < 0 ? now : 0.7 * load + 0.3 * now;
 			stats_->load = load;
 			loadCpu = c, loadWall = w;
-		}
-		++counters_.frames;
-		if (behind > frameSeconds) {
-			++late_;
-			++counters_.lateFrames;
-			stats_->lastLateNs = nowNs();
 		}
 		for (const LiveEvent& e : events) {
 			std::optional<double> latencyMs;
@@ -438,30 +475,7 @@ void LiveWorker::frames(LiveSession& session) {
 		}
 		// After the frame and its events (an utterance's end goes out before a close).
 		const bool busy = session.queueEnd() > info.rate.time(session.nextFrame() - 1) || !ready.empty();
-		if (closing) {
-			if (!told) {
-				told = true;
-				if (!send_(false, "{\"type\": \"closing\", \"reason\": \"shutdown\", \"message\": \"the server is shutting down\"}")) return;
-			}
-			if (!busy || ServeClock::now() >= deadline) {
-				close_(End::Shutdown);
-				break;
-			}
-		} else if (o_.idleSeconds > 0 && !busy && double(nowNs() - lastRequestNs_.load()) * 1e-9 > o_.idleSeconds) {
-			bool waiting;
-			{
-				std::lock_guard<std::mutex> lock(m_);
-				waiting = preparing_ || !speechQueue_.empty() || !inbox_.empty();
-			}
-			if (!waiting) {
-				++counters_.closedIdle;
-				char b[200];
-				std::snprintf(b, sizeof b, "{\"type\": \"closing\", \"reason\": \"idle\", \"message\": \"no request for %g s: the session is closed (--idle-timeout)\"}", o_.idleSeconds);
-				send_(false, b);
-				close_(End::Idle);
-				break;
-			}
-		}
+		if (ends(closing, busy, deadline, told)) break;
 	}
 }
 

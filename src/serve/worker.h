@@ -113,6 +113,14 @@ private:
 	void speechLoop();
 	void frameLoop();
 	void frames(LiveSession& session);
+	// The frame thread's steps: the hello (and the record's first line); a request into the session; the
+	// requests handed over for this frame (false: the client is gone); a frame's pace; whether the session
+	// ends after this frame (shutdown drained, or idle past --idle-timeout), telling the client why.
+	bool hello(LiveSession& session, const std::string& codecs);
+	void apply(LiveSession& session, Command& c, std::int64_t frame);
+	bool take(LiveSession& session, std::deque<Command>& todo, std::deque<Command>& ready, std::int64_t n);
+	void account(double took, double behind, double frameSeconds);
+	bool ends(bool closing, bool busy, ServeClock::time_point deadline, bool& told);
 	SpeechLimits limitsNow() const;  // under m_
 };
 

@@ -548,25 +548,35 @@ const std::vector<std::string>& thesisOrder() {
 std::string playerHtml(const std::vector<std::string>& ids, const std::vector<StimulusResult>& results,
                        const std::vector<std::vector<std::size_t>>& orders, int replays, const std::string& lang) {
 	const bool pt = lang == "pt";
-	std::string data = "{\"replays\": " + std::to_string(replays) + ", \"stimuli\": {";
-	for (std::size_t i = 0; i < ids.size(); ++i) data += std::string(i ? ", " : "") + jsonQuote(ids[i]) + ": " + jsonQuote(results[i].file);
-	data += "}, \"orders\": [";
-	for (std::size_t q = 0; q < orders.size(); ++q) {
-		data += q ? ", [" : "[";
-		for (std::size_t k = 0; k < orders[q].size(); ++k) data += std::string(k ? ", " : "") + jsonQuote(ids[orders[q][k]]);
-		data += "]";
+	JsonObject stimuli;
+	for (std::size_t i = 0; i < ids.size(); ++i) stimuli.add(ids[i], results[i].file);
+	JsonArray orderList;
+	for (const auto& order : orders) {
+		JsonArray o;
+		for (std::size_t k : order) o.add(ids[k]);
+		orderList.raw(o.str());
 	}
+	auto pair = [](const std::string& key, const std::string& term) { return JsonArray().add(key).add(term).str(); };
 	// The thesis's voting terms (phonetics/emotions.tsv, Table 6.1), in its order, then "none of the above".
-	data += "], \"emotions\": [";
+	JsonArray emotions;
 	for (const std::string& label : thesisOrder()) {
 		const EmotionLabel& e = emotionLabels()[Emotion::of(label).index()];
-		data += "[" + jsonQuote(e.label) + ", " + jsonQuote(pt ? e.termPt : e.termEn) + "], ";
+		emotions.raw(pair(e.label, pt ? e.termPt : e.termEn));
 	}
-	data += "[\"none\", " + jsonQuote(pt ? "NDA (nenhuma das anteriores)" : "none of the above") + "]";
-	data += "], \"valence\": [[\"negative\", " + jsonQuote(pt ? "NEGATIVA" : "negative") + "], [\"neutral\", " + jsonQuote(pt ? "NEUTRA" : "neutral") +
-	        "], [\"positive\", " + jsonQuote(pt ? "POSITIVA" : "positive") + "], [\"no-opinion\", " + jsonQuote(pt ? "NÃO SEI OPINAR" : "no opinion") + "]]";
-	data += ", \"text\": {\"valence\": " + jsonQuote(pt ? "A emoção expressa é:" : "The emotion expressed is:") +
-	        ", \"emotion\": " + jsonQuote(pt ? "A informante parece estar:" : "The speaker seems:") + "}}";
+	emotions.raw(pair("none", pt ? "NDA (nenhuma das anteriores)" : "none of the above"));
+	JsonArray valence;
+	valence.raw(pair("negative", pt ? "NEGATIVA" : "negative")).raw(pair("neutral", pt ? "NEUTRA" : "neutral"));
+	valence.raw(pair("positive", pt ? "POSITIVA" : "positive")).raw(pair("no-opinion", pt ? "NÃO SEI OPINAR" : "no opinion"));
+	JsonObject text;
+	text.add("valence", pt ? "A emoção expressa é:" : "The emotion expressed is:").add("emotion", pt ? "A informante parece estar:" : "The speaker seems:");
+	const std::string data = JsonObject()
+	                             .add("replays", replays)
+	                             .raw("stimuli", stimuli.str())
+	                             .raw("orders", orderList.str())
+	                             .raw("emotions", emotions.str())
+	                             .raw("valence", valence.str())
+	                             .raw("text", text.str())
+	                             .str();
 	// </script> cannot occur inside the data: jsonQuote leaves '/' alone, so escape '<'.
 	std::string safe;
 	for (char c : data) safe += c == '<' ? std::string("\\u003c") : std::string(1, c);

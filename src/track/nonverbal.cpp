@@ -135,23 +135,12 @@ ControlCurves NonVerbalTrack::curves() const {
 	return c;
 }
 
-NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptions& o) {
-	NonVerbalTrack out;
-	out.source = track.source;
-	out.options = o;
-	const std::size_t n = track.frames.size();
-	if (n == 0) throw Error(track.source, 0, "no frames");
-	for (const auto& f : track.frames)
-		if (f.found && f.points.rows() != kIbugPoints) throw Error(track.source, 0, "the tracked faces must have the 68 iBUG points");
-	// The rate: the video's, else from the frames' times.
-	if (track.info.fpsNum > 0 && track.info.fpsDen > 0) out.rate = double(track.info.fpsNum) / track.info.fpsDen;
-	else if (n > 1 && track.frames.back().time > track.frames.front().time)
-		out.rate = double(n - 1) / toSeconds(track.frames.back().time - track.frames.front().time);
-	out.start = track.frames.front().time;
-	const Eigen::VectorXd rigid = rigidWeights();
+namespace {
 
-	// Neutral: the found, confident frames of the first second (or the first N), each aligned to the first
-	// by a similarity on the rigid points, then the per-point median.
+// Neutral: the found, confident frames of the first second (or the first N), each aligned to the first by a
+// similarity on the rigid points, then the per-point median. Returns the shape and how many frames made it.
+std::pair<Points, std::size_t> neutralShape(const LandmarkTrack& track, const NonVerbalOptions& o, const Eigen::VectorXd& rigid) {
+	const std::size_t n = track.frames.size();
 	std::vector<const FrameLandmarks*> neutralSet;
 	for (const auto& f : track.frames) {
 		if (!f.found || f.confidence < o.minConfidence) continue;
@@ -168,29 +157,28 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 	if (neutralSet.size() < 3)
 		throw Error(track.source, 0, "too few frames with a face (" + std::to_string(track.foundCount()) + " of " + std::to_string(n) + ") to drive a face");
 	Points neutral(kIbugPoints, 2);
-	{
-		std::vector<Points> aligned;
-		const Points& first = unsmoothedPoints(*neutralSet.front());
-		for (const FrameLandmarks* f : neutralSet) aligned.push_back(alignSimilarity(unsmoothedPoints(*f), first, rigid).apply(unsmoothedPoints(*f)));
-		std::vector<double> v(aligned.size());
-		for (int i = 0; i < kIbugPoints; ++i)
-			for (int c = 0; c < 2; ++c) {
-				for (std::size_t k = 0; k < aligned.size(); ++k) v[k] = aligned[k](i, c);
-				neutral(i, c) = percentile(v, 0.5);
-			}
-	}
-	out.neutralCount = neutralSet.size();
-	const Scheme scheme = loadScheme("ibug-68");
-	const EyeFrame nf = eyeFrame(scheme, neutral);
-	// The head turns and scales about the point between the eyes (as the synthesizer draws curves).
-	const Eigen::RowVector2d pivot = nf.origin;
-	auto across = [&](const Points& p) {  // nose tip across the outer eye corners' midpoint, per their distance
-		const Eigen::RowVector2d a = p.row(36), b = p.row(45), axis = (b - a).normalized();
-		return (p.row(30) - 0.5 * (a + b)).dot(axis) / (b - a).norm();
-	};
-	const double neutralAcross = across(neutral);
+	std::vector<Points> aligned;
+	const Points& first = unsmoothedPoints(*neutralSet.front());
+	for (const FrameLandmarks* f : neutralSet) aligned.push_back(alignSimilarity(unsmoothedPoints(*f), first, rigid).apply(unsmoothedPoints(*f)));
+	std::vector<double> v(aligned.size());
+	for (int i = 0; i < kIbugPoints; ++i)
+		for (int c = 0; c < 2; ++c) {
+			for (std::size_t k = 0; k < aligned.size(); ++k) v[k] = aligned[k](i, c);
+			neutral(i, c) = percentile(v, 0.5);
+		}
+	return {neutral, neutralSet.size()};
+}
 
-	// The action units per part.
+// A face part's action units as a linear model of its points' displacements.
+struct PartFit {
+	Part part;
+	std::size_t firstChannel;
+	Eigen::MatrixXd A;  // (2 × points) × AUs, in the neutral eye frame, IOD units
+	double lambda;
+};
+
+// The parts the options ask for, each with its templates; their channels appended to `channels`.
+std::vector<PartFit> partFits(const NonVerbalOptions& o, const Scheme& scheme, std::vector<NonVerbalTrack::Channel>& channels) {
 	std::vector<Part> parts;
 	if (o.brows) {
 		parts.push_back({"brow", 17, 21, -1, {"AU1", "AU2", "AU4"}});
@@ -203,19 +191,12 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 		parts.push_back({"eye", 42, 47, +1, {"AU5", "AU43"}});
 	}
 	if (o.mouth) parts.push_back({"mouth", 48, 67, 0, {"AU10", "AU12", "AU15", "AU17", "AU20", "AU23", "AU24", "AU25", "AU26"}});
-	std::optional<AuTemplates> templates;
-	if (!parts.empty()) {
-		templates = findAuTemplates(scheme);
-		if (!templates) throw Error("no action-unit templates for scheme ibug-68 (models/au-templates/ibug-68.tsv)");
-	}
-	struct PartFit {
-		std::size_t firstChannel;
-		Eigen::MatrixXd A;  // (2 × points) × AUs, in the neutral eye frame, IOD units
-		double lambda;
-	};
 	std::vector<PartFit> fits;
+	if (parts.empty()) return fits;
+	const std::optional<AuTemplates> templates = findAuTemplates(scheme);
+	if (!templates) throw Error("no action-unit templates for scheme ibug-68 (models/au-templates/ibug-68.tsv)");
 	for (const Part& p : parts) {
-		PartFit f{out.channels.size(), Eigen::MatrixXd(2 * (p.last - p.first + 1), Eigen::Index(p.aus.size())), 0};
+		PartFit f{p, channels.size(), Eigen::MatrixXd(2 * (p.last - p.first + 1), Eigen::Index(p.aus.size())), 0};
 		for (std::size_t a = 0; a < p.aus.size(); ++a) {
 			const int t = templates->find(p.aus[a]);
 			if (t < 0) throw Error("the ibug-68 action-unit templates have no " + std::string(p.aus[a]));
@@ -223,7 +204,7 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 				f.A(2 * (i - p.first), Eigen::Index(a)) = templates->offsets[std::size_t(t)](i, 0);
 				f.A(2 * (i - p.first) + 1, Eigen::Index(a)) = templates->offsets[std::size_t(t)](i, 1);
 			}
-			out.channels.push_back({p.aus[a], p.side, p.name});
+			channels.push_back({p.aus[a], p.side, p.name});
 		}
 		// A ridge against the tracker's jitter (about 0.003 eye distances per coordinate): with it, jitter
 		// moves a weight by at most ~0.06, and an AU that moves the points alike with another cannot trade off
@@ -231,8 +212,22 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 		f.lambda = 2.5e-4;
 		fits.push_back(std::move(f));
 	}
+	return fits;
+}
 
-	// Per frame: pose against the neutral, the part's displacements projected onto the templates.
+// Per frame: pose against the neutral, the parts' displacements projected onto the templates. Returns
+// which frames are usable (a confident face, not turned past --max-turn).
+std::vector<bool> measureFrames(const LandmarkTrack& track, const NonVerbalOptions& o, const Eigen::VectorXd& rigid, const Points& neutral,
+                                const Scheme& scheme, const std::vector<PartFit>& fits, NonVerbalTrack& out) {
+	const std::size_t n = track.frames.size();
+	const EyeFrame nf = eyeFrame(scheme, neutral);
+	// The head turns and scales about the point between the eyes (as the synthesizer draws curves).
+	const Eigen::RowVector2d pivot = nf.origin;
+	auto across = [&](const Points& p) {  // nose tip across the outer eye corners' midpoint, per their distance
+		const Eigen::RowVector2d a = p.row(36), b = p.row(45), axis = (b - a).normalized();
+		return (p.row(30) - 0.5 * (a + b)).dot(axis) / (b - a).norm();
+	};
+	const double neutralAcross = across(neutral);
 	out.frames.resize(n);
 	std::vector<bool> ok(n, false);
 	for (std::size_t k = 0; k < n; ++k) {
@@ -242,7 +237,7 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 		r.au.assign(out.channels.size(), 0.0);
 		r.eyeOpening = kNaN;
 		if (!f.found || f.confidence < o.minConfidence) continue;
-		// The unsmoothed fit: the one-euro filter is causal and lags; the curves are smoothed centred below.
+		// The unsmoothed fit: the one-euro filter is causal and lags; the curves are smoothed centred later.
 		const Points& raw = unsmoothedPoints(f);
 		const Similarity s = alignSimilarity(neutral, raw, rigid);
 		r.roll = s.angle();
@@ -255,24 +250,25 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 		if (std::abs(r.yaw) > o.maxTurnDegrees) continue;
 		ok[k] = true;
 		const Points back = s.inverse().apply(raw);
-		for (std::size_t q = 0; q < parts.size(); ++q) {
-			const Part& p = parts[q];
+		for (const PartFit& fit : fits) {
+			const Part& p = fit.part;
 			Eigen::VectorXd d(2 * (p.last - p.first + 1));
 			for (int i = p.first; i <= p.last; ++i) {
 				const Eigen::RowVector2d v = (back.row(i) - neutral.row(i)) / nf.iod;
 				d(2 * (i - p.first)) = v.dot(nf.x);
 				d(2 * (i - p.first) + 1) = v.dot(nf.y);
 			}
-			const Eigen::VectorXd w = boxedRidge(fits[q].A, d, fits[q].lambda, 1.5);
-			for (Eigen::Index a = 0; a < w.size(); ++a) r.au[fits[q].firstChannel + std::size_t(a)] = w(a);
+			const Eigen::VectorXd w = boxedRidge(fit.A, d, fit.lambda, 1.5);
+			for (Eigen::Index a = 0; a < w.size(); ++a) r.au[fit.firstChannel + std::size_t(a)] = w(a);
 		}
 	}
-	const std::size_t usable = std::size_t(std::count(ok.begin(), ok.end(), true));
-	if (usable < 3 || usable * 10 < n)
-		throw Error(track.source, 0, "a usable face in only " + std::to_string(usable) + " of " + std::to_string(n) + " frames (lost, unsure or turned past " +
-		                                 std::to_string(int(o.maxTurnDegrees)) + "°): too few to drive a face");
+	return ok;
+}
 
-	// Blinks: dips of the eye opening below 60 % of its running median (±2 s), each at its shut moment.
+// Blinks: dips of the eye opening below 60 % of its running median (±2 s), each at its shut moment, into
+// out.blinks. Returns the frames the eyes' action units may be read from (not in or around a blink).
+std::vector<bool> findBlinks(NonVerbalTrack& out, const std::vector<bool>& ok) {
+	const std::size_t n = out.frames.size();
 	std::vector<double> openLevel(n, kNaN);
 	{
 		const long half = long(std::lround(2.0 * out.rate));
@@ -322,7 +318,12 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 		k = j;
 	}
 
-	// Bridging: dropped frames (and, for the eyes' AUs, blinks) by Hermite interpolation.
+	return eyeOk;
+}
+
+// Dropped frames (and, for the eyes' AUs, blinks) bridged by Hermite interpolation, then smoothed.
+void bridgeAndSmooth(NonVerbalTrack& out, const std::vector<bool>& ok, const std::vector<bool>& eyeOk) {
+	const std::size_t n = out.frames.size();
 	auto column = [&](auto get) {
 		std::vector<double> v(n);
 		for (std::size_t k = 0; k < n; ++k) v[k] = get(out.frames[k]);
@@ -344,6 +345,11 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 	fill([](NonVerbalFrame& f) -> double& { return f.yaw; }, ok, headSigma);
 	for (std::size_t c = 0; c < out.channels.size(); ++c)
 		fill([c](NonVerbalFrame& f) -> double& { return f.au[c]; }, out.channels[c].part == "eye" ? eyeOk : ok, auSigma);
+}
+
+// The spans without a usable face, into out.bridged, with a warning for each of 0.5 s or more.
+void noteBridgedSpans(NonVerbalTrack& out, const std::vector<bool>& ok) {
+	const std::size_t n = out.frames.size();
 	for (std::size_t k = 0; k < n; ++k) out.frames[k].valid = ok[k];
 	for (std::size_t k = 0; k < n;) {
 		if (ok[k]) {
@@ -362,21 +368,57 @@ NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptio
 		}
 		k = j;
 	}
+}
+
+}  // namespace
+
+NonVerbalTrack analyseNonVerbal(const LandmarkTrack& track, const NonVerbalOptions& o) {
+	NonVerbalTrack out;
+	out.source = track.source;
+	out.options = o;
+	const std::size_t n = track.frames.size();
+	if (n == 0) throw Error(track.source, 0, "no frames");
+	for (const auto& f : track.frames)
+		if (f.found && f.points.rows() != kIbugPoints) throw Error(track.source, 0, "the tracked faces must have the 68 iBUG points");
+	// The rate: the video's, else from the frames' times.
+	if (track.info.fpsNum > 0 && track.info.fpsDen > 0) out.rate = double(track.info.fpsNum) / track.info.fpsDen;
+	else if (n > 1 && track.frames.back().time > track.frames.front().time)
+		out.rate = double(n - 1) / toSeconds(track.frames.back().time - track.frames.front().time);
+	out.start = track.frames.front().time;
+	const Eigen::VectorXd rigid = rigidWeights();
+	const auto [neutral, neutralCount] = neutralShape(track, o, rigid);
+	out.neutralCount = neutralCount;
+	const Scheme scheme = loadScheme("ibug-68");
+	const std::vector<PartFit> fits = partFits(o, scheme, out.channels);
+	const std::vector<bool> ok = measureFrames(track, o, rigid, neutral, scheme, fits, out);
+	const std::size_t usable = std::size_t(std::count(ok.begin(), ok.end(), true));
+	if (usable < 3 || usable * 10 < n)
+		throw Error(track.source, 0, "a usable face in only " + std::to_string(usable) + " of " + std::to_string(n) + " frames (lost, unsure or turned past " +
+		                                 std::to_string(int(o.maxTurnDegrees)) + "°): too few to drive a face");
+	const std::vector<bool> eyeOk = findBlinks(out, ok);
+	bridgeAndSmooth(out, ok, eyeOk);
+	noteBridgedSpans(out, ok);
 	return out;
 }
 
+namespace {
+
+// The plot's curves and panels.
+struct Series {
+	std::string label;
+	std::vector<double> v;
+	cv::Scalar colour;
+};
+struct Panel {
+	std::string title;
+	std::vector<Series> series;
+	double lo, hi;
+	bool blinks = false;
+};
+
+}  // namespace
+
 Image8 plotNonVerbal(const NonVerbalTrack& t, int width) {
-	struct Series {
-		std::string label;
-		std::vector<double> v;
-		cv::Scalar colour;
-	};
-	struct Panel {
-		std::string title;
-		std::vector<Series> series;
-		double lo, hi;
-		bool blinks = false;
-	};
 	const cv::Scalar palette[] = {{200, 60, 40}, {40, 120, 220}, {40, 160, 60}, {150, 60, 170}, {230, 140, 20}, {20, 170, 170}, {120, 120, 120},
 	                              {220, 60, 140}, {90, 90, 20}};
 	auto series = [&](auto get) {

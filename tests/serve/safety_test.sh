@@ -253,7 +253,15 @@ echo "8 load, metrics, SIGTERM: ok (stopped $(( (t1 - t0) / 1000000 )) ms after 
 
 # 6. Out of file descriptors: accept errors back off (a bounded log), espeak-ng cannot start and says so,
 # and the server recovers when descriptors come back.
-( ulimit -n 48; exec "$TH" serve --listen 127.0.0.1:0 --size 160x90 --max-load 0 --max-sessions 64 >"$T/fd.out" 2>"$T/fd.err" ) &
+# Not in a sanitized build (scripts/test --sanitize): UBSan's vptr check needs a free descriptor of its own
+# (sanitizer_common probes memory with pipe(); its suppressions file is read only at the first report) and
+# calls any object invalid without one, so a sanitized server cannot run out of descriptors. The normal
+# build runs this section.
+if ldd "$TH" | grep -q 'libasan\|libubsan'; then
+	echo "6 descriptors: skipped in a sanitized build (UBSan needs a free descriptor to check a vptr)"
+else
+( ulimit -n 48
+  exec "$TH" serve --listen 127.0.0.1:0 --size 160x90 --max-load 0 --max-sessions 64 >"$T/fd.out" 2>"$T/fd.err" ) &
 fdpid=$!
 servers+=("$fdpid")
 for _ in $(seq 100); do grep -q serving "$T/fd.out" 2>/dev/null && break; sleep 0.1; done
@@ -290,6 +298,7 @@ test "$lines" -le 6 || fail "$lines accept lines in 3 s"
 grep -q '"type": "error".*cannot initialise espeak-ng.*"id": "nofd"\|"type": "utterance_started".*"id": "nofd"' "$T/fd.events" || fail "nofd: $(cut -c1-200 "$T/fd.events")"
 grep -q '"type": "utterance_started".*"id": "fd"' "$T/fd.events" || fail "no recovery: $(cut -c1-300 "$T/fd.events")"
 echo "6 descriptors: ok ($lines accept log lines)"
+fi
 
 alive "$main" "$mainport"
 echo "serve safety: ok"
