@@ -65,8 +65,14 @@ bool Args::parse(const std::vector<std::string>& argv) {
 			value = argv[++i];
 		}
 		values_[o->name] = value;
+		every_[o->name].push_back(value);
 	}
 	return true;
+}
+
+std::vector<std::string> Args::all(const std::string& name) const {
+	auto it = every_.find(name);
+	return it == every_.end() ? std::vector<std::string>{} : it->second;
 }
 
 std::string Args::help() const {

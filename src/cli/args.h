@@ -36,6 +36,8 @@ public:
 	bool has(const std::string& name) const { return values_.count(name) > 0; }
 	std::optional<std::string> get(const std::string& name) const;
 	std::string get(const std::string& name, const std::string& fallback) const;
+	// Every value of an option given more than once, in order (get() is the last).
+	std::vector<std::string> all(const std::string& name) const;
 	double number(const std::string& name, double fallback, double min, double max) const;
 	const std::vector<std::string>& positionals() const { return positionals_; }
 	// The one positional argument; UsageError("COMMAND: " + what) when there is not exactly one.
@@ -48,6 +50,7 @@ private:
 	std::string command_, synopsis_, description_;
 	std::vector<OptionSpec> options_;
 	std::map<std::string, std::string> values_;
+	std::map<std::string, std::vector<std::string>> every_;
 	std::vector<std::string> positionals_;
 };
 

@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // talkhead corpus from-video VIDEO [--transcript T | --text "…"] [--emotion LABEL] [--lang L] -o CORPUS_DIR
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -22,121 +25,193 @@ namespace talkhead::cli {
 
 namespace {
 
-// The phones of the video's speech (and its words, where known), from --transcript, or --text/--text-file
-// aligned to the audio (the video's own track, or --audio).
-std::vector<PhoneSegment> videoSpeech(const Args& args, const std::string& video, const VideoInfo& info, const Language& lang, bool quiet,
-                                      std::vector<Interval>& words) {
-	const std::string audio = args.get("--audio", video);
-	if (!args.has("--audio") && !info.hasAudio)
-		throw Error(video, 0, "has no audio track to align the text with (give --audio, or --select-by-shape)");
+// The phones of a take's speech (and its words, where known): its transcript, or its text aligned to the
+// audio (the video's own track, or the take's audio).
+std::vector<PhoneSegment> takeSpeech(const VideoTake& take, const VideoInfo& info, const Language& lang, bool quiet, std::vector<Interval>& words) {
 	Transcript phoneTranscript;
-	if (auto t = args.get("--transcript")) {
-		phoneTranscript = readTranscript(*t);
+	if (!take.transcript.empty()) {
+		phoneTranscript = readTranscript(take.transcript);
 	} else {
-		const std::string text = args.has("--text") ? *args.get("--text") : readTextFile(*args.get("--text-file"));
+		const std::string audio = take.audio.empty() ? take.video : take.audio;
+		if (take.audio.empty() && !info.hasAudio)
+			throw Error(take.video, 0, "has no audio track to align the text with (give --audio, or --select-by-shape)");
 		AlignOptions ao;
 		ao.languageTag = lang.tag();
-		Alignment a = alignSpeechFile(audio, text, ao);
+		Alignment a = alignSpeechFile(audio, take.text, ao);
 		for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
 		if (!quiet) std::fprintf(stderr, "aligned the text to %s (confidence %.2f)\n", audio.c_str(), a.confidence);
 		phoneTranscript = a.phones;
 		words = a.words.intervals;
 	}
 	if (phoneTranscript.level == LabelLevel::Word) words = phoneTranscript.intervals;
-	// An alignment's phones are canonical IPA; a transcript's notation is decided from its labels.
-	return phoneSegments(phoneTranscript, lang, UnknownPhone::Error, args.get("--transcript") ? Notation::Auto : Notation::Ipa);
+	// An alignment's phones are canonical IPA; a transcript's notation is decided from its labels. Times in
+	// the transcript are relative to the audio, which starts with the video.
+	return phoneSegments(phoneTranscript, lang, UnknownPhone::Error, take.transcript.empty() ? Notation::Ipa : Notation::Auto);
+}
+
+Args fromVideoArgs() {
+	return Args("corpus from-video",
+	            "talkhead corpus from-video VIDEO [--transcript T | --text \"…\"] [options] -o CORPUS_DIR\n"
+	            "       talkhead corpus from-video --take VIDEO:EMOTION [--take …] | --takes LIST.tsv [--text \"…\"] [options] -o CORPUS_DIR",
+	            {{"--output", "DIR", "corpus folder to write: corpus.csv, frames/, contact.png, landmarks.tsv (required)", "-o"},
+	             {"--take", "VIDEO:EMOTION", "one take of the person in one emotion (repeat for each; e.g. anger.mp4:anger)"},
+	             {"--takes", "LIST.tsv", "the takes as a list: columns video, emotion [start, duration, transcript, text, audio]"},
+	             {"--transcript", "T", "timed phones or words of the video's speech (TextGrid, .lab, GRID .align, …)"},
+	             {"--text", "TEXT", "the words spoken: aligned to the audio with 'talkhead align' (with takes: of every take without its own)"},
+	             {"--text-file", "F", "the same, from a file"},
+	             {"--audio", "A", "the speech audio, when it is not the video's own audio track"},
+	             {"--lang", "LANG", "pt-BR (default) or en-US: the phones' language"},
+	             {"--emotion", "LABEL", "emotion label of every frame (default neutral)"},
+	             {"--select-by-shape", "", "choose frames by mouth shape, not by phones (automatic without audio)"},
+	             {"--per-cdv", "N", "frames kept per (emotion, CDV) (default 1)"},
+	             {"--baseface", "FRAME", "frame index (0-based) of the neutral baseface (default: the most neutral found)"},
+	             {"--landmarks", "F.tsv", "use this landmarks.tsv ('corpus landmarks') instead of tracking again"},
+	             {"--start", "T", "use the video from T seconds (or m:ss)"},
+	             {"--duration", "T", "use T seconds of the video"},
+	             {"--min-confidence", "C", "tracked frames less consistent than this are never chosen (default 0.6)"},
+	             {"--quiet", "", "no progress and no summary", "-q"}},
+	            "Turns a video of a face into a viseme corpus for 'talkhead build': tracks the 68 points (dlib), then\n"
+	            "picks for each phone the frame at the articulators' inflection point (the extremum of the lip opening\n"
+	            "inside the phone) and labels it with its context-dependent viseme; without audio (or with\n"
+	            "--select-by-shape), picks for each CDV the frames whose normalised mouth shape best matches the CDV's\n"
+	            "articulatory target (phonetics/cdv-mouth-targets.tsv, scaled to the speaker), labelled with --emotion.\n"
+	            "The head may move: frames are stored with their points as they are (the builder's Procrustes removes\n"
+	            "pose); the baseface is the most neutral frame unless --baseface says which. Several takes of one\n"
+	            "person, each in its emotion (--take, --takes), make one corpus: the baseface is the neutral take's (else\n"
+	            "the first's), and every take's colours are matched to that take's over the face.");
+}
+
+// The takes the arguments name: --take/--takes, or the one video with its options.
+std::vector<VideoTake> takesOf(const Args& args) {
+	std::string text;
+	if (auto t = args.get("--text")) text = *t;
+	else if (auto f = args.get("--text-file")) text = readTextFile(*f);
+	const bool listed = args.has("--take") || args.has("--takes");
+	if (!listed) {
+		args.onePositional("give one video (or --take VIDEO:EMOTION for each take)");
+		VideoTake t;
+		t.video = args.positionals()[0];
+		t.where = t.video;
+		if (auto e = args.get("--emotion")) {
+			auto c = canonicalEmotion(*e);
+			if (!c) throw UsageError("corpus from-video: unknown emotion '" + *e + "'");
+			t.emotion = *c;
+		}
+		t.transcript = args.get("--transcript", "");
+		t.text = text;
+		t.audio = args.get("--audio", "");
+		if (auto s = args.get("--start")) t.start = ticksFromSeconds(parseTimeOption("--start", *s));
+		if (auto d = args.get("--duration")) t.duration = ticksFromSeconds(parseTimeOption("--duration", *d));
+		return {t};
+	}
+	if (!args.positionals().empty()) throw UsageError("corpus from-video: with --take/--takes, name no video as an argument");
+	for (const char* o : {"--emotion", "--transcript", "--audio", "--landmarks", "--start", "--duration", "--baseface"})
+		if (args.has(o)) throw UsageError(std::string("corpus from-video: ") + o + " is per take: give it in the take list (--takes)");
+	std::vector<VideoTake> takes;
+	if (auto list = args.get("--takes")) takes = readTakeList(*list);
+	for (const std::string& spec : args.all("--take")) takes.push_back(parseTakeSpec(spec));
+	for (VideoTake& t : takes)
+		if (t.transcript.empty() && t.text.empty()) t.text = text;
+	return takes;
+}
+
+// One take: tracked, its frames chosen (by phones with speech, else by mouth shape).
+TakePlan planTake(const VideoTake& take, const Args& args, const FromVideoOptions& options, const Language& lang, bool byShape, bool quiet) {
+	TakePlan tp;
+	tp.take = take;
+	VideoInfo info;
+	{
+		VideoReader probe(take.video);
+		info = probe.info();
+	}
+	std::vector<PhoneSegment> phones;
+	std::vector<Interval> words;
+	if (!byShape) phones = takeSpeech(take, info, lang, quiet, words);
+	ProgressBar bar(quiet);
+	if (auto lm = args.get("--landmarks")) {
+		tp.track = readLandmarksTsv(*lm);
+		tp.track.info = info;
+	} else {
+		TrackOptions to;
+		to.start = take.start;
+		if (take.duration > Ticks(0)) to.duration = take.duration;
+		tp.track = trackVideo(take.video, to, bar);
+	}
+	bar.finish();
+	FromVideoOptions fo = options;
+	fo.emotion = take.emotion;
+	tp.plan = byShape ? selectByShape(tp.track, loadCdvMouthTargets(), fo) : selectByPhones(tp.track, phones, words, fo);
+	return tp;
 }
 
 }  // namespace
 
 int runCorpusFromVideo(const std::vector<std::string>& argv) {
-	Args args("corpus from-video", "talkhead corpus from-video VIDEO [--transcript T | --text \"…\"] [options] -o CORPUS_DIR",
-	          {{"--output", "DIR", "corpus folder to write: corpus.csv, frames/, contact.png, landmarks.tsv (required)", "-o"},
-	           {"--transcript", "T", "timed phones or words of the video's speech (TextGrid, .lab, GRID .align, …)"},
-	           {"--text", "TEXT", "the words spoken: aligned to the audio with 'talkhead align'"},
-	           {"--text-file", "F", "the same, from a file"},
-	           {"--audio", "A", "the speech audio, when it is not the video's own audio track"},
-	           {"--lang", "LANG", "pt-BR (default) or en-US: the phones' language"},
-	           {"--emotion", "LABEL", "emotion label of every frame (default neutral)"},
-	           {"--select-by-shape", "", "choose frames by mouth shape, not by phones (automatic without audio)"},
-	           {"--per-cdv", "N", "frames kept per (emotion, CDV) (default 1)"},
-	           {"--baseface", "FRAME", "frame index (0-based) of the neutral baseface (default: the most neutral found)"},
-	           {"--landmarks", "F.tsv", "use this landmarks.tsv ('corpus landmarks') instead of tracking again"},
-	           {"--start", "T", "use the video from T seconds (or m:ss)"},
-	           {"--duration", "T", "use T seconds of the video"},
-	           {"--min-confidence", "C", "tracked frames less consistent than this are never chosen (default 0.6)"},
-	           {"--quiet", "", "no progress and no summary", "-q"}},
-	          "Turns a video of a face into a viseme corpus for 'talkhead build': tracks the 68 points (dlib), then\n"
-	          "picks for each phone the frame at the articulators' inflection point (the extremum of the lip opening\n"
-	          "inside the phone) and labels it with its context-dependent viseme; without audio (or with\n"
-	          "--select-by-shape), picks for each CDV the frames whose normalised mouth shape best matches the CDV's\n"
-	          "articulatory target (phonetics/cdv-mouth-targets.tsv, scaled to the speaker), labelled with --emotion.\n"
-	          "The head may move: frames are stored with their points as they are (the builder's Procrustes removes\n"
-	          "pose); the baseface is the most neutral frame unless --baseface says which.");
+	Args args = fromVideoArgs();
 	if (!args.parse(argv)) return 0;
-	args.onePositional("give one video");
+	if (!args.has("--take") && !args.has("--takes")) args.onePositional("give one video (or --take VIDEO:EMOTION for each take)");
 	const std::string out = args.required("--output", "-o DIR is required");
-	const std::string video = args.positionals()[0];
 	const int textSources = int(args.has("--transcript")) + int(args.has("--text")) + int(args.has("--text-file"));
 	if (textSources > 1) throw UsageError("corpus from-video: give one of --transcript, --text and --text-file");
+	const std::vector<VideoTake> takes = takesOf(args);
 	bool byShape = args.has("--select-by-shape");
-	if (byShape && textSources) throw UsageError("corpus from-video: --select-by-shape chooses without a transcript; drop --transcript/--text");
+	const bool anySpeech = std::any_of(takes.begin(), takes.end(), [](const VideoTake& t) { return !t.transcript.empty() || !t.text.empty(); });
+	if (byShape && anySpeech) throw UsageError("corpus from-video: --select-by-shape chooses without a transcript; drop --transcript/--text");
+	const bool allSpeech = std::all_of(takes.begin(), takes.end(), [](const VideoTake& t) { return !t.transcript.empty() || !t.text.empty(); });
+	if (anySpeech && !allSpeech) throw UsageError("corpus from-video: some takes have speech and some not: give every take a transcript or text, or none");
 	FromVideoOptions fo;
-	if (auto e = args.get("--emotion")) {
-		auto c = canonicalEmotion(*e);
-		if (!c) throw UsageError("corpus from-video: unknown emotion '" + *e + "'");
-		fo.emotion = *c;
-	}
 	fo.perCdv = int(args.number("--per-cdv", 1, 1, 100));
 	fo.baseface = std::int64_t(args.number("--baseface", -1, 0, 1e9));
 	fo.minConfidence = args.number("--min-confidence", fo.minConfidence, 0, 1);
-	const std::string langTag = args.get("--lang", "pt-BR");
-	const Language& lang = Language::get(langTag);
-	TrackOptions to;
-	if (auto s = args.get("--start")) to.start = ticksFromSeconds(parseTimeOption("--start", *s));
-	if (auto d = args.get("--duration")) to.duration = ticksFromSeconds(parseTimeOption("--duration", *d));
+	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
 	const bool quiet = args.has("--quiet");
 	const auto t0 = std::chrono::steady_clock::now();
-
-	// Speech: with a transcript or text the phones need audio (the video's own track, or --audio).
-	VideoInfo info;
-	{
-		VideoReader probe(video);
-		info = probe.info();
-	}
-	const bool autoShape = !byShape && !textSources;  // said in the summary, so that an error stays one line
+	const bool autoShape = !byShape && !anySpeech;  // said in the summary, so that an error stays one line
 	if (autoShape) byShape = true;
-	std::vector<PhoneSegment> phones;
-	std::vector<Interval> words;
-	if (!byShape) {
-		phones = videoSpeech(args, video, info, lang, quiet, words);
-		// Times in the transcript are relative to the audio, which starts with the video.
-	}
 
-	OutputDir dir(out);
-	ProgressBar bar(quiet);
-	LandmarkTrack track;
-	if (auto lm = args.get("--landmarks")) {
-		track = readLandmarksTsv(*lm);
-		track.info = info;
-	} else {
-		track = trackVideo(video, to, bar);
+	std::vector<TakePlan> plans;
+	for (const VideoTake& take : takes) {
+		if (!quiet && takes.size() > 1 && ::isatty(2)) std::fprintf(stderr, "take %zu of %zu: %s (%s)\n", plans.size() + 1, takes.size(), take.video.c_str(), take.emotion.c_str());
+		plans.push_back(planTake(take, args, fo, lang, byShape, quiet));
 	}
-	bar.finish();
-	VideoCorpusPlan plan = byShape ? selectByShape(track, loadCdvMouthTargets(), fo) : selectByPhones(track, phones, words, fo);
-	writeVideoCorpus(video, track, plan, dir.path(""));
-	writeFileAtomically(dir.path("landmarks.tsv"), landmarksTsv(track));
+	// The baseface: the neutral take's (the first neutral one), else the first take's.
+	std::size_t base = 0;
+	for (std::size_t k = plans.size(); k-- > 0;)
+		if (plans[k].take.emotion == "neutral") base = k;
+	OutputDir dir(out);
+	const std::vector<ColourMatch> matches = writeTakesCorpus(plans, base, dir.path(""));
+	if (plans.size() == 1) {
+		writeFileAtomically(dir.path("landmarks.tsv"), landmarksTsv(plans[0].track));
+	} else {
+		for (std::size_t k = 0; k < plans.size(); ++k)
+			writeFileAtomically(dir.path("landmarks-take" + std::to_string(k + 1) + ".tsv"), landmarksTsv(plans[k].track));
+	}
 	dir.commit();
-	if (!quiet) {
-		const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-		std::fprintf(stderr, "wrote %s/corpus.csv: %zu frames by %s for %zu CDVs, baseface frame %lld; face in %zu of %zu frames; %.1f s\n", out.c_str(),
-		             plan.entries.size(), plan.method == "shape" ? (autoShape ? "mouth shape (no transcript or text given)" : "mouth shape") : "phones",
-		             std::size_t(visemeLabels().size() - plan.missing.size()), (long long)plan.basefaceFrame, track.foundCount(), track.frames.size(), secs);
-		if (!plan.missing.empty()) {
+	if (quiet) return 0;
+	const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	for (std::size_t k = 0; k < plans.size(); ++k) {
+		const VideoCorpusPlan& plan = plans[k].plan;
+		const LandmarkTrack& track = plans[k].track;
+		if (plans.size() == 1)
+			std::fprintf(stderr, "wrote %s/corpus.csv: %zu frames by %s for %zu CDVs, baseface frame %lld; face in %zu of %zu frames; %.1f s\n", out.c_str(),
+			             plan.entries.size(), plan.method == "shape" ? (autoShape ? "mouth shape (no transcript or text given)" : "mouth shape") : "phones",
+			             std::size_t(visemeLabels().size() - plan.missing.size()), (long long)plan.basefaceFrame, track.foundCount(), track.frames.size(), secs);
+		else
+			std::fprintf(stderr, "take %zu (%s): %zu frames by %s for %zu CDVs; face in %zu of %zu frames; colour gain %.2f %.2f %.2f%s\n", k + 1,
+			             plans[k].take.emotion.c_str(), plan.entries.size(), plan.method == "shape" ? "mouth shape" : "phones",
+			             std::size_t(visemeLabels().size() - plan.missing.size()), track.foundCount(), track.frames.size(), matches[k].gain[0], matches[k].gain[1],
+			             matches[k].gain[2], k == base ? " (the baseface's take)" : "");
+		if (!plan.missing.empty() && plans.size() == 1) {
 			std::string m;
 			for (const auto& c : plan.missing) m += (m.empty() ? "" : " ") + c;
 			std::fprintf(stderr, "no frame for the CDVs: %s (the model falls back to neutral or a neighbouring viseme)\n", m.c_str());
 		}
+	}
+	if (plans.size() > 1) {
+		std::string emotions;
+		for (const auto& p : plans) emotions += (emotions.empty() ? "" : ", ") + p.take.emotion;
+		std::fprintf(stderr, "wrote %s/corpus.csv: %zu takes (%s), baseface from take %zu; %.1f s. Emotions no take has render from the neutral frames by their action units (--emotion-source auto).\n",
+		             out.c_str(), plans.size(), emotions.c_str(), base + 1, secs);
 	}
 	return 0;
 }

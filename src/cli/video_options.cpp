@@ -163,7 +163,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	return {genericVisemesOption(),
 	        {"--emotion", "LABEL[:I]", "one of the 23 emotion labels or an alias (default neutral); :I sets its intensity, 0 (neutral) to 1 (the corpus, default), up to 1.5"},
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
-	        {"--emotion-source", "SRC", "corpus (default: the model's images of the emotion), au (the neutral images reshaped by the emotion's action units) or auto (corpus where the model has the emotion, else au)"},
+	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
 	        {"--fit", "MODE", "when --size has another aspect than the model: crop (default: fill, cut the overflow), pad (fit inside, extend the edges) or stretch"},
@@ -277,7 +277,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	const std::string warpPath = args.get("--warp", "direct");
 	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");
 	c.render.synth.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
-	const std::string source = args.get("--emotion-source", "corpus");
+	const std::string source = args.get("--emotion-source", "auto");
 	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
 	c.render.synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);
 	c.modulation = parseModulation(args, command);

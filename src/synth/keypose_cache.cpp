@@ -99,8 +99,14 @@ std::vector<std::string> KeyposeCache::substitutions() const {
 std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypose>& keys) const {
 	std::vector<std::string> out;
 	for (const auto& k : keys) {
-		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
 		const std::string& emotion = emotionOf(k).label();
+		if (fromActionUnits(k)) {  // issue 31: an emotion the model lacks comes from its action units
+			const std::string line = emotion + " from the neutral images by its action units" +
+			                         (o_.emotionSource == EmotionSource::Auto ? " (the model has no " + emotion + " images)" : "");
+			if (std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
+			continue;
+		}
+		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
 		const std::string line = emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
 		if ((s.emotion != emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 	}
@@ -109,7 +115,7 @@ std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypos
 
 
 KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
-                                      const std::vector<Eigen::VectorXf>& synthesized) const {
+                                      const std::vector<Eigen::VectorXf>& synthesized, const std::vector<float>& gain) const {
 	KeyposeImage k;
 	const SampleInfo& s = model_.samples[std::size_t(sample)];
 	k.usedEmotion = s.emotion;
@@ -129,7 +135,14 @@ KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const s
 		PiecewiseAffineWarp warp(rig_.mesh, withAnchors(k.shape, rig_.anchors, model_.width, model_.height), model_.width, model_.height);
 		warp.setSource(rig_.meanSource);
 		k.image = Image8(model_.width, model_.height, 3);
-		warp.apply(compositeRegions(model_, a), k.image);
+		Image composite = compositeRegions(model_, a);
+		if (!gain.empty()) {
+			const int rw = rig_.roiX1 - rig_.roiX0;
+			for (int y = rig_.roiY0; y < rig_.roiY1; ++y)
+				for (int x = rig_.roiX0; x < rig_.roiX1; ++x)
+					for (int c = 0; c < 3; ++c) composite.at(x, y, c) *= gain[std::size_t(y - rig_.roiY0) * std::size_t(rw) + std::size_t(x - rig_.roiX0)];
+		}
+		warp.apply(composite, k.image);
 		return k;
 	}
 	// Spec §5.3 in the face box only (the baseface elsewhere): regions pasted coarse → fine through their
@@ -154,6 +167,9 @@ KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const s
 			}
 		}
 	}
+	if (!gain.empty())  // the skin's luminance, all three channels alike (no hue change)
+		for (std::size_t p = 0; p < gain.size(); ++p)
+			for (std::size_t c = 0; c < 3; ++c) crop[3 * p + c] *= gain[p];
 	k.rgb.resize(crop.size());
 	for (std::size_t i = 0; i < crop.size(); ++i) {
 		const float v = crop[i] + 0.5f;
@@ -194,8 +210,15 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	load(sample, bytes, cached8, synth);
 	if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
 		Points shape = model_.alignedShapes[std::size_t(sample)];
-		applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, defaultAuProfiles().at(auEmotion), intensity), rig_.auFrame);
-		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth));
+		const AuProfile& profile = defaultAuProfiles().at(auEmotion);
+		applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, profile, intensity), rig_.auFrame);
+		std::vector<float> gain;
+		if (auAppearance_) {
+			AuProfile scaled = profile;
+			for (auto& [au, w] : scaled) w *= intensity;
+			gain = appearanceGain(*auAppearance_, scaled);
+		}
+		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth, gain));
 		made->usedEmotion = auEmotion + " (action units)";
 		return made;
 	}
@@ -221,6 +244,15 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	const Points& b = model_.alignedShapes[std::size_t(base)];
 	const std::vector<const std::uint8_t*> none(nr, nullptr);
 	return std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
+}
+
+void KeyposeCache::prepareAuAppearance() {
+	if (auAppearanceTried_ || !o_.auAppearance) return;
+	auAppearanceTried_ = true;
+	const AuAppearance* a = defaultAuAppearance();
+	if (!a || model_.scheme.eyes.size() != 2 || model_.scheme.brows.size() != 2) return;
+	auAppearance_ = std::make_unique<MappedAuAppearance>(
+	    mapAuAppearance(*a, model_.scheme, model_.meanShape, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0));
 }
 
 void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
@@ -259,6 +291,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 		synthesized[r] = synthesizeAppearances(reg, c);
 	}
 	std::vector<std::unique_ptr<KeyposeImage>> made(pairs.size());
+	if (std::any_of(pairs.begin(), pairs.end(), [](const ImageKey& k) { return !std::get<3>(k).empty(); })) prepareAuAppearance();
 	parallelFor(pairs.size(), 0, [&](std::size_t j) { made[j] = makeImage(pairs[j], synthesized, samples); });
 	std::lock_guard<std::mutex> lock(mutex_);
 	for (std::size_t j = 0; j < pairs.size(); ++j) images_.emplace(pairs[j], std::move(made[j]));

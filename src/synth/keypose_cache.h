@@ -10,6 +10,7 @@
 
 #include "model/face_model.h"
 #include "phonetics/language.h"
+#include "synth/au_appearance.h"
 #include "synth/synthesizer.h"
 
 namespace talkhead {
@@ -54,8 +55,14 @@ private:
 	double intensityOf(const Keypose& key) const;
 	std::string indexKey(const Keypose& key) const;  // CDV, emotion and intensity
 	std::unique_ptr<KeyposeImage> makeImage(const ImageKey& key, const std::vector<Eigen::MatrixXf>& synthesized, const std::vector<long>& samples) const;
+	// `gain`: the skin's luminance gain over the face box (action-unit appearance, issue 31), or empty.
 	KeyposeImage makeKeypose(long sample, const Points& shape, const std::vector<const std::uint8_t*>& cached8,
-	                         const std::vector<Eigen::VectorXf>& synthesized) const;
+	                         const std::vector<Eigen::VectorXf>& synthesized, const std::vector<float>& gain = {}) const;
+	// Action-unit appearance (issue 31 route 2) mapped into the model's mean frame once, when the first
+	// keypose from action units is made (nullptr: none installed, or the scheme has no eyes and brows).
+	std::unique_ptr<MappedAuAppearance> auAppearance_;
+	bool auAppearanceTried_ = false;
+	void prepareAuAppearance();
 };
 
 }  // namespace talkhead

@@ -45,7 +45,10 @@ struct SynthOptions {
 	YuvRange yuvRange = YuvRange::Limited;         // of renderFrameYuv's output
 	// Blinks and head motion (D42); none when null. Blinks need the scheme's eyes ('eye' lines).
 	std::shared_ptr<const ShapeModulator> modulator;
-	EmotionSource emotionSource = EmotionSource::Corpus;
+	EmotionSource emotionSource = EmotionSource::Auto;  // issue 31: an emotion the model lacks from its action units
+	// With action units: the skin's appearance changes too (furrows, wrinkles; issue 31 route 2) where the
+	// appearance maps are installed (models/au-appearance.bin). false: the shape alone, as before.
+	bool auAppearance = true;
 };
 
 // A keypose ready to morph: its shape (model pixels) and its appearance: composited in the mean-shape frame

@@ -373,64 +373,223 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 }
 
 void writeVideoCorpus(const std::string& video, const LandmarkTrack& track, const VideoCorpusPlan& plan, const std::string& dir) {
-	(void)track;
-	fs::create_directories(fs::path(dir) / "frames");
-	std::set<std::int64_t> wanted;
-	for (const auto& e : plan.entries) wanted.insert(e.frame);
-	// Decode the video once more and keep the chosen frames.
-	std::map<std::int64_t, Image8> frames;
-	{
-		VideoReader reader(video);
-		Image8 rgb;
-		Ticks t{0};
-		std::int64_t index = 0;
-		const std::int64_t last = wanted.empty() ? -1 : *wanted.rbegin();
-		while (index < last && reader.read(rgb, t, index)) {
-			if (wanted.count(index)) {
-				writeImage((fs::path(dir) / frameName(index)).string(), rgb, 6);
-				frames[index] = rgb;
+	TakePlan t;
+	t.take.video = video;
+	t.track = track;
+	t.plan = plan;
+	writeTakesCorpus({t}, 0, dir);
+}
+
+VideoTake parseTakeSpec(const std::string& spec) {
+	VideoTake t;
+	t.where = "--take " + spec;
+	const auto colon = spec.rfind(':');
+	if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
+		throw Error("--take takes VIDEO:EMOTION (e.g. anger.mp4:anger), not '" + spec + "'");
+	t.video = spec.substr(0, colon);
+	const std::string e = spec.substr(colon + 1);
+	const auto c = canonicalEmotion(e);
+	if (!c) throw Error(t.video, 0, "--take: unknown emotion '" + e + "'");
+	t.emotion = *c;
+	if (!fs::is_regular_file(t.video)) throw Error(t.video, 0, "--take: no such file");
+	return t;
+}
+
+std::vector<VideoTake> readTakeList(const std::string& path) {
+	const TsvTable tab = readTsv(path);
+	const fs::path folder = fs::path(path).parent_path();
+	auto optional = [&](const char* name) -> long {
+		const auto it = std::find(tab.header.begin(), tab.header.end(), name);
+		return it == tab.header.end() ? -1 : long(it - tab.header.begin());
+	};
+	const std::size_t cv = tab.column("video"), ce = tab.column("emotion");
+	const long cs = optional("start"), cd = optional("duration"), ct = optional("transcript"), cx = optional("text"), ca = optional("audio");
+	std::vector<VideoTake> out;
+	for (const auto& r : tab.rows) {
+		VideoTake t;
+		t.where = path + ":" + std::to_string(r.line);
+		auto file = [&](long column, const char* what) -> std::string {
+			if (column < 0 || r.fields[std::size_t(column)].empty() || r.fields[std::size_t(column)] == "-") return "";
+			const fs::path f = fs::path(r.fields[std::size_t(column)]);
+			const std::string p = (f.is_absolute() ? f : folder / f).string();
+			if (!fs::is_regular_file(p)) throw Error(path, r.line, std::string("no such ") + what + " file: " + p);
+			return p;
+		};
+		t.video = file(long(cv), "video");
+		if (t.video.empty()) throw Error(path, r.line, "the take names no video");
+		const auto c = canonicalEmotion(r.fields[ce]);
+		if (!c) throw Error(path, r.line, "unknown emotion '" + r.fields[ce] + "'");
+		t.emotion = *c;
+		if (cs >= 0 && !r.fields[std::size_t(cs)].empty() && r.fields[std::size_t(cs)] != "-") t.start = ticksFromSeconds(tab.number(r, std::size_t(cs), 0, 1e6));
+		if (cd >= 0 && !r.fields[std::size_t(cd)].empty() && r.fields[std::size_t(cd)] != "-") t.duration = ticksFromSeconds(tab.number(r, std::size_t(cd), 0.1, 1e6));
+		t.transcript = file(ct, "transcript");
+		t.audio = file(ca, "audio");
+		if (cx >= 0 && r.fields[std::size_t(cx)] != "-") t.text = r.fields[std::size_t(cx)];
+		if (!t.transcript.empty() && !t.text.empty()) throw Error(path, r.line, "give a take's transcript or its text, not both");
+		out.push_back(std::move(t));
+	}
+	if (out.empty()) throw Error(path, 0, "the take list has no takes");
+	return out;
+}
+
+bool ColourMatch::identity() const {
+	for (int c = 0; c < 3; ++c)
+		if (gain[c] != 1 || offset[c] != 0) return false;
+	return true;
+}
+
+namespace {
+
+// Mean and standard deviation per channel of the face pixels (inside the landmarks' convex hull).
+struct ColourStats {
+	double sum[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
+	double n = 0;
+	void add(const Image8& img, const Points& points) {
+		std::vector<cv::Point> pts, hull;
+		for (Eigen::Index i = 0; i < points.rows(); ++i) pts.emplace_back(int(std::lround(points(i, 0))), int(std::lround(points(i, 1))));
+		cv::convexHull(pts, hull);
+		cv::Mat mask = cv::Mat::zeros(img.height, img.width, CV_8U);
+		cv::fillConvexPoly(mask, hull, cv::Scalar(255));
+		for (int y = 0; y < img.height; ++y) {
+			const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+			const std::uint8_t* p = &img.data[std::size_t(y) * std::size_t(img.width) * 3];
+			for (int x = 0; x < img.width; ++x) {
+				if (!m[x]) continue;
+				n += 1;
+				for (int c = 0; c < 3; ++c) {
+					const double v = p[3 * x + c];
+					sum[c] += v, sq[c] += v * v;
+				}
 			}
 		}
 	}
+	double mean(int c) const { return n > 0 ? sum[c] / n : 0; }
+	double sd(int c) const { return n > 1 ? std::sqrt(std::max(0.0, sq[c] / n - mean(c) * mean(c))) : 0; }
+};
+
+ColourMatch matchTo(const ColourStats& from, const ColourStats& to) {
+	ColourMatch m;
+	for (int c = 0; c < 3; ++c) {
+		m.gain[c] = from.sd(c) > 1 ? std::clamp(to.sd(c) / from.sd(c), 0.8, 1.25) : 1.0;
+		m.offset[c] = to.mean(c) - m.gain[c] * from.mean(c);
+	}
+	return m;
+}
+
+void applyMatch(Image8& img, const ColourMatch& m) {
+	if (m.identity()) return;
+	std::uint8_t lut[3][256];
+	for (int c = 0; c < 3; ++c)
+		for (int v = 0; v < 256; ++v) lut[c][v] = std::uint8_t(std::clamp(std::lround(m.gain[c] * v + m.offset[c]), 0L, 255L));
+	for (std::size_t i = 0; i < img.data.size(); i += 3)
+		for (int c = 0; c < 3; ++c) img.data[i + std::size_t(c)] = lut[c][img.data[i + std::size_t(c)]];
+}
+
+// The chosen frames of a video, decoded once more (absolute frame indices, as the track has them).
+std::map<std::int64_t, Image8> decodeFrames(const std::string& video, const VideoCorpusPlan& plan) {
+	std::set<std::int64_t> wanted;
+	for (const auto& e : plan.entries) wanted.insert(e.frame);
+	std::map<std::int64_t, Image8> frames;
+	VideoReader reader(video);
+	Image8 rgb;
+	Ticks t{0};
+	std::int64_t index = 0;
+	const std::int64_t last = wanted.empty() ? -1 : *wanted.rbegin();
+	while (index < last && reader.read(rgb, t, index))
+		if (wanted.count(index)) frames[index] = rgb;
 	for (std::int64_t f : wanted)
 		if (!frames.count(f)) throw Error(video, 0, "frame " + std::to_string(f) + " could not be decoded again");
+	return frames;
+}
+
+std::string csvField(const std::string& s) {
+	if (s.find_first_of(",\"") != std::string::npos) {
+		std::string q = "\"";
+		for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+		return q + "\"";
+	}
+	return s.empty() ? std::string("-") : s;
+}
+
+}  // namespace
+
+std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir) {
+	if (takes.empty() || baseTake >= takes.size()) throw std::logic_error("writeTakesCorpus: no takes or no base take");
+	fs::create_directories(fs::path(dir) / "frames");
+	const bool several = takes.size() > 1;
+	auto imageName = [&](std::size_t k, std::int64_t frame) {
+		return several ? "frames/take" + std::to_string(k + 1) + "_" + frameName(frame).substr(7) : frameName(frame);
+	};
+	// Decode every take's chosen frames; match the colours to the base take's.
+	std::vector<std::map<std::int64_t, Image8>> frames;
+	std::vector<ColourStats> stats(takes.size());
+	for (std::size_t k = 0; k < takes.size(); ++k) {
+		frames.push_back(decodeFrames(takes[k].take.video, takes[k].plan));
+		if (several)
+			for (const auto& e : takes[k].plan.entries) stats[k].add(frames[k].at(e.frame), e.points);
+	}
+	std::vector<ColourMatch> matches(takes.size());
+	for (std::size_t k = 0; several && k < takes.size(); ++k) {
+		if (k != baseTake) matches[k] = matchTo(stats[k], stats[baseTake]);
+		for (auto& [index, img] : frames[k]) applyMatch(img, matches[k]);
+	}
+	int width = -1, height = -1;
+	for (std::size_t k = 0; k < takes.size(); ++k)
+		for (const auto& [index, img] : frames[k]) {
+			if (width < 0) width = img.width, height = img.height;
+			if (img.width != width || img.height != height)
+				throw Error(takes[k].take.video, 0, "its frames are " + std::to_string(img.width) + "x" + std::to_string(img.height) + ", the first take's " +
+				                                        std::to_string(width) + "x" + std::to_string(height) + ": the takes of one corpus must be the same size");
+			writeImage((fs::path(dir) / imageName(k, index)).string(), img, 6);
+		}
 	// corpus.csv
 	std::ostringstream csv;
-	csv << "# talkhead corpus from-video: " << fs::path(video).filename().string() << ", " << plan.entries.size() << " frames chosen by "
-	    << (plan.method == "shape" ? "mouth shape" : "phone alignment") << ", ibug-68 points (dlib)\n";
-	csv << "# baseface: " << frameName(plan.basefaceFrame) << "\n";
-	char buf[64];
-	auto field = [](std::string s) {
-		if (s.find_first_of(",\"") != std::string::npos) {
-			std::string q = "\"";
-			for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-			return q + "\"";
+	std::size_t count = 0;
+	for (const auto& t : takes) count += t.plan.entries.size();
+	if (!several) {
+		const VideoCorpusPlan& plan = takes[0].plan;
+		csv << "# talkhead corpus from-video: " << fs::path(takes[0].take.video).filename().string() << ", " << plan.entries.size() << " frames chosen by "
+		    << (plan.method == "shape" ? "mouth shape" : "phone alignment") << ", ibug-68 points (dlib)\n";
+	} else {
+		csv << "# talkhead corpus from-video: " << takes.size() << " takes, " << count << " frames, ibug-68 points (dlib); colours matched to take "
+		    << baseTake + 1 << "\n";
+		for (std::size_t k = 0; k < takes.size(); ++k) {
+			char b[160];
+			std::snprintf(b, sizeof b, "gain %.3f %.3f %.3f offset %.1f %.1f %.1f", matches[k].gain[0], matches[k].gain[1], matches[k].gain[2], matches[k].offset[0],
+			              matches[k].offset[1], matches[k].offset[2]);
+			csv << "# take " << k + 1 << ": " << fs::path(takes[k].take.video).filename().string() << ", " << takes[k].take.emotion << ", "
+			    << takes[k].plan.entries.size() << " frames by " << (takes[k].plan.method == "shape" ? "mouth shape" : "phone alignment") << "; " << b << "\n";
 		}
-		return s.empty() ? std::string("-") : s;
-	};
-	for (const auto& e : plan.entries) {
-		csv << frameName(e.frame) << "," << field(e.emotion);
-		for (const auto& c : e.context) csv << "," << field(c);
-		csv << "," << field(e.cdv) << "," << field(e.word);
-		for (int i = 0; i < kIbugPoints; ++i) {
-			std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", e.points(i, 0), e.points(i, 1));
-			csv << buf;
-		}
-		csv << "\n";
 	}
+	csv << "# baseface: " << imageName(baseTake, takes[baseTake].plan.basefaceFrame) << "\n";
+	char buf[64];
+	for (std::size_t k = 0; k < takes.size(); ++k)
+		for (const auto& e : takes[k].plan.entries) {
+			csv << imageName(k, e.frame) << "," << csvField(e.emotion);
+			for (const auto& c : e.context) csv << "," << csvField(c);
+			csv << "," << csvField(e.cdv) << "," << csvField(e.word);
+			for (int i = 0; i < kIbugPoints; ++i) {
+				std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", e.points(i, 0), e.points(i, 1));
+				csv << buf;
+			}
+			csv << "\n";
+		}
 	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), csv.str());
-	// Contact sheet: the face of each chosen frame (CDV label), baseface first.
+	// Contact sheet: the face of each chosen frame (CDV label, and the take's emotion with several), baseface first.
 	const int cell = 160, labelH = 16, cols = 8;
-	std::vector<const ChosenFrame*> order;
-	for (const auto& e : plan.entries)
-		if (e.frame == plan.basefaceFrame) order.insert(order.begin(), &e);
-		else order.push_back(&e);
+	std::vector<std::pair<std::size_t, const ChosenFrame*>> order;
+	for (std::size_t k = 0; k < takes.size(); ++k)
+		for (const auto& e : takes[k].plan.entries)
+			if (k == baseTake && e.frame == takes[k].plan.basefaceFrame) order.insert(order.begin(), {k, &e});
+			else order.emplace_back(k, &e);
 	const int rows = (int(order.size()) + cols - 1) / cols;
 	Image8 sheet(cols * cell, rows * (cell + labelH), 3, 30);
 	cv::Mat sm(sheet.height, sheet.width, CV_8UC3, sheet.data.data());
-	for (std::size_t k = 0; k < order.size(); ++k) {
-		const ChosenFrame& e = *order[k];
-		Image8 img = frames[e.frame];
+	for (std::size_t n = 0; n < order.size(); ++n) {
+		const auto [k, ep] = order[n];
+		const ChosenFrame& e = *ep;
+		const bool base = k == baseTake && e.frame == takes[k].plan.basefaceFrame;
+		Image8 img = frames[k].at(e.frame);
 		drawLandmarks(img, e.points, true);
 		// A square around the lower face.
 		const double iod = eyeDistance(e.points);
@@ -439,15 +598,17 @@ void writeVideoCorpus(const std::string& video, const LandmarkTrack& track, cons
 		cv::Mat src(img.height, img.width, CV_8UC3, img.data.data()), crop;
 		const cv::Matx23d m(2 * half / cell, 0, cx - half, 0, 2 * half / cell, cy - half);
 		cv::warpAffine(src, crop, m, cv::Size(cell, cell), cv::INTER_AREA | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(30, 30, 30));
-		const int x = int(k % cols) * cell, y = int(k / cols) * (cell + labelH);
+		const int x = int(n % cols) * cell, y = int(n / cols) * (cell + labelH);
 		crop.copyTo(sm(cv::Rect(x, y, cell, cell)));
 		std::string label = e.cdv;  // OpenCV's font is ASCII: the CDV's ASCII alias
 		for (const auto& v : visemeLabels())
 			if (v.label == e.cdv && !v.ascii.empty()) label = v.ascii;
-		std::snprintf(buf, sizeof buf, "%s%s #%lld", e.frame == plan.basefaceFrame ? "BASE " : "", label.c_str(), (long long)e.frame);
+		if (several) label = e.emotion.substr(0, 5) + " " + label;
+		std::snprintf(buf, sizeof buf, "%s%s #%lld", base ? "BASE " : "", label.c_str(), (long long)e.frame);
 		cv::putText(sm, buf, cv::Point(x + 3, y + cell + 12), cv::FONT_HERSHEY_SIMPLEX, 0.38, cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
 	}
 	writeImage((fs::path(dir) / "contact.png").string(), sheet);
+	return matches;
 }
 
 }  // namespace talkhead

@@ -89,4 +89,39 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 // 68 points, "# baseface:" naming the baseface's image) and contact.png (the chosen mouths per CDV).
 void writeVideoCorpus(const std::string& video, const LandmarkTrack& track, const VideoCorpusPlan& plan, const std::string& dir);
 
+// Issue 31, route 1: several takes of one person, each in one emotion, make one corpus (the thesis's way:
+// a model of every recorded emotion).
+struct VideoTake {
+	std::string video;
+	std::string emotion = "neutral";  // canonical label
+	Ticks start{0}, duration{0};      // the part of the video used (duration 0: to its end)
+	std::string transcript, text, audio;  // its speech: a timed transcript, or words to align to the audio
+	                                      // (the video's own, or `audio`); neither: frames chosen by shape
+	std::string where;                // for messages: "takes.tsv:3" or "--take VIDEO:EMOTION"
+};
+// "VIDEO:EMOTION" (split at the last colon; an emotion label or alias). Throws Error saying what is wrong.
+VideoTake parseTakeSpec(const std::string& spec);
+// A take list: TSV with a header; columns video and emotion, and optionally start and duration (seconds),
+// transcript, text and audio. Relative paths are relative to the list's folder. Every take's video (and
+// transcript, audio) must exist. Throws Error("LIST:LINE: …").
+std::vector<VideoTake> readTakeList(const std::string& path);
+
+// One take's tracked face and chosen frames.
+struct TakePlan {
+	VideoTake take;
+	LandmarkTrack track;
+	VideoCorpusPlan plan;
+};
+// Per colour channel (R, G, B): out = gain × in + offset.
+struct ColourMatch {
+	double gain[3] = {1, 1, 1}, offset[3] = {0, 0, 0};
+	bool identity() const;
+};
+// Writes one corpus of the takes (as writeVideoCorpus; every take's frames the same size) whose baseface is
+// takes[baseTake]'s. With more than one take, images are frames/takeK_frame_NNNNNN.png and every take's
+// colours are matched to the base take's — mean and spread per channel over the face (inside its landmarks'
+// hull) in all its chosen frames, the gain kept within 0.8–1.25 — so that lighting that drifted between
+// recordings does not flash at an emotion change. Returns each take's match.
+std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir);
+
 }  // namespace talkhead

@@ -104,17 +104,18 @@ assert 'latency_ms' in one('utterance_started', 'one')
 print('back to back and barge-in: ok')
 EOF
 
-# Bad requests: an error each, and the session goes on (the say after them is spoken).
-"$CLIENT" "$port" "$T/s4" 6 '100:{"type": "say", "text": ' '200:{"type":"emotion","emotion":"grumpy"}' "300:@$T/bad-audio.json" \
+# Bad requests: an error each, and the session goes on (the say after them is spoken). 10 s: under the
+# sanitizers, with other tests beside it, the 32-MiB message alone takes seconds.
+"$CLIENT" "$port" "$T/s4" 10 '100:{"type": "say", "text": ' '200:{"type":"emotion","emotion":"grumpy"}' "300:@$T/bad-audio.json" \
 	"400:@$T/huge.json" '500:{"type":"dance"}' '700:{"type":"say","id":"after","text":"Still here."}' "800:@$T/speak-pcm.json"
 test "$(grep -c '"type": "error"' "$T/s4.events")" = 5 || { cat "$T/s4.events" | cut -c1-200; exit 1; }
-grep -q 'malformed JSON' "$T/s4.events"
-grep -q "unknown emotion 'grumpy'" "$T/s4.events"
-grep -q '"id": "noise"' "$T/s4.events"
-grep -q 'larger than 32 MiB' "$T/s4.events"
-grep -q "unknown request type 'dance'" "$T/s4.events"
-grep -q '"type": "utterance_started".*"id": "after"' "$T/s4.events"
-grep -q '"type": "utterance_started".*"id": "pcm"' "$T/s4.events"
+grep -q 'malformed JSON' "$T/s4.events" || { echo "s4: no malformed JSON"; cut -c1-200 "$T/s4.events"; exit 1; }
+grep -q "unknown emotion 'grumpy'" "$T/s4.events" || { echo "s4: no unknown emotion grumpy"; cut -c1-200 "$T/s4.events"; exit 1; }
+grep -q '"id": "noise"' "$T/s4.events" || { echo "s4: no id: noise"; cut -c1-200 "$T/s4.events"; exit 1; }
+grep -q 'larger than 32 MiB' "$T/s4.events" || { echo "s4: no larger than 32 MiB"; cut -c1-200 "$T/s4.events"; exit 1; }
+grep -q "unknown request type 'dance'" "$T/s4.events" || { echo "s4: no unknown request type dance"; cut -c1-200 "$T/s4.events"; exit 1; }
+grep -q '"type": "utterance_started".*"id": "after"' "$T/s4.events" || { echo "s4: no type: utterance_started.*id: after"; cut -c1-200 "$T/s4.events"; exit 1; }
+grep -q '"type": "utterance_started".*"id": "pcm"' "$T/s4.events" || { echo "s4: no type: utterance_started.*id: pcm"; cut -c1-200 "$T/s4.events"; exit 1; }
 
 # The port in use: an error naming it.
 if timeout 20 "$TH" serve --listen "127.0.0.1:$port" 2>"$T/busy.err"; then echo "a second server on the same port"; exit 1; fi
@@ -126,8 +127,8 @@ for m in 1 2 3; do "$CLIENT" "$port" "$T/m$m" 2 & pids+=($!); done
 sleep 0.8
 "$CLIENT" "$port" "$T/m4" 1 || true
 wait "${pids[@]}"
-grep -q 'sessions already' "$T/m4.events"
-curl -sf "http://127.0.0.1:$port/health" | grep -q '"sessions": 0'
+grep -q 'sessions already' "$T/m4.events" || { echo "m4 was not refused:"; cut -c1-200 "$T/m4.events"; exit 1; }
+curl -sf "http://127.0.0.1:$port/health" | grep -q '"sessions": 0' || { echo "sessions left: $(curl -s "http://127.0.0.1:$port/health")"; exit 1; }
 "$CLIENT" "$port" "$T/m5" 0.5
 grep -q '"type": "hello"' "$T/m5.events"
 kill -0 "$server"

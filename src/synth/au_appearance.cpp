@@ -1,0 +1,313 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "synth/au_appearance.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include "base/atomic_file.h"
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "warp/piecewise_affine.h"
+
+namespace talkhead {
+
+Points appearanceAnchors(const Scheme& scheme, const Points& shape) {
+	if (scheme.eyes.size() != 2 || scheme.brows.size() != 2)
+		throw Error("scheme " + scheme.name + " has no two eyes and two brows: action-unit appearance needs them as anchors");
+	Points a(kAppearanceAnchors, 2);
+	int k = 0;
+	for (const EyeSpec& e : scheme.eyes) {
+		a.row(k++) = shape.row(e.corner0);
+		a.row(k++) = shape.row(e.corner1);
+	}
+	for (const BrowSpec& b : scheme.brows) {
+		a.row(k++) = shape.row(b.points.front());
+		a.row(k++) = shape.row(b.points.back());
+	}
+	const EyeFrame f = eyeFrame(scheme, shape);
+	Eigen::Index chin = 0;
+	double lowest = -1e300;
+	for (Eigen::Index i = 0; i < shape.rows(); ++i) {
+		const double y = (shape.row(i) - f.origin).dot(f.y);
+		if (y > lowest) lowest = y, chin = i;
+	}
+	a.row(k) = shape.row(chin);
+	return a;
+}
+
+int AuAppearance::find(const std::string& au) const {
+	for (std::size_t i = 0; i < names.size(); ++i)
+		if (names[i] == au) return int(i);
+	return -1;
+}
+
+int MappedAuAppearance::find(const std::string& au) const {
+	for (std::size_t i = 0; i < names.size(); ++i)
+		if (names[i] == au) return int(i);
+	return -1;
+}
+
+namespace {
+
+float luma(const std::uint8_t* p) { return 0.299f * p[0] + 0.587f * p[1] + 0.114f * p[2]; }
+
+// The affine map (2×3, least squares) that takes the points `from` to `to`.
+Eigen::Matrix<double, 2, 3> fitAffine(const Points& from, const Points& to) {
+	Eigen::MatrixXd A(from.rows(), 3);
+	A.col(0) = from.col(0);
+	A.col(1) = from.col(1);
+	A.col(2).setOnes();
+	const Eigen::MatrixXd X = A.colPivHouseholderQr().solve(Eigen::MatrixXd(to));  // 3 × 2
+	return X.transpose();
+}
+
+void blur(std::vector<float>& v, int w, int h, double sigma) {
+	const int r = int(std::ceil(3 * sigma));
+	std::vector<float> k(std::size_t(2 * r + 1));
+	float sum = 0;
+	for (int i = -r; i <= r; ++i) sum += k[std::size_t(i + r)] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
+	for (float& x : k) x /= sum;
+	std::vector<float> t(v.size());
+	for (int y = 0; y < h; ++y)
+		for (int x = 0; x < w; ++x) {
+			float s = 0;
+			for (int i = -r; i <= r; ++i) s += k[std::size_t(i + r)] * v[std::size_t(y) * w + std::size_t(std::clamp(x + i, 0, w - 1))];
+			t[std::size_t(y) * w + std::size_t(x)] = s;
+		}
+	for (int y = 0; y < h; ++y)
+		for (int x = 0; x < w; ++x) {
+			float s = 0;
+			for (int i = -r; i <= r; ++i) s += k[std::size_t(i + r)] * t[std::size_t(std::clamp(y + i, 0, h - 1)) * w + std::size_t(x)];
+			v[std::size_t(y) * w + std::size_t(x)] = s;
+		}
+}
+
+}  // namespace
+
+AuAppearance learnAuAppearance(const Scheme& scheme, const std::vector<AppearanceSample>& samples, const std::function<Image8(std::size_t)>& images,
+                               const std::map<std::string, AuProfile>& profiles, int gridWidth) {
+	// The neutral sample of each CDV; the reference: the neutral rest shape (sil, else the first neutral).
+	std::map<std::string, std::size_t> neutralOf;
+	for (std::size_t i = 0; i < samples.size(); ++i)
+		if (samples[i].emotion == "neutral" && !neutralOf.count(samples[i].cdv)) neutralOf[samples[i].cdv] = i;
+	if (neutralOf.empty()) throw Error("the corpus has no neutral images: action-unit appearance is learned against them");
+	const std::size_t ref = neutralOf.count("sil") ? neutralOf["sil"] : neutralOf.begin()->second;
+	// The (emotion, CDV) pairs, the AUs their profiles use.
+	std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (expressive sample, its CDV's neutral sample)
+	std::vector<std::string> aus;
+	for (std::size_t i = 0; i < samples.size(); ++i) {
+		const auto p = profiles.find(samples[i].emotion);
+		const auto n = neutralOf.find(samples[i].cdv);
+		if (samples[i].emotion == "neutral" || p == profiles.end() || n == neutralOf.end()) continue;
+		pairs.emplace_back(i, n->second);
+		for (const auto& [au, w] : p->second)
+			if (w > 0 && std::find(aus.begin(), aus.end(), au) == aus.end()) aus.push_back(au);
+	}
+	if (pairs.size() < aus.size() || aus.empty()) throw Error("too few (emotion, CDV) images with a neutral of the same CDV to learn action-unit appearance");
+	std::sort(aus.begin(), aus.end(), [](const std::string& a, const std::string& b) { return std::stoi(a.substr(2)) < std::stoi(b.substr(2)); });
+	// The grid: the reference face's box (its points' bounds, 15 % larger), gridWidth wide.
+	const Image8 refImage = images(ref);
+	const int W = refImage.width, H = refImage.height;
+	const Points& refShape = samples[ref].points;
+	const double bx0 = refShape.col(0).minCoeff(), bx1 = refShape.col(0).maxCoeff(), by0 = refShape.col(1).minCoeff(), by1 = refShape.col(1).maxCoeff();
+	const double mx = 0.15 * (bx1 - bx0), my = 0.15 * (by1 - by0);
+	const double gx0 = bx0 - mx, gy0 = by0 - 2 * my;  // more room above: the forehead
+	const double scale = double(gridWidth) / (bx1 - bx0 + 2 * mx);
+	const int gw = gridWidth, gh = int(std::lround((by1 - by0 + 3 * my) * scale));
+	const TriangleMesh mesh = delaunayTriangulation(withFrameBorder(refShape, W, H));
+	PiecewiseAffineWarp toRef(mesh, withFrameBorder(refShape, W, H), W, H);
+	auto warped = [&](std::size_t i) {
+		PiecewiseAffineWarp w = toRef;
+		w.setSource(withFrameBorder(samples[i].points, W, H));
+		Image8 out(W, H, 3);
+		const Image8 img = images(i);
+		if (img.width != W || img.height != H) throw Error(samples[i].emotion + " " + samples[i].cdv + ": the corpus's images differ in size");
+		w.apply(img, out);
+		return out;
+	};
+	// The log luminance ratio of every pair on the grid (bilinear).
+	const std::size_t P = std::size_t(gw) * std::size_t(gh);
+	Eigen::MatrixXf Y(Eigen::Index(pairs.size()), Eigen::Index(P));
+	std::map<std::size_t, Image8> neutralWarped;
+	for (std::size_t k = 0; k < pairs.size(); ++k) {
+		const Image8 e = warped(pairs[k].first);
+		if (!neutralWarped.count(pairs[k].second)) neutralWarped[pairs[k].second] = warped(pairs[k].second);
+		const Image8& n = neutralWarped[pairs[k].second];
+		for (int gy = 0; gy < gh; ++gy)
+			for (int gx = 0; gx < gw; ++gx) {
+				const int x = std::clamp(int(std::lround(gx0 + (gx + 0.5) / scale - 0.5)), 0, W - 1);
+				const int y = std::clamp(int(std::lround(gy0 + (gy + 0.5) / scale - 0.5)), 0, H - 1);
+				const std::size_t at = (std::size_t(y) * W + std::size_t(x)) * 3;
+				Y(Eigen::Index(k), Eigen::Index(std::size_t(gy) * gw + gx)) = std::log((luma(&e.data[at]) + 8.f) / (luma(&n.data[at]) + 8.f));
+			}
+	}
+	Eigen::MatrixXf X = Eigen::MatrixXf::Zero(Eigen::Index(pairs.size()), Eigen::Index(aus.size()));
+	for (std::size_t k = 0; k < pairs.size(); ++k)
+		for (const auto& [au, w] : profiles.at(samples[pairs[k].first].emotion))
+			if (const auto it = std::find(aus.begin(), aus.end(), au); it != aus.end()) X(Eigen::Index(k), it - aus.begin()) = float(w);
+	const float lambda = 0.05f * float(pairs.size()) / float(aus.size());
+	const Eigen::MatrixXf XtX = X.transpose() * X + lambda * Eigen::MatrixXf::Identity(X.cols(), X.cols());
+	const Eigen::MatrixXf B = XtX.ldlt().solve(X.transpose() * Y);  // AUs × pixels
+	AuAppearance a;
+	a.width = gw, a.height = gh, a.names = aus;
+	a.anchors = appearanceAnchors(scheme, refShape);
+	a.anchors.col(0) = (a.anchors.col(0).array() - gx0) * scale;
+	a.anchors.col(1) = (a.anchors.col(1).array() - gy0) * scale;
+	for (std::size_t j = 0; j < aus.size(); ++j) {
+		std::vector<float> m(P);
+		for (std::size_t p = 0; p < P; ++p) m[p] = B(Eigen::Index(j), Eigen::Index(p));
+		blur(m, gw, gh, 1.5);
+		a.logRatio.push_back(std::move(m));
+	}
+	a.source = std::to_string(pairs.size()) + " (emotion, CDV) images against their neutral";
+	return a;
+}
+
+namespace {
+
+constexpr char kMagic[8] = {'T', 'H', 'A', 'U', 'A', 'P', 'P', '1'};
+
+}  // namespace
+
+void saveAuAppearance(const AuAppearance& a, const std::string& path) {
+	std::string s(kMagic, 8);
+	auto put = [&](const void* p, std::size_t n) { s.append(static_cast<const char*>(p), n); };
+	auto putInt = [&](std::int32_t v) { put(&v, 4); };
+	auto putString = [&](const std::string& t) {
+		putInt(std::int32_t(t.size()));
+		put(t.data(), t.size());
+	};
+	putInt(a.width), putInt(a.height), putInt(std::int32_t(a.names.size()));
+	for (int i = 0; i < kAppearanceAnchors; ++i)
+		for (int c = 0; c < 2; ++c) {
+			const float v = float(a.anchors(i, c));
+			put(&v, 4);
+		}
+	putString(a.source);
+	for (std::size_t j = 0; j < a.names.size(); ++j) {
+		putString(a.names[j]);
+		put(a.logRatio[j].data(), a.logRatio[j].size() * 4);
+	}
+	writeFileAtomically(path, s);
+}
+
+AuAppearance loadAuAppearance(const std::string& path) {
+	std::ifstream in(path, std::ios::binary);
+	if (!in) throw Error(path, 0, "cannot open the action-unit appearance file");
+	const std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+	std::size_t at = 0;
+	auto bad = [&](const std::string& what) { return Error(path, 0, "corrupt action-unit appearance file: " + what); };
+	auto get = [&](void* p, std::size_t n) {
+		if (s.size() - at < n) throw bad("cut short");
+		std::memcpy(p, s.data() + at, n);
+		at += n;
+	};
+	auto getInt = [&](std::int32_t lo, std::int32_t hi, const char* what) {
+		std::int32_t v;
+		get(&v, 4);
+		if (v < lo || v > hi) throw bad(std::string(what) + " out of range");
+		return v;
+	};
+	auto getString = [&](const char* what) {
+		std::string t(std::size_t(getInt(0, 4096, what)), '\0');
+		get(t.data(), t.size());
+		return t;
+	};
+	char magic[8];
+	get(magic, 8);
+	if (std::memcmp(magic, kMagic, 8) != 0) throw Error(path, 0, "not an action-unit appearance file (talkhead corpus au-appearance)");
+	AuAppearance a;
+	a.width = getInt(8, 4096, "width");
+	a.height = getInt(8, 4096, "height");
+	const int n = getInt(1, 64, "AU count");
+	a.anchors.resize(kAppearanceAnchors, 2);
+	for (int i = 0; i < kAppearanceAnchors; ++i)
+		for (int c = 0; c < 2; ++c) {
+			float v;
+			get(&v, 4);
+			if (!std::isfinite(v)) throw bad("an anchor is not a number");
+			a.anchors(i, c) = v;
+		}
+	a.source = getString("source");
+	const std::size_t P = std::size_t(a.width) * std::size_t(a.height);
+	for (int j = 0; j < n; ++j) {
+		a.names.push_back(getString("AU name"));
+		std::vector<float> m(P);
+		get(m.data(), P * 4);
+		for (float v : m)
+			if (!(std::abs(v) < 10)) throw bad("a ratio of AU " + a.names.back() + " is out of range");
+		a.logRatio.push_back(std::move(m));
+	}
+	if (at != s.size()) throw bad("trailing data");
+	return a;
+}
+
+const AuAppearance* defaultAuAppearance() {
+	static std::once_flag once;
+	static std::unique_ptr<AuAppearance> a;
+	static std::optional<Error> failed;
+	std::call_once(once, [] {
+		if (auto path = findDataFile("models/au-appearance.bin")) {
+			try {
+				a = std::make_unique<AuAppearance>(loadAuAppearance(*path));
+			} catch (const Error& e) {
+				failed = e;
+			}
+		}
+	});
+	if (failed) throw *failed;
+	return a.get();
+}
+
+MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, const Points& shape, int x0, int y0, int width, int height) {
+	MappedAuAppearance m;
+	m.x0 = x0, m.y0 = y0, m.width = width, m.height = height, m.names = a.names;
+	const Eigen::Matrix<double, 2, 3> T = fitAffine(appearanceAnchors(scheme, shape), a.anchors);  // face pixels → grid
+	const std::size_t P = std::size_t(width) * std::size_t(height);
+	// Bilinear positions once for all AUs; outside the grid, no change.
+	std::vector<std::int32_t> index(P, -1);
+	std::vector<float> fx(P), fy(P);
+	for (int y = 0; y < height; ++y)
+		for (int x = 0; x < width; ++x) {
+			const double gx = T(0, 0) * (x0 + x) + T(0, 1) * (y0 + y) + T(0, 2) - 0.5, gy = T(1, 0) * (x0 + x) + T(1, 1) * (y0 + y) + T(1, 2) - 0.5;
+			if (!(gx >= 0 && gy >= 0 && gx < a.width - 1 && gy < a.height - 1)) continue;
+			const std::size_t p = std::size_t(y) * width + std::size_t(x);
+			const int ix = int(gx), iy = int(gy);
+			index[p] = iy * a.width + ix;
+			fx[p] = float(gx - ix), fy[p] = float(gy - iy);
+		}
+	for (const auto& src : a.logRatio) {
+		std::vector<float> out(P, 0.f);
+		for (std::size_t p = 0; p < P; ++p) {
+			if (index[p] < 0) continue;
+			const float* q = &src[std::size_t(index[p])];
+			const float top = q[0] + fx[p] * (q[1] - q[0]), bottom = q[a.width] + fx[p] * (q[a.width + 1] - q[a.width]);
+			out[p] = top + fy[p] * (bottom - top);
+		}
+		m.logRatio.push_back(std::move(out));
+	}
+	return m;
+}
+
+std::vector<float> appearanceGain(const MappedAuAppearance& m, const std::vector<std::pair<std::string, double>>& weights) {
+	std::vector<float> sum;
+	for (const auto& [au, w] : weights) {
+		const int j = m.find(au);
+		if (j < 0 || w == 0) continue;
+		if (sum.empty()) sum.assign(std::size_t(m.width) * std::size_t(m.height), 0.f);
+		const std::vector<float>& r = m.logRatio[std::size_t(j)];
+		for (std::size_t p = 0; p < sum.size(); ++p) sum[p] += float(w) * r[p];
+	}
+	for (float& v : sum) v = std::exp(v);
+	return sum;
+}
+
+}  // namespace talkhead

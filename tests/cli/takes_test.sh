@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Issue 31, route 1: one expressive model from several takes of one person, each in its emotion — bad
+# take lists (one line, non-zero, no output), three takes cut from franck (stand-ins for recorded emotions,
+# one of them with its lighting changed), the colours matched between takes, one model of every emotion,
+# each emotion drawn from its own take, and no colour jump at an emotion change.
+set -euo pipefail
+TH=$1; SHARED=$2
+PY=/usr/bin/python3
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1 || { cat "$T/e"; false; }; cat "$T/e"; }
+
+# Bad take lists first (no shared data needed).
+ffmpeg -v error -f lavfi -i testsrc=size=320x240:rate=25:duration=2 -pix_fmt yuv420p "$T/noface.mp4"
+printf 'video\temotion\nmissing.mp4\tjoy\n' >"$T/missing.tsv"
+err corpus from-video --takes "$T/missing.tsv" -o "$T/x" | grep -q "missing.tsv:2: no such video file: .*missing.mp4"
+printf 'video\temotion\nnoface.mp4\tglee\n' >"$T/glee.tsv"
+err corpus from-video --takes "$T/glee.tsv" -o "$T/x" | grep -q "glee.tsv:2: unknown emotion 'glee'"
+printf 'video\n noface.mp4\n' >"$T/nocol.tsv"
+err corpus from-video --takes "$T/nocol.tsv" -o "$T/x" | grep -q "nocol.tsv.*emotion"
+err corpus from-video --take "$T/noface.mp4:joy" --take "$T/noface.mp4:anger" -o "$T/x" | grep -q "noface.mp4: no face found"
+err corpus from-video --take "$T/noface.mp4" -o "$T/x" | grep -q "take takes VIDEO:EMOTION"
+err corpus from-video --take "$T/noface.mp4:joy" --emotion anger -o "$T/x" | grep -q "emotion is per take"
+test ! -e "$T/x"
+
+F=$SHARED/franck/franck.mp4
+if [ ! -f "$F" ]; then echo "skipped: no shared data in $SHARED (franck/)"; exit 77; fi
+# Three takes of franck (recorded neutral: the labels are stand-ins): 0–25 s neutral, 25–50 s "joy" with its
+# lighting changed (brighter and warmer, as between two recording sessions), 50–75 s "anger".
+ffmpeg -v error -ss 25 -t 25 -i "$F" -vf "eq=brightness=0.06:gamma_r=1.15" -c:v libx264 -crf 12 -an "$T/joy.mp4"
+printf 'video\temotion\tstart\tduration\n%s\tneutral\t0\t25\njoy.mp4\tjoy\t-\t-\n%s\tanger\t50\t25\n' "$F" "$F" >"$T/takes.tsv"
+"$TH" corpus from-video --takes "$T/takes.tsv" -o "$T/fc" 2>"$T/fc.log"
+cat "$T/fc.log"
+grep -q "^# talkhead corpus from-video: 3 takes" "$T/fc/corpus.csv"
+grep -q '^# baseface: frames/take1_frame_' "$T/fc/corpus.csv"
+for e in neutral joy anger; do
+	n=$(grep -v '^#' "$T/fc/corpus.csv" | cut -d, -f2 | grep -cx "$e" || true)
+	echo "$e: $n frames"
+	test "$n" -ge 30
+done
+test -s "$T/fc/contact.png" && test -s "$T/fc/landmarks-take2.tsv"
+# The brightened take is matched back: its faces' mean colour within 3 levels of the neutral take's (it
+# was ~15 brighter before), the other take's gain near 1.
+$PY - "$T/fc" <<'EOF'
+import sys, os, numpy as np
+from skimage import io
+from skimage.draw import polygon
+d = sys.argv[1]
+rows = [l.rstrip('\n').split(',') for l in open(os.path.join(d, 'corpus.csv')) if not l.startswith('#')]
+means = {}
+for r in rows:
+    pts = np.array([[float(v) for v in p.strip('()').split(';')] for p in r[10:78]])
+    img = io.imread(os.path.join(d, r[0]))[..., :3].astype(float)
+    # the cheeks and nose: inside the jaw line below the eyes, above the mouth
+    rr, cc = polygon([pts[29, 1], pts[2, 1], pts[14, 1]], [pts[29, 0], pts[2, 0], pts[14, 0]], img.shape[:2])
+    means.setdefault(r[1], []).append(img[rr, cc].mean(axis=0))
+m = {e: np.mean(v, axis=0) for e, v in means.items()}
+for e in m: print(f'   {e}: mean face colour {m[e].round(1)}')
+diff = np.abs(m['joy'] - m['neutral']).max()
+assert diff <= 3, f'the brightened take still differs by {diff:.1f} levels'
+EOF
+grep -q '^# take 2: joy.mp4, joy, .*gain' "$T/fc/corpus.csv"
+
+# One model of every recorded emotion; each emotion's keyposes come from its own take.
+"$TH" build -q "$T/fc/corpus.csv" -o "$T/takes.thm"
+for e in joy anger; do
+	"$TH" render --model "$T/takes.thm" --transcript "$SHARED/grid/swwp2s.align" --emotion "$e" --format y4m -o "$T/$e.y4m" 2>"$T/$e.log" || { cat "$T/$e.log"; false; }
+	if grep -qi "substitut.*$e.*neutral\|$e.*falls back" "$T/$e.log"; then cat "$T/$e.log"; echo "$e is not drawn from its own take"; false; fi
+done
+# An emotion no take has: from the neutral frames by its action units, and said so.
+"$TH" render --model "$T/takes.thm" --transcript "$SHARED/grid/swwp2s.align" --emotion fear --format y4m -o "$T/fear.y4m" 2>"$T/fear.log"
+grep -q "fear from the neutral images by its action units (the model has no fear images)" "$T/fear.log" || { cat "$T/fear.log"; false; }
+# An emotion change (neutral → joy at 1 s, a 0.3-s ramp): the face's colour does not jump more between the
+# two frames around the change than between frames within an emotion.
+printf '{"events": [{"type": "emotion", "time": 0, "emotion": "neutral", "intensity": 1, "ramp": 0}, {"type": "emotion", "time": 1.0, "emotion": "joy", "intensity": 1, "ramp": 0.3}]}\n' >"$T/change.json"
+"$TH" render --model "$T/takes.thm" --transcript "$SHARED/grid/swwp2s.align" --controls "$T/change.json" --format y4m -o "$T/change.y4m" \
+	--landmarks-out "$T/change.tsv" -q
+$PY - "$T/change.y4m" "$T/change.tsv" <<'EOF'
+import sys, numpy as np
+data = open(sys.argv[1], 'rb').read()
+head = data[:data.index(b'\n')].split()
+w = int([h for h in head if h.startswith(b'W')][0][1:]); h = int([h for h in head if h.startswith(b'H')][0][1:])
+fps = [h for h in head if h.startswith(b'F')][0][1:].split(b':'); fps = int(fps[0]) / int(fps[1])
+frames, at = [], data.index(b'\n') + 1
+while at < len(data):
+    at = data.index(b'\n', at) + 1
+    frames.append(np.frombuffer(data, np.uint8, w * h, at).reshape(h, w).astype(float)); at += w * h * 3 // 2
+lm = [l.rstrip('\n').split('\t') for l in open(sys.argv[2])][1:]
+def face_mean(k):
+    xs = [float(v) for v in lm[k][2::2]]; ys = [float(v) for v in lm[k][3::2]]
+    x0, x1, y0, y1 = int(np.percentile(xs, 20)), int(np.percentile(xs, 80)), int(np.percentile(ys, 20)), int(np.percentile(ys, 60))
+    return frames[k][y0:y1, x0:x1].mean()
+m = np.array([face_mean(k) for k in range(len(frames))])
+d = np.abs(np.diff(m))
+c = int(round(1.0 * fps))
+around = d[c - 2:c + int(0.3 * fps) + 2].max()
+within = np.percentile(np.concatenate([d[:c - 3], d[c + int(0.3 * fps) + 3:]]), 99)
+print(f'   face luma step at the change {around:.2f}, within an emotion (99th percentile) {within:.2f}')
+assert around <= max(within, 0.5) * 1.5, 'the colour jumps at the emotion change'
+EOF
+echo "takes tests passed"
