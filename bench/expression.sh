@@ -5,16 +5,18 @@
 # judgement is the class with the highest mean probability. Prints the confusion table (mean probability
 # per class) and how many of joy, distress, anger, fear and hate read as happy, sad, angry, fearful and
 # disgusted, and whether neutral stays neutral (issue 13's goal: >= 4 of 5, neutral neutral).
-# usage: bench/expression.sh [BUILD_DIR] [--all] [--model M.thm] [--lang L --text "…"]
+# usage: bench/expression.sh [BUILD_DIR] [--all] [--model M.thm] [--lang L --text "…"] [--au-appearance on|off]
 #   --all   also the other 17 OCC emotions (their expected class is their basis's basic emotion)
+#   --au-appearance off   an emotion from action units changes the shape alone (issue 31: before and after)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="$root/build"; all=0; model=(); lang=pt-BR
+build="$root/build"; all=0; model=(); lang=pt-BR; extra=()
 texts=("O professor explicou a lição para toda a turma de manhã." "Ela abriu a carta e leu tudo em silêncio.")
 while [ $# -gt 0 ]; do
 	case "$1" in
 		--all) all=1 ;;
 		--model) model=(--model "$2"); shift ;;
+		--au-appearance) extra=(--au-appearance "$2"); shift ;;
 		--lang) lang="$2"; shift ;;
 		--text) texts=("$2"); shift ;;
 		*) build="$1" ;;
@@ -45,7 +47,7 @@ ok5=0; neutral_ok=0
 for row in "${rows[@]}"; do
 	e="${row%%:*}"; want="${row#*:}"
 	for i in "${!texts[@]}"; do
-		"$th" say "${texts[$i]}" --lang "$lang" --emotion "$e" "${model[@]}" --format y4m -o - --no-audio -q |
+		"$th" say "${texts[$i]}" --lang "$lang" --emotion "$e" "${model[@]}" "${extra[@]}" --format y4m -o - --no-audio -q |
 			node "$root/bench/expression/classify.js" 2 >"$tmp/$e.$i.json"
 	done
 	line=$(cat "$tmp/$e".*.json | node -e '

@@ -21,6 +21,11 @@ std::vector<std::string> dataDirs() {
 	dirs.emplace_back(TALKHEAD_SOURCE_DIR "/models");
 	dirs.emplace_back(TALKHEAD_SOURCE_DIR);
 #endif
+	// Data made at build time (models/au-appearance.bin): beside the executable in a build tree, or the build tree.
+	if (!ec) dirs.push_back(exe.parent_path().string());
+#ifdef TALKHEAD_BINARY_DIR
+	dirs.emplace_back(TALKHEAD_BINARY_DIR);
+#endif
 	return dirs;
 }
 

@@ -12,7 +12,9 @@
 #include "base/progress.h"
 #include "corpus/corpus.h"
 #include "phonetics/labels.h"
+#include "media/image_io.h"
 #include "synth/action_units.h"
+#include "synth/au_appearance.h"
 #include "synth_corpus.h"
 
 namespace talkhead::cli {
@@ -111,6 +113,38 @@ int runAuTemplates(const std::vector<std::string>& argv) {
 	return 0;
 }
 
+int runAuAppearance(const std::vector<std::string>& argv) {
+	Args args("corpus au-appearance", "talkhead corpus au-appearance CORPUS -o F.bin [options]",
+	          {{"--output", "F.bin", "the appearance maps to write (required; the installed ones are models/au-appearance.bin)", "-o"},
+	           {"--scheme", "NAME|FILE", "landmark scheme (default: from the corpus)"},
+	           {"--profiles", "F.tsv", "each emotion's action units (default: corpus-tools/data/expression-aus.tsv)"},
+	           {"--grid", "W", "width of the maps' grid in pixels (default 256)"},
+	           {"--quiet", "", "no summary", "-q"}},
+	          "Learns what each action unit does to the skin (issue 31, decision D61): every (emotion, CDV) image and\n"
+	          "its CDV's neutral image are warped to the neutral rest shape, and the log of their luminance ratio\n"
+	          "is fitted per pixel, by ridge least squares, as the sum of the emotion's action units (--profiles)\n"
+	          "times one map each (expression ratio images, Liu, Shan & Zhang 2001). Rendering with action units\n"
+	          "('--emotion-source au', or auto for an emotion the model lacks) changes the skin by them.");
+	if (!args.parse(argv)) return 0;
+	args.onePositional("expected one CORPUS (a CSV or a folder)");
+	const std::string out = args.required("--output", "-o F.bin is required");
+	const std::string path = args.positionals()[0];
+	const auto t0 = std::chrono::steady_clock::now();
+	const Corpus corpus = loadCorpus(path);
+	const Scheme scheme = loadScheme(args.get("--scheme", corpus.schemeName));
+	const auto profiles = args.get("--profiles") ? loadAuProfiles(*args.get("--profiles")) : defaultAuProfiles();
+	std::vector<AppearanceSample> samples;
+	for (const auto& e : corpus.entries) samples.push_back({e.emotion, e.cdv, e.points});
+	AuAppearance a = learnAuAppearance(
+	    scheme, samples, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, profiles, int(args.number("--grid", 256, 32, 2048)));
+	a.source = std::filesystem::path(path).filename().string() + ": " + a.source;
+	saveAuAppearance(a, out);
+	if (!args.has("--quiet"))
+		std::fprintf(stderr, "wrote %s: %zu action units on a %dx%d grid from %s in %.1f s\n", out.c_str(), a.names.size(), a.width, a.height, a.source.c_str(),
+		             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+	return 0;
+}
+
 }  // namespace
 
 int runCorpus(const std::vector<std::string>& argv) {
@@ -119,6 +153,7 @@ int runCorpus(const std::vector<std::string>& argv) {
 		            "       talkhead corpus landmarks VIDEO|FOLDER -o DIR [options]         68 face points per frame (dlib)\n"
 		            "       talkhead corpus from-video VIDEO [--text T] -o DIR [options]    a viseme corpus from a video\n"
 		            "       talkhead corpus au-templates CORPUS -o F.tsv [options]          action-unit shape templates\n"
+		            "       talkhead corpus au-appearance CORPUS -o F.bin [options]         action-unit appearance maps\n"
 		            "(see 'talkhead corpus SUBCOMMAND --help')\n");
 		return argv.empty() ? 2 : 0;
 	}
@@ -127,7 +162,8 @@ int runCorpus(const std::vector<std::string>& argv) {
 	if (argv[0] == "landmarks") return runCorpusLandmarks(rest);
 	if (argv[0] == "from-video") return runCorpusFromVideo(rest);
 	if (argv[0] == "au-templates") return runAuTemplates(rest);
-	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth, landmarks, from-video or au-templates)");
+	if (argv[0] == "au-appearance") return runAuAppearance(rest);
+	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth, landmarks, from-video, au-templates or au-appearance)");
 }
 
 }  // namespace talkhead::cli

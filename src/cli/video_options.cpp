@@ -163,6 +163,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	return {genericVisemesOption(),
 	        {"--emotion", "LABEL[:I]", "one of the 23 emotion labels or an alias (default neutral); :I sets its intensity, 0 (neutral) to 1 (the corpus, default), up to 1.5"},
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
+	        {"--au-appearance", "on|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default) or off (the shape alone)"},
 	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
@@ -280,6 +281,9 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	const std::string source = args.get("--emotion-source", "auto");
 	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
 	c.render.synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);
+	const std::string skin = args.get("--au-appearance", "on");
+	if (skin != "on" && skin != "off") throw UsageError(command + ": --au-appearance takes on or off");
+	c.render.synth.auAppearance = skin == "on";
 	c.modulation = parseModulation(args, command);
 	c.speechBrows = parseSpeechBrows(args, command, "off");
 	c.leadIn = ticksFromSeconds(args.number("--lead-in", 0, 0, 600000) / 1000);

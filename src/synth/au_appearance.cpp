@@ -90,6 +90,105 @@ void blur(std::vector<float>& v, int w, int h, double sigma) {
 		}
 }
 
+
+using Poly = std::vector<Eigen::RowVector2d>;
+
+Poly convexHull(Poly p) {
+	std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) { return a(0) < b(0) || (a(0) == b(0) && a(1) < b(1)); });
+	if (p.size() < 3) return p;
+	Poly h(2 * p.size());
+	std::size_t k = 0;
+	auto cross = [](const auto& o, const auto& a, const auto& b) { return (a(0) - o(0)) * (b(1) - o(1)) - (a(1) - o(1)) * (b(0) - o(0)); };
+	for (std::size_t i = 0; i < p.size(); ++i) {
+		while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+		h[k++] = p[i];
+	}
+	for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+		while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+		h[k++] = p[i];
+	}
+	h.resize(k - 1);
+	return h;
+}
+
+double segmentDistance(const Eigen::RowVector2d& q, const Eigen::RowVector2d& a, const Eigen::RowVector2d& b) {
+	const Eigen::RowVector2d ab = b - a;
+	const double t = ab.squaredNorm() > 0 ? std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+	return (q - (a + t * ab)).norm();
+}
+
+// Distance to a closed polygon's outline, negative inside (even-odd).
+double signedDistance(const Poly& poly, const Eigen::RowVector2d& q) {
+	double d = 1e300;
+	bool inside = false;
+	for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+		d = std::min(d, segmentDistance(q, poly[j], poly[i]));
+		if ((poly[i](1) > q(1)) != (poly[j](1) > q(1)) && q(0) < (poly[j](0) - poly[i](0)) * (q(1) - poly[i](1)) / (poly[j](1) - poly[i](1)) + poly[i](0))
+			inside = !inside;
+	}
+	return inside ? -d : d;
+}
+
+double polylineDistance(const Poly& line, const Eigen::RowVector2d& q) {
+	double d = 1e300;
+	for (std::size_t i = 1; i < line.size(); ++i) d = std::min(d, segmentDistance(q, line[i - 1], line[i]));
+	return d;
+}
+
+// Where a learned map may act, 0–1 over the grid (σ-feathered): the skin of the face and forehead, not
+// the eyes, the brows' hair, the lips or the face's outline — there the warp's registration of a drawn
+// face, not the skin, makes the difference (the maps show the hairline, the jaw line and the brows as
+// edges otherwise).
+std::vector<float> skinMask(const Scheme& scheme, const Points& shape, double gx0, double gy0, double scale, int gw, int gh) {
+	const EyeFrame f = eyeFrame(scheme, shape);
+	const double iod = f.iod * scale;  // grid pixels
+	auto grid = [&](Eigen::Index i) { return Eigen::RowVector2d((shape(i, 0) - gx0) * scale, (shape(i, 1) - gy0) * scale); };
+	// The face: its points from the brows down (a scheme may mark the hairline too), and the forehead to
+	// 0.33 eye distances above the brows.
+	double browTop = 1e300;
+	for (const BrowSpec& b : scheme.brows)
+		for (int i : b.points) browTop = std::min(browTop, (shape.row(i) - f.origin).dot(f.y));
+	Poly all;
+	for (Eigen::Index i = 0; i < shape.rows(); ++i)
+		if ((shape.row(i) - f.origin).dot(f.y) >= browTop - 1e-9) all.push_back(grid(i));
+	const Eigen::RowVector2d up = -f.y * 0.33 * iod;  // the forehead, below the drawn face's hairline
+	std::vector<Poly> brows;
+	for (const BrowSpec& b : scheme.brows) {
+		Poly line;
+		for (int i : b.points) line.push_back(grid(i));
+		for (const auto& q : line) all.push_back(q + up);
+		brows.push_back(line);
+	}
+	const Poly face = convexHull(all);
+	std::vector<Poly> holes;
+	for (const EyeSpec& e : scheme.eyes) {
+		Poly eye{grid(e.corner0)};
+		for (int i : e.upper) eye.push_back(grid(i));
+		eye.push_back(grid(e.corner1));
+		for (auto it = e.lower.rbegin(); it != e.lower.rend(); ++it) eye.push_back(grid(*it));
+		holes.push_back(eye);
+	}
+	for (const RegionSpec& r : scheme.regions)
+		if (r.name == "lips") {
+			Poly lips;
+			for (std::size_t i = 0; i < r.boundary.size(); ++i)
+				if (r.towards.empty() || r.towards[i] < 0) lips.push_back(grid(r.boundary[i]));
+			holes.push_back(lips);
+		}
+	const double feather = 0.05 * iod;
+	auto ramp = [&](double v) { return std::clamp(v / feather, 0.0, 1.0); };
+	std::vector<float> m(std::size_t(gw) * std::size_t(gh));
+	for (int y = 0; y < gh; ++y)
+		for (int x = 0; x < gw; ++x) {
+			const Eigen::RowVector2d q(x + 0.5, y + 0.5);
+			double w = ramp(-signedDistance(face, q) - 0.08 * iod);
+			for (const Poly& h : holes) w *= ramp(signedDistance(h, q) - 0.03 * iod);
+			for (const Poly& b : brows) w *= ramp(polylineDistance(b, q) - 0.07 * iod);
+			m[std::size_t(y) * gw + std::size_t(x)] = float(w);
+		}
+	return m;
+}
+
 }  // namespace
 
 AuAppearance learnAuAppearance(const Scheme& scheme, const std::vector<AppearanceSample>& samples, const std::function<Image8(std::size_t)>& images,
@@ -161,9 +260,10 @@ AuAppearance learnAuAppearance(const Scheme& scheme, const std::vector<Appearanc
 	a.anchors = appearanceAnchors(scheme, refShape);
 	a.anchors.col(0) = (a.anchors.col(0).array() - gx0) * scale;
 	a.anchors.col(1) = (a.anchors.col(1).array() - gy0) * scale;
+	const std::vector<float> skin = skinMask(scheme, refShape, gx0, gy0, scale, gw, gh);
 	for (std::size_t j = 0; j < aus.size(); ++j) {
 		std::vector<float> m(P);
-		for (std::size_t p = 0; p < P; ++p) m[p] = B(Eigen::Index(j), Eigen::Index(p));
+		for (std::size_t p = 0; p < P; ++p) m[p] = skin[p] * std::clamp(B(Eigen::Index(j), Eigen::Index(p)), -0.5f, 0.5f);
 		blur(m, gw, gh, 1.5);
 		a.logRatio.push_back(std::move(m));
 	}

@@ -250,9 +250,11 @@ void KeyposeCache::prepareAuAppearance() {
 	if (auAppearanceTried_ || !o_.auAppearance) return;
 	auAppearanceTried_ = true;
 	const AuAppearance* a = defaultAuAppearance();
-	if (!a || model_.scheme.eyes.size() != 2 || model_.scheme.brows.size() != 2) return;
+	Scheme scheme = model_.scheme;  // a model file holds no eyes and brows: the rig has them from the scheme
+	scheme.eyes = rig_.eyes, scheme.brows = rig_.brows;
+	if (!a || scheme.eyes.size() != 2 || scheme.brows.size() != 2) return;
 	auAppearance_ = std::make_unique<MappedAuAppearance>(
-	    mapAuAppearance(*a, model_.scheme, model_.meanShape, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0));
+	    mapAuAppearance(*a, scheme, model_.meanShape, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0));
 }
 
 void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
