@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Issue 31, route 2: action-unit appearance maps (expression ratio images) — learned back from images
+// whose expression is a known luminance ratio, mapped onto another face by its anchors, identity at
+// intensity 0, monotone in intensity, and a damaged file is one clear error.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "base/error.h"
+#include "geometry/scheme.h"
+#include "synth/au_appearance.h"
+
+using namespace talkhead;
+
+namespace {
+
+// A small face: eyes (corners and lids), brows (inner → outer), nose, mouth corners and lips, chin.
+Scheme faceScheme() {
+	return parseScheme("scheme small\nclass rigid 1\nclass soft 0.2\n"
+	                   "point R1 rigid\npoint R2 rigid\npoint RU soft\npoint RL soft\npoint L1 rigid\npoint L2 rigid\npoint LU soft\npoint LL soft\n"
+	                   "point RBi soft\npoint RBo soft\npoint LBi soft\npoint LBo soft\npoint N rigid\npoint MR soft\npoint ML soft\n"
+	                   "point UL soft\npoint LLp soft\npoint C soft\n"
+	                   "region face : RBo LBo ML C MR\nregion lips : MR UL ML LLp\n"
+	                   "eye right corners R1 R2 upper RU lower RL\neye left corners L1 L2 upper LU lower LL\n"
+	                   "brow right : RBi RBo\nbrow left : LBi LBo\n",
+	                   "small.scheme");
+}
+
+// The face at a scale and offset (eye distance 80 px at scale 1).
+Points face(double s = 1, double dx = 0, double dy = 0) {
+	Points p(18, 2);
+	p << 60, 100, 90, 100, 75, 94, 75, 106, 130, 100, 160, 100, 145, 94, 145, 106,  // eyes
+	    95, 80, 55, 82, 125, 80, 165, 82,                                            // brows
+	    110, 135, 85, 160, 135, 160, 110, 154, 110, 168, 110, 195;                   // nose, mouth, lips, chin
+	p.col(0) = p.col(0).array() * s + dx;
+	p.col(1) = p.col(1).array() * s + dy;
+	return p;
+}
+
+// A grey image; the expressive one 25 % brighter in a disc between the brows (a glabella "furrow").
+Image8 image(bool furrow) {
+	Image8 img(220, 240, 3, 128);
+	if (!furrow) return img;
+	for (int y = 0; y < img.height; ++y)
+		for (int x = 0; x < img.width; ++x)
+			if (std::hypot(x - 110.0, y - 90.0) < 8)
+				for (int c = 0; c < 3; ++c) img.at(x, y, c) = 160;
+	return img;
+}
+
+AuAppearance learned() {
+	std::vector<AppearanceSample> samples = {{"neutral", "sil", face()}, {"anger", "sil", face()}};
+	const std::map<std::string, AuProfile> profiles = {{"anger", {{"AU4", 1.0}}}};
+	return learnAuAppearance(faceScheme(), samples, [](std::size_t i) { return image(i == 1); }, profiles, 110);
+}
+
+// The grid value nearest to a point of the face's image.
+float at(const AuAppearance& a, const Points& shape, double x, double y, int au = 0) {
+	(void)shape;
+	// The grid's anchors are the face's anchors under a similarity: solve for the point by the brows' and
+	// eyes' corners (the first anchor and the chin give scale and offset).
+	const Points fa = appearanceAnchors(faceScheme(), face());
+	const double s = (a.anchors(8, 1) - a.anchors(0, 1)) / (fa(8, 1) - fa(0, 1));
+	const double gx = a.anchors(0, 0) + (x - fa(0, 0)) * s, gy = a.anchors(0, 1) + (y - fa(0, 1)) * s;
+	return a.logRatio[std::size_t(au)][std::size_t(std::lround(gy)) * std::size_t(a.width) + std::size_t(std::lround(gx))];
+}
+
+}  // namespace
+
+TEST(AuAppearance, aKnownRatioIsLearnedBackWhereItIsAndNowhereElse) {
+	const AuAppearance a = learned();
+	ASSERT_EQ(a.names, std::vector<std::string>{"AU4"});
+	const float expected = std::log((160.f + 8) / (128.f + 8));  // 0.21
+	EXPECT_NEAR(at(a, face(), 110, 90), expected, 0.05);          // the glabella
+	EXPECT_NEAR(at(a, face(), 110, 180), 0.0, 1e-3);              // the chin
+	EXPECT_NEAR(at(a, face(), 80, 120), 0.0, 1e-3);               // a cheek
+}
+
+TEST(AuAppearance, mappedOntoAnotherFaceThroughItsAnchors) {
+	const AuAppearance a = learned();
+	// The same face 1.5 times larger and moved: the change lands between its brows.
+	const Points big = face(1.5, 30, 10);
+	const MappedAuAppearance m = mapAuAppearance(a, faceScheme(), big, 0, 0, 400, 400);
+	auto value = [&](double x, double y) { return m.logRatio[0][std::size_t(std::lround(y)) * 400 + std::size_t(std::lround(x))]; };
+	EXPECT_GT(value(110 * 1.5 + 30, 90 * 1.5 + 10), 0.12);
+	EXPECT_NEAR(value(110 * 1.5 + 30, 180 * 1.5 + 10), 0.0, 1e-3);
+	EXPECT_EQ(value(5, 5), 0.0f);  // outside the grid: no change
+}
+
+TEST(AuAppearance, intensityZeroIsIdentityAndTheChangeGrowsWithIntensity) {
+	const AuAppearance a = learned();
+	const MappedAuAppearance m = mapAuAppearance(a, faceScheme(), face(), 0, 0, 220, 240);
+	EXPECT_TRUE(appearanceGain(m, {{"AU4", 0.0}}).empty());
+	EXPECT_TRUE(appearanceGain(m, {{"AU12", 1.0}}).empty());  // an AU without a map
+	double previous = 0;
+	for (double w : {0.25, 0.5, 1.0}) {
+		const std::vector<float> g = appearanceGain(m, {{"AU4", w}});
+		ASSERT_EQ(g.size(), std::size_t(220 * 240));
+		double change = 0;
+		for (float v : g) change += std::abs(std::log(v));
+		EXPECT_GT(change, previous) << w;
+		previous = change;
+	}
+}
+
+TEST(AuAppearance, savedAndLoadedExactlyAndDamageIsOneClearError) {
+	const AuAppearance a = learned();
+	const std::string path = (std::filesystem::temp_directory_path() / "talkhead-au-appearance-test.bin").string();
+	saveAuAppearance(a, path);
+	const AuAppearance b = loadAuAppearance(path);
+	EXPECT_EQ(b.names, a.names);
+	EXPECT_EQ(b.logRatio, a.logRatio);
+	EXPECT_EQ(b.width, a.width);
+	// Cut short.
+	const auto size = std::filesystem::file_size(path);
+	std::filesystem::resize_file(path, size - 10);
+	try {
+		loadAuAppearance(path);
+		FAIL() << "a cut file loaded";
+	} catch (const Error& e) {
+		EXPECT_NE(std::string(e.what()).find("corrupt action-unit appearance file: cut short"), std::string::npos) << e.what();
+		EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+	}
+	std::ofstream(path) << "not this";
+	try {
+		loadAuAppearance(path);
+		FAIL() << "text loaded";
+	} catch (const Error& e) {
+		EXPECT_NE(std::string(e.what()).find("not an action-unit appearance file"), std::string::npos) << e.what();
+	}
+	std::filesystem::remove(path);
+}
