@@ -96,13 +96,21 @@ std::vector<std::string> KeyposeCache::substitutions() const {
 	return substitutions_;
 }
 
+namespace {
+
+std::string actionUnitLine(const std::string& emotion) {
+	return emotion + " from the neutral images by its action units (the model has no " + emotion + " images)";
+}
+
+}  // namespace
+
 std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypose>& keys) const {
 	std::vector<std::string> out;
 	for (const auto& k : keys) {
 		const std::string& emotion = emotionOf(k).label();
 		if (fromActionUnits(k)) {  // issue 31: an emotion the model lacks comes from its action units
-			const std::string line = emotion + " from the neutral images by its action units" +
-			                         (o_.emotionSource == EmotionSource::Auto ? " (the model has no " + emotion + " images)" : "");
+			if (o_.emotionSource == EmotionSource::ActionUnits) continue;  // asked for
+			const std::string line = actionUnitLine(emotion);
 			if (std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 			continue;
 		}
@@ -301,11 +309,16 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 		const KeyposeImage* image = images_.at(key).get();
 		index_[indexKey(*k)][k->context] = image;
 		const std::string& emotion = emotionOf(*k).label();
-		const std::string line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
-		const bool asked = o_.emotionSource == EmotionSource::ActionUnits && image->usedEmotion == emotion + " (action units)";
-		if (!asked && (image->usedEmotion != emotion || image->usedCdv != k->cdv) &&
-		    std::find(substitutions_.begin(), substitutions_.end(), line) == substitutions_.end())
-			substitutions_.push_back(line);
+		std::string line;
+		if (image->usedEmotion == emotion + " (action units)") {
+			if (o_.emotionSource == EmotionSource::ActionUnits) continue;  // asked for
+			line = actionUnitLine(emotion);
+		} else if (image->usedEmotion != emotion || image->usedCdv != k->cdv) {
+			line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
+		} else {
+			continue;
+		}
+		if (std::find(substitutions_.begin(), substitutions_.end(), line) == substitutions_.end()) substitutions_.push_back(line);
 	}
 }
 

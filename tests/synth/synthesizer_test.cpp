@@ -7,6 +7,7 @@
 
 #include "geometry/scheme.h"
 #include "image/region_mask.h"
+#include "synth/au_appearance.h"
 #include "synth/synthesizer.h"
 #include "synth_corpus.h"
 #include "warp/piecewise_affine.h"
@@ -181,6 +182,7 @@ TEST(Synthesizer, missingEntriesFallBackAndSaySo) {
 	const SmallFace& f = smallFace();
 	SynthOptions o;
 	o.emotion = Emotion::of("fear");  // not in the small model
+	o.emotionSource = EmotionSource::Corpus;  // the corpus alone (the default, Auto, takes action units)
 	Synthesizer synth(f.model, o);
 	synth.keypose("a");
 	synth.keypose("p2");  // not in the model at all: neutral p2 missing → the group's p1
@@ -201,13 +203,21 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	SynthOptions o;
 	o.emotion = Emotion::of("fear");
 	o.emotionSource = EmotionSource::Auto;
+	o.auAppearance = false;
 	Synthesizer fear(f.model, o);
 	const KeyposeImage& k = fear.keypose("sil");
 	EXPECT_EQ(k.usedEmotion, "fear (action units)");
 	EXPECT_LT(k.shape(reb1, 1), rest(reb1, 1) - 2);            // AU1: the inner brow rises
 	EXPECT_EQ(k.y, neutral.keypose("sil").y);                   // the neutral appearance, reshaped
 	ASSERT_EQ(fear.substitutions().size(), 1u);
-	EXPECT_EQ(fear.substitutions()[0], "fear sil -> fear (action units) sil");
+	EXPECT_EQ(fear.substitutions()[0], "fear from the neutral images by its action units (the model has no fear images)");
+	if (defaultAuAppearance()) {  // issue 31: with the appearance maps the skin changes too, the shape not
+		o.auAppearance = true;
+		Synthesizer skin(f.model, o);
+		EXPECT_EQ(skin.keypose("sil").shape, k.shape);
+		EXPECT_NE(skin.keypose("sil").y, k.y);
+		o.auAppearance = false;
+	}
 	o.emotion = Emotion::of("joy");  // in the model: Auto uses the corpus
 	Synthesizer joyCorpus(f.model, o);
 	EXPECT_EQ(joyCorpus.keypose("sil").usedEmotion, "joy");
