@@ -299,16 +299,21 @@ void saveAuAppearance(const AuAppearance& a, const std::string& path) {
 	writeFileAtomically(path, s);
 }
 
-AuAppearance loadAuAppearance(const std::string& path) {
+AuAppearance loadAuAppearance(const std::string& path, const std::vector<std::string>* only) {
 	std::ifstream in(path, std::ios::binary);
 	if (!in) throw Error(path, 0, "cannot open the action-unit appearance file");
-	const std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-	std::size_t at = 0;
+	in.seekg(0, std::ios::end);
+	const std::uint64_t size = std::uint64_t(std::max<std::streamoff>(0, in.tellg()));
+	in.seekg(0);
+	std::uint64_t at = 0;
 	auto bad = [&](const std::string& what) { return Error(path, 0, "corrupt action-unit appearance file: " + what); };
-	auto get = [&](void* p, std::size_t n) {
-		if (s.size() - at < n) throw bad("cut short");
-		std::memcpy(p, s.data() + at, n);
+	auto need = [&](std::uint64_t n) {
+		if (size - at < n) throw bad("cut short");
 		at += n;
+	};
+	auto get = [&](void* p, std::size_t n) {
+		need(n);
+		if (!in.read(static_cast<char*>(p), std::streamsize(n))) throw bad("cut short");
 	};
 	auto getInt = [&](std::int32_t lo, std::int32_t hi, const char* what) {
 		std::int32_t v;
@@ -322,6 +327,7 @@ AuAppearance loadAuAppearance(const std::string& path) {
 		return t;
 	};
 	char magic[8];
+	if (size < 8) throw Error(path, 0, "not an action-unit appearance file (talkhead corpus au-appearance)");
 	get(magic, 8);
 	if (std::memcmp(magic, kMagic, 8) != 0) throw Error(path, 0, "not an action-unit appearance file (talkhead corpus au-appearance)");
 	AuAppearance a;
@@ -339,37 +345,60 @@ AuAppearance loadAuAppearance(const std::string& path) {
 	a.source = getString("source");
 	const std::size_t P = std::size_t(a.width) * std::size_t(a.height);
 	for (int j = 0; j < n; ++j) {
-		a.names.push_back(getString("AU name"));
+		const std::string name = getString("AU name");
+		if (only && std::find(only->begin(), only->end(), name) == only->end()) {  // skipped, its size checked
+			need(P * 4);
+			in.seekg(std::streamoff(at));
+			continue;
+		}
+		a.names.push_back(name);
 		std::vector<float> m(P);
 		get(m.data(), P * 4);
 		for (float v : m)
-			if (!(std::abs(v) < 10)) throw bad("a ratio of AU " + a.names.back() + " is out of range");
+			if (!(std::abs(v) < 10)) throw bad("a ratio of AU " + name + " is out of range");
 		a.logRatio.push_back(std::move(m));
 	}
-	if (at != s.size()) throw bad("trailing data");
+	if (at != size) throw bad("trailing data");
 	return a;
 }
 
-const AuAppearance* defaultAuAppearance() {
-	static std::once_flag once;
-	static std::unique_ptr<AuAppearance> a;
-	static std::optional<Error> failed;
-	std::call_once(once, [] {
-		if (auto path = findDataFile("models/au-appearance.bin")) {
-			try {
-				a = std::make_unique<AuAppearance>(loadAuAppearance(*path));
-			} catch (const Error& e) {
-				failed = e;
-			}
+std::optional<AuAppearance> installedAuAppearance(const std::vector<std::string>& aus) {
+	static std::mutex mutex;
+	static std::optional<std::string> path;
+	static bool looked = false;
+	static AuAppearance cache;  // the AUs read so far
+	static std::vector<std::string> absent;  // asked for, not in the file
+	std::lock_guard<std::mutex> lock(mutex);
+	if (!looked) path = findDataFile("models/au-appearance.bin"), looked = true;
+	if (!path) return std::nullopt;
+	std::vector<std::string> missing;
+	for (const std::string& au : aus)
+		if (cache.find(au) < 0 && std::find(absent.begin(), absent.end(), au) == absent.end() && std::find(missing.begin(), missing.end(), au) == missing.end())
+			missing.push_back(au);
+	if (!missing.empty() || cache.width == 0) {
+		AuAppearance more = loadAuAppearance(*path, &missing);
+		if (cache.width == 0) cache.width = more.width, cache.height = more.height, cache.anchors = more.anchors, cache.source = more.source;
+		for (std::size_t j = 0; j < more.names.size(); ++j) {
+			cache.names.push_back(more.names[j]);
+			cache.logRatio.push_back(std::move(more.logRatio[j]));
 		}
-	});
-	if (failed) throw *failed;
-	return a.get();
+		for (const std::string& au : missing)
+			if (cache.find(au) < 0) absent.push_back(au);
+	}
+	AuAppearance out;
+	out.width = cache.width, out.height = cache.height, out.anchors = cache.anchors, out.source = cache.source;
+	for (const std::string& au : aus)
+		if (const int j = cache.find(au); j >= 0 && out.find(au) < 0) {
+			out.names.push_back(au);
+			out.logRatio.push_back(cache.logRatio[std::size_t(j)]);
+		}
+	return out;
 }
 
-MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, const Points& shape, int x0, int y0, int width, int height) {
+MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, const Points& shape, int x0, int y0, int width, int height,
+                                   const std::vector<std::string>* only) {
 	MappedAuAppearance m;
-	m.x0 = x0, m.y0 = y0, m.width = width, m.height = height, m.names = a.names;
+	m.x0 = x0, m.y0 = y0, m.width = width, m.height = height;
 	const Eigen::Matrix<double, 2, 3> T = fitAffine(appearanceAnchors(scheme, shape), a.anchors);  // face pixels → grid
 	const std::size_t P = std::size_t(width) * std::size_t(height);
 	// Bilinear positions once for all AUs; outside the grid, no change.
@@ -384,7 +413,10 @@ MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, 
 			index[p] = iy * a.width + ix;
 			fx[p] = float(gx - ix), fy[p] = float(gy - iy);
 		}
-	for (const auto& src : a.logRatio) {
+	for (std::size_t j = 0; j < a.names.size(); ++j) {
+		if (only && std::find(only->begin(), only->end(), a.names[j]) == only->end()) continue;
+		const std::vector<float>& src = a.logRatio[j];
+		m.names.push_back(a.names[j]);
 		std::vector<float> out(P, 0.f);
 		for (std::size_t p = 0; p < P; ++p) {
 			if (index[p] < 0) continue;

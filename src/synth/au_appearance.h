@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,11 +48,12 @@ AuAppearance learnAuAppearance(const Scheme& scheme, const std::vector<Appearanc
                                const std::map<std::string, AuProfile>& profiles, int gridWidth = 256);
 
 // A binary file (magic "THAUAPP1"); reading checks every size and says what is wrong, naming the file.
+// `only`: read just these AUs' maps (the others are skipped, their sizes still checked).
 void saveAuAppearance(const AuAppearance& a, const std::string& path);
-AuAppearance loadAuAppearance(const std::string& path);
-// The shipped maps (models/au-appearance.bin, learned from the default face's corpus at build time), if
-// installed; nullptr when not. Loaded once.
-const AuAppearance* defaultAuAppearance();
+AuAppearance loadAuAppearance(const std::string& path, const std::vector<std::string>* only = nullptr);
+// The installed maps (models/au-appearance.bin, learned from the default face's corpus at build time) of
+// these AUs (those it has), each read from the file once per process; nullopt when none is installed.
+std::optional<AuAppearance> installedAuAppearance(const std::vector<std::string>& aus);
 
 // The maps resampled into one face's frame: the box [x0, x0 + width) × [y0, y0 + height) of an image
 // whose face has the shape `shape` (an affine fit of the anchors, least squares).
@@ -60,7 +63,9 @@ struct MappedAuAppearance {
 	std::vector<std::vector<float>> logRatio;
 	int find(const std::string& au) const;
 };
-MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, const Points& shape, int x0, int y0, int width, int height);
+// Only the AUs in `only` when it is given (a render maps those its emotions use).
+MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, const Points& shape, int x0, int y0, int width, int height,
+                                   const std::vector<std::string>* only = nullptr);
 
 // The luminance gain per pixel of the box for these AU weights: exp(Σ weight × logRatio), 1 where none
 // applies. Empty when no weight names a mapped AU (nothing to change).

@@ -220,13 +220,9 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 		Points shape = model_.alignedShapes[std::size_t(sample)];
 		const AuProfile& profile = defaultAuProfiles().at(auEmotion);
 		applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, profile, intensity), rig_.auFrame);
-		std::vector<float> gain;
-		if (auAppearance_) {
-			AuProfile scaled = profile;
-			for (auto& [au, w] : scaled) w *= intensity;
-			gain = appearanceGain(*auAppearance_, scaled);
-		}
-		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth, gain));
+		static const std::vector<float> none;
+		const auto gain = auGains_.find({auEmotion, intensity});  // made by prepare() before the workers start
+		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth, gain == auGains_.end() ? none : gain->second));
 		made->usedEmotion = auEmotion + " (action units)";
 		return made;
 	}
@@ -254,15 +250,28 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	return std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
 }
 
-void KeyposeCache::prepareAuAppearance() {
-	if (auAppearanceTried_ || !o_.auAppearance) return;
-	auAppearanceTried_ = true;
-	const AuAppearance* a = defaultAuAppearance();
+void KeyposeCache::prepareAuAppearance(const std::vector<std::string>& emotions) {
+	if (!o_.auAppearance) return;
 	Scheme scheme = model_.scheme;  // a model file holds no eyes and brows: the rig has them from the scheme
 	scheme.eyes = rig_.eyes, scheme.brows = rig_.brows;
-	if (!a || scheme.eyes.size() != 2 || scheme.brows.size() != 2) return;
-	auAppearance_ = std::make_unique<MappedAuAppearance>(
-	    mapAuAppearance(*a, scheme, model_.meanShape, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0));
+	if (scheme.eyes.size() != 2 || scheme.brows.size() != 2) return;
+	std::vector<std::string> missing;
+	for (const std::string& e : emotions)
+		for (const auto& [au, w] : defaultAuProfiles().at(e))
+			if (w != 0 && (!auAppearance_ || auAppearance_->find(au) < 0) && std::find(missing.begin(), missing.end(), au) == missing.end())
+				missing.push_back(au);
+	if (missing.empty()) return;
+	const std::optional<AuAppearance> a = installedAuAppearance(missing);
+	if (!a || a->names.empty()) return;
+	MappedAuAppearance m = mapAuAppearance(*a, scheme, model_.meanShape, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0);
+	if (!auAppearance_) {
+		auAppearance_ = std::make_unique<MappedAuAppearance>(std::move(m));
+		return;
+	}
+	for (std::size_t j = 0; j < m.names.size(); ++j) {
+		auAppearance_->names.push_back(m.names[j]);
+		auAppearance_->logRatio.push_back(std::move(m.logRatio[j]));
+	}
 }
 
 void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
@@ -301,7 +310,17 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 		synthesized[r] = synthesizeAppearances(reg, c);
 	}
 	std::vector<std::unique_ptr<KeyposeImage>> made(pairs.size());
-	if (std::any_of(pairs.begin(), pairs.end(), [](const ImageKey& k) { return !std::get<3>(k).empty(); })) prepareAuAppearance();
+	std::vector<std::string> auEmotions;
+	for (const ImageKey& k : pairs)
+		if (!std::get<3>(k).empty() && std::find(auEmotions.begin(), auEmotions.end(), std::get<3>(k)) == auEmotions.end()) auEmotions.push_back(std::get<3>(k));
+	if (!auEmotions.empty()) prepareAuAppearance(auEmotions);
+	for (const ImageKey& k : pairs) {
+		const auto& [sample, base, intensity, auEmotion] = k;
+		if (auEmotion.empty() || !auAppearance_ || auGains_.count({auEmotion, intensity})) continue;
+		AuProfile scaled = defaultAuProfiles().at(auEmotion);
+		for (auto& [au, w] : scaled) w *= intensity;
+		auGains_[{auEmotion, intensity}] = appearanceGain(*auAppearance_, scaled);
+	}
 	parallelFor(pairs.size(), 0, [&](std::size_t j) { made[j] = makeImage(pairs[j], synthesized, samples); });
 	std::lock_guard<std::mutex> lock(mutex_);
 	for (std::size_t j = 0; j < pairs.size(); ++j) images_.emplace(pairs[j], std::move(made[j]));

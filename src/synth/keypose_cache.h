@@ -61,8 +61,8 @@ private:
 	// Action-unit appearance (issue 31 route 2) mapped into the model's mean frame once, when the first
 	// keypose from action units is made (nullptr: none installed, or the scheme has no eyes and brows).
 	std::unique_ptr<MappedAuAppearance> auAppearance_;
-	bool auAppearanceTried_ = false;
-	void prepareAuAppearance();
+	std::map<std::pair<std::string, double>, std::vector<float>> auGains_;  // per (emotion, intensity): the skin's gain
+	void prepareAuAppearance(const std::vector<std::string>& emotions);  // maps the AUs these use, once each
 };
 
 }  // namespace talkhead
