@@ -144,14 +144,14 @@ std::vector<float> skinMask(const Scheme& scheme, const Points& shape, double gx
 	const double iod = f.iod * scale;  // grid pixels
 	auto grid = [&](Eigen::Index i) { return Eigen::RowVector2d((shape(i, 0) - gx0) * scale, (shape(i, 1) - gy0) * scale); };
 	// The face: its points from the brows down (a scheme may mark the hairline too), and the forehead to
-	// 0.33 eye distances above the brows.
+	// 0.5 eye distances above the brows (0.7 takes in the drawn face's hairline).
 	double browTop = 1e300;
 	for (const BrowSpec& b : scheme.brows)
 		for (int i : b.points) browTop = std::min(browTop, (shape.row(i) - f.origin).dot(f.y));
 	Poly all;
 	for (Eigen::Index i = 0; i < shape.rows(); ++i)
 		if ((shape.row(i) - f.origin).dot(f.y) >= browTop - 1e-9) all.push_back(grid(i));
-	const Eigen::RowVector2d up = -f.y * 0.33 * iod;  // the forehead, below the drawn face's hairline
+	const Eigen::RowVector2d up = -f.y * 0.5 * iod;  // the forehead, below the drawn face's hairline
 	std::vector<Poly> brows;
 	for (const BrowSpec& b : scheme.brows) {
 		Poly line;
