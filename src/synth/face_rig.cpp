@@ -306,8 +306,27 @@ void FaceRig::loadActionUnits(const FaceModel& model, const SynthOptions& o) {
 					if (a < 0) throw Error("the action-unit templates of scheme " + scheme.name + " have no " + c.au);
 					auCurveIndex.push_back(a);
 				}
+			if (auEvents && o.auAppearance) loadAuSkin(model, o);
 		}
 	}
+}
+
+// D61: the skin's maps of the AUs the events and curves name, mapped once into the face box.
+void FaceRig::loadAuSkin(const FaceModel& model, const SynthOptions& o) {
+	Scheme scheme = model.scheme;
+	scheme.eyes = eyes, scheme.brows = brows;
+	if (scheme.eyes.size() != 2 || scheme.brows.size() != 2) return;
+	std::vector<std::string> aus;
+	auto add = [&](const std::string& au) {
+		if (std::find(aus.begin(), aus.end(), au) == aus.end()) aus.push_back(au);
+	};
+	for (const AuEvent& e : o.modulator->auEvents()) add(e.au);
+	for (const ControlCurves::Au& c : o.modulator->curves().aus) add(c.au);
+	const std::optional<AuAppearance> a = installedAuAppearance(aus);
+	if (!a || a->names.empty()) return;
+	auSkin = std::make_unique<MappedAuAppearance>(mapAuAppearance(*a, scheme, model.meanShape, roiX0, roiY0, roiX1 - roiX0, roiY1 - roiY0));
+	for (const AuEvent& e : o.modulator->auEvents()) auEventSkin.push_back(auSkin->find(e.au));
+	for (const ControlCurves::Au& c : o.modulator->curves().aus) auCurveSkin.push_back(auSkin->find(c.au));
 }
 
 // The meshes over the mean shape and the anchors, the baseface in YUV and the static background.

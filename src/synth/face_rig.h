@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "image/yuv.h"
 #include "model/face_model.h"
 #include "synth/action_units.h"
+#include "synth/au_appearance.h"
 #include "synth/synthesizer.h"
 
 namespace talkhead {
@@ -51,6 +53,10 @@ struct FaceRig {
 	EyeFrame auFrame;                        // the mean shape's eye frame
 	std::vector<int> auEventIndex;           // per modulator AU event: its template
 	std::vector<int> auCurveIndex;           // per modulator AU curve: its template
+	// D61: the skin of those events' and curves' action units (issue 31), mapped into the face box once;
+	// null when none is installed, the scheme has no eyes and brows, or options().auAppearance is off.
+	std::unique_ptr<MappedAuAppearance> auSkin;
+	std::vector<int> auEventSkin, auCurveSkin;  // per AU event / curve: its map in auSkin, or −1
 	std::vector<ClosedLidPatch> eyePatches;
 	Eigen::RowVector2d centre{0, 0};  // the mean shape's centre (head rotation), model pixels
 	Eigen::RowVector2d eyeMid{0, 0};  // between the eyes on the mean shape (a tracked head's pivot, D55)
@@ -68,6 +74,7 @@ private:
 	mutable std::once_flag backgroundRgbOnce_;
 	void placeFace(const FaceModel& model, const SynthOptions& o);
 	void placeAnchors(const FaceModel& model, const SynthOptions& o);
+	void loadAuSkin(const FaceModel& model, const SynthOptions& o);
 	void loadActionUnits(const FaceModel& model, const SynthOptions& o);
 	void makeMeshes(const FaceModel& model, const SynthOptions& o);
 	void makeClosedLids(const FaceModel& model, const SynthOptions& o);

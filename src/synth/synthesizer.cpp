@@ -99,6 +99,41 @@ Points Synthesizer::monotoneTrajectory(const std::array<const Points*, 4>& p, co
 	return out;
 }
 
+void Synthesizer::addSkin(Between& f, int map, double weight, int side) {
+	if (map < 0 || map >= Between::kMaxSkin || weight == 0) return;
+	const auto m = std::size_t(map);
+	(side < 0 ? f.left : side > 0 ? f.right : f.both)[m] += float(weight);
+	if (std::find(f.skin.begin(), f.skin.begin() + f.skinCount, map) == f.skin.begin() + f.skinCount) f.skin[std::size_t(f.skinCount++)] = map;
+}
+
+void Synthesizer::applySkin(const Between& f, std::uint8_t* plane, std::size_t stride, int channels, int black) const {
+	if (f.skinCount == 0 || !rig_->auSkin) return;
+	const MappedAuAppearance& m = *rig_->auSkin;
+	const EyeFrame& e = rig_->auFrame;
+	for (int y = 0; y < m.height; ++y) {
+		std::uint8_t* row = plane + std::size_t(m.y0 + y) * stride + std::size_t(m.x0) * std::size_t(channels);
+		for (int x = 0; x < m.width; ++x) {
+			// Which half (as applyActionUnits: within 5 % of the eye distance of the midline, half of each side).
+			const double along = ((m.x0 + x - e.origin(0)) * e.x(0) + (m.y0 + y - e.origin(1)) * e.x(1)) / e.iod;
+			const float l = along < -0.05 ? 1.f : (along > 0.05 ? 0.f : 0.5f);
+			const std::size_t p = std::size_t(y) * std::size_t(m.width) + std::size_t(x);
+			float sum = 0;
+			for (int j = 0; j < f.skinCount; ++j) {
+				const auto a = std::size_t(f.skin[std::size_t(j)]);
+				const float r = m.logRatio[a][p];
+				if (r != 0) sum += r * (f.both[a] + l * f.left[a] + (1 - l) * f.right[a]);
+			}
+			if (sum == 0) continue;
+			const float g = std::exp(sum);
+			for (int c = 0; c < channels; ++c) {
+				std::uint8_t& v = row[std::size_t(x) * std::size_t(channels) + std::size_t(c)];
+				const float out = float(black) + (float(v) - float(black)) * g + 0.5f;
+				v = std::uint8_t(out <= 0.f ? 0.f : (out >= 255.f ? 255.f : out));
+			}
+		}
+	}
+}
+
 Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const {
 	if (keys.empty()) throw std::logic_error("renderFrame: no keyposes");
 	// The bracketing keyposes; before the first and after the last the face holds.
@@ -142,13 +177,20 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 		if (!rig_->auEventIndex.empty()) {  // D48: action units from a control track
 			std::vector<AuWeight> w;
 			const auto& all = o_.modulator->auEvents();
-			for (const auto& [e, weight] : o_.modulator->actionUnits(tau)) w.push_back({rig_->auEventIndex[std::size_t(e - all.data())], weight, e->side});
+			for (const auto& [e, weight] : o_.modulator->actionUnits(tau)) {
+				const std::size_t k = std::size_t(e - all.data());
+				w.push_back({rig_->auEventIndex[k], weight, e->side});
+				if (rig_->auSkin) addSkin(f, rig_->auEventSkin[k], weight, e->side);
+			}
 			applyActionUnits(points, *rig_->auTemplates, w, rig_->auFrame);
 		}
 		if (!rig_->auCurveIndex.empty()) {  // D55: action units from a tracked video
 			std::vector<AuWeight> w;
 			const auto& curves = o_.modulator->curves().aus;
-			for (const auto& [k, weight] : o_.modulator->curveActionUnits(tau)) w.push_back({rig_->auCurveIndex[k], weight, curves[k].side});
+			for (const auto& [k, weight] : o_.modulator->curveActionUnits(tau)) {
+				w.push_back({rig_->auCurveIndex[k], weight, curves[k].side});
+				if (rig_->auSkin) addSkin(f, rig_->auCurveSkin[k], weight, curves[k].side);
+			}
 			applyActionUnits(points, *rig_->auTemplates, w, rig_->auFrame);
 		}
 		const HeadMotion h = o_.modulator->head(tau);
@@ -278,6 +320,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 		const std::size_t at = std::size_t(y - rig_->roiY0) * rw * 3;
 		blendRow(f.src->rgb.data() + at, f.dst->rgb.data() + at, f.w256, ws.meanRgb.row(y) + std::size_t(rig_->roiX0) * 3, std::size_t(rw) * 3);
 	}
+	applySkin(f, ws.meanRgb.data.data(), std::size_t(model_.width) * 3, 3, 0);
 	if (f.closure > 0) drawClosedLids(nullptr, nullptr, ws.meanRgb.data.data(), f.closure);
 	ws.warp->setSource(rig_->meanSource);
 	ws.warp->apply(ws.meanRgb, out);
@@ -322,6 +365,7 @@ void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Wo
 		blendRow(f.src->uv.data() + at, f.dst->uv.data() + at, f.w256, ws.meanUV.data() + (std::size_t(y) * cw + std::size_t(rig_->roiX0 / 2)) * 2,
 		         std::size_t(rcw) * 2);
 	}
+	applySkin(f, ws.meanY.data(), std::size_t(W), 1, o_.yuvRange == YuvRange::Limited ? 16 : 0);
 	if (f.closure > 0) drawClosedLids(ws.meanY.data(), ws.meanUV.data(), nullptr, f.closure);
 	ws.warp->setSource(rig_->meanSource);
 	std::uint8_t* luma[1] = {out.y.data()};

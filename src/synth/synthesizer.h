@@ -142,7 +142,18 @@ private:
 		double u, w;
 		int w256;
 		double closure = 0;  // the lids (0 open … 1 shut)
+		// D61: the weights of the skin's maps (FaceRig::auSkin) at τ, on both halves of the face, on the
+		// image-left and on the image-right half; `skin` lists the maps with any weight.
+		static constexpr int kMaxSkin = 32;
+		std::array<float, kMaxSkin> both{}, left{}, right{};
+		std::array<int, kMaxSkin> skin{};
+		int skinCount = 0;
 	};
+	// Multiplies the mean frame's face box (a plane of `channels` interleaved, `black` its zero) by the
+	// skin's gain of f's action units (issue 31).
+	void applySkin(const Between& f, std::uint8_t* plane, std::size_t stride, int channels, int black) const;
+	// Adds an action unit's weight on one side (−1 image left, +1 image right, 0 both) to its map's.
+	static void addSkin(Between& f, int map, double weight, int side);
 	// Also sets `points`: the feature points at τ in output pixels.
 	Between locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const;
 };

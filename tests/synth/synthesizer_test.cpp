@@ -265,6 +265,51 @@ TEST(Synthesizer, actionUnitEventsMoveThePointsOnTheirSide) {
 	EXPECT_THROW(Synthesizer(other, o), Error);
 }
 
+TEST(Synthesizer, actionUnitEventsChangeTheSkinOnTheirSideOnlyWhileTheyAct) {
+	// Issue 31: a timed AU4 (brow lowerer) darkens the glabella's furrows through the installed maps, on
+	// the side asked for, and only while it acts; the points move exactly as without the skin.
+	if (!installedAuAppearance({"AU4"})) GTEST_SKIP() << "no models/au-appearance.bin built";
+	const SmallFace& f = smallFace();
+	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
+	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
+	ModulatorOptions mo;
+	mo.blinks = false;
+	mo.headMotion = false;
+	AuEvent frown;
+	frown.au = "AU4";
+	frown.time = ms(500), frown.onset = ms(200), frown.apex = ms(500), frown.offset = ms(200);
+	frown.side = 1;  // the image's right half
+	mo.auEvents = {frown};
+	auto render = [&](bool skin, Ticks at, Points& points) {
+		SynthOptions o;
+		o.auAppearance = skin;
+		o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys);
+		Synthesizer synth(f.model, o);
+		synth.prepare(keys);
+		Synthesizer::Workspace ws;
+		Image8 frame;
+		synth.renderFrame(at, keys, ws, frame, points);
+		return frame;
+	};
+	Points p0, p1;
+	EXPECT_EQ(render(true, ms(400), p0).data, render(false, ms(400), p1).data);  // before: nothing
+	EXPECT_EQ(render(true, ms(1500), p0).data, render(false, ms(1500), p1).data);  // after: nothing
+	const Image8 on = render(true, ms(900), p0), off = render(false, ms(900), p1);
+	EXPECT_EQ(p0, p1);
+	const double mid = 0.5 * (p0(f.model.scheme.indexOf("REB1"), 0) + p0(f.model.scheme.indexOf("LEB1"), 0));
+	double leftChange = 0, rightChange = 0, darker = 0, brighter = 0;
+	for (int y = 0; y < on.height; ++y)
+		for (int x = 0; x < on.width; ++x)
+			for (int c = 0; c < 3; ++c) {
+				const int d = int(on.at(x, y, c)) - int(off.at(x, y, c));
+				(x < mid ? leftChange : rightChange) += std::abs(d);
+				(d < 0 ? darker : brighter) += std::abs(d);
+			}
+	EXPECT_GT(rightChange, 1000);
+	EXPECT_LT(leftChange, 0.25 * rightChange);  // the midline's band takes half
+	EXPECT_GT(darker, brighter);                // furrows are shadows
+}
+
 TEST(Synthesizer, sameInputsGiveTheSameFrames) {
 	const SmallFace& f = smallFace();
 	SynthOptions o;
