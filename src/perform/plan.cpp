@@ -100,6 +100,7 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	perf.emotion = spec.emotion;
 	perf.intensity = spec.intensity;
 	perf.modulation = spec.modulation;
+	perf.modulation.intensity = spec.intensity;
 	perf.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses);
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);

@@ -122,6 +122,7 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	// The face box is sized once, for the liveliest head any emotion gets (head motion's largest factor).
 	ModulatorOptions envelope = o_.modulation;
 	envelope.forcedBlinks.clear(), envelope.gestures.clear(), envelope.browEvents.clear(), envelope.auEvents.clear();
+	envelope.intensity = 1.5;  // the strongest an emotion gets (its head motion scales with the intensity)
 	double factor = 0;
 	for (std::size_t i = 0; i < Emotion::count(); ++i) factor = std::max(factor, ShapeModulator::headFactorFor(Emotion::at(i)));
 	so.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), keys_);
@@ -320,6 +321,7 @@ void LiveSession::replan() {
 	brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time + b.duration < behind; }), brows.end());
 	auto& blinks = modOptions_.forcedBlinks;
 	blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b < behind; }), blinks.end());
+	modOptions_.intensity = intensity_;
 	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, emotion_, horizon_, keys_);
 	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, emotion_, horizon_, keys_);
 	synth_->setModulator(modulator_);

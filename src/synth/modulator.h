@@ -78,6 +78,7 @@ struct ControlCurves {
 struct ModulatorOptions {
 	bool blinks = true;
 	double blinkRate = 0;       // blinks per minute at rest; 0 = the emotion's default (see blinkRateFor)
+	double intensity = 1;       // the emotion's strength: its blink rate and head liveliness go from neutral's by it
 	bool headMotion = true;
 	double headAmplitude = 1;   // × the default amplitude (0 = a still head)
 	std::uint64_t seed = 1;     // the same seed, inputs and options give the same blinks and head motion

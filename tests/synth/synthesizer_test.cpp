@@ -520,6 +520,28 @@ TEST(ShapeModulator, blinksCloseTheEyesAndOpenThemAgainSeeded) {
 	EXPECT_TRUE(ShapeModulator(mo, Emotion::of("joy"), ms(6000), keys).blinks().empty());
 }
 
+TEST(ShapeModulator, anEmotionsBlinksAndHeadScaleWithItsIntensityFromNeutrals) {
+	// Issue 31: intensity 0 is neutral in everything (blinks and head motion too, so a render at 0 is
+	// byte-identical to neutral's); 1 the emotion's; half-way half-way; beyond, further.
+	const auto keys = speechKeys(0, 60000);
+	ModulatorOptions mo;
+	mo.seed = 3;
+	const ShapeModulator neutral(mo, Emotion::of("neutral"), ms(60000), keys);
+	mo.intensity = 0;
+	const ShapeModulator fear0(mo, Emotion::of("fear"), ms(60000), keys);
+	ASSERT_EQ(fear0.blinks().size(), neutral.blinks().size());
+	for (std::size_t i = 0; i < neutral.blinks().size(); ++i) EXPECT_EQ(fear0.blinks()[i].start, neutral.blinks()[i].start);
+	EXPECT_EQ(fear0.maxAngle(), neutral.maxAngle());
+	mo.intensity = 1;
+	const ShapeModulator fear(mo, Emotion::of("fear"), ms(60000), keys);
+	mo.intensity = 0.5;
+	const ShapeModulator half(mo, Emotion::of("fear"), ms(60000), keys);
+	EXPECT_NEAR(fear.maxAngle(), 0.6 * neutral.maxAngle(), 1e-12);  // fear's head is subdued (0.6)
+	EXPECT_NEAR(half.maxAngle(), 0.8 * neutral.maxAngle(), 1e-12);
+	EXPECT_LT(fear.blinks().size(), half.blinks().size());  // fear blinks 10 a minute, neutral 17
+	EXPECT_LT(half.blinks().size(), neutral.blinks().size());
+}
+
 TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame) {
 	const SmallFace& f = smallFace();
 	const auto keys = speechKeys(0, 30000);
