@@ -15,6 +15,9 @@
 #include "media/image_io.h"
 #include "synth/action_units.h"
 #include "synth/au_appearance.h"
+#include "synth/coarticulation.h"
+#include "track/coarticulation_data.h"
+#include "cli/video_options.h"
 #include "synth_corpus.h"
 
 namespace talkhead::cli {
@@ -145,6 +148,78 @@ int runAuAppearance(const std::vector<std::string>& argv) {
 	return 0;
 }
 
+double pearson(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+	const Eigen::ArrayXd x = a.array() - a.mean(), y = b.array() - b.mean();
+	const double d = std::sqrt((x * x).sum() * (y * y).sum());
+	return d > 0 ? (x * y).sum() / d : 0.0;
+}
+
+int runCoarticulation(const std::vector<std::string>& argv) {
+	Args args("corpus coarticulation", "talkhead corpus coarticulation --clips LIST.tsv -o F.tsv [options]",
+	          {{"--clips", "LIST.tsv", "real speakers' clips: columns landmarks ('talkhead corpus landmarks' TSV) and transcript (timed phones or words), optional speaker (required)"},
+	           {"--output", "F.tsv", "the model to write (required)", "-o"},
+	           {"--lang", "LANG", languageOptionHelp("the transcripts'")},
+	           {"--lambda", "L", "ridge penalty (default 10)"},
+	           {"--fps", "N", "frame rate the keyposes are placed at (default 25)"},
+	           {"--quiet", "", "no summary", "-q"}},
+	          "Learns coarticulation (issue 32, decision D62): the inner-lip opening of real speakers at each phone's\n"
+	          "keypose, in units of the speaker's own 90th percentile in speech, fitted by ridge least squares from\n"
+	          "the phone and two phones each side (their CDVs' mouth targets, bilabial, labiodental, pause, duration;\n"
+	          "CDV indicators for the phone and its neighbours). With a speaker column, also reports how well it\n"
+	          "predicts each speaker's openings when learned from the others (leave one speaker out). Render with\n"
+	          "'--coarticulation F.tsv'.");
+	if (!args.parse(argv)) return 0;
+	if (!args.positionals().empty()) throw UsageError("corpus coarticulation: unexpected argument '" + args.positionals()[0] + "'");
+	const std::string list = args.required("--clips", "--clips LIST.tsv is required");
+	const std::string out = args.required("--output", "-o F.tsv is required");
+	const double lambda = args.number("--lambda", 10, 0, 1e6);
+	const Ticks frame = FrameRate{int(args.number("--fps", 25, 1, 1000)), 1}.frameLength();
+	const Language& lang = languageOption(args);
+	const CoarticulationList clips = readCoarticulationList(list, lang);
+	std::vector<Eigen::MatrixXd> xs(clips.clips.size());
+	std::vector<Eigen::VectorXd> ys(clips.clips.size());
+	for (std::size_t i = 0; i < clips.clips.size(); ++i) coarticulationExamples(clips.clips[i], frame, xs[i], ys[i]);
+	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
+	m.source = std::to_string(clips.clips.size()) + " clips of " + std::filesystem::path(list).filename().string();
+	// Leave one speaker out: each speaker's keyposes predicted by a model of the others.
+	std::vector<std::string> speakers;
+	for (const auto& sp : clips.speakers)
+		if (!sp.empty() && std::find(speakers.begin(), speakers.end(), sp) == speakers.end()) speakers.push_back(sp);
+	std::string held;
+	if (speakers.size() > 1) {
+		double sum = 0;
+		for (const std::string& sp : speakers) {
+			std::vector<Eigen::MatrixXd> tx, hx;
+			std::vector<Eigen::VectorXd> ty, hy;
+			for (std::size_t i = 0; i < xs.size(); ++i) (clips.speakers[i] == sp ? hx : tx).push_back(xs[i]), (clips.speakers[i] == sp ? hy : ty).push_back(ys[i]);
+			const CoarticulationModel o = fitCoarticulation(tx, ty, lambda);
+			Eigen::Index n = 0;
+			for (const auto& y : hy) n += y.size();
+			Eigen::VectorXd truth(n), guess(n);
+			n = 0;
+			for (std::size_t i = 0; i < hx.size(); ++i) {
+				truth.segment(n, hy[i].size()) = hy[i];
+				guess.segment(n, hy[i].size()) = (hx[i] * o.weights).array() + o.intercept;
+				n += hy[i].size();
+			}
+			sum += pearson(truth, guess);
+		}
+		char b[120];
+		std::snprintf(b, sizeof b, "; held-out speakers' keypose openings r %.3f (mean of %zu)", sum / double(speakers.size()), speakers.size());
+		held = b;
+	}
+	Eigen::Index n = 0;
+	for (const auto& y : ys) n += y.size();
+	Eigen::VectorXd truth(n), fit(n);
+	n = 0;
+	for (std::size_t i = 0; i < xs.size(); ++i) truth.segment(n, ys[i].size()) = ys[i], fit.segment(n, ys[i].size()) = (xs[i] * m.weights).array() + m.intercept, n += ys[i].size();
+	saveCoarticulation(m, out);
+	if (!args.has("--quiet"))
+		std::fprintf(stderr, "wrote %s: %zu features from %zu keyposes of %zu clips; fit r %.3f%s\n", out.c_str(), m.features.size(), m.samples,
+		             clips.clips.size(), pearson(truth, fit), held.c_str());
+	return 0;
+}
+
 }  // namespace
 
 int runCorpus(const std::vector<std::string>& argv) {
@@ -154,6 +229,7 @@ int runCorpus(const std::vector<std::string>& argv) {
 		            "       talkhead corpus from-video VIDEO [--text T] -o DIR [options]    a viseme corpus from a video\n"
 		            "       talkhead corpus au-templates CORPUS -o F.tsv [options]          action-unit shape templates\n"
 		            "       talkhead corpus au-appearance CORPUS -o F.bin [options]         action-unit appearance maps\n"
+		            "       talkhead corpus coarticulation --clips LIST.tsv -o F.tsv        coarticulation from real speakers\n"
 		            "(see 'talkhead corpus SUBCOMMAND --help')\n");
 		return argv.empty() ? 2 : 0;
 	}
@@ -163,7 +239,8 @@ int runCorpus(const std::vector<std::string>& argv) {
 	if (argv[0] == "from-video") return runCorpusFromVideo(rest);
 	if (argv[0] == "au-templates") return runAuTemplates(rest);
 	if (argv[0] == "au-appearance") return runAuAppearance(rest);
-	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth, landmarks, from-video, au-templates or au-appearance)");
+	if (argv[0] == "coarticulation") return runCoarticulation(rest);
+	throw UsageError("corpus: unknown subcommand '" + argv[0] + "' (expected synth, landmarks, from-video, au-templates, au-appearance or coarticulation)");
 }
 
 }  // namespace talkhead::cli

@@ -143,6 +143,7 @@ void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& ma
 PerformanceSpec performanceSpec(const VideoCommand& cmd) {
 	PerformanceSpec spec;
 	spec.rate = cmd.rate;
+	spec.coarticulation = cmd.coarticulation;
 	spec.pauses = cmd.pauses;
 	spec.emotion = cmd.emotion;
 	spec.intensity = cmd.intensity;
@@ -174,8 +175,9 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--no-audio", "", "no audio track (the audio's length still sets the duration)"},
 	        {"--crf", "N", "H.264 quality, 0–51 (default 20)"},
 	        {"--preset", "NAME", "x264 preset (default veryfast)"},
-	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it) or thesis (one silence keypose at each pause midpoint)"},
+	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (rest soon after speech, held until just before the next; the default with --coarticulation) or thesis (one silence keypose at each pause midpoint)"},
 	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
+	        {"--coarticulation", "F.tsv", "the mouth from its phone context (D62): each phone's keypose shows the face's exemplar nearest the opening this model predicts ('talkhead corpus coarticulation'); bilabials close"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
 	        {"--controls", "F", "timed events (JSON, or a TextGrid with --control-tier): emotion changes, blinks, nods, shakes, turns, brows, action units (README: Timed controls)"},
@@ -267,8 +269,8 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.noAudio = args.has("--no-audio");
 	std::tie(c.emotion, c.intensity) = parseEmotionOption(args, command);
 	c.modelPath = args.get("--model", "");
-	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
-	if (!pauses) throw UsageError(command + ": --pauses takes natural or thesis");
+	const auto pauses = parsePauseStyle(args.get("--pauses", args.has("--coarticulation") ? "still" : "natural"));
+	if (!pauses) throw UsageError(command + ": --pauses takes natural, still or thesis");
 	c.pauses = *pauses;
 	const std::string traj = args.get("--trajectory", "hermite"), diss = args.get("--dissolve", "linear");
 	if (traj != "hermite" && traj != "linear" && traj != "monotone") throw UsageError(command + ": --trajectory takes hermite, linear or monotone");
@@ -298,6 +300,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 		checkWritableFolder(*a);
 	}
 	if (args.has("--control-tier") && !args.has("--controls")) throw UsageError(command + ": --control-tier needs --controls F.TextGrid");
+	if (auto f = args.get("--coarticulation")) c.coarticulation = std::make_shared<const CoarticulationModel>(loadCoarticulation(*f));
 	if (auto f = args.get("--controls")) c.controls = args.has("--control-tier") ? loadControlTier(*f, *args.get("--control-tier")) : loadControls(*f);
 	if (auto comps = args.get("--components")) {
 		try {

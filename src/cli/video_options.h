@@ -2,6 +2,7 @@
 #pragma once
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,7 @@ struct VideoCommand {
 	ModulatorOptions modulation;
 	double speechBrows = 0;  // --speech-brows: 0 off, else the raise amount (D49)
 	std::optional<ControlTrack> controls;  // --controls F (read and checked with the options)
+	std::shared_ptr<const CoarticulationModel> coarticulation;  // --coarticulation F (D62)
 	Mp4Settings mp4;
 	RenderOptions render;
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;

@@ -86,6 +86,33 @@ EyeSpec parseEye(const Scheme& s, const std::vector<std::string>& f, const std::
 	return e;
 }
 
+// mouth inner U:L … corners A B  (facing inner-lip points, upper then lower)
+MouthSpec parseMouth(const Scheme& s, const std::vector<std::string>& f, const std::string& file, long ln) {
+	const std::string usage = "expected 'mouth inner UPPER:LOWER … corners A B'";
+	MouthSpec m;
+	std::vector<int> corners;
+	int list = 0;  // 1 inner, 2 corners
+	for (std::size_t i = 1; i < f.size(); ++i) {
+		if (f[i] == "inner") list = 1;
+		else if (f[i] == "corners") list = 2;
+		else if (list == 0) throw Error(file, ln, usage);
+		else if (list == 2) {
+			const int idx = s.indexOf(f[i]);
+			if (idx < 0) throw Error(file, ln, "mouth: unknown point '" + f[i] + "'");
+			corners.push_back(idx);
+		} else {
+			const auto colon = f[i].find(':');
+			const int a = colon == std::string::npos ? -1 : s.indexOf(f[i].substr(0, colon));
+			const int b = colon == std::string::npos ? -1 : s.indexOf(f[i].substr(colon + 1));
+			if (a < 0 || b < 0 || a == b) throw Error(file, ln, "mouth: bad inner pair '" + f[i] + "' (expected UPPER:LOWER, two points of the scheme)");
+			m.inner.emplace_back(a, b);
+		}
+	}
+	if (m.inner.empty() || corners.size() != 2) throw Error(file, ln, "mouth: needs at least one inner pair and 2 corners");
+	m.corner0 = corners[0], m.corner1 = corners[1];
+	return m;
+}
+
 }  // namespace
 
 Scheme parseScheme(const std::string& text, const std::string& file) {
@@ -130,8 +157,11 @@ Scheme parseScheme(const std::string& text, const std::string& file) {
 			}
 			if (b.points.size() < 2) throw Error(file, lineNo, "brow '" + b.name + "': needs at least 2 points");
 			s.brows.push_back(std::move(b));
+		} else if (kw == "mouth") {
+			if (!s.mouth.empty()) throw Error(file, lineNo, "a second 'mouth' line");
+			s.mouth = parseMouth(s, f, file, lineNo);
 		} else {
-			throw Error(file, lineNo, "unknown keyword '" + kw + "' (expected scheme, class, point, region, eye or brow)");
+			throw Error(file, lineNo, "unknown keyword '" + kw + "' (expected scheme, class, point, region, eye, brow or mouth)");
 		}
 	}
 	if (s.name.empty()) throw Error(file, 0, "missing 'scheme NAME' line");

@@ -2,6 +2,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/shape.h"
@@ -36,6 +37,13 @@ struct BrowSpec {
 	std::vector<int> points;
 };
 
+// The mouth (for measuring it): the inner lips' facing pairs (upper point, lower point) and the corners.
+struct MouthSpec {
+	std::vector<std::pair<int, int>> inner;
+	int corner0 = -1, corner1 = -1;
+	bool empty() const { return inner.empty(); }
+};
+
 // A landmark scheme: the names of a corpus's feature points in shape-vector order, their alignment
 // weights, and the face regions they bound. Loaded from data files (models/schemes/*.scheme).
 struct Scheme {
@@ -46,6 +54,7 @@ struct Scheme {
 	std::vector<RegionSpec> regions;
 	std::vector<EyeSpec> eyes;  // optional ('eye' lines); none: the face cannot blink
 	std::vector<BrowSpec> brows;  // optional ('brow' lines); none: brow events do nothing
+	MouthSpec mouth;              // optional ('mouth' line); none: the mouth cannot be measured (coarticulation)
 
 	int pointCount() const { return int(pointNames.size()); }
 	int indexOf(const std::string& pointName) const;  // −1 if absent

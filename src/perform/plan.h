@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "phonetics/espeak.h"
 #include "phonetics/language.h"
 #include "phonetics/transcript.h"
+#include "synth/coarticulation.h"
 
 namespace talkhead {
 
@@ -60,6 +62,8 @@ struct PerformanceSpec {
 	std::string source;                // names the speech in messages ("the transcript" is longer than …)
 	// Applied in order (SSML events, --controls, a driving video's track).
 	std::vector<ControlTrack> controls;
+	// D62: predicts each phone keypose's mouth opening from its context (the face shows its nearest exemplar).
+	std::shared_ptr<const CoarticulationModel> coarticulation;
 	// The video's length as planPerformance sets it.
 	Ticks videoDuration() const;
 };

@@ -584,6 +584,7 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 std::optional<PauseStyle> parsePauseStyle(const std::string& name) {
 	if (name == "natural") return PauseStyle::Natural;
 	if (name == "thesis") return PauseStyle::Thesis;
+	if (name == "still") return PauseStyle::Still;
 	return std::nullopt;
 }
 
@@ -615,12 +616,18 @@ std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, 
 		};
 		const Ticks a = ph[i].start, b = ph[j].end, len = b - a;
 		const bool leading = i == 0, trailing = j + 1 == ph.size();
-		if (pauses == PauseStyle::Natural && ph[i].phone == "_" && len > kPauseShort && !(leading && trailing)) {
+		if (pauses != PauseStyle::Thesis && ph[i].phone == "_" && len > kPauseShort && !(leading && trailing)) {
 			// D34: rest soon after speech stops, held; before the next speech an in-breath, or rest.
 			if (!leading) add(at(a + kRestAfter, k.cdv), false);
 			if (!trailing) {
 				const Ticks restFrom = leading ? a : a + kRestAfter;
-				if (b - restFrom >= kBreathPause) {
+				if (pauses == PauseStyle::Still && b - restFrom >= kBreathPause) {
+					// The breath rises slowly: over up to twice Natural's rise, as far as the pause allows.
+					add(at(std::max(restFrom, b - kBreathLead - 2 * kBreathRise), k.cdv), false);
+					add(at(b - kBreathLead, kBreathCdv, true), false);
+				} else if (pauses == PauseStyle::Still) {
+					add(at(b - kStillLead, k.cdv), false);
+				} else if (b - restFrom >= kBreathPause) {
 					add(at(b - kBreathPause, k.cdv), false);
 					add(at(b - kBreathLead, kBreathCdv, true), false);
 				} else {

@@ -110,6 +110,9 @@ struct Keypose {
 	// A specific sample of the model (render --drive-mouth: the actor's exemplar nearest the driver's
 	// mouth, D55); −1: resolved from (emotion, CDV, context).
 	long sample = -1;
+	// The coarticulation model's inner-lip opening for this keypose (D62), in units of a speaker's 90th
+	// percentile in speech; the face shows its exemplar nearest it (chooseMouthExemplars). Unset: the CDV's.
+	std::optional<double> mouthOpening{};
 };
 
 // How pauses move the mouth (docs/decisions.md D34).
@@ -118,7 +121,9 @@ struct Keypose {
 //  speech stops and holds it; before speech that follows a pause of at least kBreathPause it breathes in
 //  (lips parted, the central-vowel CDV kBreathCdv, kBreathLead before the first phone, after rest until
 //  kBreathLead + kBreathRise); a shorter pause leaves rest kRestBefore before the next phone.
-enum class PauseStyle { Natural, Thesis };
+//  Still (issue 32, D62): as Natural without the in-breath: the lips hold rest until kStillLead before
+//  the next phone (real speakers' lips barely move in a pause; the default with a coarticulation model).
+enum class PauseStyle { Natural, Thesis, Still };
 inline constexpr Ticks kRestAfter{kTicksPerSecond * 12 / 100};    // 0.12 s
 inline constexpr Ticks kRestBefore{kTicksPerSecond * 30 / 100};   // 0.30 s
 inline constexpr Ticks kPauseShort = kRestAfter + kRestBefore;    // 0.42 s
@@ -126,6 +131,7 @@ inline constexpr Ticks kBreathLead{kTicksPerSecond * 30 / 100};   // 0.30 s
 inline constexpr Ticks kBreathRise{kTicksPerSecond * 15 / 100};   // 0.15 s
 inline constexpr Ticks kBreathPause = kBreathLead + kBreathRise;  // 0.45 s
 inline constexpr const char* kBreathCdv = "ɐ";
+inline constexpr Ticks kStillLead{kTicksPerSecond * 15 / 100};   // 0.15 s
 
 // "natural" / "thesis" → PauseStyle; nullopt for anything else.
 std::optional<PauseStyle> parsePauseStyle(const std::string& name);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <sys/resource.h>
@@ -21,6 +22,7 @@
 #include "base/text.h"
 #include "model/model_file.h"
 #include "render/overlay.h"
+#include "synth/coarticulation.h"
 
 namespace talkhead {
 
@@ -314,11 +316,18 @@ struct FramePainter {
 
 }  // namespace
 
-RenderStats renderPerformance(const FaceModel& model, const Performance& perf, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
+RenderStats renderPerformance(const FaceModel& model, const Performance& performance, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
                               RenderProgress* progress) {
 	const auto t0 = Clock::now();
 	RenderProgress none;
 	RenderProgress& prog = progress ? *progress : none;
+	// D62: keyposes with a predicted mouth show the face's exemplar nearest it.
+	std::optional<Performance> withExemplars;
+	if (std::any_of(performance.keys.begin(), performance.keys.end(), [](const Keypose& k) { return k.mouthOpening && k.sample < 0; })) {
+		withExemplars = performance;
+		chooseMouthExemplars(model, performance.emotion, withExemplars->keys);
+	}
+	const Performance& perf = withExemplars ? *withExemplars : performance;
 	if (perf.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
 	if (perf.rate.num < 1 || perf.rate.den < 1) throw Error("invalid frame rate " + perf.rate.str());
 	const std::vector<Keypose>& keys = perf.keys;

@@ -114,6 +114,7 @@ std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypos
 			if (std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 			continue;
 		}
+		if (k.mouthOpening && k.sample >= 0) continue;  // D62: an exemplar chosen for its mouth, not a substitute
 		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
 		const std::string line = emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
 		if ((s.emotion != emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
@@ -332,7 +333,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 		if (image->usedEmotion == emotion + " (action units)") {
 			if (o_.emotionSource == EmotionSource::ActionUnits) continue;  // asked for
 			line = actionUnitLine(emotion);
-		} else if (image->usedEmotion != emotion || image->usedCdv != k->cdv) {
+		} else if ((image->usedEmotion != emotion || image->usedCdv != k->cdv) && !(k->mouthOpening && k->sample >= 0)) {
 			line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
 		} else {
 			continue;

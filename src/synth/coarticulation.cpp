@@ -1,0 +1,355 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Coarticulation (issue 32, D62): phone context → mouth opening at each keypose, and the face's exemplar
+// nearest it.
+#include "synth/coarticulation.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/atomic_file.h"
+#include "base/text.h"
+#include "base/tsv.h"
+
+namespace talkhead {
+
+namespace {
+
+std::string number(double v) {
+	char b[40];
+	std::snprintf(b, sizeof b, "%.9g", v);
+	return b;
+}
+
+struct CdvTargets {
+	std::vector<std::string> cdvs;                          // table order
+	std::map<std::string, std::pair<double, double>> value;  // opening, width (eye distances)
+};
+
+const CdvTargets& cdvTargets() {
+	static const CdvTargets t = [] {
+		const auto path = findDataFile("phonetics/cdv-mouth-targets.tsv");
+		if (!path) throw Error("phonetics/cdv-mouth-targets.tsv: not found in the data folders (set TALKHEAD_DATA_DIR)");
+		const TsvTable table = readTsv(*path);
+		const std::size_t c = table.column("cdv"), o = table.column("opening"), w = table.column("width");
+		CdvTargets out;
+		for (const auto& row : table.rows) {
+			out.cdvs.push_back(row.fields[c]);
+			out.value[row.fields[c]] = {table.number(row, o, -1, 1), table.number(row, w, -1, 1)};
+		}
+		return out;
+	}();
+	return t;
+}
+
+bool bilabial(const std::string& cdv) { return cdv == "p1" || cdv == "p2"; }
+bool labiodental(const std::string& cdv) { return cdv == "f1" || cdv == "f2"; }
+bool pause(const PhoneSegment& p) { return p.cdv == "sil" || p.phone == "_"; }
+
+constexpr int kSide = 2;        // phone runs each side
+constexpr int kPerRun = 6;      // features per run
+constexpr int kOneHotSide = 1;  // CDV indicators for offsets −1 … +1
+
+// The runs of phones (first, last) a keypose list stands on, each phone keypose's run index.
+struct Run {
+	std::size_t first, last;
+};
+
+}  // namespace
+
+const std::vector<std::string>& coarticulationFeatureNames() {
+	static const std::vector<std::string> names = [] {
+		std::vector<std::string> n;
+		for (int off = -kSide; off <= kSide; ++off) {
+			const std::string at = (off > 0 ? "+" : "") + std::to_string(off);
+			for (const char* f : {"open", "width", "bilabial", "labiodental", "pause", "logdur"}) n.push_back(std::string(f) + at);
+		}
+		for (int off = -kOneHotSide; off <= kOneHotSide; ++off)
+			for (const auto& c : cdvTargets().cdvs) n.push_back("cdv" + std::string(off > 0 ? "+" : "") + std::to_string(off) + "=" + c);
+		return n;
+	}();
+	return names;
+}
+
+bool isPhoneKeypose(const std::vector<PhoneSegment>& phones, const Keypose& key) {
+	return !key.breath && key.first < phones.size() && !pause(phones[key.first]);
+}
+
+Eigen::MatrixXd coarticulationFeatures(const std::vector<PhoneSegment>& phones, const std::vector<Keypose>& keys, std::vector<std::size_t>& rows) {
+	rows.clear();
+	for (std::size_t i = 0; i < keys.size(); ++i)
+		if (isPhoneKeypose(phones, keys[i])) rows.push_back(i);
+	const CdvTargets& t = cdvTargets();
+	const Eigen::Index nf = Eigen::Index(coarticulationFeatureNames().size());
+	Eigen::MatrixXd X = Eigen::MatrixXd::Zero(Eigen::Index(rows.size()), nf);
+	for (std::size_t r = 0; r < rows.size(); ++r) {
+		const Keypose& k = keys[rows[r]];
+		// The runs around: the keypose's own (first … last), then whole phones each side.
+		auto runAt = [&](int off) -> std::optional<Run> {
+			if (off == 0) return Run{k.first, std::min(k.last, phones.size() - 1)};
+			long at = off < 0 ? long(k.first) + off : long(std::min(k.last, phones.size() - 1)) + off;
+			if (at < 0 || at >= long(phones.size())) return std::nullopt;
+			return Run{std::size_t(at), std::size_t(at)};
+		};
+		Eigen::Index col = 0;
+		for (int off = -kSide; off <= kSide; ++off, col += kPerRun) {
+			const auto run = runAt(off);
+			const PhoneSegment* p = run ? &phones[run->first] : nullptr;
+			const bool isPause = !p || pause(*p);
+			const std::string cdv = isPause ? std::string("sil") : p->cdv;
+			const auto it = t.value.find(cdv);
+			const auto v = it == t.value.end() ? std::pair<double, double>{0, 0} : it->second;
+			const double seconds = run ? toSeconds(phones[run->last].end - phones[run->first].start) : 0.5;
+			X(Eigen::Index(r), col + 0) = 10 * v.first;
+			X(Eigen::Index(r), col + 1) = 10 * v.second;
+			X(Eigen::Index(r), col + 2) = bilabial(cdv);
+			X(Eigen::Index(r), col + 3) = labiodental(cdv);
+			X(Eigen::Index(r), col + 4) = isPause;
+			X(Eigen::Index(r), col + 5) = std::log(std::max(0.02, std::min(seconds, 2.0)));
+		}
+		for (int off = -kOneHotSide; off <= kOneHotSide; ++off, col += Eigen::Index(t.cdvs.size())) {
+			const auto run = runAt(off);
+			const std::string cdv = !run || pause(phones[run->first]) ? std::string("sil") : phones[run->first].cdv;
+			const auto it = std::find(t.cdvs.begin(), t.cdvs.end(), cdv);
+			if (it != t.cdvs.end()) X(Eigen::Index(r), col + (it - t.cdvs.begin())) = 1;
+		}
+	}
+	return X;
+}
+
+void coarticulationExamples(const CoarticulationClip& c, Ticks frame, Eigen::MatrixXd& X, Eigen::VectorXd& y) {
+	if (c.times.size() != c.openings.size()) throw std::logic_error("coarticulationExamples: times and openings differ in length");
+	// The clip's scale: the 90th percentile of its opening in speech (frames inside a phone).
+	std::vector<double> speech, t, v;
+	for (std::size_t i = 0; i < c.times.size(); ++i) {
+		if (!std::isfinite(c.openings[i])) continue;
+		t.push_back(c.times[i]), v.push_back(c.openings[i]);
+		for (const PhoneSegment& p : c.phones)
+			if (!pause(p) && toSeconds(p.start) <= c.times[i] && c.times[i] < toSeconds(p.end)) {
+				speech.push_back(c.openings[i]);
+				break;
+			}
+	}
+	if (speech.size() < 5) throw Error(c.name + ": fewer than 5 frames with a face inside its phones: nothing to learn from");
+	std::sort(speech.begin(), speech.end());
+	const double scale = speech[std::size_t(0.9 * double(speech.size() - 1))];
+	if (!(scale > 0)) throw Error(c.name + ": the lips never part in its speech: nothing to learn from");
+	const std::vector<Keypose> keys = keyposes(c.phones, frame);
+	std::vector<std::size_t> rows;
+	X = coarticulationFeatures(c.phones, keys, rows);
+	y.resize(Eigen::Index(rows.size()));
+	for (std::size_t r = 0; r < rows.size(); ++r) {
+		const double at = toSeconds(keys[rows[r]].time);
+		const auto hi = std::lower_bound(t.begin(), t.end(), at);
+		double value;
+		if (hi == t.begin()) value = v.front();
+		else if (hi == t.end()) value = v.back();
+		else {
+			const std::size_t j = std::size_t(hi - t.begin());
+			const double u = (at - t[j - 1]) / (t[j] - t[j - 1]);
+			value = v[j - 1] + u * (v[j] - v[j - 1]);
+		}
+		y(Eigen::Index(r)) = value / scale;
+	}
+}
+
+CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& xs, const std::vector<Eigen::VectorXd>& ys, double lambda) {
+	const Eigen::Index nf = Eigen::Index(coarticulationFeatureNames().size());
+	Eigen::Index total = 0;
+	for (const auto& x : xs) total += x.rows();
+	if (total < nf) throw Error("coarticulation: " + std::to_string(total) + " keyposes to learn from, fewer than the " + std::to_string(nf) + " features");
+	// Ridge least squares with an unpenalised intercept: centre, solve (XᵀX + λI) w = Xᵀy.
+	Eigen::MatrixXd X(total, nf);
+	Eigen::VectorXd y(total);
+	Eigen::Index at = 0;
+	for (std::size_t i = 0; i < xs.size(); ++i) X.middleRows(at, xs[i].rows()) = xs[i], y.segment(at, ys[i].size()) = ys[i], at += xs[i].rows();
+	const Eigen::RowVectorXd mean = X.colwise().mean();
+	const double ymean = y.mean();
+	const Eigen::MatrixXd Xc = X.rowwise() - mean;
+	Eigen::MatrixXd A = Xc.transpose() * Xc;
+	A.diagonal().array() += lambda;
+	CoarticulationModel m;
+	m.features = coarticulationFeatureNames();
+	m.weights = A.ldlt().solve(Xc.transpose() * (y.array() - ymean).matrix());
+	m.intercept = ymean - mean.dot(m.weights);
+	m.lambda = lambda;
+	m.samples = std::size_t(total);
+	return m;
+}
+
+CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda) {
+	std::vector<Eigen::MatrixXd> xs(clips.size());
+	std::vector<Eigen::VectorXd> ys(clips.size());
+	for (std::size_t i = 0; i < clips.size(); ++i) coarticulationExamples(clips[i], frame, xs[i], ys[i]);
+	return fitCoarticulation(xs, ys, lambda);
+}
+
+void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys) {
+	if (m.features != coarticulationFeatureNames()) throw std::logic_error("predictMouthOpenings: the model's features are not this build's");
+	std::vector<std::size_t> rows;
+	const Eigen::MatrixXd X = coarticulationFeatures(phones, keys, rows);
+	const Eigen::VectorXd y = (X * m.weights).array() + m.intercept;
+	for (std::size_t r = 0; r < rows.size(); ++r) keys[rows[r]].mouthOpening = std::max(0.0, y(Eigen::Index(r)));
+}
+
+void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
+	std::ostringstream out;
+	out << "# talkhead coarticulation model (D62): a keypose's inner-lip opening, in units of the speaker's 90th\n"
+	    << "# percentile in speech, = intercept + Σ weight × feature (talkhead corpus coarticulation).\n";
+	if (!m.source.empty()) out << "# learned from " << m.source << "\n";
+	out << "talkhead-coarticulation\t1\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\nintercept\t"
+	    << number(m.intercept) << "\n";
+	for (std::size_t i = 0; i < m.features.size(); ++i) out << "feature\t" << m.features[i] << "\t" << number(m.weights(Eigen::Index(i))) << "\n";
+	writeFileAtomically(path, out.str());
+}
+
+CoarticulationModel loadCoarticulation(const std::string& path) {
+	std::ifstream in(path, std::ios::binary);
+	if (!in) throw Error(path + ": cannot open the coarticulation model (" + std::strerror(errno) + ")");
+	CoarticulationModel m;
+	std::vector<double> weights;
+	std::string line;
+	long ln = 0;
+	bool header = false, intercept = false;
+	while (std::getline(in, line)) {
+		++ln;
+		if (line.empty() || line[0] == '#') continue;
+		const auto f = split(line, '\t');
+		double v = 0;
+		auto parse = [&](const std::string& s) {
+			if (!parseDouble(s, v) || !std::isfinite(v)) throw Error(path, ln, "not a number: '" + s + "'");
+			return v;
+		};
+		if (!header) {
+			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 1')");
+			if (f[1] != "1") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1)");
+			header = true;
+		} else if (f[0] == "lambda" && f.size() == 2) {
+			m.lambda = parse(f[1]);
+		} else if (f[0] == "samples" && f.size() == 2) {
+			m.samples = std::size_t(std::max(0.0, parse(f[1])));
+		} else if (f[0] == "intercept" && f.size() == 2) {
+			m.intercept = parse(f[1]), intercept = true;
+		} else if (f[0] == "feature" && f.size() == 3) {
+			m.features.push_back(f[1]);
+			weights.push_back(parse(f[2]));
+		} else {
+			throw Error(path, ln, "unexpected line (expected lambda, samples, intercept or feature)");
+		}
+	}
+	if (!header) throw Error(path + ": empty: not a talkhead coarticulation model");
+	if (!intercept) throw Error(path + ": no intercept line: the file is cut short");
+	if (m.features != coarticulationFeatureNames())
+		throw Error(path + ": made for other features (" + std::to_string(m.features.size()) + " of them, this build has " +
+		            std::to_string(coarticulationFeatureNames().size()) + "): train it again with 'talkhead corpus coarticulation'");
+	m.weights = Eigen::Map<const Eigen::VectorXd>(weights.data(), Eigen::Index(weights.size()));
+	m.source = path;
+	return m;
+}
+
+MouthSize mouthSize(const Scheme& scheme, const Points& p) {
+	if (scheme.eyes.size() != 2 || scheme.mouth.empty()) throw std::logic_error("mouthSize: the scheme has no eyes or no mouth line");
+	auto centre = [&](const EyeSpec& e) -> Eigen::RowVector2d { return 0.5 * (p.row(e.corner0) + p.row(e.corner1)); };
+	Eigen::RowVector2d a = centre(scheme.eyes[0]), b = centre(scheme.eyes[1]);
+	if (a(0) > b(0)) std::swap(a, b);
+	const double iod = (b - a).norm();
+	if (!(iod > 0)) return {};
+	const Eigen::RowVector2d x = (b - a) / iod, y(-x(1), x(0));
+	MouthSize m;
+	for (const auto& [up, down] : scheme.mouth.inner) m.opening += std::max(0.0, (p.row(down) - p.row(up)).dot(y));
+	m.opening /= double(scheme.mouth.inner.size()) * iod;
+	m.width = (p.row(scheme.mouth.corner1) - p.row(scheme.mouth.corner0)).norm() / iod;
+	return m;
+}
+
+bool mouthScheme(const FaceModel& model, Scheme& out) {
+	out = model.scheme;
+	if (out.eyes.size() == 2 && !out.mouth.empty()) return true;
+	try {
+		const Scheme s = loadScheme(model.scheme.name);
+		if (s.pointNames != model.scheme.pointNames) return false;
+		out.eyes = s.eyes, out.mouth = s.mouth;
+	} catch (const Error&) {
+		return false;
+	}
+	return out.eyes.size() == 2 && !out.mouth.empty();
+}
+
+std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion, std::vector<Keypose>& keys) {
+	Scheme scheme;
+	if (!mouthScheme(model, scheme)) return 0;
+	std::vector<MouthSize> size(model.sampleCount());
+	for (std::size_t s = 0; s < model.sampleCount(); ++s) size[s] = mouthSize(scheme, model.alignedShapes[s]);
+	// Per emotion: its samples and this face's scale (the 90th percentile of their openings, pauses left out).
+	struct Pool {
+		std::vector<std::size_t> samples;
+		double scale = 0, widthSpread = 0, closedLimit = 0;
+	};
+	std::map<std::string, Pool> pools;
+	auto poolOf = [&](const std::string& e) -> const Pool& {
+		auto it = pools.find(e);
+		if (it != pools.end()) return it->second;
+		Pool p;
+		std::vector<double> open, width;
+		for (std::size_t s = 0; s < model.sampleCount(); ++s)
+			if (model.samples[s].emotion == e) {
+				p.samples.push_back(s);
+				if (model.samples[s].cdv != "sil") open.push_back(size[s].opening), width.push_back(size[s].width);
+			}
+		if (!open.empty()) {
+			std::sort(open.begin(), open.end());
+			p.scale = open[std::size_t(0.9 * double(open.size() - 1))];
+			p.closedLimit = open.front() + 0.1 * (open.back() - open.front());  // issue 32: ≤ 10 % of the open range
+			double mw = 0, sw = 0;
+			for (double w : width) mw += w;
+			mw /= double(width.size());
+			for (double w : width) sw += (w - mw) * (w - mw);
+			p.widthSpread = std::sqrt(sw / double(width.size())) + 1e-6;
+		}
+		return pools.emplace(e, std::move(p)).first->second;
+	};
+	std::size_t chosen = 0;
+	for (Keypose& k : keys) {
+		if (!k.mouthOpening || k.sample >= 0) continue;
+		std::string e = k.emotion.value_or(emotion).label();
+		if (poolOf(e).samples.empty() || !(poolOf(e).scale > 0)) e = "neutral";
+		const Pool& pool = poolOf(e);
+		if (pool.samples.empty() || !(pool.scale > 0)) continue;
+		long own = model.findSample(e, k.cdv, &k.context);
+		if (own < 0) continue;  // the CDV's fallbacks stay the synthesizer's
+		const MouthSize& o = size[std::size_t(own)];
+		long best = own;
+		if (bilabial(k.cdv)) {
+			if (o.opening > pool.closedLimit) {
+				double least = std::numeric_limits<double>::max();
+				for (int pass = 0; pass < 2 && best == own; ++pass)  // a bilabial exemplar first, then any
+					for (std::size_t s : pool.samples)
+						if ((pass == 1 || bilabial(model.samples[s].cdv)) && size[s].opening < least && size[s].opening < o.opening)
+							least = size[s].opening, best = long(s);
+			}
+		} else {
+			const double target = *k.mouthOpening * pool.scale;
+			double least = std::numeric_limits<double>::max();
+			for (std::size_t s : pool.samples) {
+				if (model.samples[s].cdv == "sil") continue;
+				const double dOpen = (size[s].opening - target) / pool.scale, dWidth = (size[s].width - o.width) / pool.widthSpread;
+				const double cost = dOpen * dOpen + 0.05 * dWidth * dWidth;
+				if (cost < least) least = cost, best = long(s);
+			}
+		}
+		k.sample = best;
+		++chosen;
+	}
+	return chosen;
+}
+
+}  // namespace talkhead

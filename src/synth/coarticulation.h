@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Issue 32 (decision D62): coarticulation — each keypose's mouth opening predicted from its phone context
+// and durations by a sliding-window ridge regression (the idea of Taylor et al. 2017, done linearly),
+// learned from real speakers; the face then shows its corpus exemplar nearest that opening.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "geometry/scheme.h"
+#include "geometry/shape.h"
+#include "model/face_model.h"
+#include "phonetics/language.h"
+
+namespace talkhead {
+
+// The regression: weights over coarticulationFeatureNames() and an intercept. Its output is the inner-lip
+// opening at a phone's keypose in units of the speaker's own 90th percentile of opening during speech, so
+// one model serves every face.
+struct CoarticulationModel {
+	std::vector<std::string> features;
+	Eigen::VectorXd weights;  // one per feature
+	double intercept = 0;
+	double lambda = 0;
+	std::size_t samples = 0;  // keyposes it was fitted on
+	std::string source;       // what it was learned from
+};
+
+// The features, in order: for the keypose's phone run and two phone runs each side (offsets −2 … +2):
+// its CDV's opening and width targets (phonetics/cdv-mouth-targets.tsv, ×10), whether it is bilabial,
+// labiodental or a pause, and the log of its duration (s); and for offsets −1, 0, +1 one indicator per CDV
+// of that table.
+const std::vector<std::string>& coarticulationFeatureNames();
+// One row of features per phone keypose (not pauses, not the in-breath); `rows` gets each row's keypose index.
+Eigen::MatrixXd coarticulationFeatures(const std::vector<PhoneSegment>& phones, const std::vector<Keypose>& keys, std::vector<std::size_t>& rows);
+// Whether a keypose is a phone's (the model predicts only those; pauses keep the rest mouth).
+bool isPhoneKeypose(const std::vector<PhoneSegment>& phones, const Keypose& key);
+
+// A speaker's clip for learning: its phones and its real inner-lip opening per frame (NaN where lost).
+struct CoarticulationClip {
+	std::string name;
+	std::vector<PhoneSegment> phones;
+	std::vector<double> times, openings;  // seconds, any unit (each clip is normalised by its own)
+};
+// A clip's phone keyposes (at `frame`): their features and the real opening at each, in units of the
+// clip's 90th percentile in speech. Throws Error (naming the clip) when its face is lost or its lips never part.
+void coarticulationExamples(const CoarticulationClip& clip, Ticks frame, Eigen::MatrixXd& X, Eigen::VectorXd& y);
+// Ridge least squares (intercept unpenalised) over the examples of several clips.
+CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& X, const std::vector<Eigen::VectorXd>& y, double lambda);
+CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda = 10);
+
+// Sets each phone keypose's mouthOpening from the model (keys made from these phones).
+void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys);
+
+// Text file "talkhead-coarticulation 1"; reading checks every line and the features, naming the file.
+void saveCoarticulation(const CoarticulationModel& m, const std::string& path);
+CoarticulationModel loadCoarticulation(const std::string& path);
+
+// The inner-lip opening and mouth width of a shape in eye distances (between the eyes' centres; the
+// scheme needs two eyes and a mouth line).
+struct MouthSize {
+	double opening = 0, width = 0;
+};
+MouthSize mouthSize(const Scheme& scheme, const Points& shape);
+// The scheme's eyes and mouth for a model (its own, else the shipped scheme of its name); false if none.
+bool mouthScheme(const FaceModel& model, Scheme& out);
+
+// For every keypose with a mouthOpening and no sample yet, the model's exemplar to show (Keypose::sample):
+// among the samples of its emotion (else neutral's), the one whose opening is nearest the target (scaled
+// to this face's own 90th percentile) and whose width is nearest its CDV's own sample's; a bilabial closes
+// (its CDV's sample when that is shut, else the most closed bilabial exemplar, else the most closed one).
+// Returns the number of keyposes given an exemplar; 0 when the scheme cannot measure the mouth.
+std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion, std::vector<Keypose>& keys);
+
+}  // namespace talkhead
