@@ -176,8 +176,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	const Ticks frame = FrameRate{int(args.number("--fps", 25, 1, 1000)), 1}.frameLength();
 	const Language& lang = languageOption(args);
 	const CoarticulationList clips = readCoarticulationList(list, lang);
-	std::vector<Eigen::MatrixXd> xs(clips.clips.size());
-	std::vector<Eigen::VectorXd> ys(clips.clips.size());
+	std::vector<Eigen::MatrixXd> xs(clips.clips.size()), ys(clips.clips.size());
 	for (std::size_t i = 0; i < clips.clips.size(); ++i) coarticulationExamples(clips.clips[i], frame, xs[i], ys[i]);
 	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
 	m.source = std::to_string(clips.clips.size()) + " clips of " + std::filesystem::path(list).filename().string();
@@ -189,18 +188,17 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	if (speakers.size() > 1) {
 		double sum = 0;
 		for (const std::string& sp : speakers) {
-			std::vector<Eigen::MatrixXd> tx, hx;
-			std::vector<Eigen::VectorXd> ty, hy;
+			std::vector<Eigen::MatrixXd> tx, hx, ty, hy;
 			for (std::size_t i = 0; i < xs.size(); ++i) (clips.speakers[i] == sp ? hx : tx).push_back(xs[i]), (clips.speakers[i] == sp ? hy : ty).push_back(ys[i]);
 			const CoarticulationModel o = fitCoarticulation(tx, ty, lambda);
 			Eigen::Index n = 0;
-			for (const auto& y : hy) n += y.size();
+			for (const auto& y : hy) n += y.rows();
 			Eigen::VectorXd truth(n), guess(n);
 			n = 0;
 			for (std::size_t i = 0; i < hx.size(); ++i) {
-				truth.segment(n, hy[i].size()) = hy[i];
-				guess.segment(n, hy[i].size()) = (hx[i] * o.weights).array() + o.intercept;
-				n += hy[i].size();
+				truth.segment(n, hy[i].rows()) = hy[i].col(0);
+				guess.segment(n, hy[i].rows()) = (hx[i] * o.weights).array() + o.intercept;
+				n += hy[i].rows();
 			}
 			sum += pearson(truth, guess);
 		}
@@ -209,10 +207,11 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 		held = b;
 	}
 	Eigen::Index n = 0;
-	for (const auto& y : ys) n += y.size();
+	for (const auto& y : ys) n += y.rows();
 	Eigen::VectorXd truth(n), fit(n);
 	n = 0;
-	for (std::size_t i = 0; i < xs.size(); ++i) truth.segment(n, ys[i].size()) = ys[i], fit.segment(n, ys[i].size()) = (xs[i] * m.weights).array() + m.intercept, n += ys[i].size();
+	for (std::size_t i = 0; i < xs.size(); ++i)
+		truth.segment(n, ys[i].rows()) = ys[i].col(0), fit.segment(n, ys[i].rows()) = (xs[i] * m.weights).array() + m.intercept, n += ys[i].rows();
 	saveCoarticulation(m, out);
 	if (!args.has("--quiet"))
 		std::fprintf(stderr, "wrote %s: %zu features from %zu keyposes of %zu clips; fit r %.3f%s\n", out.c_str(), m.features.size(), m.samples,

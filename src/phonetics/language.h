@@ -113,6 +113,7 @@ struct Keypose {
 	// The coarticulation model's inner-lip opening for this keypose (D62), in units of a speaker's 90th
 	// percentile in speech; the face shows its exemplar nearest it (chooseMouthExemplars). Unset: the CDV's.
 	std::optional<double> mouthOpening{};
+	std::optional<double> mouthWidth{};  // the same for the mouth's width (1 = the speaker's median in speech)
 };
 
 // How pauses move the mouth (docs/decisions.md D34).

@@ -58,6 +58,7 @@ bool pause(const PhoneSegment& p) { return p.cdv == "sil" || p.phone == "_"; }
 constexpr int kSide = 2;        // phone runs each side
 constexpr int kPerRun = 6;      // features per run
 constexpr int kOneHotSide = 1;  // CDV indicators for offsets −1 … +1
+constexpr double kWidthWeight = 0.15;      // exemplar choice: a width's miss (in the face's spread of widths) against the opening's
 
 // The runs of phones (first, last) a keypose list stands on, each phone keypose's run index.
 struct Run {
@@ -126,69 +127,72 @@ Eigen::MatrixXd coarticulationFeatures(const std::vector<PhoneSegment>& phones, 
 	return X;
 }
 
-void coarticulationExamples(const CoarticulationClip& c, Ticks frame, Eigen::MatrixXd& X, Eigen::VectorXd& y) {
-	if (c.times.size() != c.openings.size()) throw std::logic_error("coarticulationExamples: times and openings differ in length");
-	// The clip's scale: the 90th percentile of its opening in speech (frames inside a phone).
-	std::vector<double> speech, t, v;
+void coarticulationExamples(const CoarticulationClip& c, Ticks frame, Eigen::MatrixXd& X, Eigen::MatrixXd& y) {
+	if (c.times.size() != c.openings.size() || c.times.size() != c.widths.size())
+		throw std::logic_error("coarticulationExamples: times, openings and widths differ in length");
+	// The clip's scales: the 90th percentile of its opening and the median width in speech (frames inside a phone).
+	std::vector<double> speech, speechWidth, t, v, w;
 	for (std::size_t i = 0; i < c.times.size(); ++i) {
-		if (!std::isfinite(c.openings[i])) continue;
-		t.push_back(c.times[i]), v.push_back(c.openings[i]);
+		if (!std::isfinite(c.openings[i]) || !std::isfinite(c.widths[i])) continue;
+		t.push_back(c.times[i]), v.push_back(c.openings[i]), w.push_back(c.widths[i]);
 		for (const PhoneSegment& p : c.phones)
 			if (!pause(p) && toSeconds(p.start) <= c.times[i] && c.times[i] < toSeconds(p.end)) {
-				speech.push_back(c.openings[i]);
+				speech.push_back(c.openings[i]), speechWidth.push_back(c.widths[i]);
 				break;
 			}
 	}
 	if (speech.size() < 5) throw Error(c.name + ": fewer than 5 frames with a face inside its phones: nothing to learn from");
 	std::sort(speech.begin(), speech.end());
-	const double scale = speech[std::size_t(0.9 * double(speech.size() - 1))];
-	if (!(scale > 0)) throw Error(c.name + ": the lips never part in its speech: nothing to learn from");
+	std::sort(speechWidth.begin(), speechWidth.end());
+	const double scale = speech[std::size_t(0.9 * double(speech.size() - 1))], widthScale = speechWidth[speechWidth.size() / 2];
+	if (!(scale > 0) || !(widthScale > 0)) throw Error(c.name + ": the lips never part in its speech: nothing to learn from");
 	const std::vector<Keypose> keys = keyposes(c.phones, frame);
 	std::vector<std::size_t> rows;
 	X = coarticulationFeatures(c.phones, keys, rows);
-	y.resize(Eigen::Index(rows.size()));
+	y.resize(Eigen::Index(rows.size()), 2);
+	auto interpolate = [&](const std::vector<double>& values, double at) {
+		const auto hi = std::lower_bound(t.begin(), t.end(), at);
+		if (hi == t.begin()) return values.front();
+		if (hi == t.end()) return values.back();
+		const std::size_t j = std::size_t(hi - t.begin());
+		const double u = (at - t[j - 1]) / (t[j] - t[j - 1]);
+		return values[j - 1] + u * (values[j] - values[j - 1]);
+	};
 	for (std::size_t r = 0; r < rows.size(); ++r) {
 		const double at = toSeconds(keys[rows[r]].time);
-		const auto hi = std::lower_bound(t.begin(), t.end(), at);
-		double value;
-		if (hi == t.begin()) value = v.front();
-		else if (hi == t.end()) value = v.back();
-		else {
-			const std::size_t j = std::size_t(hi - t.begin());
-			const double u = (at - t[j - 1]) / (t[j] - t[j - 1]);
-			value = v[j - 1] + u * (v[j] - v[j - 1]);
-		}
-		y(Eigen::Index(r)) = value / scale;
+		y(Eigen::Index(r), 0) = interpolate(v, at) / scale;
+		y(Eigen::Index(r), 1) = interpolate(w, at) / widthScale;
 	}
 }
 
-CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& xs, const std::vector<Eigen::VectorXd>& ys, double lambda) {
+CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& xs, const std::vector<Eigen::MatrixXd>& ys, double lambda) {
 	const Eigen::Index nf = Eigen::Index(coarticulationFeatureNames().size());
 	Eigen::Index total = 0;
 	for (const auto& x : xs) total += x.rows();
-	if (total < nf) throw Error("coarticulation: " + std::to_string(total) + " keyposes to learn from, fewer than the " + std::to_string(nf) + " features");
+	if (total < 10) throw Error("coarticulation: " + std::to_string(total) + " keyposes to learn from: too few (give more clips)");
+	if (total < nf && lambda <= 0)
+		throw Error("coarticulation: " + std::to_string(total) + " keyposes, fewer than the " + std::to_string(nf) + " features: a ridge penalty (lambda > 0) is needed");
 	// Ridge least squares with an unpenalised intercept: centre, solve (XᵀX + λI) w = Xᵀy.
-	Eigen::MatrixXd X(total, nf);
-	Eigen::VectorXd y(total);
+	Eigen::MatrixXd X(total, nf), y(total, 2);
 	Eigen::Index at = 0;
-	for (std::size_t i = 0; i < xs.size(); ++i) X.middleRows(at, xs[i].rows()) = xs[i], y.segment(at, ys[i].size()) = ys[i], at += xs[i].rows();
-	const Eigen::RowVectorXd mean = X.colwise().mean();
-	const double ymean = y.mean();
+	for (std::size_t i = 0; i < xs.size(); ++i) X.middleRows(at, xs[i].rows()) = xs[i], y.middleRows(at, ys[i].rows()) = ys[i], at += xs[i].rows();
+	const Eigen::RowVectorXd mean = X.colwise().mean(), ymean = y.colwise().mean();
 	const Eigen::MatrixXd Xc = X.rowwise() - mean;
 	Eigen::MatrixXd A = Xc.transpose() * Xc;
 	A.diagonal().array() += lambda;
+	const Eigen::MatrixXd w = A.ldlt().solve(Xc.transpose() * (y.rowwise() - ymean));
 	CoarticulationModel m;
 	m.features = coarticulationFeatureNames();
-	m.weights = A.ldlt().solve(Xc.transpose() * (y.array() - ymean).matrix());
-	m.intercept = ymean - mean.dot(m.weights);
+	m.weights = w.col(0), m.widthWeights = w.col(1);
+	m.intercept = ymean(0) - mean.dot(m.weights);
+	m.widthIntercept = ymean(1) - mean.dot(m.widthWeights);
 	m.lambda = lambda;
 	m.samples = std::size_t(total);
 	return m;
 }
 
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda) {
-	std::vector<Eigen::MatrixXd> xs(clips.size());
-	std::vector<Eigen::VectorXd> ys(clips.size());
+	std::vector<Eigen::MatrixXd> xs(clips.size()), ys(clips.size());
 	for (std::size_t i = 0; i < clips.size(); ++i) coarticulationExamples(clips[i], frame, xs[i], ys[i]);
 	return fitCoarticulation(xs, ys, lambda);
 }
@@ -197,8 +201,11 @@ void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneS
 	if (m.features != coarticulationFeatureNames()) throw std::logic_error("predictMouthOpenings: the model's features are not this build's");
 	std::vector<std::size_t> rows;
 	const Eigen::MatrixXd X = coarticulationFeatures(phones, keys, rows);
-	const Eigen::VectorXd y = (X * m.weights).array() + m.intercept;
-	for (std::size_t r = 0; r < rows.size(); ++r) keys[rows[r]].mouthOpening = std::max(0.0, y(Eigen::Index(r)));
+	const Eigen::VectorXd y = (X * m.weights).array() + m.intercept, w = (X * m.widthWeights).array() + m.widthIntercept;
+	for (std::size_t r = 0; r < rows.size(); ++r) {
+		keys[rows[r]].mouthOpening = std::max(0.0, y(Eigen::Index(r)));
+		keys[rows[r]].mouthWidth = std::max(0.1, w(Eigen::Index(r)));
+	}
 }
 
 void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
@@ -206,9 +213,10 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 	out << "# talkhead coarticulation model (D62): a keypose's inner-lip opening, in units of the speaker's 90th\n"
 	    << "# percentile in speech, = intercept + Σ weight × feature (talkhead corpus coarticulation).\n";
 	if (!m.source.empty()) out << "# learned from " << m.source << "\n";
-	out << "talkhead-coarticulation\t1\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\nintercept\t"
-	    << number(m.intercept) << "\n";
-	for (std::size_t i = 0; i < m.features.size(); ++i) out << "feature\t" << m.features[i] << "\t" << number(m.weights(Eigen::Index(i))) << "\n";
+	out << "talkhead-coarticulation\t1\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n# name, weight for the opening, weight for the width\nintercept\t"
+	    << number(m.intercept) << "\t" << number(m.widthIntercept) << "\n";
+	for (std::size_t i = 0; i < m.features.size(); ++i)
+		out << "feature\t" << m.features[i] << "\t" << number(m.weights(Eigen::Index(i))) << "\t" << number(m.widthWeights(Eigen::Index(i))) << "\n";
 	writeFileAtomically(path, out.str());
 }
 
@@ -216,7 +224,7 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 	std::ifstream in(path, std::ios::binary);
 	if (!in) throw Error(path + ": cannot open the coarticulation model (" + std::strerror(errno) + ")");
 	CoarticulationModel m;
-	std::vector<double> weights;
+	std::vector<double> weights, widthWeights;
 	std::string line;
 	long ln = 0;
 	bool header = false, intercept = false;
@@ -237,13 +245,14 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			m.lambda = parse(f[1]);
 		} else if (f[0] == "samples" && f.size() == 2) {
 			m.samples = std::size_t(std::max(0.0, parse(f[1])));
-		} else if (f[0] == "intercept" && f.size() == 2) {
-			m.intercept = parse(f[1]), intercept = true;
-		} else if (f[0] == "feature" && f.size() == 3) {
+		} else if (f[0] == "intercept" && f.size() == 3) {
+			m.intercept = parse(f[1]), m.widthIntercept = parse(f[2]), intercept = true;
+		} else if (f[0] == "feature" && f.size() == 4) {
 			m.features.push_back(f[1]);
 			weights.push_back(parse(f[2]));
+			widthWeights.push_back(parse(f[3]));
 		} else {
-			throw Error(path, ln, "unexpected line (expected lambda, samples, intercept or feature)");
+			throw Error(path, ln, "unexpected line (expected lambda N, samples N, intercept A B or feature NAME A B)");
 		}
 	}
 	if (!header) throw Error(path + ": empty: not a talkhead coarticulation model");
@@ -252,6 +261,7 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 		throw Error(path + ": made for other features (" + std::to_string(m.features.size()) + " of them, this build has " +
 		            std::to_string(coarticulationFeatureNames().size()) + "): train it again with 'talkhead corpus coarticulation'");
 	m.weights = Eigen::Map<const Eigen::VectorXd>(weights.data(), Eigen::Index(weights.size()));
+	m.widthWeights = Eigen::Map<const Eigen::VectorXd>(widthWeights.data(), Eigen::Index(widthWeights.size()));
 	m.source = path;
 	return m;
 }
@@ -292,7 +302,7 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 	// Per emotion: its samples and this face's scale (the 90th percentile of their openings, pauses left out).
 	struct Pool {
 		std::vector<std::size_t> samples;
-		double scale = 0, widthSpread = 0, closedLimit = 0;
+		double scale = 0, width = 0, widthSpread = 0, closedLimit = 0;
 	};
 	std::map<std::string, Pool> pools;
 	auto poolOf = [&](const std::string& e) -> const Pool& {
@@ -314,6 +324,8 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 			mw /= double(width.size());
 			for (double w : width) sw += (w - mw) * (w - mw);
 			p.widthSpread = std::sqrt(sw / double(width.size())) + 1e-6;
+			std::sort(width.begin(), width.end());
+			p.width = width[width.size() / 2];
 		}
 		return pools.emplace(e, std::move(p)).first->second;
 	};
@@ -337,12 +349,12 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 							least = size[s].opening, best = long(s);
 			}
 		} else {
-			const double target = *k.mouthOpening * pool.scale;
+			const double target = *k.mouthOpening * pool.scale, width = k.mouthWidth ? *k.mouthWidth * pool.width : o.width;
 			double least = std::numeric_limits<double>::max();
 			for (std::size_t s : pool.samples) {
 				if (model.samples[s].cdv == "sil") continue;
-				const double dOpen = (size[s].opening - target) / pool.scale, dWidth = (size[s].width - o.width) / pool.widthSpread;
-				const double cost = dOpen * dOpen + 0.05 * dWidth * dWidth;
+				const double dOpen = (size[s].opening - target) / pool.scale, dWidth = (size[s].width - width) / pool.widthSpread;
+				const double cost = dOpen * dOpen + kWidthWeight * dWidth * dWidth;
 				if (cost < least) least = cost, best = long(s);
 			}
 		}

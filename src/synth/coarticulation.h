@@ -21,6 +21,10 @@ struct CoarticulationModel {
 	std::vector<std::string> features;
 	Eigen::VectorXd weights;  // one per feature
 	double intercept = 0;
+	// The mouth's width (corner to corner) the same way, in units of the speaker's median width in speech:
+	// rounding spreads to the phones around a rounded vowel.
+	Eigen::VectorXd widthWeights;
+	double widthIntercept = 0;
 	double lambda = 0;
 	std::size_t samples = 0;  // keyposes it was fitted on
 	std::string source;       // what it was learned from
@@ -40,16 +44,17 @@ bool isPhoneKeypose(const std::vector<PhoneSegment>& phones, const Keypose& key)
 struct CoarticulationClip {
 	std::string name;
 	std::vector<PhoneSegment> phones;
-	std::vector<double> times, openings;  // seconds, any unit (each clip is normalised by its own)
+	std::vector<double> times, openings, widths;  // seconds, any unit (each clip is normalised by its own)
 };
 // A clip's phone keyposes (at `frame`): their features and the real opening at each, in units of the
 // clip's 90th percentile in speech. Throws Error (naming the clip) when its face is lost or its lips never part.
-void coarticulationExamples(const CoarticulationClip& clip, Ticks frame, Eigen::MatrixXd& X, Eigen::VectorXd& y);
+// `y` has two columns: the opening and the width (in units of the clip's median width in speech).
+void coarticulationExamples(const CoarticulationClip& clip, Ticks frame, Eigen::MatrixXd& X, Eigen::MatrixXd& y);
 // Ridge least squares (intercept unpenalised) over the examples of several clips.
-CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& X, const std::vector<Eigen::VectorXd>& y, double lambda);
+CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& X, const std::vector<Eigen::MatrixXd>& y, double lambda);
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda = 10);
 
-// Sets each phone keypose's mouthOpening from the model (keys made from these phones).
+// Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones).
 void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys);
 
 // Text file "talkhead-coarticulation 1"; reading checks every line and the features, naming the file.
@@ -66,8 +71,8 @@ MouthSize mouthSize(const Scheme& scheme, const Points& shape);
 bool mouthScheme(const FaceModel& model, Scheme& out);
 
 // For every keypose with a mouthOpening and no sample yet, the model's exemplar to show (Keypose::sample):
-// among the samples of its emotion (else neutral's), the one whose opening is nearest the target (scaled
-// to this face's own 90th percentile) and whose width is nearest its CDV's own sample's; a bilabial closes
+// among the samples of its emotion (else neutral's), the one whose opening and width are nearest the
+// targets (scaled to this face's own 90th percentile of opening and median width); a bilabial closes
 // (its CDV's sample when that is shut, else the most closed bilabial exemplar, else the most closed one).
 // Returns the number of keyposes given an exemplar; 0 when the scheme cannot measure the mouth.
 std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion, std::vector<Keypose>& keys);

@@ -21,8 +21,10 @@ CoarticulationClip coarticulationClip(const std::string& landmarksTsv, const std
 	c.name = landmarksTsv;
 	for (const FrameLandmarks& f : track.frames) {
 		c.times.push_back(toSeconds(f.time));
-		c.openings.push_back(f.found && f.points.rows() == ibug.pointCount() ? mouthSize(ibug, f.points).opening
-		                                                                     : std::numeric_limits<double>::quiet_NaN());
+		const bool ok = f.found && f.points.rows() == ibug.pointCount();
+		const MouthSize m = ok ? mouthSize(ibug, f.points) : MouthSize{};
+		c.openings.push_back(ok ? m.opening : std::numeric_limits<double>::quiet_NaN());
+		c.widths.push_back(ok ? m.width : std::numeric_limits<double>::quiet_NaN());
 	}
 	const TimedSpeech speech = speechFromTranscript(transcript, ReadOptions{}, language, UnknownPhone::Error, Notation::Auto, std::nullopt, false);
 	c.phones = speech.phones;
