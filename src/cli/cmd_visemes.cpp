@@ -64,7 +64,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	const auto rate = FrameRate::parse(args.get("--fps", "30"));
 	if (!rate) throw UsageError("visemes: --fps must be 1–240, e.g. 30, 29.97, 12.5 or 30000/1001");
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
-	if (!pauses) throw UsageError("visemes: --pauses takes natural or thesis");
+	if (!pauses) throw UsageError("visemes: --pauses takes natural, still or thesis");
 	const Notation notation = to.notation;
 	const Language& lang = languageOption(args, defaultLanguageFor(args.positionals()[0], ro.format));
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };

@@ -57,7 +57,7 @@ err visemes "$T/missing.TextGrid" | grep -q "$T/missing.TextGrid: cannot read fi
 err visemes "$TG" --tier nope | grep -q "no tier named 'nope'"
 err visemes "$TG" --lang xx | grep -q "no viseme table for language 'xx'"
 err visemes "$TG" --out-format pdf | grep -q "unknown --out-format 'pdf'"
-err visemes "$TG" --pauses none | grep -q "pauses takes natural or thesis"
+err visemes "$TG" --pauses none | grep -q "pauses takes natural, still or thesis"
 err visemes "$T/st.tsv" --lang en-US | grep -q "$T/st.tsv: the phone labels can be read as ARPAbet or SAMPA/X-SAMPA, which differ ('S' is \[s\] or \[ʃ\]) in en-US; is that the language (--lang)? if so, say which with --notation arpabet or --notation sampa"
 err visemes "$TG" --notation klingon | grep -q "notation takes auto"
 printf '0\t0.5\ta\n0.4\t1\te\n' >"$T/overlap.tsv"

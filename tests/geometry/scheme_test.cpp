@@ -53,7 +53,7 @@ TEST(Scheme, malformedFilesNameFileAndLine) {
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P b\n"), "x.scheme:3: unknown weight class 'b' (declare it with 'class' first)");
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P a\npoint Q a\npoint R a\nregion r : P Q Z\n"), "x.scheme:6: region 'r': unknown point 'Z'");
 	EXPECT_EQ(message("scheme s\nclass a 1\npoint P a\npoint P a\n"), "x.scheme:4: duplicate point name 'P'");
-	EXPECT_EQ(message("scheme s\nbogus\n"), "x.scheme:2: unknown keyword 'bogus' (expected scheme, class, point, region, eye or brow)");
+	EXPECT_EQ(message("scheme s\nbogus\n"), "x.scheme:2: unknown keyword 'bogus' (expected scheme, class, point, region, eye, brow or mouth)");
 	const std::string base = "scheme s\nclass a 1\npoint P a\npoint Q a\npoint R a\npoint S a\nregion r : P Q R\n";
 	EXPECT_EQ(message(base + "eye e corners P Q upper R\n"), "x.scheme:8: eye 'e': needs 2 corners and at least one upper and one lower lid point");
 	EXPECT_EQ(message(base + "eye e corners P Q upper R lower Z\n"), "x.scheme:8: eye 'e': unknown point 'Z'");
@@ -66,6 +66,20 @@ TEST(Scheme, malformedFilesNameFileAndLine) {
 	for (const std::string name : {"ch-unicamp-56", "ibug-68", "imm-73"}) EXPECT_EQ(loadScheme(name).eyes.size(), 2u) << name;
 	EXPECT_EQ(message(base + "brow b : P\n"), "x.scheme:8: brow 'b': needs at least 2 points");
 	for (const std::string name : {"ch-unicamp-56", "ibug-68"}) EXPECT_EQ(loadScheme(name).brows.size(), 2u) << name;
+	// The mouth (D62): facing inner-lip pairs and the corners; the shipped schemes have one, in the right order.
+	EXPECT_EQ(message(base + "mouth inner P:Z corners Q R\n"), "x.scheme:8: mouth: bad inner pair 'P:Z' (expected UPPER:LOWER, two points of the scheme)");
+	EXPECT_EQ(message(base + "mouth inner P:Q corners R\n"), "x.scheme:8: mouth: needs at least one inner pair and 2 corners");
+	EXPECT_EQ(message(base + "mouth P:Q\n"), "x.scheme:8: expected 'mouth inner UPPER:LOWER … corners A B'");
+	EXPECT_EQ(message(base + "mouth inner P:Q corners R S\nmouth inner P:Q corners R S\n"), "x.scheme:9: a second 'mouth' line");
+	const Scheme mouthed = parseScheme(base + "mouth inner P:Q R:S corners Q R\n", "x.scheme");
+	EXPECT_EQ(mouthed.mouth.inner, (std::vector<std::pair<int, int>>{{0, 1}, {2, 3}}));
+	EXPECT_EQ(mouthed.mouth.corner1, 2);
+	for (const std::string name : {"ch-unicamp-56", "ibug-68", "imm-73"}) {
+		const Scheme sc = loadScheme(name);
+		ASSERT_EQ(sc.mouth.inner.size(), 3u) << name;
+		for (const auto& [up, down] : sc.mouth.inner) EXPECT_NE(up, down) << name;
+	}
+	EXPECT_EQ(loadScheme("ibug-68").mouth.inner[1], (std::pair<int, int>{62, 66}));  // IM2 over IM6
 	EXPECT_NE(message("class a x\n").find("x.scheme:1:"), std::string::npos);
 	EXPECT_THROW(loadScheme("no-such-scheme"), Error);
 }
