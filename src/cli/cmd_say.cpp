@@ -38,7 +38,7 @@ int runSay(const std::vector<std::string>& argv) {
 	// Every option is checked before the text is read or any speech is synthesised.
 	if (args.get("--text-file") && !args.positionals().empty()) throw UsageError("say: give the text or --text-file, not both");
 	const bool dryRun = args.has("--dry-run");
-	if (!args.get("--output") && !dryRun) throw UsageError("say: -o OUT is required (or --dry-run)");
+	if (!args.get("--output") && !dryRun && args.get("--format", "") != "none") throw UsageError("say: -o OUT is required (or --dry-run)");
 	const VideoCommand cmd = parseVideoCommand(args, "say", !dryRun);
 	const Language& lang = languageOption(args);
 	const int rate = int(args.number("--rate", 0, 80, 450));

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
-#include <new>
 #include <string>
 #include <vector>
 
@@ -13,6 +12,7 @@
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "cli/run.h"
 
 #ifndef TALKHEAD_VERSION
 #define TALKHEAD_VERSION "0.0.0"
@@ -50,22 +50,8 @@ int main(int argc, char** argv) {
 		std::cout << "talkhead " << TALKHEAD_VERSION << "\n";
 		return 0;
 	}
-	const std::string command = args[0];
-	std::vector<std::string> rest(args.begin() + 1, args.end());
-	try {
-		if (const cli::Command* c = cli::findCommand(command)) return c->run(rest);
-		throw cli::UsageError("unknown command '" + command + "'");
-	} catch (const cli::UsageError& e) {
-		std::fprintf(stderr, "talkhead: %s (see 'talkhead %s--help')\n", safeLine(e.what()).c_str(), cli::findCommand(command) ? (command + " ").c_str() : "");
-		return 2;
-	} catch (const std::bad_alloc&) {
-		std::fprintf(stderr, "talkhead: error: out of memory\n");
-		return 1;
-	} catch (const std::exception& e) {
-		// One line, valid UTF-8 and bounded, whatever the message quotes (a label with a newline, raw bytes,
-		// a 200 KB line): base/text.h safeLine.
-		const std::string message = safeLine(describeException(e));
-		std::fprintf(stderr, "talkhead: error: %s\n", message.c_str());
-		return 1;
-	}
+	std::string error;
+	const int status = cli::runCommandLine(args, error);
+	if (!error.empty()) std::fprintf(stderr, "%s\n", error.c_str());
+	return status;
 }

@@ -3,6 +3,8 @@
 // render library (src/render) with its sinks and progress.
 #include "cli/video_options.h"
 
+#include "cli/run.h"
+
 #include <tuple>
 #include <unistd.h>
 
@@ -169,7 +171,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
 	        {"--fit", "MODE", "when --size has another aspect than the model: crop (default: fill, cut the overflow), pad (fit inside, extend the edges) or stretch"},
-	        {"--format", "FORMAT", "mp4 (default) or y4m (raw frames, e.g. -o - | ffplay -)"},
+	        {"--format", "FORMAT", "mp4 (default), y4m (raw frames, e.g. -o - | ffplay -) or none (no video: only --frames, --landmarks-out, …)"},
 	        {"--frames", "DIR", "also write every frame as DIR/frame_NNNNNN.png"},
 	        {"--landmarks-out", "F.tsv", "write every frame's feature points (frame, time, x y per point)"},
 	        {"--no-audio", "", "no audio track (the audio's length still sets the duration)"},
@@ -255,12 +257,15 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.command = command;
 	// Output first, then how it looks, then how it moves, then how it runs: the same order for every command.
 	if (auto o = args.get("--output")) c.output = *o;
-	else if (outputRequired) throw UsageError(command + ": -o OUT is required");
+	else if (outputRequired && args.get("--format", "") != "none") throw UsageError(command + ": -o OUT is required");
 	c.format = args.get("--format", "mp4");
-	if (c.format != "mp4" && c.format != "y4m") throw UsageError(command + ": --format must be mp4 or y4m");
+	if (c.format != "mp4" && c.format != "y4m" && c.format != "none") throw UsageError(command + ": --format must be mp4, y4m or none");
+	if (c.format == "none" && args.get("--output")) throw UsageError(command + ": --format none writes no video: drop -o");
 	if (c.output == "-" && c.format != "y4m") throw UsageError(command + ": -o - needs --format y4m");
 	c.framesDir = args.get("--frames");
 	c.landmarksOut = args.get("--landmarks-out");
+	if (c.format == "none" && !c.framesDir && !c.landmarksOut && !extraFrameSink())
+		throw UsageError(command + ": --format none writes nothing: give --frames DIR or --landmarks-out F.tsv");
 	c.rate = parseFps(args, command);
 	if (auto s = args.get("--size")) parseSize(command + ": --size", *s, c.render.synth.width, c.render.synth.height);
 	c.render.fit = parseFit(args, command);
@@ -348,11 +353,12 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	const bool withAudio = audio && !cmd.noAudio;
 	std::vector<std::unique_ptr<FrameSink>> owned;
 	if (cmd.format == "mp4") owned.push_back(makeMp4Sink(cmd.output, cmd.mp4, withAudio ? std::move(audio) : nullptr));
-	else owned.push_back(makeY4mSink(cmd.output));
+	else if (cmd.format == "y4m") owned.push_back(makeY4mSink(cmd.output));
 	if (cmd.landmarksOut) owned.push_back(makeLandmarksSink(*cmd.landmarksOut));
 	if (cmd.framesDir) owned.push_back(makePngFramesSink(*cmd.framesDir));
 	std::vector<FrameSink*> sinks;
 	for (auto& s : owned) sinks.push_back(s.get());
+	if (FrameSink* extra = extraFrameSink()) sinks.push_back(extra);  // an in-process caller's (cli/run.h)
 	CliProgress progress(cmd);
 	const double beforeRender = std::chrono::duration<double>(Clock::now() - started).count();
 	const RenderStats st = renderPerformance(model, perf, cmd.render, sinks, &progress);

@@ -48,3 +48,26 @@ assert abs(mean - float(sys.argv[2])) < 0.01, (mean, sys.argv[2])
 print(f"cli y4m: {n} frames, mean luma {mean:.2f}")
 PY
 fi
+# The Python module (issue 33), installed with the rest: imported from the prefix's dist-packages (it
+# finds the installed data by itself), renders, and raises the CLI's message.
+if py=$(find "$T/prefix" -path '*dist-packages/talkhead/__init__.py' | head -1) && [ -n "$py" ]; then
+	env -u TALKHEAD_DATA_DIR -u TALKHEAD_MODULE_DIR PYTHONPATH="$(dirname "$(dirname "$py")")" /usr/bin/python3 - "$T" "$DATA" <<'PY'
+import sys
+import talkhead
+t, data = sys.argv[1:3]
+assert talkhead.__file__.startswith(t), talkhead.__file__
+talkhead.run("corpus", "synth", "-q", "-o", f"{t}/c3", "--size", "160x90", "--emotions", "neutral", "--visemes", "sil,a,u,p1")
+model = talkhead.build(f"{t}/c3/corpus.csv", f"{t}/py.thm", quiet=True)
+frames = list(talkhead.frames(transcript=f"{data}/transcripts/que_noticia.TextGrid", model=model))
+assert len(frames) > 10 and frames[0][1].shape == (90, 160, 3), len(frames)
+try:
+    talkhead.render(f"{t}/x.mp4", transcript=f"{t}/none.TextGrid", model=model)
+    raise SystemExit("no error")
+except talkhead.Error as e:
+    assert "none.TextGrid" in str(e), e
+talkhead.render(f"{t}/py.mp4", transcript=f"{data}/transcripts/que_noticia.TextGrid", model=model, quiet=True)  # libav's plugin
+import os
+assert os.path.getsize(f"{t}/py.mp4") > 1000 and os.environ["TALKHEAD_MODULE_DIR"].startswith(t), os.environ.get("TALKHEAD_MODULE_DIR")
+print(f"installed python module: {len(frames)} frames")
+PY
+fi

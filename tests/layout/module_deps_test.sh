@@ -21,6 +21,7 @@ declare -A allowed=(
 	[serve]="base geometry image warp model media phonetics synth perform render serve"
 	[viz]="base geometry image warp model viz"
 	[cli]="base geometry image warp model media corpus viz phonetics synth align track perform render stimuli serve cli"
+	[python]="base render cli python"
 )
 fail=0
 for dir in "$SRC"/*/; do

@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// Running talkhead's commands in process: what `talkhead ARGS…` does, for the executable and for
+// programs that embed the commands (the Python module, issue 33).
+#include <string>
+#include <vector>
+
+namespace talkhead {
+class FrameSink;
+}
+
+namespace talkhead::cli {
+
+// Runs one command (`args[0]` is its name): returns the exit status (0, 2 for a usage error, 1 for any
+// other failure); on failure `error` gets the one line the executable prints on stderr.
+int runCommandLine(const std::vector<std::string>& args, std::string& error);
+
+// For in-process callers: while set (on this thread), every frame `render` and `say` draw also goes to
+// this sink (RGB when it asks), after the command's own outputs.
+void setExtraFrameSink(FrameSink* sink);
+FrameSink* extraFrameSink();
+
+}  // namespace talkhead::cli

@@ -1,0 +1,158 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""talkhead: talking-head videos from timed speech, in Python (issue 33, decision D63).
+
+Every function runs talkhead's own command in process (the same code as the ``talkhead`` executable, so the
+same files, frames and messages), with the GIL released while it works::
+
+    import talkhead
+    talkhead.render("out.mp4", transcript="s.TextGrid", audio="s.wav", emotion="joy:0.6")
+    for t, image in talkhead.frames(transcript="s.TextGrid", lang="en-US"):   # numpy H×W×3 uint8 (RGB)
+        ...
+    talkhead.say("Hello there.", "hello.mp4", lang="en-US")
+    talkhead.visemes("s.TextGrid", lang="en-US")   # [{'start': 0.0, 'end': 0.12, 'phone': '_', 'cdv': 'sil', ...}, ...]
+
+Keyword options are the command's long options: ``head_motion="off"`` is ``--head-motion off``, ``True``
+gives a flag alone, ``None`` and ``False`` leave it out, a list repeats it. Errors raise ``talkhead.Error``
+(``talkhead.UsageError`` for options the command refuses) with the command line's message.
+"""
+import json
+import os
+import tempfile
+from pathlib import Path
+
+from ._talkhead import Error, FrameStream, UsageError, run as _run
+
+__all__ = ["Error", "UsageError", "run", "render", "frames", "say", "visemes", "build", "batch", "Model"]
+
+
+def _installed_data():
+    # Installed by `cmake --install`: <prefix>/lib/python3*/dist-packages/talkhead → <prefix>/share/talkhead.
+    here = Path(__file__).resolve()
+    for up in here.parents:
+        share = up / "share" / "talkhead"
+        if (share / "phonetics").is_dir():
+            os.environ.setdefault("TALKHEAD_DATA_DIR", str(share))
+            if (share / "models" / "default.thm").is_file():
+                os.environ.setdefault("TALKHEAD_MODEL", str(share / "models" / "default.thm"))
+            plugins = up / "lib" / "talkhead"  # libav, OpenImageIO and dlib load from here on first use
+            if (plugins / "libtalkhead-av.so").is_file():
+                os.environ.setdefault("TALKHEAD_MODULE_DIR", str(plugins))
+            return
+
+
+_installed_data()
+
+
+def _flags(options):
+    args = []
+    for key, value in options.items():
+        if value is None or value is False:
+            continue
+        flag = "--" + key.replace("_", "-")
+        for v in value if isinstance(value, (list, tuple)) else [value]:
+            args.append(flag)
+            if v is not True:
+                args.append(str(v))
+    return args
+
+
+def _path(value):
+    return None if value is None else os.fspath(value.path if isinstance(value, Model) else value)
+
+
+def run(*args, progress=None):
+    """Runs a talkhead command: ``run("render", "--transcript", "s.TextGrid", "-o", "out.mp4")``.
+
+    ``progress(done, total)`` is called after each frame a render draws; an exception it raises stops the
+    render (no partial output) and propagates."""
+    _run([os.fspath(a) for a in args], progress)
+
+
+class Model:
+    """A face model file (``talkhead build`` writes one; None: the default face). Pass it as ``model=``."""
+
+    def __init__(self, path=None):
+        self.path = None if path is None else os.fspath(path)
+        if self.path is not None and not os.path.isfile(self.path):
+            raise Error(f"{self.path}: no such model file")
+
+    def __repr__(self):
+        return f"talkhead.Model({self.path!r})"
+
+
+def _video_args(transcript, audio, text, emotion, controls, model, lang, options):
+    args = []
+    if transcript is not None:
+        args += ["--transcript", _path(transcript)]
+    if text is not None:
+        args += ["--text", text]
+    if audio is not None:
+        args += ["--audio", _path(audio)]
+    if emotion is not None:
+        args += ["--emotion", str(emotion)]
+    if controls is not None:
+        args += ["--controls", _path(controls)]
+    if model is not None and _path(model) is not None:
+        args += ["--model", _path(model)]
+    if lang is not None:
+        args += ["--lang", lang]
+    return args + _flags(options)
+
+
+def render(output, *, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, lang=None, progress=None, **options):
+    """Renders a video (``talkhead render``): MP4 by default, y4m with ``format="y4m"``."""
+    run("render", *_video_args(transcript, audio, text, emotion, controls, model, lang, options), "-o", _path(output), progress=progress)
+
+
+def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, lang=None, **options):
+    """The frames a render draws, as ``(seconds, image)`` pairs in order: ``image`` is a numpy array of
+    shape (height, width, 3), uint8 RGB, equal byte for byte to the PNGs of ``render --frames``. Frames are
+    drawn a few ahead on another thread; leaving the loop stops the render."""
+    args = ["render", *_video_args(transcript, audio, text, emotion, controls, model, lang, options), "--format", "none", "-q"]
+    stream = FrameStream(args)
+    try:
+        for _, seconds, image in stream:
+            yield seconds, image
+    finally:
+        stream.close()
+
+
+def say(text, output=None, *, lang=None, emotion=None, voice=None, model=None, progress=None, **options):
+    """Speaks text with espeak-ng and renders the face saying it (``talkhead say``)."""
+    args = ["say", text]
+    if lang is not None:
+        args += ["--lang", lang]
+    if emotion is not None:
+        args += ["--emotion", str(emotion)]
+    if voice is not None:
+        args += ["--voice", voice]
+    if model is not None and _path(model) is not None:
+        args += ["--model", _path(model)]
+    if output is not None:
+        args += ["-o", _path(output)]
+    run(*args, *_flags(options), progress=progress)
+
+
+def visemes(transcript, *, lang=None, **options):
+    """The phones of a timed transcript with their visemes and keyposes, as a list of dicts
+    (``talkhead visemes --out-format json``): start, end, phone, cdv, keypose (seconds)."""
+    with tempfile.TemporaryDirectory(prefix="talkhead-") as d:
+        out = os.path.join(d, "visemes.json")
+        args = ["visemes", _path(transcript), "--out-format", "json", "-o", out]
+        if lang is not None:
+            args += ["--lang", lang]
+        run(*args, *_flags(options))
+        with open(out, encoding="utf-8") as f:
+            data = json.load(f)
+    return data["phones"] if isinstance(data, dict) and "phones" in data else data
+
+
+def build(corpus, output, **options):
+    """Builds a face model from a corpus (``talkhead build``); returns it as a Model."""
+    run("build", _path(corpus), "-o", _path(output), *_flags(options))
+    return Model(output)
+
+
+def batch(manifest, output, **options):
+    """Renders a stimulus batch from a manifest (``talkhead batch``) into the folder ``output``."""
+    run("batch", _path(manifest), "-o", _path(output), *_flags(options))
