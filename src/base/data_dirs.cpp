@@ -26,7 +26,14 @@ std::vector<std::string> dataDirs() {
 #ifdef TALKHEAD_BINARY_DIR
 	dirs.emplace_back(TALKHEAD_BINARY_DIR);
 #endif
+	if (const std::string cache = userCacheDir(); !cache.empty()) dirs.push_back(cache);
 	return dirs;
+}
+
+std::string userCacheDir() {
+	if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x == '/') return (fs::path(x) / "talkhead").string();
+	if (const char* h = std::getenv("HOME"); h && *h == '/') return (fs::path(h) / ".cache" / "talkhead").string();
+	return "";
 }
 
 std::optional<std::string> findDataFile(const std::string& relative) {
@@ -57,6 +64,7 @@ std::vector<std::string> defaultModelCandidates() {
 #ifdef TALKHEAD_BINARY_DIR
 	c.emplace_back(TALKHEAD_BINARY_DIR "/models/default.thm");
 #endif
+	if (const std::string cache = userCacheDir(); !cache.empty()) c.push_back((fs::path(cache) / "models" / "default.thm").string());
 	return c;
 }
 

@@ -22,4 +22,9 @@ std::optional<std::string> findDefaultModel();
 // Where findDefaultModel() looks, for error messages.
 std::vector<std::string> defaultModelCandidates();
 
+// The user's cache folder for data made on first use (an installed package's default face, D64):
+// $XDG_CACHE_HOME/talkhead, else ~/.cache/talkhead; empty when neither is known. The last place
+// findDefaultModel() and findDataFile() look.
+std::string userCacheDir();
+
 }  // namespace talkhead

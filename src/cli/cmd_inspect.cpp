@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "base/parallel.h"
 #include "cli/args.h"
+#include "cli/run.h"
 #include "cli/commands.h"
 #include "cli/corpus_filter.h"
 #include "base/progress.h"
@@ -25,6 +26,7 @@ namespace {
 
 // The default face model, or an Error saying where it was looked for and how to get it.
 std::string defaultModelPath() {
+	ensureDefaultFace(false);
 	if (auto p = findDefaultModel()) return *p;
 	std::string where;
 	for (const auto& c : defaultModelCandidates()) where += (where.empty() ? "" : ", ") + c;

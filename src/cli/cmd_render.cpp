@@ -6,6 +6,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "cli/args.h"
+#include "cli/run.h"
 #include "cli/commands.h"
 #include "cli/drive_options.h"
 #include "cli/video_options.h"
@@ -74,6 +75,7 @@ int runRender(const std::vector<std::string>& argv) {
 	PerformanceSpec spec = performanceSpec(cmd);
 	spec.phones = speech.phones;
 	spec.source = speech.name;
+	if (drive.mouth && cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
 	if (drive.mouth) drive.mouthKeys(spec, loadRenderModel(cmd.modelPath, cmd.components), cmd.emotion);
 	// The sound (decoded once without keeping it, unless aligned; at the file's own sample rate).
 	std::unique_ptr<AudioSource> sound;

@@ -13,6 +13,7 @@
 #include "base/json.h"
 #include "base/text.h"
 #include "cli/args.h"
+#include "cli/run.h"
 #include "cli/commands.h"
 #include "cli/video_options.h"
 #include "render/frame_sink.h"
@@ -160,6 +161,7 @@ int runServe(const std::vector<std::string>& argv) {
 	o.maxLoad = args.number("--max-load", 0.9, 0, 64);
 	o.drainSeconds = args.number("--drain", 5, 0, 3600);
 	o.handleSignals = true;
+	if (!args.get("--model")) ensureDefaultFace(false);
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
 	Server server(model, o);
 	// The port line is the contract with scripts and tests (port 0 picks a free one).
@@ -201,6 +203,7 @@ int runLive(const std::vector<std::string>& argv) {
 	std::int64_t total = sessionScript.end;
 	if (auto n = args.get("--frames-total")) total = std::int64_t(args.number("--frames-total", 0, 1, 1e7));
 	if (total < 0) throw Error(script, 0, "no end line ({\"type\": \"end\", \"frame\": N}): give --frames-total N");
+	if (!args.get("--model")) ensureDefaultFace(false);
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
 	LiveSession session(model, o);
 	const StreamInfo& info = session.info();

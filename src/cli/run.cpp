@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "cli/run.h"
 
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <new>
 
+#include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/text.h"
 #include "cli/args.h"
@@ -37,6 +40,34 @@ int runCommandLine(const std::vector<std::string>& args, std::string& error) {
 		error = "talkhead: error: " + safeLine(describeException(e));
 		return 1;
 	}
+}
+
+void ensureDefaultFace(bool quiet) {
+	if (findDefaultModel()) return;
+	const std::string cache = userCacheDir();
+	if (cache.empty()) return;
+	namespace fs = std::filesystem;
+	const fs::path models = fs::path(cache) / "models", corpus = models / "default-corpus";
+	const auto t0 = std::chrono::steady_clock::now();
+	if (!quiet)
+		std::fprintf(stderr, "talkhead: no default face installed: making it once in %s (the synthetic corpus and its model, about a minute on 2 cores)\n",
+		             models.string().c_str());
+	std::error_code ec;
+	fs::create_directories(models, ec);
+	if (ec) throw Error(models.string() + ": cannot make the folder for the default face (" + ec.message() + ")");
+	// The same steps and sizes as CMakeLists.txt's default_model target.
+	std::vector<std::vector<std::string>> steps = {{"corpus", "synth", "-q", "-o", corpus.string(), "--size", "1280x720"},
+	                                               {"build", "-q", (corpus / "corpus.csv").string(), "-o", (models / "default.thm").string()}};
+	if (!findDataFile("models/au-appearance.bin"))  // a package installs the skin's maps (6 MB)
+		steps.push_back({"corpus", "au-appearance", "-q", (corpus / "corpus.csv").string(), "-o", (models / "au-appearance.bin").string()});
+	for (const auto& step : steps) {
+		std::string error;
+		if (runCommandLine(step, error) != 0) throw Error("making the default face in " + models.string() + " failed: " + error);
+	}
+	fs::remove_all(corpus, ec);  // 200 MB of images, not needed once the model is made
+	if (!quiet)
+		std::fprintf(stderr, "talkhead: the default face is ready (%.0f s): %s\n",
+		             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), (models / "default.thm").string().c_str());
 }
 
 }  // namespace talkhead::cli

@@ -20,4 +20,9 @@ int runCommandLine(const std::vector<std::string>& args, std::string& error);
 void setExtraFrameSink(FrameSink* sink);
 FrameSink* extraFrameSink();
 
+// D64: when no default face is installed (a package leaves it out: 1.6 GB), makes it once in the user's
+// cache folder — the same synthetic corpus and build as the build tree's, byte for byte — saying so on
+// stderr unless `quiet`. Does nothing when one is found or no cache folder is known.
+void ensureDefaultFace(bool quiet);
+
 }  // namespace talkhead::cli

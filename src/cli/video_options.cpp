@@ -330,6 +330,7 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
                      const std::string& timingPrefix, std::vector<SideOutput> side) {
 	using Clock = std::chrono::steady_clock;
 	const auto tLoad = Clock::now();
+	if (cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
 	const FaceModel model = loadRenderModel(cmd.modelPath, cmd.components);
 	const double loadSeconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
 	// --audio-out: the track read once into memory, written as WAV once the video is complete and muxed from there.
