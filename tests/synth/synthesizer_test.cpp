@@ -233,18 +233,30 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	EXPECT_NEAR(mid(rm2, 1), 0.5 * (rest(rm2, 1) + smile(rm2, 1)), 1e-6);
 }
 
+namespace {
+// Two seconds of silence and one action unit on the image's right half (the subject's left), rising at
+// 0.5 s, held to 1.2 s, gone at 1.4 s; no blinks or head motion.
+struct OneAuEvent {
+	std::vector<Keypose> keys;
+	ModulatorOptions mo;
+	explicit OneAuEvent(const char* au) {
+		keys = keyposes({{ms(0), ms(2000), "", "", "sil", 0}}, Ticks(kTicksPerSecond / 30));
+		mo.blinks = false;
+		mo.headMotion = false;
+		AuEvent e;
+		e.au = au;
+		e.time = ms(500), e.onset = ms(200), e.apex = ms(500), e.offset = ms(200);
+		e.side = 1;
+		mo.auEvents = {e};
+	}
+};
+}  // namespace
+
 TEST(Synthesizer, actionUnitEventsMoveThePointsOnTheirSide) {
 	const SmallFace& f = smallFace();
-	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
-	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
-	ModulatorOptions mo;
-	mo.blinks = false;
-	mo.headMotion = false;
-	AuEvent smile;
-	smile.au = "AU12";
-	smile.time = ms(500), smile.onset = ms(200), smile.apex = ms(500), smile.offset = ms(200);
-	smile.side = 1;  // the subject's left: the image's right half
-	mo.auEvents = {smile};
+	const OneAuEvent ev("AU12");
+	const auto& keys = ev.keys;
+	const auto& mo = ev.mo;
 	SynthOptions o;
 	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys);
 	Synthesizer synth(f.model, o);
@@ -270,16 +282,9 @@ TEST(Synthesizer, actionUnitEventsChangeTheSkinOnTheirSideOnlyWhileTheyAct) {
 	// the side asked for, and only while it acts; the points move exactly as without the skin.
 	if (!installedAuAppearance({"AU4"})) GTEST_SKIP() << "no models/au-appearance.bin built";
 	const SmallFace& f = smallFace();
-	std::vector<PhoneSegment> phones = {{ms(0), ms(2000), "", "", "sil", 0}};
-	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
-	ModulatorOptions mo;
-	mo.blinks = false;
-	mo.headMotion = false;
-	AuEvent frown;
-	frown.au = "AU4";
-	frown.time = ms(500), frown.onset = ms(200), frown.apex = ms(500), frown.offset = ms(200);
-	frown.side = 1;  // the image's right half
-	mo.auEvents = {frown};
+	const OneAuEvent ev("AU4");
+	const auto& keys = ev.keys;
+	const auto& mo = ev.mo;
 	auto render = [&](bool skin, Ticks at, Points& points) {
 		SynthOptions o;
 		o.auAppearance = skin;
