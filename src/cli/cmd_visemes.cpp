@@ -46,7 +46,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	           {"--unknown", "POLICY", "unknown phones: error (default), nearest (the closest known spelling, else an error), silence"},
 	           {"--notation", "NAME", "how phones are spelled: auto (default: decided from the labels), ipa, arpabet, sampa (= xsampa), espeak, praat, br1 (MBROLA pt-BR)"},
 	           {"--fps", "N", "output frame rate for keypose spacing (default 30)"},
-	           {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (no breath: rest held until just before speech) or thesis (one silence keypose at each pause midpoint)"},
+	           {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (rest held; a slow in-breath where the pause allows) or thesis (one silence keypose at each pause midpoint)"},
 	           {"--out-format", "FORMAT", "tsv (default), json, textgrid, rhubarb-tsv, rhubarb-json"},
 	           {"--output", "OUT", "write here instead of standard output", "-o"}},
 	          "Maps a timed transcript to context-dependent visemes (Costa 2015) and keyposes: one row per phone\n"

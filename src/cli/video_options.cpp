@@ -177,7 +177,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--no-audio", "", "no audio track (the audio's length still sets the duration)"},
 	        {"--crf", "N", "H.264 quality, 0–51 (default 20)"},
 	        {"--preset", "NAME", "x264 preset (default veryfast)"},
-	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (rest soon after speech, held until just before the next; the default with --coarticulation) or thesis (one silence keypose at each pause midpoint)"},
+	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (rest soon after speech and held; before the next words a slow in-breath where the pause allows; the default with --coarticulation) or thesis (one silence keypose at each pause midpoint)"},
 	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
 	        {"--coarticulation", "F.tsv", "the mouth from its phone context (D62): each phone's keypose shows the face's exemplar nearest the opening this model predicts ('talkhead corpus coarticulation'); bilabials close"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},

@@ -122,8 +122,9 @@ struct Keypose {
 //  speech stops and holds it; before speech that follows a pause of at least kBreathPause it breathes in
 //  (lips parted, the central-vowel CDV kBreathCdv, kBreathLead before the first phone, after rest until
 //  kBreathLead + kBreathRise); a shorter pause leaves rest kRestBefore before the next phone.
-//  Still (issue 32, D62): as Natural without the in-breath: the lips hold rest until kStillLead before
-//  the next phone (real speakers' lips barely move in a pause; the default with a coarticulation model).
+//  Still (issue 32, D62; the default with a coarticulation model): rest after speech, held; before the
+//  next speech an in-breath that rises over up to 2 × kBreathRise where the pause allows one, else rest
+//  held until kStillLead before the next phone.
 enum class PauseStyle { Natural, Thesis, Still };
 inline constexpr Ticks kRestAfter{kTicksPerSecond * 12 / 100};    // 0.12 s
 inline constexpr Ticks kRestBefore{kTicksPerSecond * 30 / 100};   // 0.30 s
