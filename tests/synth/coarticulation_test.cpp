@@ -174,8 +174,11 @@ TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePr
 			continue;
 		}
 		const double gap = mouthSize(scheme, model.alignedShapes[std::size_t(k.sample)]).opening;
-		if (k.cdv == "p1") EXPECT_LE(gap, 0.1 * open) << "a bilabial shuts";
-		else EXPECT_LT(gap, 0.5 * open) << "the /a/ takes a nearly closed exemplar, as asked";
+		if (k.cdv == "p1") {
+			EXPECT_LE(gap, 0.1 * open) << "a bilabial shuts";
+		} else {
+			EXPECT_LT(gap, 0.5 * open) << "the /a/ takes a nearly closed exemplar, as asked";
+		}
 	}
 	// Asked wide open (4 × the face's 90th percentile: this small corpus has one open vowel), the /a/ takes
 	// the open exemplar; the same keys
@@ -186,7 +189,7 @@ TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePr
 	chooseMouthExemplars(model, Emotion::of("neutral"), keys);
 	chooseMouthExemplars(model, Emotion::of("neutral"), again);
 	for (std::size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(keys[i].sample, again[i].sample);
-	for (const Keypose& k : keys)
+	for (const Keypose& k : keys) {
 		if (k.cdv == "a") EXPECT_EQ(k.sample, sampleOf("a"));
-
+	}
 }
