@@ -190,6 +190,8 @@ TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePr
 	chooseMouthExemplars(model, Emotion::of("neutral"), again);
 	for (std::size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(keys[i].sample, again[i].sample);
 	for (const Keypose& k : keys) {
-		if (k.cdv == "a") EXPECT_EQ(k.sample, sampleOf("a"));
+		if (k.cdv == "a") {
+			EXPECT_EQ(k.sample, sampleOf("a"));
+		}
 	}
 }
