@@ -244,7 +244,9 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 		} else if (f[0] == "lambda" && f.size() == 2) {
 			m.lambda = parse(f[1]);
 		} else if (f[0] == "samples" && f.size() == 2) {
-			m.samples = std::size_t(std::max(0.0, parse(f[1])));
+			long long n = 0;
+			if (!parseInt(f[1], n) || n < 0) throw Error(path, ln, "samples: not a count: '" + f[1] + "'");
+			m.samples = std::size_t(n);
 		} else if (f[0] == "intercept" && f.size() == 3) {
 			m.intercept = parse(f[1]), m.widthIntercept = parse(f[2]), intercept = true;
 		} else if (f[0] == "feature" && f.size() == 4) {

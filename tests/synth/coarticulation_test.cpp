@@ -133,6 +133,13 @@ TEST(Coarticulation, savedAndLoadedExactlyAndADamagedOrMissingFileIsOneClearErro
 	other.replace(other.find("feature\topen-2"), 14, "feature\tcolour");
 	std::ofstream(path) << other;
 	error("made for other features");
+	for (const char* count : {"8.88889e+30", "-3", "2.5"}) {  // a count, not a number to cast (the fuzzer's 1e31 was undefined behaviour)
+		std::string bad = text;
+		const std::size_t at = bad.find("samples\t") + 8;
+		bad.replace(at, bad.find('\n', at) - at, count);
+		std::ofstream(path) << bad;
+		error("samples: not a count");
+	}
 	std::filesystem::remove(path);
 	error("cannot open");
 }
