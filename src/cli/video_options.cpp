@@ -171,11 +171,13 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
 	        {"--fit", "MODE", "when --size has another aspect than the model: crop (default: fill, cut the overflow), pad (fit inside, extend the edges) or stretch"},
-	        {"--format", "FORMAT", "mp4 (default), y4m (raw frames, e.g. -o - | ffplay -) or none (no video: only --frames, --landmarks-out, …)"},
+	        {"--format", "FORMAT", "mp4 (H.264 + AAC; the default), webm (VP9 + Vorbis; the default for -o F.webm), y4m (raw frames, e.g. -o - | ffplay -; the default for -o F.y4m) or none (no video: only --frames, --landmarks-out, …)"},
+	        {"--background", "KIND", "opaque (default: the model's frame) or transparent (the face on a feathered matte, as alpha: --format webm, VP9 with alpha, and/or --frames, RGBA PNG)"},
+	        {"--feather", "PX", "with --background transparent: the matte's soft edge, σ in output pixels (default: 2 % of the face's width)"},
 	        {"--frames", "DIR", "also write every frame as DIR/frame_NNNNNN.png"},
 	        {"--landmarks-out", "F.tsv", "write every frame's feature points (frame, time, x y per point)"},
 	        {"--no-audio", "", "no audio track (the audio's length still sets the duration)"},
-	        {"--crf", "N", "H.264 quality, 0–51 (default 20)"},
+	        {"--crf", "N", "quality: H.264 0–51 (default 20), VP9 0–63 (default 32); lower is better and larger"},
 	        {"--preset", "NAME", "x264 preset (default veryfast)"},
 	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (rest soon after speech and held; before the next words a slow in-breath where the pause allows; the default with --coarticulation) or thesis (one silence keypose at each pause midpoint)"},
 	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
@@ -258,18 +260,34 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	// Output first, then how it looks, then how it moves, then how it runs: the same order for every command.
 	if (auto o = args.get("--output")) c.output = *o;
 	else if (outputRequired && args.get("--format", "") != "none") throw UsageError(command + ": -o OUT is required");
-	c.format = args.get("--format", "mp4");
-	if (c.format != "mp4" && c.format != "y4m" && c.format != "none") throw UsageError(command + ": --format must be mp4, y4m or none");
+	const std::string extension = toLower(fs::path(c.output).extension().string());
+	c.format = args.get("--format", extension == ".webm" ? "webm" : extension == ".y4m" ? "y4m" : "mp4");
+	if (c.format != "mp4" && c.format != "webm" && c.format != "y4m" && c.format != "none") throw UsageError(command + ": --format must be mp4, webm, y4m or none");
+	if ((c.format == "mp4" && extension == ".webm") || (c.format == "webm" && (extension == ".mp4" || extension == ".m4v" || extension == ".mov")))
+		throw UsageError(command + ": --format " + c.format + " but -o " + c.output + " names another container: ambiguous");
 	if (c.format == "none" && args.get("--output")) throw UsageError(command + ": --format none writes no video: drop -o");
 	if (c.output == "-" && c.format != "y4m") throw UsageError(command + ": -o - needs --format y4m");
 	c.framesDir = args.get("--frames");
 	c.landmarksOut = args.get("--landmarks-out");
+	const std::string background = args.get("--background", "opaque");
+	if (background != "opaque" && background != "transparent") throw UsageError(command + ": --background takes opaque or transparent");
+	c.transparent = background == "transparent";
+	if (c.transparent && (c.format == "mp4" || c.format == "y4m"))
+		throw UsageError(command + ": --background transparent: " + (c.format == "mp4" ? "MP4 (H.264)" : "y4m") +
+		                 " has no alpha channel; write --format webm (VP9 with alpha) or --frames DIR (RGBA PNG) with --format none");
+	if (c.transparent && c.format == "none" && !c.framesDir && !extraFrameSink())
+		throw UsageError(command + ": --background transparent with --format none needs --frames DIR (RGBA PNG)");
+	if (args.has("--feather") && !c.transparent) throw UsageError(command + ": --feather is for --background transparent");
+	c.render.matte.feather = args.number("--feather", 0, 0.5, 500);
+	c.webm.alpha = c.transparent;
 	if (c.format == "none" && !c.framesDir && !c.landmarksOut && !extraFrameSink())
 		throw UsageError(command + ": --format none writes nothing: give --frames DIR or --landmarks-out F.tsv");
 	c.rate = parseFps(args, command);
 	if (auto s = args.get("--size")) parseSize(command + ": --size", *s, c.render.synth.width, c.render.synth.height);
 	c.render.fit = parseFit(args, command);
-	c.mp4.crf = int(args.number("--crf", 20, 0, 51));
+	if (c.format == "webm") c.webm.crf = int(args.number("--crf", 32, 0, 63));
+	else c.mp4.crf = int(args.number("--crf", 20, 0, 51));
+	if (args.has("--preset") && c.format != "mp4") throw UsageError(command + ": --preset is x264's (--format mp4)");
 	c.mp4.preset = args.get("--preset", "veryfast");
 	c.noAudio = args.has("--no-audio");
 	std::tie(c.emotion, c.intensity) = parseEmotionOption(args, command);
@@ -354,9 +372,10 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	const bool withAudio = audio && !cmd.noAudio;
 	std::vector<std::unique_ptr<FrameSink>> owned;
 	if (cmd.format == "mp4") owned.push_back(makeMp4Sink(cmd.output, cmd.mp4, withAudio ? std::move(audio) : nullptr));
+	else if (cmd.format == "webm") owned.push_back(makeWebmSink(cmd.output, cmd.webm, withAudio ? std::move(audio) : nullptr));
 	else if (cmd.format == "y4m") owned.push_back(makeY4mSink(cmd.output));
 	if (cmd.landmarksOut) owned.push_back(makeLandmarksSink(*cmd.landmarksOut));
-	if (cmd.framesDir) owned.push_back(makePngFramesSink(*cmd.framesDir));
+	if (cmd.framesDir) owned.push_back(makePngFramesSink(*cmd.framesDir, cmd.transparent));
 	std::vector<FrameSink*> sinks;
 	for (auto& s : owned) sinks.push_back(s.get());
 	if (FrameSink* extra = extraFrameSink()) sinks.push_back(extra);  // an in-process caller's (cli/run.h)

@@ -25,7 +25,8 @@ std::vector<OptionSpec> videoOptionSpecs();
 
 struct VideoCommand {
 	std::string command;                 // "render" or "say", for messages
-	std::string output, format = "mp4";  // -o (- = standard output, y4m only); mp4 | y4m
+	std::string output, format = "mp4";  // -o (- = standard output, y4m only); mp4 | webm | y4m | none
+	bool transparent = false;            // --background transparent: the face's matte as alpha (webm, PNG frames)
 	std::optional<std::string> framesDir, landmarksOut;
 	std::string modelPath;               // empty = the default face
 	Emotion emotion;
@@ -37,6 +38,7 @@ struct VideoCommand {
 	std::optional<ControlTrack> controls;  // --controls F (read and checked with the options)
 	std::shared_ptr<const CoarticulationModel> coarticulation;  // --coarticulation F (D62)
 	Mp4Settings mp4;
+	WebmSettings webm;
 	RenderOptions render;
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
 	Ticks leadIn{0}, tail{0}, avOffset{0};     // --lead-in, --tail, --av-offset (issue 14)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "geometry/scheme.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -182,6 +184,20 @@ Scheme loadScheme(const std::string& nameOrPath) {
 	std::string known;
 	for (const auto& n : availableSchemes()) known += (known.empty() ? "" : ", ") + n;
 	throw Error("unknown landmark scheme '" + nameOrPath + "' (known: " + (known.empty() ? "none found" : known) + ")");
+}
+
+void completeSchemeParts(Scheme& s) {
+	if (!s.eyes.empty() || !s.brows.empty() || !s.mouth.empty() || s.name.empty()) return;
+	// Only a shipped scheme's plain name: a model file never names another file to read.
+	if (!std::all_of(s.name.begin(), s.name.end(), [](char c) { return std::isalnum((unsigned char)c) || c == '-' || c == '_'; })) return;
+	const auto path = findDataFile("schemes/" + s.name + ".scheme");
+	if (!path) return;
+	try {
+		const Scheme shipped = loadSchemeFile(*path);
+		if (shipped.pointNames != s.pointNames) return;
+		s.eyes = shipped.eyes, s.brows = shipped.brows, s.mouth = shipped.mouth;
+	} catch (const Error&) {
+	}
 }
 
 std::vector<std::string> availableSchemes() {

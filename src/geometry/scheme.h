@@ -68,6 +68,10 @@ Scheme parseScheme(const std::string& text, const std::string& fileName);
 Scheme loadSchemeFile(const std::string& path);
 // Looks up "schemes/<name>.scheme" in the data folders (or takes a path to a .scheme file).
 Scheme loadScheme(const std::string& nameOrPath);
+// A scheme read from a model file has points, weights and regions but no eye, brow or mouth lines: they
+// come from the shipped scheme of the same name when its points are the same (nothing changes otherwise,
+// or when the scheme already has any of them).
+void completeSchemeParts(Scheme& scheme);
 // Names of the schemes shipped in the first data folder that has any.
 std::vector<std::string> availableSchemes();
 

@@ -16,6 +16,7 @@ enum class YuvRange { Limited, Full };
 struct YuvImage {
 	int width = 0, height = 0;
 	std::vector<std::uint8_t> y, u, v;
+	std::vector<std::uint8_t> a;  // alpha, width × height (255 opaque), only in video with alpha; empty: opaque
 	int chromaWidth() const { return (width + 1) / 2; }
 	int chromaHeight() const { return (height + 1) / 2; }
 	void resize(int w, int h);  // no allocation when the size is unchanged

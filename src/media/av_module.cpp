@@ -192,22 +192,39 @@ struct Mp4Encoder {
 	}
 
 	void open() {
-		const bool live = bool(sink);
-		checkAv(avformat_alloc_output_context2(&fmt, nullptr, "mp4", live ? nullptr : path.c_str()), path, "cannot create the MP4 muxer");
-		const AVCodec* h264 = avcodec_find_encoder_by_name("libx264");
-		if (!h264) throw Error(path, 0, "this libav has no libx264 encoder");
+		const bool live = bool(sink), webm = o.container == VideoContainer::WebM;
+		if (live && webm) throw Error(path, 0, "a live stream is MP4");
+		if (o.alpha && !webm) throw Error(path, 0, "MP4 (H.264) has no alpha channel: write WebM");
+		checkAv(avformat_alloc_output_context2(&fmt, nullptr, webm ? "webm" : "mp4", live ? nullptr : path.c_str()), path,
+		        webm ? "cannot create the WebM muxer" : "cannot create the MP4 muxer");
+		const char* videoCodec = webm ? "libvpx-vp9" : "libx264";
+		const AVCodec* vcodec = avcodec_find_encoder_by_name(videoCodec);
+		if (!vcodec) throw Error(path, 0, std::string("this libav has no ") + videoCodec + " encoder");
 		vst = avformat_new_stream(fmt, nullptr);
-		venc = avcodec_alloc_context3(h264);
+		venc = avcodec_alloc_context3(vcodec);
 		venc->width = o.width;
 		venc->height = o.height;
-		venc->pix_fmt = AV_PIX_FMT_YUV420P;
+		venc->pix_fmt = o.alpha ? AV_PIX_FMT_YUVA420P : AV_PIX_FMT_YUV420P;
 		venc->time_base = AVRational{o.rate.den, o.rate.num};
 		venc->framerate = AVRational{o.rate.num, o.rate.den};
 		venc->gop_size = 10 * o.rate.num / std::max(1, o.rate.den);
 		venc->thread_count = o.threads;
 		if (fmt->oformat->flags & AVFMT_GLOBALHEADER) venc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
-		av_opt_set(venc->priv_data, "preset", o.preset.c_str(), 0);
-		av_opt_set(venc->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
+		if (webm) {
+			// Constant quality (crf, no bitrate cap), libvpx's good-quality deadline at its faster speeds,
+			// row-based multithreading; BT.601 limited range, as the frames are.
+			venc->bit_rate = 0;
+			venc->colorspace = AVCOL_SPC_SMPTE170M;
+			venc->color_range = AVCOL_RANGE_MPEG;
+			av_opt_set(venc->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
+			av_opt_set(venc->priv_data, "deadline", "good", 0);
+			av_opt_set(venc->priv_data, "cpu-used", "5", 0);
+			av_opt_set(venc->priv_data, "row-mt", "1", 0);
+			if (o.alpha) av_dict_set(&vst->metadata, "alpha_mode", "1", 0);
+		} else {
+			av_opt_set(venc->priv_data, "preset", o.preset.c_str(), 0);
+			av_opt_set(venc->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
+		}
 		if (live) {
 			// Every frame out as soon as it is in: no B-frames, no lookahead, sliced threads; a keyframe
 			// every 2 s.
@@ -216,24 +233,29 @@ struct Mp4Encoder {
 			// Without lookahead, crf 0 leaves P-frames a little lossy: lossless is qp 0.
 			if (o.crf == 0) av_opt_set(venc->priv_data, "qp", "0", 0);
 		}
-		checkAv(avcodec_open2(venc, h264, nullptr), path, "cannot open the H.264 encoder");
-		checkAv(avcodec_parameters_from_context(vst->codecpar, venc), path, "H.264 parameters");
+		checkAv(avcodec_open2(venc, vcodec, nullptr), path, webm ? "cannot open the VP9 encoder" : "cannot open the H.264 encoder");
+		checkAv(avcodec_parameters_from_context(vst->codecpar, venc), path, "video parameters");
 		vst->time_base = venc->time_base;
 		vst->avg_frame_rate = venc->framerate;
 
 		if (audio) {
-			const AVCodec* aac = avcodec_find_encoder(AV_CODEC_ID_AAC);
-			if (!aac) throw Error(path, 0, "this libav has no AAC encoder");
+			const AVCodec* acodec = webm ? avcodec_find_encoder_by_name("libvorbis") : avcodec_find_encoder(AV_CODEC_ID_AAC);
+			if (!acodec) throw Error(path, 0, webm ? "this libav has no libvorbis encoder" : "this libav has no AAC encoder");
 			ast = avformat_new_stream(fmt, nullptr);
-			aenc = avcodec_alloc_context3(aac);
+			aenc = avcodec_alloc_context3(acodec);
 			aenc->sample_fmt = AV_SAMPLE_FMT_FLTP;
 			aenc->sample_rate = audio->sampleRate();
 			av_channel_layout_default(&aenc->ch_layout, audio->channels());
-			aenc->bit_rate = 128000;
+			if (webm) {  // Vorbis at quality 5 (VBR; an average bitrate cannot be set up for every rate and layout)
+				aenc->flags |= AV_CODEC_FLAG_QSCALE;
+				aenc->global_quality = 5 * FF_QP2LAMBDA;
+			} else {
+				aenc->bit_rate = 128000;
+			}
 			aenc->time_base = AVRational{1, audio->sampleRate()};
 			if (fmt->oformat->flags & AVFMT_GLOBALHEADER) aenc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
-			checkAv(avcodec_open2(aenc, aac, nullptr), path, "cannot open the AAC encoder");
-			checkAv(avcodec_parameters_from_context(ast->codecpar, aenc), path, "AAC parameters");
+			checkAv(avcodec_open2(aenc, acodec, nullptr), path, webm ? "cannot open the Vorbis encoder" : "cannot open the AAC encoder");
+			checkAv(avcodec_parameters_from_context(ast->codecpar, aenc), path, "audio parameters");
 			ast->time_base = aenc->time_base;
 			aframe = av_frame_alloc();
 			aframe->format = AV_SAMPLE_FMT_FLTP;
@@ -271,12 +293,12 @@ struct Mp4Encoder {
 			codecs = std::string(name) + (audio ? ",mp4a.40.2" : "");
 		} else {
 			checkAv(avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot write the video");
-			av_dict_set(&opts, "movflags", "+faststart", 0);
+			if (!webm) av_dict_set(&opts, "movflags", "+faststart", 0);
 		}
 		fmt->flags |= AVFMT_FLAG_BITEXACT;  // no library version strings: the same input gives the same file
 		const int r = avformat_write_header(fmt, &opts);
 		av_dict_free(&opts);
-		checkAv(r, path, "cannot write the MP4 header");
+		checkAv(r, path, webm ? "cannot write the WebM header" : "cannot write the MP4 header");
 		if (!wrapped) throw Error(path, 0, "out of memory");
 		pkt = av_packet_alloc();
 	}
@@ -315,7 +337,7 @@ struct Mp4Encoder {
 			}
 			aframe->nb_samples = count;
 			aframe->pts = audioPos;
-			checkAv(avcodec_send_frame(aenc, aframe), path, "AAC encoding failed");
+			checkAv(avcodec_send_frame(aenc, aframe), path, "audio encoding failed");
 			drain(aenc, ast);
 			audioPos += count;
 			aframe->nb_samples = n;
@@ -338,21 +360,23 @@ struct Mp4Encoder {
 			return b;
 		};
 		av_frame_unref(wrapped);
-		wrapped->format = AV_PIX_FMT_YUV420P;
+		if (o.alpha && img.a.size() != std::size_t(o.width) * std::size_t(o.height)) throw std::logic_error("Mp4Writer: a frame without its alpha plane");
+		wrapped->format = o.alpha ? AV_PIX_FMT_YUVA420P : AV_PIX_FMT_YUV420P;
 		wrapped->width = o.width;
 		wrapped->height = o.height;
-		const std::vector<std::uint8_t>* planes[3] = {&img.y, &img.u, &img.v};
-		for (int p = 0; p < 3; ++p) {
+		const std::vector<std::uint8_t>* planes[4] = {&img.y, &img.u, &img.v, &img.a};
+		const int nPlanes = o.alpha ? 4 : 3;
+		for (int p = 0; p < nPlanes; ++p) {
 			wrapped->buf[p] = wrap(*planes[p]);
 			wrapped->data[p] = wrapped->buf[p]->data;
-			wrapped->linesize[p] = p == 0 ? o.width : cw;
+			wrapped->linesize[p] = p == 0 || p == 3 ? o.width : cw;
 		}
 		wrapped->pts = frameIndex++;
 		const int sent = avcodec_send_frame(venc, wrapped);
 		av_frame_unref(wrapped);
-		checkAv(sent, path, "H.264 encoding failed");
+		checkAv(sent, path, "video encoding failed");
 		drain(venc, vst);
-		if (released != 3) throw std::logic_error("Mp4Writer: the encoder kept a reference to a frame it was lent");
+		if (released != nPlanes) throw std::logic_error("Mp4Writer: the encoder kept a reference to a frame it was lent");
 		// The sound up to this frame's end (live: the source is `initial_padding` samples ahead of the
 		// packets, so no further: a live source must not be read past the frames drawn).
 		if (audio)
@@ -368,14 +392,14 @@ struct Mp4Encoder {
 	void finish() {
 		if (finished) return;
 		finished = true;
-		checkAv(avcodec_send_frame(venc, nullptr), path, "H.264 flush");
+		checkAv(avcodec_send_frame(venc, nullptr), path, "video flush");
 		drain(venc, vst);
 		if (audio) {
 			encodeAudio(0, true);
-			checkAv(avcodec_send_frame(aenc, nullptr), path, "AAC flush");
+			checkAv(avcodec_send_frame(aenc, nullptr), path, "audio flush");
 			drain(aenc, ast);
 		}
-		checkAv(av_write_trailer(fmt), path, "cannot finish the MP4");
+		checkAv(av_write_trailer(fmt), path, "cannot finish the video");
 		if (sink) avio_flush(fmt->pb);
 		else checkAv(avio_closep(&fmt->pb), path, "cannot close the video file");
 	}

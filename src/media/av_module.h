@@ -15,8 +15,9 @@
 
 namespace talkhead {
 
-// 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource); 5: readVideoYuv; 6: openMp4Live
-constexpr int kAvModuleAbi = 6;
+// 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource); 5: readVideoYuv; 6: openMp4Live;
+// 7: VideoOptions::container and alpha (WebM, VP9 with alpha)
+constexpr int kAvModuleAbi = 7;
 
 struct AvModule {
 	int abi;  // kAvModuleAbi

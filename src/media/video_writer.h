@@ -14,17 +14,25 @@
 
 namespace talkhead {
 
+// Mp4: H.264 (libx264) + AAC. WebM: VP9 (libvpx, constant quality; with alpha when VideoOptions::alpha)
+// + Vorbis (libvorbis: any sample rate, no resampling).
+enum class VideoContainer { Mp4, WebM };
+
 struct VideoOptions {
 	int width = 1280, height = 720;
 	FrameRate rate;               // frames per second, exact (30000/1001 allowed)
-	int crf = 23;                 // libx264 constant rate factor
-	std::string preset = "veryfast";
+	int crf = 23;                 // constant quality: libx264's crf (0–51) or libvpx-vp9's (0–63)
+	std::string preset = "veryfast";  // x264 preset (MP4 only)
 	int threads = 0;              // encoder threads (0 = all cores)
+	VideoContainer container = VideoContainer::Mp4;
+	bool alpha = false;           // WebM only: VP9 with an alpha plane (YuvImage::a of every frame)
 };
 
-// H.264 (libx264, yuv420p) + AAC MP4, muxed in process with libav. Frames are 8-bit RGB or limited-range
-// YUV 4:2:0 of the given size, written in order; the audio (optional) is encoded alongside, and what is left of it after the last
-// frame is written by finish(). Writes to `path` directly: callers write to a temporary name and rename.
+// H.264 (libx264, yuv420p) + AAC MP4 — or VP9 + Vorbis WebM, options.container — muxed in process with
+// libav. Frames are 8-bit RGB or limited-range YUV 4:2:0 of the given size (with their alpha plane when
+// options.alpha), written in order; the audio (optional) is encoded alongside, and what is left of it after
+// the last frame is written by finish(). Writes to `path` directly: callers write to a temporary name and
+// rename.
 class Mp4Writer {
 public:
 	Mp4Writer(const std::string& path, const VideoOptions& options, const AudioClip* audio);

@@ -618,6 +618,7 @@ Scheme readSchemeRecords(Reader& r, std::uint32_t version) {
 		rs.feather = gf[1];
 		s.regions.push_back(rs);
 	}
+	completeSchemeParts(s);
 	return s;
 }
 

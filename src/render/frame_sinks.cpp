@@ -51,13 +51,14 @@ struct TempOutput {
 	}
 };
 
-class Mp4Sink final : public FrameSink {
+// MP4 or WebM (VideoOptions: the container, crf, preset, alpha).
+class VideoSink final : public FrameSink {
 public:
-	Mp4Sink(const std::string& path, const Mp4Settings& s, std::unique_ptr<AudioSource> audio) : out_(path), settings_(s), audio_(std::move(audio)) {}
+	VideoSink(const std::string& path, const VideoOptions& o, std::unique_ptr<AudioSource> audio) : out_(path), options_(o), audio_(std::move(audio)) {}
+	bool needsAlpha() const override { return options_.alpha; }
 	void begin(const StreamInfo& info) override {
-		VideoOptions vo;
+		VideoOptions vo = options_;
 		vo.width = info.width, vo.height = info.height, vo.rate = info.rate;
-		vo.crf = settings_.crf, vo.preset = settings_.preset;
 		out_.guard([&] { writer_ = std::make_unique<Mp4Writer>(out_.temp, vo, audio_.get()); });
 	}
 	void frame(const RenderedFrame& f) override {
@@ -73,7 +74,7 @@ public:
 
 private:
 	TempOutput out_;
-	Mp4Settings settings_;
+	VideoOptions options_;
 	std::unique_ptr<AudioSource> audio_;
 	std::unique_ptr<Mp4Writer> writer_;
 };
@@ -127,19 +128,35 @@ bool isFrameFile(const std::string& name) {
 // All-or-nothing: the frames go to a staged folder that replaces `dir` on commit (base/atomic_file.h).
 class PngFramesSink final : public FrameSink {
 public:
-	explicit PngFramesSink(std::string dir) : dir_(std::move(dir)) { checkReplaceableFolder(dir_, isFrameFile); }
+	PngFramesSink(std::string dir, bool alpha) : dir_(std::move(dir)), alpha_(alpha) { checkReplaceableFolder(dir_, isFrameFile); }
 	void begin(const StreamInfo&) override { staged_ = std::make_unique<StagedFolder>(dir_, isFrameFile); }
 	bool needsRgb() const override { return true; }
+	bool needsAlpha() const override { return alpha_; }
 	bool anyThread() const override { return true; }
 	void frame(const RenderedFrame& f) override {
 		char name[64];  // PNG compression is the slow part: done by the drawing threads
 		std::snprintf(name, sizeof name, "frame_%06lld.png", (long long)f.index);
-		staged_->writeFile(name, [&](const std::string& p) { writeImage(p, *f.rgb, 1); });
+		if (!alpha_) {
+			staged_->writeFile(name, [&](const std::string& p) { writeImage(p, *f.rgb, 1); });
+			return;
+		}
+		thread_local Image8 rgba;  // RGB and the matte interleaved (reused: no allocation per frame)
+		const Image8& rgb = *f.rgb;
+		const std::vector<std::uint8_t>& a = f.yuv->a;
+		if (rgba.width != rgb.width || rgba.height != rgb.height || rgba.channels != 4) rgba = Image8(rgb.width, rgb.height, 4);
+		const std::size_t n = std::size_t(rgb.width) * std::size_t(rgb.height);
+		for (std::size_t i = 0; i < n; ++i) {
+			std::uint8_t* q = &rgba.data[4 * i];
+			const std::uint8_t* p = &rgb.data[3 * i];
+			q[0] = p[0], q[1] = p[1], q[2] = p[2], q[3] = a[i];
+		}
+		staged_->writeFile(name, [&](const std::string& p) { writeImage(p, rgba, 1); });
 	}
 	void commit() override { staged_->commit(); }
 
 private:
 	std::string dir_;
+	bool alpha_;
 	std::unique_ptr<StagedFolder> staged_;
 };
 
@@ -199,13 +216,20 @@ private:
 }  // namespace
 
 std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, const AudioClip* audio) {
-	return std::make_unique<Mp4Sink>(path, settings, audio && audio->frameCount() > 0 ? clipSource(*audio) : nullptr);
+	return makeMp4Sink(path, settings, audio && audio->frameCount() > 0 ? clipSource(*audio) : nullptr);
 }
 std::unique_ptr<FrameSink> makeMp4Sink(const std::string& path, const Mp4Settings& settings, std::unique_ptr<AudioSource> audio) {
-	return std::make_unique<Mp4Sink>(path, settings, std::move(audio));
+	VideoOptions o;
+	o.crf = settings.crf, o.preset = settings.preset;
+	return std::make_unique<VideoSink>(path, o, std::move(audio));
+}
+std::unique_ptr<FrameSink> makeWebmSink(const std::string& path, const WebmSettings& settings, std::unique_ptr<AudioSource> audio) {
+	VideoOptions o;
+	o.container = VideoContainer::WebM, o.crf = settings.crf, o.alpha = settings.alpha;
+	return std::make_unique<VideoSink>(path, o, std::move(audio));
 }
 std::unique_ptr<FrameSink> makeY4mSink(const std::string& path) { return std::make_unique<Y4mSink>(path); }
-std::unique_ptr<FrameSink> makePngFramesSink(const std::string& dir) { return std::make_unique<PngFramesSink>(dir); }
+std::unique_ptr<FrameSink> makePngFramesSink(const std::string& dir, bool alpha) { return std::make_unique<PngFramesSink>(dir, alpha); }
 std::unique_ptr<FrameSink> makeLandmarksSink(const std::string& path) { return std::make_unique<LandmarksSink>(path); }
 std::unique_ptr<FrameSink> makeCallbackSink(std::function<void(const StreamInfo&, const RenderedFrame&)> fn) {
 	return std::make_unique<CallbackSink>(std::move(fn));

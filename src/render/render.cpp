@@ -21,6 +21,7 @@
 #include "base/progress.h"
 #include "base/text.h"
 #include "model/model_file.h"
+#include "render/matte.h"
 #include "render/overlay.h"
 #include "synth/coarticulation.h"
 
@@ -245,6 +246,7 @@ struct FramePainter {
 	const OutputFit& fit;
 	const RenderStats& st;
 	bool rgbFrames;
+	const FaceMatte* matte;  // video with alpha: the face's matte drawn into each frame's yuv.a
 	const std::vector<FrameSink*>& anyThread;
 
 	RenderedFrame frameOf(const Batch& bt, std::size_t k) const {
@@ -277,6 +279,7 @@ struct FramePainter {
 			bt.pts[k].col(0).array() += fit.box.x;
 			bt.pts[k].col(1).array() += fit.box.y;
 		}
+		if (matte) matte->draw(bt.pts[k], st.width, st.height, bt.yuv[k].a);
 		const RenderedFrame f = frameOf(bt, k);
 		for (FrameSink* s : anyThread) s->frame(f);
 	}
@@ -350,14 +353,17 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 	StreamInfo info;
 	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = so.yuvRange;
 	info.pointNames = model.scheme.pointNames;
-	for (FrameSink* s : sinks) s->begin(info);
-	prog.started(info, st.substitutions);
 	bool rgbFrames = false;
 	std::vector<FrameSink*> ordered, anyThread;
 	for (FrameSink* s : sinks) {
 		rgbFrames = rgbFrames || s->needsRgb();
+		info.alpha = info.alpha || s->needsAlpha();
 		(s->anyThread() ? anyThread : ordered).push_back(s);
 	}
+	std::optional<FaceMatte> matte;
+	if (info.alpha) matte.emplace(model.scheme, options.matte);
+	for (FrameSink* s : sinks) s->begin(info);
+	prog.started(info, st.substitutions);
 
 	// Frames are independent. Drawing threads draw batches of frames a few batches ahead while this
 	// thread feeds finished batches to the sinks in order. The drawing threads run at a lower priority
@@ -369,7 +375,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
 	std::vector<Batch> batches = makeBatches(st, rgbFrames, fit.place, batch);
 	std::vector<Synthesizer::Workspace> workspaces(batch);
-	const FramePainter painter{perf, synth, so, options, fit, st, rgbFrames, anyThread};
+	const FramePainter painter{perf, synth, so, options, fit, st, rgbFrames, matte ? &*matte : nullptr, anyThread};
 	BatchQueue queue(batches);
 	std::thread drawer([&] {
 		try {

@@ -8,6 +8,7 @@
 #include "model/face_model.h"
 #include "model/model_file.h"
 #include "render/frame_sink.h"
+#include "render/matte.h"
 #include "perform/performance.h"
 #include "synth/synthesizer.h"
 
@@ -26,6 +27,7 @@ struct RenderOptions {
 	Fit fit = Fit::Crop;   // when synth.width × height has another aspect than the model's frame
 	unsigned threads = 0;  // drawing threads (0 = all cores)
 	bool debugOverlay = false;  // draw the points, keyposes and active controls on every frame (overlay.h)
+	MatteOptions matte;         // the face's matte, when a sink needs alpha (video with alpha)
 };
 
 // Where the model's frame lands in an output of `width` × `height` (crop or pad): drawn at inner size,

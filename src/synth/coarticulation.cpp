@@ -284,15 +284,7 @@ MouthSize mouthSize(const Scheme& scheme, const Points& p) {
 }
 
 bool mouthScheme(const FaceModel& model, Scheme& out) {
-	out = model.scheme;
-	if (out.eyes.size() == 2 && !out.mouth.empty()) return true;
-	try {
-		const Scheme s = loadScheme(model.scheme.name);
-		if (s.pointNames != model.scheme.pointNames) return false;
-		out.eyes = s.eyes, out.mouth = s.mouth;
-	} catch (const Error&) {
-		return false;
-	}
+	out = model.scheme;  // a loaded model's parts come from its shipped scheme (completeSchemeParts)
 	return out.eyes.size() == 2 && !out.mouth.empty();
 }
 

@@ -67,7 +67,7 @@ struct MouthSize {
 	double opening = 0, width = 0;
 };
 MouthSize mouthSize(const Scheme& scheme, const Points& shape);
-// The scheme's eyes and mouth for a model (its own, else the shipped scheme of its name); false if none.
+// The model's scheme when it has two eyes and a mouth line; false if not.
 bool mouthScheme(const FaceModel& model, Scheme& out);
 
 // For every keypose with a mouthOpening and no sample yet, the model's exemplar to show (Keypose::sample):

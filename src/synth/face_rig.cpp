@@ -45,22 +45,6 @@ std::vector<Eigen::RowVector2d> lidLine(const Points& p, const EyeSpec& e, bool 
 
 namespace {
 
-// The scheme's eyes: the model's, else the shipped scheme of the same name and points (models built before
-// schemes had 'eye' lines).
-// (And its brows, the same way.)
-Scheme partsOf(const FaceModel& model) {
-	Scheme parts;
-	parts.eyes = model.scheme.eyes;
-	parts.brows = model.scheme.brows;
-	if (!parts.eyes.empty() || !parts.brows.empty()) return parts;
-	try {
-		const Scheme s = loadScheme(model.scheme.name);
-		if (s.pointNames == model.scheme.pointNames) parts.eyes = s.eyes, parts.brows = s.brows;
-	} catch (const Error&) {
-	}
-	return parts;
-}
-
 // The closed lid of one eye in the mean-shape frame (D42): between the upper lid (raised a little, to
 // cover its lash line) and the lower lid, the skin of a band just above the upper lid, column by column,
 // shaded slightly toward a dark lash line along the lower lid, where a shut eye's lashes meet. Soft edges.
@@ -219,9 +203,8 @@ void FaceRig::placeFace(const FaceModel& model, const SynthOptions& o) {
 		faceSize = std::max(1.0, (hi - lo).maxCoeff());
 		centre = model.meanShape.colwise().mean();
 	}
-	const Scheme parts = partsOf(model);
-	eyes = parts.eyes;
-	brows = parts.brows;
+	eyes = model.scheme.eyes;  // a loaded model's from its shipped scheme (completeSchemeParts)
+	brows = model.scheme.brows;
 	if (eyes.size() >= 2) {
 		auto centre = [&](const EyeSpec& e) { return (model.meanShape.row(e.corner0) + model.meanShape.row(e.corner1)) / 2; };
 		eyeDistance = (centre(eyes[0]) - centre(eyes[1])).norm();
