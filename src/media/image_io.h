@@ -10,7 +10,7 @@ namespace talkhead {
 // depths scaled). Throws Error("PATH: …") naming the file.
 Image8 readImage(const std::string& path);
 
-// Writes an image (format from the extension, e.g. .png) to a temporary name in the same folder and
+// Writes an image (format from the extension, e.g. .png; 3 channels RGB, 4 RGBA with straight alpha) to a temporary name in the same folder and
 // renames it into place, so a failure leaves no partial file.
 // pngCompression: 0 (fastest) … 9 (smallest); −1 = the library's default.
 void writeImage(const std::string& path, const Image8& image, int pngCompression = -1);

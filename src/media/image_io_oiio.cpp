@@ -91,6 +91,9 @@ bool encodeImageImpl(const std::string& formatName, const Image8& image, int png
 	}
 	OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
 	if (pngCompression >= 0) spec.attribute("png:compressionLevel", std::min(9, pngCompression));
+	// A fourth channel is straight (unassociated) alpha, as PNG stores it: written as it is (OpenImageIO
+	// would otherwise take the colour as premultiplied and divide it by the alpha).
+	if (image.channels == 4) spec.attribute("oiio:UnassociatedAlpha", 1);
 	if (!out->open(formatName, spec)) {
 		error = "cannot write image: " + oiioError(out->geterror());
 		return false;

@@ -82,7 +82,10 @@ class FrameStream {
 public:
 	explicit FrameStream(std::vector<std::string> args) : args_(std::move(args)) {
 		worker_ = std::thread([this] {
-			QueueSink sink(*this);
+			// --background transparent: RGBA frames, the face's matte as alpha (as the PNGs of --frames).
+			bool alpha = false;
+			for (std::size_t i = 0; i + 1 < args_.size(); ++i) alpha = alpha || (args_[i] == "--background" && args_[i + 1] == "transparent");
+			QueueSink sink(*this, alpha);
 			cli::setExtraFrameSink(&sink);
 			std::string error;
 			const int status = cli::runCommandLine(args_, error);
@@ -119,7 +122,7 @@ public:
 			queue_.pop_front();
 			changed_.notify_all();
 		}
-		py::array_t<std::uint8_t> image({f.height, f.width, 3});
+		py::array_t<std::uint8_t> image({f.height, f.width, f.channels});
 		std::memcpy(image.mutable_data(), f.rgb.data(), f.rgb.size());
 		return py::make_tuple(f.index, f.seconds, image);
 	}
@@ -137,15 +140,26 @@ private:
 	struct Frame {
 		std::int64_t index = 0;
 		double seconds = 0;
-		int width = 0, height = 0;
-		std::vector<std::uint8_t> rgb;
+		int width = 0, height = 0, channels = 3;
+		std::vector<std::uint8_t> rgb;  // RGB, or RGBA (channels 4)
 	};
 	class QueueSink final : public FrameSink {
 	public:
-		explicit QueueSink(FrameStream& s) : s_(s) {}
+		QueueSink(FrameStream& s, bool alpha) : s_(s), alpha_(alpha) {}
 		bool needsRgb() const override { return true; }
+		bool needsAlpha() const override { return alpha_; }
 		void frame(const RenderedFrame& f) override {
-			Frame x{f.index, toSeconds(f.time), f.rgb->width, f.rgb->height, f.rgb->data};
+			Frame x{f.index, toSeconds(f.time), f.rgb->width, f.rgb->height, 3, {}};
+			if (alpha_ && f.yuv->a.size() == std::size_t(x.width) * std::size_t(x.height)) {
+				x.channels = 4;
+				x.rgb.resize(f.yuv->a.size() * 4);
+				for (std::size_t i = 0; i < f.yuv->a.size(); ++i) {
+					std::memcpy(&x.rgb[4 * i], &f.rgb->data[3 * i], 3);
+					x.rgb[4 * i + 3] = f.yuv->a[i];
+				}
+			} else {
+				x.rgb = f.rgb->data;
+			}
 			std::unique_lock<std::mutex> lock(s_.mutex_);
 			s_.changed_.wait(lock, [&] { return s_.queue_.size() < kAhead || s_.cancelled_; });
 			if (s_.cancelled_) throw Cancelled();
@@ -155,6 +169,7 @@ private:
 
 	private:
 		FrameStream& s_;
+		bool alpha_;
 	};
 	static constexpr std::size_t kAhead = 8;  // frames drawn ahead of the consumer
 	std::vector<std::string> args_;

@@ -66,7 +66,7 @@ void FaceMatte::draw(const Points& points, int width, int height, std::vector<st
 	if (box.area() == 0) return;
 	if (scratch.rows != height || scratch.cols != width) scratch.create(height, width, CV_8UC1);
 	cv::Mat out = scratch(box);
-	cv::GaussianBlur(a(box), out, cv::Size(0, 0), sigma, sigma, cv::BORDER_CONSTANT);
+	cv::GaussianBlur(a(box), out, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);  // a face cut by the frame stays opaque to its edge
 	out.copyTo(a(box));
 }
 

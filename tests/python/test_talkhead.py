@@ -44,6 +44,19 @@ def test_frames_are_the_clis_frames_with_their_times(tmp_path):
         assert np.array_equal(image, read_png(png)), png.name
 
 
+def test_transparent_frames_are_rgba_with_the_clis_matte(tmp_path):
+    subprocess.run([TH, "render", "--transcript", str(TG), "-q", "--size", "320x180", "--head-motion", "off", "--blinks", "off",
+                    "--format", "none", "--background", "transparent", "--frames", str(tmp_path / "png")], check=True)
+    pngs = sorted((tmp_path / "png").glob("frame_*.png"))
+    got = list(talkhead.frames(transcript=TG, background="transparent", **SMALL))
+    assert len(got) == len(pngs) > 10
+    for (seconds, image), png in zip(got[::10], pngs[::10]):
+        assert image.shape == (180, 320, 4)
+        assert np.array_equal(image, read_png(png)), png.name
+    alpha = got[0][1][..., 3]
+    assert alpha[0, 0] == 0 and alpha.max() == 255 and ((alpha > 0) & (alpha < 255)).any()
+
+
 def test_leaving_the_frame_loop_stops_the_render():
     t0 = time.monotonic()
     for n, (seconds, image) in enumerate(talkhead.frames(transcript=TG, **SMALL)):

@@ -106,8 +106,9 @@ def render(output, *, transcript=None, audio=None, text=None, emotion=None, cont
 
 def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, lang=None, **options):
     """The frames a render draws, as ``(seconds, image)`` pairs in order: ``image`` is a numpy array of
-    shape (height, width, 3), uint8 RGB, equal byte for byte to the PNGs of ``render --frames``. Frames are
-    drawn a few ahead on another thread; leaving the loop stops the render."""
+    shape (height, width, 3), uint8 RGB, equal byte for byte to the PNGs of ``render --frames``; with
+    ``background="transparent"``, (height, width, 4) RGBA, the face's matte as alpha. Frames are drawn a few
+    ahead on another thread; leaving the loop stops the render."""
     args = ["render", *_video_args(transcript, audio, text, emotion, controls, model, lang, options), "--format", "none", "-q"]
     stream = FrameStream(args)
     try:
