@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <tuple>
 
 #include "base/data_dirs.h"
@@ -178,8 +179,9 @@ int runServe(const std::vector<std::string>& argv) {
 int runLive(const std::vector<std::string>& argv) {
 	Args args("live", "talkhead live SESSION.jsonl -o OUT.mp4|OUT.y4m [options]",
 	          with(liveOptionSpecs(),
-	               {{"--format", "FORMAT", "mp4 (default) or y4m (raw frames, e.g. to compare with a stream)"},
-	                {"--crf", "N", "H.264 quality of mp4 output, 0–51 (default 20)"},
+	               {{"--format", "FORMAT", "mp4 (default), webm (VP9 + Vorbis; the default for -o F.webm) or y4m (raw frames, e.g. to compare with a stream)"},
+	                {"--background", "KIND", "opaque (default) or transparent (the face on a feathered matte as alpha: --format webm)"},
+	                {"--crf", "N", "quality: H.264 0–51 (default 20), VP9 0–63 (default 32)"},
 	                {"--frames-total", "N", "how many frames (default: the script's end line)"},
 	                {"--quiet", "", "no events on standard output", "-q"},
 	                {"--output", "OUT", "the video to write", "-o"}}),
@@ -192,8 +194,13 @@ int runLive(const std::vector<std::string>& argv) {
 	args.onePositional("give one session script");
 	const std::string script = args.positionals()[0];
 	const std::string out = args.required("--output", "-o OUT is required");
-	const std::string format = args.get("--format", "mp4");
-	if (format != "mp4" && format != "y4m") throw UsageError("live: --format must be mp4 or y4m");
+	const bool webmName = out.size() > 5 && toLower(out.substr(out.size() - 5)) == ".webm";
+	const std::string format = args.get("--format", webmName ? "webm" : "mp4");
+	if (format != "mp4" && format != "webm" && format != "y4m") throw UsageError("live: --format must be mp4, webm or y4m");
+	const std::string background = args.get("--background", "opaque");
+	if (background != "opaque" && background != "transparent") throw UsageError("live: --background takes opaque or transparent");
+	const bool transparent = background == "transparent";
+	if (transparent && format != "webm") throw UsageError("live: --background transparent: " + format + " has no alpha channel; write --format webm (VP9 with alpha)");
 	LiveOptions o = liveOptions(args, "live");
 	const std::string lang = args.get("--lang", "en-US");
 	Language::get(lang);
@@ -208,11 +215,16 @@ int runLive(const std::vector<std::string>& argv) {
 	LiveSession session(model, o);
 	const StreamInfo& info = session.info();
 	Mp4Settings mp4;
-	mp4.crf = int(args.number("--crf", 20, 0, 51));
+	WebmSettings webm;
+	if (format == "webm") webm.crf = int(args.number("--crf", 32, 0, 63)), webm.alpha = transparent;
+	else mp4.crf = int(args.number("--crf", 20, 0, 51));
 	// Through a frame sink, as render writes (a temporary name, renamed when complete: nothing partial). The
 	// session's sound never ends: the video's length of it.
+	auto sound = [&] { return shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total)); };
 	const std::unique_ptr<FrameSink> sink =
-	    format == "mp4" ? makeMp4Sink(out, mp4, shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total))) : makeY4mSink(out);
+	    format == "mp4" ? makeMp4Sink(out, mp4, sound()) : format == "webm" ? makeWebmSink(out, webm, sound()) : makeY4mSink(out);
+	std::optional<FaceMatte> matte;  // --background transparent: the face's matte, as render draws it (D65)
+	if (transparent) matte.emplace(model.scheme);
 	sink->begin(info);
 	const bool quiet = args.has("--quiet");
 	YuvImage frame;
@@ -238,6 +250,7 @@ int runLive(const std::vector<std::string>& argv) {
 		rf.time = info.rate.time(n);
 		rf.yuv = &frame;
 		rf.points = &points;
+		if (matte) matte->draw(points, frame.width, frame.height, frame.a);
 		sink->frame(rf);
 		if (!quiet)
 			for (const LiveEvent& e : events) std::printf("%s\n", liveEventJson(e).c_str());

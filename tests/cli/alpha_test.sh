@@ -51,6 +51,12 @@ cmp "$T/a.webm" "$T/b.webm"
 say -o "$T/o.webm"
 test -z "$(ffprobe -v error -show_entries stream_tags=alpha_mode -of csv=p=0 "$T/o.webm")"
 ffprobe -v error -show_entries stream=codec_name -of csv=p=0 "$T/o.webm" | grep -qx vp9
+# A live session rendered offline (talkhead live) with alpha too.
+printf '%s\n' '{"frame": 0, "request": {"type": "say", "text": "Hello"}}' '{"type": "end", "frame": 30}' >"$T/session.jsonl"
+"$TH" live "$T/session.jsonl" --model "$T/face.thm" --size 320x180 --background transparent -o "$T/live.webm" -q
+grep -qx "vp9,1" <<<"$(ffprobe -v error -show_entries stream=codec_name:stream_tags=alpha_mode -of csv=p=0 "$T/live.webm")"
+ffmpeg -v error -c:v libvpx-vp9 -i "$T/live.webm" -vf "select=eq(n\,10),alphaextract" -frames:v 1 -f rawvideo -pix_fmt gray "$T/live.gray"
+od -An -v -tu1 "$T/live.gray" | tr -s ' ' '\n' | awk 'NF { n[$1 == 0 ? "zero" : $1 == 255 ? "one" : "soft"]++ } END { print "live alpha:", n["zero"], n["soft"], n["one"]; if (n["zero"] < 1000 || n["one"] < 1000 || n["soft"] < 100) exit 1 }'
 # Errors: one line, non-zero, nothing written.
 err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test "$(wc -l <"$T/e")" = 1; cat "$T/e"; }
 err say "Hi" --model "$T/face.thm" --background transparent -o "$T/x.mp4" | grep -q "has no alpha channel"
@@ -60,5 +66,6 @@ err say "Hi" --model "$T/face.thm" --feather 3 -o "$T/x.webm" | grep -q "is for 
 err say "Hi" --model "$T/face.thm" --background green -o "$T/x.webm" | grep -q "takes opaque or transparent"
 err say "Hi" --model "$T/face.thm" --format mp4 -o "$T/x.webm" | grep -q "ambiguous"
 err say "Hi" --model "$T/face.thm" --crf 64 -o "$T/x.webm" | grep -q "crf"
+err live "$T/session.jsonl" --model "$T/face.thm" --background transparent -o "$T/x.mp4" | grep -q "has no alpha channel"
 test ! -e "$T/x.mp4" && test ! -e "$T/x.webm"
 echo "alpha: ok"
