@@ -211,15 +211,16 @@ struct Mp4Encoder {
 		venc->thread_count = o.threads;
 		if (fmt->oformat->flags & AVFMT_GLOBALHEADER) venc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
 		if (webm) {
-			// Constant quality (crf, no bitrate cap), libvpx's good-quality deadline at its faster speeds,
-			// row-based multithreading; BT.601 limited range, as the frames are.
+			// Constant quality (crf, no bitrate cap), libvpx's good-quality deadline at its faster speeds;
+			// threads over tile columns only (deterministic: libvpx's row-based multithreading, row-mt, is
+			// documented as non-deterministic and gave different files under load); BT.601 limited range.
 			venc->bit_rate = 0;
 			venc->colorspace = AVCOL_SPC_SMPTE170M;
 			venc->color_range = AVCOL_RANGE_MPEG;
 			av_opt_set(venc->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
 			av_opt_set(venc->priv_data, "deadline", "good", 0);
 			av_opt_set(venc->priv_data, "cpu-used", "5", 0);
-			av_opt_set(venc->priv_data, "row-mt", "1", 0);
+			av_opt_set(venc->priv_data, "row-mt", "0", 0);
 			if (o.alpha) av_dict_set(&vst->metadata, "alpha_mode", "1", 0);
 		} else {
 			av_opt_set(venc->priv_data, "preset", o.preset.c_str(), 0);

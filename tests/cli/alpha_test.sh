@@ -5,6 +5,7 @@
 set -euo pipefail
 TH=$1
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+trap 'echo "alpha_test.sh: failed at line $LINENO: $BASH_COMMAND" >&2' ERR
 command -v ffmpeg >/dev/null || { echo "ffmpeg (tests only) is missing"; exit 1; }
 "$TH" corpus synth -q -o "$T/c" --size 320x180 --emotions neutral
 "$TH" build -q "$T/c/corpus.csv" -o "$T/face.thm"
