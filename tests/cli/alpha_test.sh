@@ -18,7 +18,7 @@ grep -qx "vp9,1" <<<"$probe"
 grep -qx "vorbis" <<<"$probe"
 n=$(ls "$T/f" | wc -l)
 test "$(ffprobe -v error -count_frames -select_streams v -show_entries stream=nb_read_frames -of csv=p=0 "$T/a.webm")" = "$n"
-ffprobe -v error -show_entries stream=pix_fmt -of csv=p=0 "$T/f/frame_000010.png" | grep -qx rgba
+grep -qx rgba <<<"$(ffprobe -v error -show_entries stream=pix_fmt -of csv=p=0 "$T/f/frame_000010.png")"
 # Frame 10's alpha, decoded from the WebM (libvpx-vp9 reads the alpha plane) and from the PNG, as bytes.
 ffmpeg -v error -c:v libvpx-vp9 -i "$T/a.webm" -vf "select=eq(n\,10),alphaextract" -frames:v 1 -f rawvideo -pix_fmt gray "$T/webm.gray"
 ffmpeg -v error -i "$T/f/frame_000010.png" -vf alphaextract -f rawvideo -pix_fmt gray "$T/png.gray"
@@ -51,7 +51,7 @@ cmp "$T/a.webm" "$T/b.webm"
 # An opaque WebM (no alpha mode) by the extension alone.
 say -o "$T/o.webm"
 test -z "$(ffprobe -v error -show_entries stream_tags=alpha_mode -of csv=p=0 "$T/o.webm")"
-ffprobe -v error -show_entries stream=codec_name -of csv=p=0 "$T/o.webm" | grep -qx vp9
+grep -qx vp9 <<<"$(ffprobe -v error -show_entries stream=codec_name -of csv=p=0 "$T/o.webm")"  # not a pipe: grep -q would end it early (SIGPIPE)
 # A live session rendered offline (talkhead live) with alpha too.
 printf '%s\n' '{"frame": 0, "request": {"type": "say", "text": "Hello"}}' '{"type": "end", "frame": 30}' >"$T/session.jsonl"
 "$TH" live "$T/session.jsonl" --model "$T/face.thm" --size 320x180 --background transparent -o "$T/live.webm" -q

@@ -88,7 +88,7 @@ wait_job() {  # until the job (all its array tasks) has ended; its final states
 	for _ in $(seq 1 300); do
 		states=$(scontrol show job "$id" 2>/dev/null | grep -o 'JobState=[A-Z_]*' | sort -u | tr '\n' ' ')
 		[[ -n "$states" && ! "$states" =~ PENDING|RUNNING|CONFIGURING|COMPLETING ]] && { echo "$states"; return; }
-		scontrol show job "$id" 2>/dev/null | grep -q 'Reason=DependencyNeverSatisfied' && { echo "DEPENDENCY_NEVER_SATISFIED"; return; }
+		grep -q 'Reason=DependencyNeverSatisfied' <<<"$(scontrol show job "$id" 2>/dev/null)" && { echo "DEPENDENCY_NEVER_SATISFIED"; return; }
 		sleep 1
 	done
 	echo "TIMEOUT $states"
