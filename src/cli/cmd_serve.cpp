@@ -194,13 +194,8 @@ int runLive(const std::vector<std::string>& argv) {
 	args.onePositional("give one session script");
 	const std::string script = args.positionals()[0];
 	const std::string out = args.required("--output", "-o OUT is required");
-	const bool webmName = out.size() > 5 && toLower(out.substr(out.size() - 5)) == ".webm";
-	const std::string format = args.get("--format", webmName ? "webm" : "mp4");
-	if (format != "mp4" && format != "webm" && format != "y4m") throw UsageError("live: --format must be mp4, webm or y4m");
-	const std::string background = args.get("--background", "opaque");
-	if (background != "opaque" && background != "transparent") throw UsageError("live: --background takes opaque or transparent");
-	const bool transparent = background == "transparent";
-	if (transparent && format != "webm") throw UsageError("live: --background transparent: " + format + " has no alpha channel; write --format webm (VP9 with alpha)");
+	const std::string format = parseVideoFormat(args, "live", out, false);
+	const bool transparent = parseTransparent(args, "live", format);
 	LiveOptions o = liveOptions(args, "live");
 	const std::string lang = args.get("--lang", "en-US");
 	Language::get(lang);
@@ -216,8 +211,8 @@ int runLive(const std::vector<std::string>& argv) {
 	const StreamInfo& info = session.info();
 	Mp4Settings mp4;
 	WebmSettings webm;
-	if (format == "webm") webm.crf = int(args.number("--crf", 32, 0, 63)), webm.alpha = transparent;
-	else mp4.crf = int(args.number("--crf", 20, 0, 51));
+	(format == "webm" ? webm.crf : mp4.crf) = parseCrf(args, format);
+	webm.alpha = transparent;
 	// Through a frame sink, as render writes (a temporary name, renamed when complete: nothing partial). The
 	// session's sound never ends: the video's length of it.
 	auto sound = [&] { return shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total)); };

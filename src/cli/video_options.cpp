@@ -254,27 +254,42 @@ double parseSpeechBrows(const Args& args, const std::string& command, const std:
 	return amount;
 }
 
+std::string parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone) {
+	const std::string extension = toLower(fs::path(output).extension().string());
+	const std::string format = args.get("--format", extension == ".webm" ? "webm" : extension == ".y4m" ? "y4m" : "mp4");
+	if (format != "mp4" && format != "webm" && format != "y4m" && (format != "none" || !allowNone))
+		throw UsageError(command + ": --format must be mp4, webm" + (allowNone ? ", y4m or none" : " or y4m"));
+	if ((format == "mp4" && extension == ".webm") || (format == "webm" && (extension == ".mp4" || extension == ".m4v" || extension == ".mov")))
+		throw UsageError(command + ": --format " + format + " but -o " + output + " names another container: ambiguous");
+	return format;
+}
+
+bool parseTransparent(const Args& args, const std::string& command, const std::string& format, const std::string& alternatives) {
+	const std::string background = args.get("--background", "opaque");
+	if (background != "opaque" && background != "transparent") throw UsageError(command + ": --background takes opaque or transparent");
+	const bool transparent = background == "transparent";
+	if (transparent && (format == "mp4" || format == "y4m"))
+		throw UsageError(command + ": --background transparent: " + (format == "mp4" ? "MP4 (H.264)" : "y4m") +
+		                 " has no alpha channel; write --format webm (VP9 with alpha)" + alternatives);
+	return transparent;
+}
+
+int parseCrf(const Args& args, const std::string& format) {
+	return format == "webm" ? int(args.number("--crf", 32, 0, 63)) : int(args.number("--crf", 20, 0, 51));
+}
+
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired) {
 	VideoCommand c;
 	c.command = command;
 	// Output first, then how it looks, then how it moves, then how it runs: the same order for every command.
 	if (auto o = args.get("--output")) c.output = *o;
 	else if (outputRequired && args.get("--format", "") != "none") throw UsageError(command + ": -o OUT is required");
-	const std::string extension = toLower(fs::path(c.output).extension().string());
-	c.format = args.get("--format", extension == ".webm" ? "webm" : extension == ".y4m" ? "y4m" : "mp4");
-	if (c.format != "mp4" && c.format != "webm" && c.format != "y4m" && c.format != "none") throw UsageError(command + ": --format must be mp4, webm, y4m or none");
-	if ((c.format == "mp4" && extension == ".webm") || (c.format == "webm" && (extension == ".mp4" || extension == ".m4v" || extension == ".mov")))
-		throw UsageError(command + ": --format " + c.format + " but -o " + c.output + " names another container: ambiguous");
+	c.format = parseVideoFormat(args, command, c.output, true);
 	if (c.format == "none" && args.get("--output")) throw UsageError(command + ": --format none writes no video: drop -o");
 	if (c.output == "-" && c.format != "y4m") throw UsageError(command + ": -o - needs --format y4m");
 	c.framesDir = args.get("--frames");
 	c.landmarksOut = args.get("--landmarks-out");
-	const std::string background = args.get("--background", "opaque");
-	if (background != "opaque" && background != "transparent") throw UsageError(command + ": --background takes opaque or transparent");
-	c.transparent = background == "transparent";
-	if (c.transparent && (c.format == "mp4" || c.format == "y4m"))
-		throw UsageError(command + ": --background transparent: " + (c.format == "mp4" ? "MP4 (H.264)" : "y4m") +
-		                 " has no alpha channel; write --format webm (VP9 with alpha) or --frames DIR (RGBA PNG) with --format none");
+	c.transparent = parseTransparent(args, command, c.format, " or --frames DIR (RGBA PNG) with --format none");
 	if (c.transparent && c.format == "none" && !c.framesDir && !extraFrameSink())
 		throw UsageError(command + ": --background transparent with --format none needs --frames DIR (RGBA PNG)");
 	if (args.has("--feather") && !c.transparent) throw UsageError(command + ": --feather is for --background transparent");
@@ -285,8 +300,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.rate = parseFps(args, command);
 	if (auto s = args.get("--size")) parseSize(command + ": --size", *s, c.render.synth.width, c.render.synth.height);
 	c.render.fit = parseFit(args, command);
-	if (c.format == "webm") c.webm.crf = int(args.number("--crf", 32, 0, 63));
-	else c.mp4.crf = int(args.number("--crf", 20, 0, 51));
+	(c.format == "webm" ? c.webm.crf : c.mp4.crf) = parseCrf(args, c.format);
 	if (args.has("--preset") && c.format != "mp4") throw UsageError(command + ": --preset is x264's (--format mp4)");
 	c.mp4.preset = args.get("--preset", "veryfast");
 	c.noAudio = args.has("--no-audio");

@@ -99,6 +99,14 @@ OptionSpec genericVisemesOption();
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired = true);
 // --fps, --fit, and --emotion LABEL[:INTENSITY] (canonical label; an unknown one is an Error).
 FrameRate parseFps(const Args& args, const std::string& command);
+// --format: mp4, webm, y4m (and none when `allowNone`), by default from -o's extension (.webm, .y4m; else
+// mp4); a --format that contradicts the extension is ambiguous: a UsageError.
+std::string parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone);
+// --background opaque|transparent; transparent in a format without alpha (mp4, y4m) is a UsageError that
+// names WebM and then `alternatives` (the command's other ways to alpha).
+bool parseTransparent(const Args& args, const std::string& command, const std::string& format, const std::string& alternatives = "");
+// --crf for the format: VP9's 0–63 (default 32) for webm, else H.264's 0–51 (default 20).
+int parseCrf(const Args& args, const std::string& format);
 Fit parseFit(const Args& args, const std::string& command);
 std::pair<Emotion, double> parseEmotionOption(const Args& args, const std::string& command);
 // --blinks, --head-motion, --seed (render, say, serve, live).
