@@ -39,8 +39,10 @@ def main():
         log.writerow(["stimulus", "emotion", "frame", "video_time", "onset_clock"])
         clock0 = time.perf_counter()
         for sid, transcript, emotion in STIMULI:
-            start = time.perf_counter()
+            start = None  # the onset: when frame 0 is shown; every later frame at onset + its own time
             for n, (t, image) in enumerate(talkhead.frames(transcript=transcript, emotion=emotion, size="640x360", fps=30)):
+                if start is None:
+                    start = time.perf_counter() - t
                 # Wait for the frame's own time (a real experiment flips on the screen's refresh instead).
                 delay = start + t - time.perf_counter()
                 if delay > 0:
