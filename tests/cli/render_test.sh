@@ -3,6 +3,7 @@
 set -euo pipefail
 TH=$1; DATA=$2; SHARED=$3
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+trap 'echo "render_test.sh: failed at line $LINENO: $BASH_COMMAND" >&2' ERR
 # A small face: the synthetic corpus at 320x180, two emotions, all visemes.
 "$TH" corpus synth -q -o "$T/c" --size 320x180 --emotions neutral,joy
 "$TH" build -q "$T/c/corpus.csv" -o "$T/face.thm"
