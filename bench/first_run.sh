@@ -14,8 +14,19 @@ mirror="${1:-http://deb.debian.org/debian}"
 command -v debootstrap >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends debootstrap >/dev/null
 T=$(mktemp -d /tmp/talkhead-first-run.XXXXXX)
 cleanup() {
-	for m in proc sys dev; do umount "$T/root/$m" 2>/dev/null || true; done
-	rm -rf "$T"
+	# End what still runs in the chroot (the demo goes on after its first video), unmount, and never remove
+	# across a mount: once a busy bind-mounted /dev stayed mounted and `rm -rf` took the host's device nodes.
+	local p
+	for p in /proc/[0-9]*; do
+		case "$(readlink "$p/root" 2>/dev/null)" in "$T/root" | "$T/root/"*) kill -9 "${p#/proc/}" 2>/dev/null || true ;; esac
+	done
+	sleep 1
+	for m in proc sys dev; do umount "$T/root/$m" 2>/dev/null || umount -l "$T/root/$m" 2>/dev/null || true; done
+	if grep -q " $T/" /proc/mounts; then
+		echo "first_run: $T still has mounts; left in place" >&2
+		return
+	fi
+	rm -rf --one-file-system "$T"
 }
 trap cleanup EXIT
 echo "first_run: debootstrap bookworm (not timed)"

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// talkhead serve: HTTP + WebSocket with Boost.Beast (D54), plain or TLS (Boost.Asio SSL, OpenSSL). One io
+// talkhead serve: HTTP + WebSocket with Boost.Beast (D54), plain or TLS (Boost.Asio SSL, OpenSSL), built as
+// the plugin libtalkhead-serve.so (serve_module.h, D68): Beast's templates are the costliest translation unit of
+// the tree, and only `talkhead serve` needs them. One io
 // thread runs the network and nothing else: each session's parsing, synthesis and frames run on its own
 // threads (worker.cpp), and a closed session's threads are joined by a reaper thread. Who may connect:
 // access.h (Host, Origin, token); how many: --max-sessions and the measured load (D58).
 #include "serve/server.h"
+#include "serve/serve_module.h"
 
 #include <boost/asio.hpp>
 #include <boost/asio/ssl.hpp>
@@ -28,8 +31,8 @@
 
 #include "base/error.h"
 #include "base/json.h"
+#include "base/plugin.h"
 #include "base/text.h"
-#include "media/video_writer.h"
 #include "serve/access.h"
 #include "serve/worker.h"
 
@@ -44,6 +47,23 @@ using tcp = net::ip::tcp;
 using Clock = ServeClock;
 using PlainStream = beast::tcp_stream;
 using TlsStream = beast::ssl_stream<beast::tcp_stream>;
+
+// The server behind the Server facade of server.h (same interface), created by the plugin's entry points.
+class NetServer {
+public:
+	NetServer(const ServeHost& host, const FaceModel& model, ServeOptions options);
+	~NetServer();
+	NetServer(const NetServer&) = delete;
+	NetServer& operator=(const NetServer&) = delete;
+	int port() const;
+	void run();
+	void stop();
+	void shutdown();
+	struct Impl;
+
+private:
+	std::unique_ptr<Impl> impl_;
+};
 
 namespace {
 
@@ -64,7 +84,8 @@ public:
 
 }  // namespace
 
-struct Server::Impl {
+struct NetServer::Impl {
+	const ServeHost host;
 	const FaceModel& model;
 	ServeOptions o;
 	AccessPolicy policy;
@@ -72,7 +93,7 @@ struct Server::Impl {
 	// The reaper joins closed sessions' threads (declared before the io context: destroyed after it).
 	std::mutex reapMutex;
 	std::condition_variable reapCv;
-	std::deque<std::unique_ptr<LiveWorker>> toReap;
+	std::deque<std::unique_ptr<SessionWorker>> toReap;
 	bool reapQuit = false;
 	std::thread reaper;
 
@@ -93,13 +114,13 @@ struct Server::Impl {
 	std::optional<net::signal_set> signals;
 	net::steady_timer drainTimer{ioc};
 
-	Impl(const FaceModel& m, ServeOptions opts) : model(m), o(std::move(opts)) {
+	Impl(const ServeHost& h, const FaceModel& m, ServeOptions opts) : host(h), model(m), o(std::move(opts)) {
 		reaper = std::thread([this] {
 			std::unique_lock<std::mutex> lock(reapMutex);
 			for (;;) {
 				reapCv.wait(lock, [&] { return reapQuit || !toReap.empty(); });
 				while (!toReap.empty()) {
-					std::unique_ptr<LiveWorker> w = std::move(toReap.front());
+					std::unique_ptr<SessionWorker> w = std::move(toReap.front());
 					toReap.pop_front();
 					lock.unlock();
 					w.reset();  // joins its threads
@@ -118,7 +139,7 @@ struct Server::Impl {
 		reapCv.notify_all();
 		if (reaper.joinable()) reaper.join();
 	}
-	void retire(std::unique_ptr<LiveWorker> w) {
+	void retire(std::unique_ptr<SessionWorker> w) {
 		if (!w) return;
 		w->cancel();
 		std::unique_lock<std::mutex> lock(reapMutex);
@@ -152,7 +173,7 @@ struct Server::Impl {
 		if (o.maxLoad > 0 && !live.empty()) {
 			double load = 0;
 			bool late = false;
-			for (const auto& [w, s] : live) load += s->load.load(), late |= lateRecently(*s);
+			for (const auto& [w, s] : live) load += s->load.load(), late |= host.lateRecently(*s);
 			const double cores = std::max(1u, std::thread::hardware_concurrency());
 			const double next = load / double(live.size());
 			if (late || load + next > o.maxLoad * cores) {
@@ -179,7 +200,7 @@ constexpr bool kTls = std::is_same_v<Stream, TlsStream>;
 template <class Stream>
 class WsSession : public SessionBase, public std::enable_shared_from_this<WsSession<Stream>> {
 public:
-	WsSession(Stream&& stream, Server::Impl& server) : ws_(std::move(stream)), server_(server), authTimer_(server.ioc) {}
+	WsSession(Stream&& stream, NetServer::Impl& server) : ws_(std::move(stream)), server_(server), authTimer_(server.ioc) {}
 	~WsSession() override {
 		dropWorker();
 		if (counted_) --server_.sessions;
@@ -205,7 +226,7 @@ public:
 
 private:
 	websocket::stream<Stream> ws_;
-	Server::Impl& server_;
+	NetServer::Impl& server_;
 	net::steady_timer authTimer_;
 	beast::flat_buffer buffer_;
 	std::string message_;
@@ -215,7 +236,7 @@ private:
 	bool writing_ = false;
 	std::atomic<std::size_t> queued_{0};
 	std::atomic<bool> gone_{false};
-	std::unique_ptr<LiveWorker> worker_;
+	std::unique_ptr<SessionWorker> worker_;
 	std::shared_ptr<SessionStats> stats_;
 	int id_ = 0;
 
@@ -262,7 +283,7 @@ private:
 		server_.live.emplace_back(this->weak_from_this(), stats_);
 		std::weak_ptr<WsSession> weak = this->shared_from_this();
 		auto executor = ws_.get_executor();
-		worker_ = std::make_unique<LiveWorker>(
+		worker_ = server_.host.makeWorker(
 		    server_.model, server_.o, id_,
 		    [weak, executor](bool binary, std::string data) {
 			    auto self = weak.lock();
@@ -276,11 +297,11 @@ private:
 			    net::post(executor, [self, binary, d = std::move(data)]() mutable { self->push(binary, std::move(d)); });
 			    return true;
 		    },
-		    [weak, executor](LiveWorker::End end) {
+		    [weak, executor](SessionWorker::End end) {
 			    if (auto self = weak.lock())
 				    net::post(executor, [self, end] {
-					    self->closeReason_ = websocket::close_reason(end == LiveWorker::End::Shutdown ? websocket::close_code::going_away
-					                                                 : end == LiveWorker::End::Idle   ? websocket::close_code::normal
+					    self->closeReason_ = websocket::close_reason(end == SessionWorker::End::Shutdown ? websocket::close_code::going_away
+					                                                 : end == SessionWorker::End::Idle   ? websocket::close_code::normal
 					                                                                                  : websocket::close_code::internal_error);
 					    self->closing_ = true;
 					    if (!self->writing_) self->close();
@@ -397,7 +418,7 @@ template <class Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
 public:
 	template <class... Args>
-	HttpSession(Server::Impl& server, Args&&... args) : stream_(std::forward<Args>(args)...), server_(server) {
+	HttpSession(NetServer::Impl& server, Args&&... args) : stream_(std::forward<Args>(args)...), server_(server) {
 		++server_.connections;
 	}
 	~HttpSession() {
@@ -419,7 +440,7 @@ public:
 private:
 	Stream stream_;
 	beast::flat_buffer buffer_;
-	Server::Impl& server_;
+	NetServer::Impl& server_;
 	std::optional<http::request_parser<http::string_body>> parser_;
 	bool upgraded_ = false;
 
@@ -510,7 +531,7 @@ private:
 
 }  // namespace
 
-std::string Server::Impl::metrics() {
+std::string NetServer::Impl::metrics() {
 	std::string m;
 	auto metric = [&](const char* name, const char* type, const char* help, const std::string& lines) {
 		m += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n" + lines;
@@ -559,7 +580,7 @@ std::string Server::Impl::metrics() {
 	return m;
 }
 
-void Server::Impl::accept() {
+void NetServer::Impl::accept() {
 	acceptor.async_accept(net::make_strand(ioc), [this](beast::error_code ec, tcp::socket socket) {
 		if (ec) {
 			if (ec == net::error::operation_aborted || !acceptor.is_open()) return;
@@ -589,7 +610,7 @@ void Server::Impl::accept() {
 	});
 }
 
-void Server::Impl::beginShutdown() {
+void NetServer::Impl::beginShutdown() {
 	if (shuttingDown) return;
 	shuttingDown = true;
 	drainEnd = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.drainSeconds));
@@ -605,7 +626,7 @@ void Server::Impl::beginShutdown() {
 }
 
 // Stops the io context once every session has closed, or a little after the drain's end.
-void Server::Impl::drainCheck() {
+void NetServer::Impl::drainCheck() {
 	bool any = false;
 	for (auto& [w, s] : live) any |= !w.expired();
 	if (!any || Clock::now() > drainEnd + std::chrono::seconds(2)) {
@@ -618,7 +639,7 @@ void Server::Impl::drainCheck() {
 	});
 }
 
-Server::Server(const FaceModel& model, ServeOptions options) : impl_(std::make_unique<Impl>(model, std::move(options))) {
+NetServer::NetServer(const ServeHost& host, const FaceModel& model, ServeOptions options) : impl_(std::make_unique<Impl>(host, model, std::move(options))) {
 	Impl& s = *impl_;
 	if (s.o.maxSessions < 1) throw Error("--max-sessions must be at least 1");
 	if (s.o.tlsCert.empty() != s.o.tlsKey.empty()) throw Error("--tls-cert and --tls-key go together");
@@ -626,12 +647,6 @@ Server::Server(const FaceModel& model, ServeOptions options) : impl_(std::make_u
 	s.policy.allowOrigins = s.o.allowOrigins;
 	s.policy.allowHosts = s.o.allowHosts;
 	s.policy.token = s.o.token;
-	// A session's options (emotion, size, sample rate) and the model checked before anyone connects, and
-	// what a session reads of the model in the page cache.
-	LiveSession(model, s.o.live);
-	// The encoder's plugin loaded now: loaded later, it could meet a process out of file descriptors, and
-	// one of libav's libraries (libgcrypt, through libssh) aborts the process in its initialiser then.
-	loadVideoPlugin();
 	if (s.o.demo) {
 		std::ifstream f(s.o.demoPage, std::ios::binary);
 		if (!f) throw Error(s.o.demoPage, 0, "cannot read the demo page");
@@ -660,11 +675,11 @@ Server::Server(const FaceModel& model, ServeOptions options) : impl_(std::make_u
 	if (ec) throw Error("cannot listen on " + s.o.host + ":" + std::to_string(s.o.port) + ": " + ec.message());
 }
 
-Server::~Server() = default;
+NetServer::~NetServer() = default;
 
-int Server::port() const { return impl_->acceptor.local_endpoint().port(); }
+int NetServer::port() const { return impl_->acceptor.local_endpoint().port(); }
 
-void Server::run() {
+void NetServer::run() {
 	Impl& s = *impl_;
 	if (s.o.handleSignals) {
 		s.signals.emplace(s.ioc, SIGTERM, SIGINT);
@@ -690,7 +705,7 @@ void Server::run() {
 	}
 }
 
-void Server::stop() {
+void NetServer::stop() {
 	net::post(impl_->ioc, [this] {
 		beast::error_code ignored;
 		impl_->acceptor.close(ignored);
@@ -698,8 +713,30 @@ void Server::stop() {
 	});
 }
 
-void Server::shutdown() {
+void NetServer::shutdown() {
 	net::post(impl_->ioc, [this] { impl_->beginShutdown(); });
 }
 
+namespace {
+
+// The plugin's entry points: no exception crosses the boundary (guarded), errors come back as their message.
+void* createServer(const ServeHost& host, const FaceModel& model, const ServeOptions& options, std::string& error) {
+	NetServer* server = nullptr;
+	guarded(error, [&] { server = new NetServer(host, model, options); });
+	return server;
+}
+int serverPort(void* server) { return static_cast<NetServer*>(server)->port(); }
+bool runServer(void* server, std::string& error) {
+	return guarded(error, [&] { static_cast<NetServer*>(server)->run(); });
+}
+void stopServer(void* server) { static_cast<NetServer*>(server)->stop(); }
+void shutdownServer(void* server) { static_cast<NetServer*>(server)->shutdown(); }
+void destroyServer(void* server) { delete static_cast<NetServer*>(server); }
+
+const ServeModule kModule = {kServeModuleAbi, createServer, serverPort, runServer, stopServer, shutdownServer, destroyServer};
+
+}  // namespace
+
 }  // namespace talkhead
+
+extern "C" const void* talkhead_serve_module() { return &talkhead::kModule; }

@@ -94,7 +94,8 @@ struct ServeOptions {
 
 // Listens and serves until stop() or shutdown() is called from any thread (or, with handleSignals, SIGTERM
 // or SIGINT). Parsing, decoding and synthesis never run on the network thread: each session has its own
-// threads (D54, D58).
+// threads (D54, D58). The network side (Boost.Beast, Asio, TLS) is the plugin libtalkhead-serve.so, loaded
+// by the first Server (D68): the constructor throws Error when it cannot be loaded, as for the other plugins.
 class Server {
 public:
 	Server(const FaceModel& model, ServeOptions options);
@@ -105,10 +106,10 @@ public:
 	void run();        // blocks until stopped
 	void stop();       // at once: sessions end without notice
 	void shutdown();   // gracefully: no new sessions; each is told, finishes its speech (drainSeconds), then closes
-	struct Impl;
 
 private:
-	std::unique_ptr<Impl> impl_;
+	const struct ServeModule* module_;
+	void* server_;
 };
 
 }  // namespace talkhead

@@ -44,23 +44,34 @@ struct SessionStats {
 // A late frame within the last few seconds (admission refuses new sessions then).
 bool lateRecently(const SessionStats& s);
 
-class LiveWorker {
+// A session's worker as the network side (server.cpp, the plugin libtalkhead-serve.so, D68) sees it: called
+// through its vtable, so the plugin holds no second copy of the library (one espeak-ng lock, one plugin
+// loader, one language cache) — the workers are made by the serve module (ServeHost, serve_module.h).
+class SessionWorker {
 public:
 	using Send = std::function<bool(bool binary, std::string data)>;  // false: the client is gone or too slow
 	enum class End { Failed, Idle, Shutdown };
 	using Close = std::function<void(End)>;
+	virtual ~SessionWorker() = default;  // stops the threads (synthesis under way is cancelled first)
+	// A request's text, from the network thread: only queued (parsed on the session's intake thread).
+	// `oversize`: larger than the server takes, `text` then holds its beginning (for its id).
+	virtual void request(std::string text, bool oversize) = 0;
+	// The client is gone: synthesis under way stops now (before the destructor runs, elsewhere).
+	virtual void cancel() = 0;
+	// The server is going: no new requests; what is queued to play is played until `deadline`.
+	virtual void shutdown(ServeClock::time_point deadline) = 0;
+};
+
+class LiveWorker final : public SessionWorker {
+public:
 	LiveWorker(const FaceModel& model, const ServeOptions& o, int id, Send send, Close close, std::shared_ptr<SessionStats> stats, ServeCounters& counters);
-	~LiveWorker();  // stops the threads (synthesis under way is cancelled first)
+	~LiveWorker() override;
 	LiveWorker(const LiveWorker&) = delete;
 	LiveWorker& operator=(const LiveWorker&) = delete;
 
-	// A request's text, from the network thread: only queued (parsed on the session's intake thread).
-	// `oversize`: larger than the server takes, `text` then holds its beginning (for its id).
-	void request(std::string text, bool oversize);
-	// The client is gone: synthesis under way stops now (before the destructor runs, elsewhere).
-	void cancel();
-	// The server is going: no new requests; what is queued to play is played until `deadline`.
-	void shutdown(ServeClock::time_point deadline);
+	void request(std::string text, bool oversize) override;
+	void cancel() override;
+	void shutdown(ServeClock::time_point deadline) override;
 
 private:
 	struct Inbound {
