@@ -22,6 +22,7 @@
 #include "render/render.h"
 #include "serve/access.h"
 #include "serve/server.h"
+#include "synth/coarticulation.h"
 
 namespace talkhead::cli {
 
@@ -39,7 +40,9 @@ std::vector<OptionSpec> liveOptionSpecs() {
 	        {"--head-motion", "on|off|X", "small head motion (default on; X scales it, 0–3)"},
 	        {"--speech-brows", "on|off|X", "brow raises with speech (default on)"},
 	        {"--seed", "N", "seed of blinks and head motion (default 1): the same seed and requests give the same frames"},
-	        {"--sample-rate", "HZ", "the stream's sound (default 22050, espeak-ng's own rate)"}};
+	        {"--sample-rate", "HZ", "the stream's sound (default 22050, espeak-ng's own rate)"},
+	        {"--coarticulation", "F.tsv", "the mouth from its phone context (D62, 'talkhead corpus coarticulation'), as render's option"},
+	        {"--pauses", "STYLE", "natural (default), still (the default with --coarticulation) or thesis, as render's option"}};
 }
 
 LiveOptions liveOptions(const Args& args, const std::string& command) {
@@ -51,6 +54,10 @@ LiveOptions liveOptions(const Args& args, const std::string& command) {
 	o.modulation = parseModulation(args, command);
 	o.speechBrows = parseSpeechBrows(args, command, "on");
 	o.sampleRate = int(args.number("--sample-rate", 22050, 8000, 96000));
+	if (auto f = args.get("--coarticulation")) o.coarticulation = std::make_shared<const CoarticulationModel>(loadCoarticulation(*f));
+	const auto pauses = parsePauseStyle(args.get("--pauses", args.has("--coarticulation") ? "still" : "natural"));
+	if (!pauses) throw UsageError(command + ": --pauses takes natural, still or thesis");
+	o.pauses = *pauses;
 	return o;
 }
 

@@ -173,7 +173,12 @@ Performance LiveSession::plan(const Utterance& u) const {
 	spec.rate = o_.rate;
 	spec.pauses = o_.pauses;
 	spec.speechBrows = o_.speechBrows;
+	spec.coarticulation = o_.coarticulation;
 	return planPerformance(spec);
+}
+
+void LiveSession::chooseExemplars(std::vector<Keypose>& keys) const {
+	if (o_.coarticulation) chooseMouthExemplars(model_, emotion_, keys);  // each key by its own emotion
 }
 
 void LiveSession::warm(const Utterance& u, Emotion emotion, double intensity) const {
@@ -183,6 +188,7 @@ void LiveSession::warm(const Utterance& u, Emotion emotion, double intensity) co
 		k.emotion = emotion;
 		k.intensity = intensity;
 	}
+	chooseExemplars(keys);
 	synth_->prepare(keys);  // thread-safe; what is there already is skipped
 }
 
@@ -196,6 +202,7 @@ Ticks LiveSession::enqueue(Utterance u) {
 		if (!k.emotion) k.emotion = emotion_;
 		if (!k.intensity) k.intensity = intensity_;
 	}
+	chooseExemplars(fresh);
 	// What frames already drawn depend on stays: the keys up to the first one after the last drawn frame.
 	const std::size_t c = committed();
 	std::vector<Keypose> kept;
@@ -245,7 +252,10 @@ void LiveSession::setEmotion(Emotion e, double intensity, Ticks ramp) {
 	const std::size_t c = committed();
 	if (c + 1 < keys_.size()) {
 		// Speaking: from the key after the one the face is moving to.
-		for (std::size_t i = c + 1; i < keys_.size(); ++i) keys_[i].emotion = e, keys_[i].intensity = intensity;
+		for (std::size_t i = c + 1; i < keys_.size(); ++i) {
+			keys_[i].emotion = e, keys_[i].intensity = intensity;
+			if (keys_[i].mouthOpening) keys_[i].sample = -1;  // its exemplar is chosen again, among the new emotion's
+		}
 	} else {
 		// Holding, or moving to the last key: the last pose again in the new emotion, `ramp` later.
 		if (c >= keys_.size() && keys_.back().time < t) {
@@ -259,8 +269,10 @@ void LiveSession::setEmotion(Emotion e, double intensity, Ticks ramp) {
 		k.emotion = e;
 		k.intensity = intensity;
 		k.breath = false;
+		if (k.mouthOpening) k.sample = -1;
 		keys_.push_back(k);
 	}
+	chooseExemplars(keys_);
 	emotion_ = e;
 	intensity_ = intensity;
 	LiveEvent ev;

@@ -14,6 +14,7 @@
 #include "perform/utterance.h"
 #include "render/frame_sink.h"
 #include "render/render.h"
+#include "synth/coarticulation.h"
 #include "synth/synthesizer.h"
 
 namespace talkhead {
@@ -34,6 +35,9 @@ struct LiveOptions {
 	int sampleRate = 22050;            // of the session's sound (espeak-ng's own rate: no resampling for say)
 	double speechBrows = 1;            // brow raises with speech (D49), 0 = none
 	PauseStyle pauses = PauseStyle::Natural;
+	// D62: each phone keypose shows the face's exemplar nearest the opening this model predicts from its
+	// context (as render --coarticulation does); none: the thesis's one sample per CDV.
+	std::shared_ptr<const CoarticulationModel> coarticulation;
 };
 
 // What happened at a frame, for the client.
@@ -132,6 +136,7 @@ private:
 	std::size_t committed() const;
 	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
 	Performance plan(const Utterance& u) const;  // its keyposes and speech brows, from 0
+	void chooseExemplars(std::vector<Keypose>& keys) const;  // D62: the face's exemplars of predicted mouths
 	void replan();
 	void addPending(Ticks t, LiveEvent e);
 };

@@ -17,6 +17,10 @@ err render --transcript "$TG" --coarticulation "$T/bad.tsv" -o "$T/x.mp4" | grep
 printf 'talkhead-coarticulation\t1\nlambda\t10\n' >"$T/cut.tsv"
 err render --transcript "$TG" --coarticulation "$T/cut.tsv" -o "$T/x.mp4" | grep -q "cut.tsv: no intercept line"
 test ! -e "$T/x.mp4"
+printf '{"frame": 0, "request": {"type": "say", "text": "Bob met Pam."}}\n{"type": "end", "frame": 60}\n' >"$T/session.jsonl"
+err live "$T/session.jsonl" --coarticulation "$T/bad.tsv" -o "$T/x.y4m" -q | grep -q "bad.tsv:1: not a talkhead coarticulation model"
+err serve --listen 127.0.0.1:0 --coarticulation "$T/none.tsv" | grep -q "none.tsv: cannot open the coarticulation model"
+test ! -e "$T/x.y4m"
 
 G=$SHARED/grid
 if [ ! -d "$G" ]; then echo "skipped: no shared data in $SHARED (grid/)"; exit 77; fi
@@ -65,4 +69,14 @@ for at in bilabials:
     assert g <= lo + 0.1 * (hi - lo) + 1e-9, f"bilabial at {at:.3f} s: gap {g:.4f}, open range {lo:.4f}–{hi:.4f}"
 print(f"{len(bilabials)} bilabials shut; open range {lo:.4f}-{hi:.4f}")
 EOF
+
+# A live session (serve's, replayed offline by `talkhead live`) with the model: the same requests give the
+# same frames, and they differ from the session without it (the mouths are the model's).
+live=(live "$T/session.jsonl" --size 320x180 --blinks off --head-motion off -q)
+"$TH" "${live[@]}" --coarticulation "$T/model.tsv" -o "$T/live-a.y4m" >/dev/null
+"$TH" "${live[@]}" --coarticulation "$T/model.tsv" -o "$T/live-b.y4m" >/dev/null
+"$TH" "${live[@]}" -o "$T/live-thesis.y4m" >/dev/null
+cmp "$T/live-a.y4m" "$T/live-b.y4m"
+! cmp -s "$T/live-a.y4m" "$T/live-thesis.y4m"
+echo "live session with the model: deterministic, and not the thesis's mouths"
 echo "coarticulation: ok"

@@ -11,6 +11,8 @@
 #include "base/progress.h"
 #include "geometry/scheme.h"
 #include "model/face_model.h"
+#include "perform/plan.h"
+#include "render/live.h"
 #include "synth/coarticulation.h"
 #include "synth_corpus.h"
 
@@ -80,6 +82,32 @@ std::pair<double, double> predicted(const CoarticulationModel& m, const std::vec
 	return {0, 0};
 }
 
+// A face whose corpus has a shut /p/, an open /a/, a rounded /u/ and a mid /i/ (neutral only).
+const FaceModel& smallFace() {
+	static const FaceModel model = [] {
+		SynthCorpusOptions o;
+		o.width = 320;
+		o.height = 180;
+		o.emotions = {"neutral"};
+		o.visemes = {"sil", "a", "u", "p1", "i1", "t1"};
+		const auto items = synthCorpusItems(o);
+		FaceRenderer r(o.width, o.height);
+		std::vector<Points> shapes;
+		std::vector<SampleInfo> samples;
+		std::vector<Image8> images;
+		for (const auto& it : items) {
+			SynthFace f = r.render(it.articulation, it.actionUnits, it.pose);
+			shapes.push_back(f.points);
+			images.push_back(f.image);
+			samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
+		}
+		NullProgress quiet;
+		return buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return images[i]; }, BuildOptions{},
+		                      quiet);
+	}();
+	return model;
+}
+
 }  // namespace
 
 TEST(Coarticulation, aRoundedVowelRoundsTheConsonantBeforeItAndAnOpenVowelOpensTheOneAfter) {
@@ -145,26 +173,7 @@ TEST(Coarticulation, savedAndLoadedExactlyAndADamagedOrMissingFileIsOneClearErro
 }
 
 TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePrediction) {
-	// A face whose corpus has a shut /p/, an open /a/, a rounded /u/ and a mid /i/.
-	SynthCorpusOptions o;
-	o.width = 320;
-	o.height = 180;
-	o.emotions = {"neutral"};
-	o.visemes = {"sil", "a", "u", "p1", "i1", "t1"};
-	const auto items = synthCorpusItems(o);
-	FaceRenderer r(o.width, o.height);
-	std::vector<Points> shapes;
-	std::vector<SampleInfo> samples;
-	std::vector<Image8> images;
-	for (const auto& it : items) {
-		SynthFace f = r.render(it.articulation, it.actionUnits, it.pose);
-		shapes.push_back(f.points);
-		images.push_back(f.image);
-		samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
-	}
-	NullProgress quiet;
-	const FaceModel model = buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return images[i]; },
-	                                       BuildOptions{}, quiet);
+	const FaceModel& model = smallFace();
 	Scheme scheme;
 	ASSERT_TRUE(mouthScheme(model, scheme));
 	auto sampleOf = [&](const std::string& cdv) { return model.findSample("neutral", cdv); };
@@ -201,4 +210,66 @@ TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePr
 			EXPECT_EQ(k.sample, sampleOf("a"));
 		}
 	}
+}
+
+// Live sessions (serve, talkhead live) plan with the model too: an utterance's keyposes get the exemplars a
+// render of the same phones gets, bilabials shut, and an emotion change mid-utterance chooses them again.
+TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
+	const FaceModel& model = smallFace();
+	const auto m = std::make_shared<const CoarticulationModel>(trainCoarticulation(clips(), ms(10)));
+	Scheme scheme;
+	ASSERT_TRUE(mouthScheme(model, scheme));
+	const double open = mouthSize(scheme, model.alignedShapes[std::size_t(model.findSample("neutral", "a"))]).opening;
+	LiveOptions o;
+	o.render.synth.width = 160;
+	o.render.synth.height = 90;
+	o.coarticulation = m;
+	o.pauses = PauseStyle::Still;
+	Utterance u;
+	u.id = "u";
+	u.phones = phones({{"p", "p1"}, {"a", "a"}, {"p", "p1"}, {"u", "u"}, {"t", "t1"}, {"i", "i1"}});
+	PerformanceSpec spec;
+	spec.phones = u.phones;
+	spec.rate = o.rate;
+	spec.pauses = o.pauses;
+	spec.coarticulation = m;
+	Performance rendered = planPerformance(spec);
+	chooseMouthExemplars(model, Emotion::of("neutral"), rendered.keys);
+	auto predicted = [](const std::vector<Keypose>& keys) {
+		std::vector<std::pair<std::string, long>> out;
+		for (const Keypose& k : keys)
+			if (k.mouthOpening) out.emplace_back(k.cdv, k.sample);
+		return out;
+	};
+	const auto want = predicted(rendered.keys);
+	ASSERT_EQ(want.size(), 6u);
+
+	LiveSession live(model, o);
+	live.enqueue(u);
+	EXPECT_EQ(predicted(live.keyposes()), want);
+	for (const auto& [cdv, sample] : predicted(live.keyposes())) {
+		ASSERT_GE(sample, 0) << cdv;
+		if (cdv == "p1") EXPECT_LE(mouthSize(scheme, model.alignedShapes[std::size_t(sample)]).opening, 0.1 * open) << "a bilabial shuts";
+	}
+	// An emotion change while it speaks: the keys ahead take the new emotion and an exemplar again (this
+	// face has neutral only: neutral's, the same ones).
+	YuvImage frame;
+	Points points;
+	std::vector<LiveEvent> events;
+	live.drawNext(frame, points, events);
+	live.setEmotion(Emotion::of("joy"), 1, Ticks(0));
+	std::size_t joyful = 0;
+	for (const Keypose& k : live.keyposes())
+		if (k.mouthOpening) {
+			EXPECT_GE(k.sample, 0);
+			joyful += k.emotion == Emotion::of("joy");
+		}
+	EXPECT_GT(joyful, 0u);
+	EXPECT_EQ(predicted(live.keyposes()), want);
+
+	// Without the model: the thesis's keyposes, no predicted mouth.
+	o.coarticulation = nullptr;
+	LiveSession plain(model, o);
+	plain.enqueue(u);
+	EXPECT_TRUE(predicted(plain.keyposes()).empty());
 }
