@@ -66,6 +66,8 @@ std::string tempDir(const std::string& name) {
 
 #include "geometry/scheme.h"
 #include "media/image_io.h"
+#include "base/progress.h"
+#include "synth_corpus.h"
 
 namespace talkhead::test {
 
@@ -85,6 +87,22 @@ const FaceModel& immModel(std::size_t count) {
 		                                                  [&](std::size_t i) { return readImage(c.entries[i].imagePath); }, BuildOptions{}, quiet));
 	}
 	return *slot;
+}
+
+FaceModel synthModel(const SynthCorpusOptions& o) {
+	const auto items = synthCorpusItems(o);
+	FaceRenderer r(o.width, o.height);
+	std::vector<Points> shapes;
+	std::vector<SampleInfo> samples;
+	std::vector<Image8> images;
+	for (const auto& it : items) {
+		SynthFace f = r.render(it.articulation, it.actionUnits, it.pose);
+		shapes.push_back(f.points);
+		images.push_back(f.image);
+		samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
+	}
+	NullProgress quiet;
+	return buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return images[i]; }, BuildOptions{}, quiet);
 }
 
 }  // namespace talkhead::test

@@ -35,7 +35,13 @@ std::string tempDir(const std::string& name);
 	} while (0)
 
 #include "model/face_model.h"
+namespace talkhead {
+struct SynthCorpusOptions;
+}
 namespace talkhead::test {
 // A face model built from the first `count` IMM images with all components (cached per count).
 const FaceModel& immModel(std::size_t count = 20);
+// A face model built in memory from the synthetic corpus of `o` (its size, emotions and visemes), scheme
+// ch-unicamp-56, default build options.
+FaceModel synthModel(const SynthCorpusOptions& o);
 }  // namespace talkhead::test

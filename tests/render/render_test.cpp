@@ -60,19 +60,7 @@ const FaceModel& tinyModel() {
 		o.width = 160, o.height = 90;
 		o.emotions = {"neutral", "joy"};
 		o.visemes = {"sil", "a", "p1", "u"};
-		const auto items = synthCorpusItems(o);
-		FaceRenderer r(o.width, o.height);
-		std::vector<SynthFace> faces;
-		std::vector<Points> shapes;
-		std::vector<SampleInfo> samples;
-		for (const auto& it : items) {
-			faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
-			shapes.push_back(faces.back().points);
-			samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
-		}
-		NullProgress quiet;
-		return buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return faces[i].image; },
-		                      BuildOptions{}, quiet);
+		return test::synthModel(o);
 	}();
 	return model;
 }

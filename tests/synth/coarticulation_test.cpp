@@ -15,6 +15,7 @@
 #include "render/live.h"
 #include "synth/coarticulation.h"
 #include "synth_corpus.h"
+#include "test_support.h"
 
 using namespace talkhead;
 
@@ -90,20 +91,7 @@ const FaceModel& smallFace() {
 		o.height = 180;
 		o.emotions = {"neutral"};
 		o.visemes = {"sil", "a", "u", "p1", "i1", "t1"};
-		const auto items = synthCorpusItems(o);
-		FaceRenderer r(o.width, o.height);
-		std::vector<Points> shapes;
-		std::vector<SampleInfo> samples;
-		std::vector<Image8> images;
-		for (const auto& it : items) {
-			SynthFace f = r.render(it.articulation, it.actionUnits, it.pose);
-			shapes.push_back(f.points);
-			images.push_back(f.image);
-			samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
-		}
-		NullProgress quiet;
-		return buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return images[i]; }, BuildOptions{},
-		                      quiet);
+		return test::synthModel(o);
 	}();
 	return model;
 }
