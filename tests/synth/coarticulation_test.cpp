@@ -237,7 +237,9 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	EXPECT_EQ(predicted(live.keyposes()), want);
 	for (const auto& [cdv, sample] : predicted(live.keyposes())) {
 		ASSERT_GE(sample, 0) << cdv;
-		if (cdv == "p1") EXPECT_LE(mouthSize(scheme, model.alignedShapes[std::size_t(sample)]).opening, 0.1 * open) << "a bilabial shuts";
+		if (cdv == "p1") {
+			EXPECT_LE(mouthSize(scheme, model.alignedShapes[std::size_t(sample)]).opening, 0.1 * open) << "a bilabial shuts";
+		}
 	}
 	// An emotion change while it speaks: the keys ahead take the new emotion and an exemplar again (this
 	// face has neutral only: neutral's, the same ones).
