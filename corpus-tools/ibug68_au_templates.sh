@@ -44,14 +44,34 @@ with open(out, "w", encoding="utf-8") as o:
     o.write("# Action-unit shape templates for scheme ibug-68 (decision D48): per AU and point, the displacement from the\n"
             "# neutral face at full intensity in inter-ocular distances, x toward the image-right eye, y down the face.\n"
             "# Carried over from ch-unicamp-56.tsv by corpus-tools/ibug68_au_templates.sh: each of dlib's 68 points on the\n"
-            "# default corpus's neutral rest image takes the inverse-distance mix of the three nearest ch-unicamp-56 points.\n"
+            "# default corpus's neutral rest image takes the inverse-distance mix of the three nearest ch-unicamp-56 points,\n"
+            "# the brows' points the interpolation along their brow of its three points' templates (D69).\n"
             "au\tpoint\tdx\tdy\n")
+    # The brows by their position along the brow, not by the nearest points: dlib's five points of a brow
+    # take, at their arc-length fraction from the outer end, the linear interpolation of the three
+    # ch-unicamp-56 brow points' templates (outer, middle, inner). The nearest-point mix blended the inner
+    # end with the middle and flattened anger's knitted V (AU4 lowers the inner end most; D69).
+    def arc(points):
+        d = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+        return d / d[-1]
+    brows = {}
+    for side, dl, cl in (("R", ["RB0", "RB1", "RB2", "RB3", "RB4"], ["REB3", "REB2", "REB1"]),
+                         ("L", ["LB4", "LB3", "LB2", "LB1", "LB0"], ["LEB3", "LEB2", "LEB1"])):
+        di, ci = [ib.index(n) for n in dl], [ch.index(n) for n in cl]
+        assert np.linalg.norm(p68[di[-1]] - p56[ci[-1]]) < np.linalg.norm(p68[di[-1]] - p56[ci[0]]), side + " brow: inner ends apart"
+        sd, sc = arc(p68[di]), arc(p56[ci])
+        for k, i in enumerate(di):
+            brows[i] = (ci, sc, sd[k])
     for au in order:
         for i, name in enumerate(ib):
-            d = np.linalg.norm(p56 - p68[i], axis=1)
-            near = np.argsort(d)[:3]
-            w = 1 / (d[near] + 1.0)
-            v = (w[:, None] * templates[au][near]).sum(0) / w.sum() * iod56 / iod68
+            if i in brows:
+                ci, sc, t = brows[i]
+                v = np.array([np.interp(t, sc, templates[au][ci, c]) for c in (0, 1)]) * iod56 / iod68
+            else:
+                d = np.linalg.norm(p56 - p68[i], axis=1)
+                near = np.argsort(d)[:3]
+                w = 1 / (d[near] + 1.0)
+                v = (w[:, None] * templates[au][near]).sum(0) / w.sum() * iod56 / iod68
             v = np.round(v, 4) + 0.0
             o.write(f"{au}\t{name}\t{v[0]:.4f}\t{v[1]:.4f}\n")
 print(f"wrote {out}: {len(order)} action units x 68 points (inter-ocular distance {iod68:.1f} px for dlib, {iod56:.1f} px for ch-unicamp-56)", file=sys.stderr)

@@ -154,5 +154,23 @@ TEST(ActionUnits, theShippedIbug68TemplatesMoveDlibsPointsAsFacsSays) {
 	EXPECT_GT(at("AU4", "RB4")(1), 0.02);    // brows down
 	EXPECT_GT(at("AU4", "RB4")(0), 0.02);    // and together
 	EXPECT_GT(at("AU26", "JAW8")(1), 0.03);  // the chin drops
+	// D69: anger's brows knit into a V — the inner ends lowered most, then the middles, the outer ends
+	// least — and sadness lifts the inner ends most; the two brows mirror each other.
+	auto emotion = [&](const char* e) {
+		Points d = Points::Zero(s.pointCount(), 2);
+		for (const auto& [au, v] : defaultAuProfiles().at(e))
+			if (int a = t->find(au); a >= 0) d += v * t->offsets[std::size_t(a)];
+		return d;
+	};
+	const Points anger = emotion("anger"), distress = emotion("distress");
+	auto y = [&](const Points& d, const char* point) { return d(s.indexOf(point), 1); };
+	EXPECT_GT(y(anger, "RB4"), y(anger, "RB2") + 0.02);
+	EXPECT_GT(y(anger, "RB2"), y(anger, "RB0") + 0.05);
+	EXPECT_GT(y(anger, "LB0"), y(anger, "LB2") + 0.02);
+	EXPECT_LT(y(distress, "RB4"), y(distress, "RB3") - 0.05);
+	for (const auto& [r, l] : {std::pair{"RB0", "LB4"}, {"RB1", "LB3"}, {"RB2", "LB2"}, {"RB3", "LB1"}, {"RB4", "LB0"}}) {
+		EXPECT_NEAR(y(anger, r), y(anger, l), 0.002) << r;
+		EXPECT_NEAR(anger(s.indexOf(r), 0), -anger(s.indexOf(l), 0), 0.002) << r;
+	}
 	EXPECT_FALSE(findAuTemplates(loadScheme("imm-73")).has_value());
 }
