@@ -45,27 +45,41 @@ with open(out, "w", encoding="utf-8") as o:
             "# neutral face at full intensity in inter-ocular distances, x toward the image-right eye, y down the face.\n"
             "# Carried over from ch-unicamp-56.tsv by corpus-tools/ibug68_au_templates.sh: each of dlib's 68 points on the\n"
             "# default corpus's neutral rest image takes the inverse-distance mix of the three nearest ch-unicamp-56 points,\n"
-            "# the brows' points the interpolation along their brow of its three points' templates (D69).\n"
+            "# the points of the brows, lids and lips the interpolation along their contour of its points' templates (D69).\n"
             "au\tpoint\tdx\tdy\n")
-    # The brows by their position along the brow, not by the nearest points: dlib's five points of a brow
-    # take, at their arc-length fraction from the outer end, the linear interpolation of the three
-    # ch-unicamp-56 brow points' templates (outer, middle, inner). The nearest-point mix blended the inner
-    # end with the middle and flattened anger's knitted V (AU4 lowers the inner end most; D69).
+    # Contours by position along them, not by the nearest points: each of dlib's points on a brow, a lid or
+    # a lip takes, at its arc-length fraction along its contour, the linear interpolation of the templates of
+    # the ch-unicamp-56 points of the same contour (both listed from the same end). The nearest-point mix
+    # blended what moves apart: a brow's inner end with its middle (anger's knitted V came out flat), the
+    # upper lid with the lower (AU5 at half strength, AU7 at a third) and, on the closed mouth of the rest
+    # image, the inner upper lip with the inner lower one (AU25 and AU26 did not part the lips) (D69).
+    contours = [
+        (["RB0", "RB1", "RB2", "RB3", "RB4"], ["REB3", "REB2", "REB1"]),
+        (["LB4", "LB3", "LB2", "LB1", "LB0"], ["LEB3", "LEB2", "LEB1"]),
+        (["RE0", "RE1", "RE2", "RE3"], ["REYE1", "REYE2", "REYE3"]),
+        (["RE0", "RE5", "RE4", "RE3"], ["REYE1", "REYE4", "REYE3"]),
+        (["LE3", "LE2", "LE1", "LE0"], ["LEYE1", "LEYE2", "LEYE3"]),
+        (["LE3", "LE4", "LE5", "LE0"], ["LEYE1", "LEYE4", "LEYE3"]),
+        (["OM0", "OM1", "OM2", "OM3", "OM4", "OM5", "OM6"], ["RM2", "RM1", "VMR", "CUM", "VML", "LM1", "LM2"]),
+        (["OM0", "OM11", "OM10", "OM9", "OM8", "OM7", "OM6"], ["RM2", "RM3", "CLM", "LM3", "LM2"]),
+        (["IM0", "IM1", "IM2", "IM3", "IM4"], ["RM2", "RM4", "CIUM", "LM4", "LM2"]),
+        (["IM0", "IM7", "IM6", "IM5", "IM4"], ["RM2", "RM5", "CILM", "LM5", "LM2"]),
+    ]
     def arc(points):
         d = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
         return d / d[-1]
-    brows = {}
-    for side, dl, cl in (("R", ["RB0", "RB1", "RB2", "RB3", "RB4"], ["REB3", "REB2", "REB1"]),
-                         ("L", ["LB4", "LB3", "LB2", "LB1", "LB0"], ["LEB3", "LEB2", "LEB1"])):
+    along = {}
+    for dl, cl in contours:
         di, ci = [ib.index(n) for n in dl], [ch.index(n) for n in cl]
-        assert np.linalg.norm(p68[di[-1]] - p56[ci[-1]]) < np.linalg.norm(p68[di[-1]] - p56[ci[0]]), side + " brow: inner ends apart"
+        for end in (0, -1):  # the two lists start at the same end
+            assert np.linalg.norm(p68[di[end]] - p56[ci[end]]) < np.linalg.norm(p68[di[end]] - p56[ci[-1 - end]]), f"{dl[0]}…: ends apart"
         sd, sc = arc(p68[di]), arc(p56[ci])
         for k, i in enumerate(di):
-            brows[i] = (ci, sc, sd[k])
+            along.setdefault(i, (ci, sc, sd[k]))
     for au in order:
         for i, name in enumerate(ib):
-            if i in brows:
-                ci, sc, t = brows[i]
+            if i in along:
+                ci, sc, t = along[i]
                 v = np.array([np.interp(t, sc, templates[au][ci, c]) for c in (0, 1)]) * iod56 / iod68
             else:
                 d = np.linalg.norm(p56 - p68[i], axis=1)

@@ -172,5 +172,18 @@ TEST(ActionUnits, theShippedIbug68TemplatesMoveDlibsPointsAsFacsSays) {
 		EXPECT_NEAR(y(anger, r), y(anger, l), 0.002) << r;
 		EXPECT_NEAR(anger(s.indexOf(r), 0), -anger(s.indexOf(l), 0), 0.002) << r;
 	}
+	// Lids and lips move apart as their contours do (D69): AU5 lifts the upper lids, not the lower; AU7
+	// brings them together; AU25 and AU26 part the inner lips (the rest image's mouth is closed, so the
+	// inner upper and lower lips start at the same place); AU10 lifts the upper lip off the lower.
+	for (const char* upper : {"RE1", "RE2", "LE1", "LE2"}) {
+		EXPECT_LT(at("AU5", upper)(1), -0.025) << upper;
+		EXPECT_GT(at("AU7", upper)(1), 0.01) << upper;
+	}
+	for (const char* lower : {"RE4", "RE5", "LE4", "LE5"}) {
+		EXPECT_GE(at("AU5", lower)(1), 0) << lower;
+		EXPECT_LT(at("AU7", lower)(1), -0.008) << lower;
+	}
+	for (const char* au : {"AU25", "AU26"}) EXPECT_GT(at(au, "IM6")(1) - at(au, "IM2")(1), 0.05) << au;
+	EXPECT_LT(at("AU10", "IM2")(1) - at("AU10", "IM6")(1), -0.02);
 	EXPECT_FALSE(findAuTemplates(loadScheme("imm-73")).has_value());
 }
