@@ -43,7 +43,8 @@ CoarticulationList readCoarticulationList(const std::string& path, const Languag
 		auto file = [&](std::size_t column) {
 			const fs::path f(row.fields[column]);
 			const fs::path full = f.is_absolute() ? f : dir / f;
-			if (!fs::exists(full)) throw Error(path, row.line, "no such file: " + full.string());
+			std::error_code ec;  // not the throwing overload (a name too long for the system)
+			if (!fs::exists(full, ec)) throw Error(path, row.line, "no such file: " + full.string() + (ec ? " (" + ec.message() + ")" : ""));
 			return full.string();
 		};
 		out.clips.push_back(coarticulationClip(file(cl), file(ct), language));

@@ -391,7 +391,8 @@ VideoTake parseTakeSpec(const std::string& spec) {
 	const auto c = canonicalEmotion(e);
 	if (!c) throw Error(t.video, 0, "--take: unknown emotion '" + e + "'");
 	t.emotion = *c;
-	if (!fs::is_regular_file(t.video)) throw Error(t.video, 0, "--take: no such file");
+	std::error_code ec;  // not the throwing overload: a name too long for the system is no such file too
+	if (!fs::is_regular_file(t.video, ec)) throw Error(t.video, 0, "--take: no such file" + (ec ? " (" + ec.message() + ")" : std::string()));
 	return t;
 }
 
@@ -412,7 +413,8 @@ std::vector<VideoTake> readTakeList(const std::string& path) {
 			if (column < 0 || r.fields[std::size_t(column)].empty() || r.fields[std::size_t(column)] == "-") return "";
 			const fs::path f = fs::path(r.fields[std::size_t(column)]);
 			const std::string p = (f.is_absolute() ? f : folder / f).string();
-			if (!fs::is_regular_file(p)) throw Error(path, r.line, std::string("no such ") + what + " file: " + p);
+			std::error_code ec;  // not the throwing overload (a name too long for the system: fuzz finding)
+			if (!fs::is_regular_file(p, ec)) throw Error(path, r.line, std::string("no such ") + what + " file: " + p + (ec ? " (" + ec.message() + ")" : ""));
 			return p;
 		};
 		t.video = file(long(cv), "video");

@@ -13,6 +13,9 @@ err() { local rc=0; "$TH" "$@" >"$T/o" 2>"$T/e" || rc=$?; test "$rc" != 0; test 
 ffmpeg -v error -f lavfi -i testsrc=size=320x240:rate=25:duration=2 -pix_fmt yuv420p "$T/noface.mp4"
 printf 'video\temotion\nmissing.mp4\tjoy\n' >"$T/missing.tsv"
 err corpus from-video --takes "$T/missing.tsv" -o "$T/x" | grep -q "missing.tsv:2: no such video file: .*missing.mp4"
+# A name longer than the system allows (a fuzz finding: the check threw the library's own exception).
+printf 'video\temotion\n%s.mp4\tjoy\n' "$(printf 'x%.0s' $(seq 300))" >"$T/long.tsv"
+err corpus from-video --takes "$T/long.tsv" -o "$T/x" | grep -q "long.tsv:2: no such video file: .*(File name too long)"
 printf 'video\temotion\nnoface.mp4\tglee\n' >"$T/glee.tsv"
 err corpus from-video --takes "$T/glee.tsv" -o "$T/x" | grep -q "glee.tsv:2: unknown emotion 'glee'"
 printf 'video\n noface.mp4\n' >"$T/nocol.tsv"
