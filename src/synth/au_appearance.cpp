@@ -15,6 +15,7 @@
 #include "base/atomic_file.h"
 #include "base/data_dirs.h"
 #include "base/error.h"
+#include "base/text.h"
 #include "warp/piecewise_affine.h"
 
 namespace talkhead {
@@ -344,8 +345,12 @@ AuAppearance loadAuAppearance(const std::string& path, const std::vector<std::st
 		}
 	a.source = getString("source");
 	const std::size_t P = std::size_t(a.width) * std::size_t(a.height);
+	std::vector<std::string> seen;
 	for (int j = 0; j < n; ++j) {
 		const std::string name = getString("AU name");
+		// Each AU once (fuzz finding: a file naming one twice gave two maps for it).
+		if (std::find(seen.begin(), seen.end(), name) != seen.end()) throw bad("AU '" + safeQuote(name) + "' is given twice");
+		seen.push_back(name);
 		if (only && std::find(only->begin(), only->end(), name) == only->end()) {  // skipped, its size checked
 			need(P * 4);
 			in.seekg(std::streamoff(at));

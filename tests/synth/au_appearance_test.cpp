@@ -128,6 +128,17 @@ TEST(AuAppearance, savedAndLoadedExactlyAndDamageIsOneClearError) {
 		EXPECT_NE(std::string(e.what()).find("corrupt action-unit appearance file: cut short"), std::string::npos) << e.what();
 		EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
 	}
+	// An AU given twice (a fuzz finding: reading that AU alone gave two maps).
+	AuAppearance twice = a;
+	twice.names.push_back(a.names.front());
+	twice.logRatio.push_back(a.logRatio.front());
+	saveAuAppearance(twice, path);
+	try {
+		loadAuAppearance(path);
+		FAIL() << "a file naming an AU twice loaded";
+	} catch (const Error& e) {
+		EXPECT_NE(std::string(e.what()).find("corrupt action-unit appearance file: AU '" + a.names.front() + "' is given twice"), std::string::npos) << e.what();
+	}
 	std::ofstream(path) << "not this";
 	try {
 		loadAuAppearance(path);
