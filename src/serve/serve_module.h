@@ -4,9 +4,8 @@
 // libtalkhead-serve.so (D68): its templates are the costliest translation unit of the tree (~40–110 s of one
 // core), which a first run (scripts/demo) and every command but serve do without. Built from the same tree
 // with the same compiler, so C++ types cross the boundary; errors come back as their message.
-#include <string>
-
 #include <memory>
+#include <string>
 
 #include "model/face_model.h"
 #include "serve/server.h"

@@ -640,9 +640,7 @@ void NetServer::Impl::drainCheck() {
 }
 
 NetServer::NetServer(const ServeHost& host, const FaceModel& model, ServeOptions options) : impl_(std::make_unique<Impl>(host, model, std::move(options))) {
-	Impl& s = *impl_;
-	if (s.o.maxSessions < 1) throw Error("--max-sessions must be at least 1");
-	if (s.o.tlsCert.empty() != s.o.tlsKey.empty()) throw Error("--tls-cert and --tls-key go together");
+	Impl& s = *impl_;  // the options' own checks are the facade's (server_plugin.cpp), before the model's
 	s.policy.listenHost = s.o.host;
 	s.policy.allowOrigins = s.o.allowOrigins;
 	s.policy.allowHosts = s.o.allowHosts;
