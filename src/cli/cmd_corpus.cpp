@@ -167,7 +167,8 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	          "the phone and two phones each side (their CDVs' mouth targets, bilabial, labiodental, pause, duration;\n"
 	          "CDV indicators for the phone and its neighbours). With a speaker column, also reports how well it\n"
 	          "predicts each speaker's openings when learned from the others (leave one speaker out). Render with\n"
-	          "'--coarticulation F.tsv'.");
+	          "'--coarticulation F.tsv'. It also learns the speakers' mean mouth before their first words, which\n"
+	          "pauses 'still' hold there.");
 	if (!args.parse(argv)) return 0;
 	if (!args.positionals().empty()) throw UsageError("corpus coarticulation: unexpected argument '" + args.positionals()[0] + "'");
 	const std::string list = args.required("--clips", "--clips LIST.tsv is required");
@@ -179,6 +180,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	std::vector<Eigen::MatrixXd> xs(clips.clips.size()), ys(clips.clips.size());
 	for (std::size_t i = 0; i < clips.clips.size(); ++i) coarticulationExamples(clips.clips[i], frame, xs[i], ys[i]);
 	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
+	learnLeadingPause(m, clips.clips);
 	m.source = std::to_string(clips.clips.size()) + " clips of " + std::filesystem::path(list).filename().string();
 	// Leave one speaker out: each speaker's keyposes predicted by a model of the others.
 	std::vector<std::string> speakers;
@@ -213,6 +215,11 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	for (std::size_t i = 0; i < xs.size(); ++i)
 		truth.segment(n, ys[i].rows()) = ys[i].col(0), fit.segment(n, ys[i].rows()) = (xs[i] * m.weights).array() + m.intercept, n += ys[i].rows();
 	saveCoarticulation(m, out);
+	if (m.leadOpening) {
+		char b[120];
+		std::snprintf(b, sizeof b, "; lips before the first words %.2f of the opening (%zu clips)", *m.leadOpening, m.leadClips);
+		held += b;
+	}
 	if (!args.has("--quiet"))
 		std::fprintf(stderr, "wrote %s: %zu features from %zu keyposes of %zu clips; fit r %.3f%s\n", out.c_str(), m.features.size(), m.samples,
 		             clips.clips.size(), pearson(truth, fit), held.c_str());

@@ -616,7 +616,13 @@ std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, 
 		};
 		const Ticks a = ph[i].start, b = ph[j].end, len = b - a;
 		const bool leading = i == 0, trailing = j + 1 == ph.size();
-		if (pauses != PauseStyle::Thesis && ph[i].phone == "_" && len > kPauseShort && !(leading && trailing)) {
+		if (pauses == PauseStyle::Still && ph[i].phone == "_" && leading && !trailing) {
+			// D70: before the first words the lips hold one pose (the real speakers', with a model), still.
+			Keypose h = at(a, k.cdv);
+			h.hold = true;
+			add(h, false);
+			if (b - kStillLead - a >= frame) h.time = b - kStillLead, add(h, false);
+		} else if (pauses != PauseStyle::Thesis && ph[i].phone == "_" && len > kPauseShort && !(leading && trailing)) {
 			// D34: rest soon after speech stops, held; before the next speech an in-breath, or rest.
 			if (!leading) add(at(a + kRestAfter, k.cdv), false);
 			if (!trailing) {

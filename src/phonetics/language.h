@@ -100,6 +100,9 @@ struct Keypose {
 	std::string cdv;
 	std::size_t first = 0, last = 0;  // the phone segments it stands for
 	bool breath = false;              // the in-breath before speech (PauseStyle::Natural), not a phone's viseme
+	// The lips held before the first words (PauseStyle::Still, D70): the rest mouth, or with a
+	// coarticulation model the real speakers' opening there (CoarticulationModel::leadOpening).
+	bool hold = false;
 	// Phones around it, as a corpus row writes them (spec §1.2): two before, its own (the run's first),
 	// two after; "_" for a pause or the utterance's edge. A model with several samples of the CDV uses the
 	// one whose context matches best (FaceModel::findSample).
@@ -122,9 +125,10 @@ struct Keypose {
 //  speech stops and holds it; before speech that follows a pause of at least kBreathPause it breathes in
 //  (lips parted, the central-vowel CDV kBreathCdv, kBreathLead before the first phone, after rest until
 //  kBreathLead + kBreathRise); a shorter pause leaves rest kRestBefore before the next phone.
-//  Still (issue 32, D62; the default with a coarticulation model): rest after speech, held; before the
-//  next speech an in-breath that rises over up to 2 × kBreathRise where the pause allows one, else rest
-//  held until kStillLead before the next phone.
+//  Still (issue 32, D62, D70; the default with a coarticulation model): before the first words one mouth
+//  held still (Keypose::hold) from the start until kStillLead before the first phone, whatever the pause's
+//  length; after speech rest, held; before later speech an in-breath that rises over up to 2 × kBreathRise
+//  where the pause allows one, else rest held until kStillLead before the next phone.
 enum class PauseStyle { Natural, Thesis, Still };
 inline constexpr Ticks kRestAfter{kTicksPerSecond * 12 / 100};    // 0.12 s
 inline constexpr Ticks kRestBefore{kTicksPerSecond * 30 / 100};   // 0.30 s

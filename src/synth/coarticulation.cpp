@@ -127,14 +127,23 @@ Eigen::MatrixXd coarticulationFeatures(const std::vector<PhoneSegment>& phones, 
 	return X;
 }
 
-void coarticulationExamples(const CoarticulationClip& c, Ticks frame, Eigen::MatrixXd& X, Eigen::MatrixXd& y) {
+namespace {
+
+// A clip's frames with a face (seconds, opening, width) and its scales: the 90th percentile of its opening
+// and the median width in speech (frames inside a phone).
+struct ClipFrames {
+	std::vector<double> t, v, w;
+	double scale = 0, widthScale = 0;
+};
+
+ClipFrames clipFrames(const CoarticulationClip& c) {
 	if (c.times.size() != c.openings.size() || c.times.size() != c.widths.size())
-		throw std::logic_error("coarticulationExamples: times, openings and widths differ in length");
-	// The clip's scales: the 90th percentile of its opening and the median width in speech (frames inside a phone).
-	std::vector<double> speech, speechWidth, t, v, w;
+		throw std::logic_error("coarticulation: a clip's times, openings and widths differ in length");
+	ClipFrames f;
+	std::vector<double> speech, speechWidth;
 	for (std::size_t i = 0; i < c.times.size(); ++i) {
 		if (!std::isfinite(c.openings[i]) || !std::isfinite(c.widths[i])) continue;
-		t.push_back(c.times[i]), v.push_back(c.openings[i]), w.push_back(c.widths[i]);
+		f.t.push_back(c.times[i]), f.v.push_back(c.openings[i]), f.w.push_back(c.widths[i]);
 		for (const PhoneSegment& p : c.phones)
 			if (!pause(p) && toSeconds(p.start) <= c.times[i] && c.times[i] < toSeconds(p.end)) {
 				speech.push_back(c.openings[i]), speechWidth.push_back(c.widths[i]);
@@ -144,8 +153,17 @@ void coarticulationExamples(const CoarticulationClip& c, Ticks frame, Eigen::Mat
 	if (speech.size() < 5) throw Error(c.name + ": fewer than 5 frames with a face inside its phones: nothing to learn from");
 	std::sort(speech.begin(), speech.end());
 	std::sort(speechWidth.begin(), speechWidth.end());
-	const double scale = speech[std::size_t(0.9 * double(speech.size() - 1))], widthScale = speechWidth[speechWidth.size() / 2];
-	if (!(scale > 0) || !(widthScale > 0)) throw Error(c.name + ": the lips never part in its speech: nothing to learn from");
+	f.scale = speech[std::size_t(0.9 * double(speech.size() - 1))], f.widthScale = speechWidth[speechWidth.size() / 2];
+	if (!(f.scale > 0) || !(f.widthScale > 0)) throw Error(c.name + ": the lips never part in its speech: nothing to learn from");
+	return f;
+}
+
+}  // namespace
+
+void coarticulationExamples(const CoarticulationClip& c, Ticks frame, Eigen::MatrixXd& X, Eigen::MatrixXd& y) {
+	const ClipFrames f = clipFrames(c);
+	const std::vector<double>&t = f.t, &v = f.v, &w = f.w;
+	const double scale = f.scale, widthScale = f.widthScale;
 	const std::vector<Keypose> keys = keyposes(c.phones, frame);
 	std::vector<std::size_t> rows;
 	X = coarticulationFeatures(c.phones, keys, rows);
@@ -191,10 +209,33 @@ CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& xs, co
 	return m;
 }
 
+std::optional<std::pair<double, double>> leadingPauseMouth(const CoarticulationClip& c) {
+	const auto speech = std::find_if(c.phones.begin(), c.phones.end(), [](const PhoneSegment& p) { return !pause(p); });
+	if (speech == c.phones.end()) return std::nullopt;
+	const ClipFrames f = clipFrames(c);
+	const double until = toSeconds(speech->start - kStillLead);
+	double open = 0, width = 0;
+	std::size_t n = 0;
+	for (std::size_t i = 0; i < f.t.size() && f.t[i] < until; ++i) open += f.v[i], width += f.w[i], ++n;
+	if (n == 0) return std::nullopt;
+	return std::pair{open / double(n) / f.scale, width / double(n) / f.widthScale};
+}
+
+void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips) {
+	double open = 0, width = 0;
+	std::size_t n = 0;
+	for (const CoarticulationClip& c : clips)
+		if (const auto lead = leadingPauseMouth(c)) open += lead->first, width += lead->second, ++n;
+	m.leadClips = n;
+	if (n > 0) m.leadOpening = open / double(n), m.leadWidth = width / double(n);
+}
+
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda) {
 	std::vector<Eigen::MatrixXd> xs(clips.size()), ys(clips.size());
 	for (std::size_t i = 0; i < clips.size(); ++i) coarticulationExamples(clips[i], frame, xs[i], ys[i]);
-	return fitCoarticulation(xs, ys, lambda);
+	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
+	learnLeadingPause(m, clips);
+	return m;
 }
 
 void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys) {
@@ -202,6 +243,9 @@ void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneS
 	std::vector<std::size_t> rows;
 	const Eigen::MatrixXd X = coarticulationFeatures(phones, keys, rows);
 	const Eigen::VectorXd y = (X * m.weights).array() + m.intercept, w = (X * m.widthWeights).array() + m.widthIntercept;
+	if (m.leadOpening)
+		for (Keypose& k : keys)
+			if (k.hold) k.mouthOpening = std::max(0.0, *m.leadOpening), k.mouthWidth = std::max(0.1, m.leadWidth.value_or(1.0));
 	for (std::size_t r = 0; r < rows.size(); ++r) {
 		keys[rows[r]].mouthOpening = std::max(0.0, y(Eigen::Index(r)));
 		keys[rows[r]].mouthWidth = std::max(0.1, w(Eigen::Index(r)));
@@ -213,8 +257,11 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 	out << "# talkhead coarticulation model (D62): a keypose's inner-lip opening, in units of the speaker's 90th\n"
 	    << "# percentile in speech, = intercept + Σ weight × feature (talkhead corpus coarticulation).\n";
 	if (!m.source.empty()) out << "# learned from " << m.source << "\n";
-	out << "talkhead-coarticulation\t1\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n# name, weight for the opening, weight for the width\nintercept\t"
-	    << number(m.intercept) << "\t" << number(m.widthIntercept) << "\n";
+	out << "talkhead-coarticulation\t2\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n";
+	if (m.leadOpening)
+		out << "# the lips held before the first words (pauses 'still'): opening, width, clips it is the mean of\nlead\t" << number(*m.leadOpening)
+		    << "\t" << number(m.leadWidth.value_or(1.0)) << "\t" << m.leadClips << "\n";
+	out << "# name, weight for the opening, weight for the width\nintercept\t" << number(m.intercept) << "\t" << number(m.widthIntercept) << "\n";
 	for (std::size_t i = 0; i < m.features.size(); ++i)
 		out << "feature\t" << m.features[i] << "\t" << number(m.weights(Eigen::Index(i))) << "\t" << number(m.widthWeights(Eigen::Index(i))) << "\n";
 	writeFileAtomically(path, out.str());
@@ -228,6 +275,7 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 	std::string line;
 	long ln = 0;
 	bool header = false, intercept = false;
+	std::string version;
 	while (std::getline(in, line)) {
 		++ln;
 		if (line.empty() || line[0] == '#') continue;
@@ -238,9 +286,17 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			return v;
 		};
 		if (!header) {
-			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 1')");
-			if (f[1] != "1") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1)");
-			header = true;
+			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 2')");
+			if (f[1] != "1" && f[1] != "2") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 and 2)");
+			header = true, version = f[1];
+		} else if (f[0] == "lead" && f.size() == 4 && version != "1" && !m.leadOpening) {
+			m.leadOpening = parse(f[1]);
+			m.leadWidth = parse(f[2]);
+			long long n = 0;
+			if (!parseInt(f[3], n) || n < 1) throw Error(path, ln, "lead: not a count of clips: '" + f[3] + "'");
+			m.leadClips = std::size_t(n);
+			if (*m.leadOpening < 0 || *m.leadOpening > 10 || *m.leadWidth <= 0 || *m.leadWidth > 10)
+				throw Error(path, ln, "lead: an opening or width out of range (0 … 10 of the speaker's own)");
 		} else if (f[0] == "lambda" && f.size() == 2) {
 			m.lambda = parse(f[1]);
 		} else if (f[0] == "samples" && f.size() == 2) {
@@ -254,7 +310,7 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			weights.push_back(parse(f[2]));
 			widthWeights.push_back(parse(f[3]));
 		} else {
-			throw Error(path, ln, "unexpected line (expected lambda N, samples N, intercept A B or feature NAME A B)");
+			throw Error(path, ln, "unexpected line (expected lambda N, samples N, lead A B N (once, version 2), intercept A B or feature NAME A B)");
 		}
 	}
 	if (!header) throw Error(path + ": empty: not a talkhead coarticulation model");

@@ -4,6 +4,8 @@
 // and durations by a sliding-window ridge regression (the idea of Taylor et al. 2017, done linearly),
 // learned from real speakers; the face then shows its corpus exemplar nearest that opening.
 #include <Eigen/Core>
+#include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,10 @@ struct CoarticulationModel {
 	// rounding spreads to the phones around a rounded vowel.
 	Eigen::VectorXd widthWeights;
 	double widthIntercept = 0;
+	// The lips held before the first words (PauseStyle::Still, Keypose::hold): the real speakers' mean
+	// opening and width there, in the same units (D70); unset in a version-1 file (the rest mouth then).
+	std::optional<double> leadOpening, leadWidth;
+	std::size_t leadClips = 0;  // clips it is the mean of
 	double lambda = 0;
 	std::size_t samples = 0;  // keyposes it was fitted on
 	std::string source;       // what it was learned from
@@ -52,12 +58,18 @@ struct CoarticulationClip {
 void coarticulationExamples(const CoarticulationClip& clip, Ticks frame, Eigen::MatrixXd& X, Eigen::MatrixXd& y);
 // Ridge least squares (intercept unpenalised) over the examples of several clips.
 CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& X, const std::vector<Eigen::MatrixXd>& y, double lambda);
+// A clip's mean opening and width before its first words, up to kStillLead before them (its units as
+// coarticulationExamples'); nullopt when it has no speech or no frame there.
+std::optional<std::pair<double, double>> leadingPauseMouth(const CoarticulationClip& clip);
+// Sets the model's lead (the mean of its clips' leadingPauseMouth; left unset when none has one).
+void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips);
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda = 10);
 
-// Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones).
+// Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones), and
+// the held keyposes' before the first words (Keypose::hold) from its lead.
 void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys);
 
-// Text file "talkhead-coarticulation 1"; reading checks every line and the features, naming the file.
+// Text file "talkhead-coarticulation 2" (1: without the lead line); reading checks every line and the features, naming the file.
 void saveCoarticulation(const CoarticulationModel& m, const std::string& path);
 CoarticulationModel loadCoarticulation(const std::string& path);
 

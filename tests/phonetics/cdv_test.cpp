@@ -215,13 +215,14 @@ TEST(Keyposes, naturalPausesRestSoonAndBreatheInBeforeSpeech) {
 	EXPECT_NE(tsv.find("1.200000\t2.200000\t_\tsil\t1.320000\n"), std::string::npos) << tsv;
 	EXPECT_EQ(parsePauseStyle("thesis"), PauseStyle::Thesis);
 	EXPECT_EQ(parsePauseStyle("Natural"), std::nullopt);
-	// Still (D62): the breath rises over up to 300 ms (twice Natural's) where the pause allows; a leading
-	// 600-ms pause starts its rise at 0 (the whole 300 ms before the breath); the rest as Natural.
+	// Still (D62, D70): before the first words one held mouth (#) from the start until kStillLead (150 ms)
+	// before the first phone, no in-breath; a later pause's breath rises over up to 300 ms (twice
+	// Natural's) where the pause allows; the rest as Natural.
 	auto still = keyposes(p, frame, PauseStyle::Still);
 	got.clear();
-	for (const auto& x : still) got.push_back({long(x.time / ms(1)), x.cdv + (x.breath ? "*" : "")});
+	for (const auto& x : still) got.push_back({long(x.time / ms(1)), x.cdv + (x.breath ? "*" : "") + (x.hold ? "#" : "")});
 	const std::vector<std::pair<long, std::string>> wantStill = {
-	    {0, "sil"},    {300, "ɐ*"}, {650, "a"},    {850, "sil"},  {1050, "a"},  {1150, "p1"},
+	    {0, "sil#"},   {450, "sil#"}, {650, "a"},    {850, "sil"},  {1050, "a"},  {1150, "p1"},
 	    {1320, "sil"}, {1600, "sil"}, {1900, "ɐ*"}, {2250, "u"},  {2420, "sil"}};
 	EXPECT_EQ(got, wantStill);
 	EXPECT_EQ(parsePauseStyle("still"), PauseStyle::Still);

@@ -96,6 +96,17 @@ const FaceModel& smallFace() {
 	return model;
 }
 
+// Loading the file at path fails with one error naming it and containing expected.
+void expectLoadError(const std::string& path, const std::string& expected) {
+	try {
+		loadCoarticulation(path);
+		ADD_FAILURE() << "loaded a damaged file";
+	} catch (const Error& e) {
+		EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+		EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+	}
+}
+
 }  // namespace
 
 TEST(Coarticulation, aRoundedVowelRoundsTheConsonantBeforeItAndAnOpenVowelOpensTheOneAfter) {
@@ -125,15 +136,7 @@ TEST(Coarticulation, savedAndLoadedExactlyAndADamagedOrMissingFileIsOneClearErro
 	EXPECT_LT((back.weights - m.weights).cwiseAbs().maxCoeff(), 1e-8);
 	EXPECT_LT((back.widthWeights - m.widthWeights).cwiseAbs().maxCoeff(), 1e-8);
 	EXPECT_NEAR(back.intercept, m.intercept, 1e-8);
-	auto error = [&](const std::string& expected) {
-		try {
-			loadCoarticulation(path);
-			ADD_FAILURE() << "loaded a damaged file";
-		} catch (const Error& e) {
-			EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-			EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-		}
-	};
+	auto error = [&](const std::string& expected) { expectLoadError(path, expected); };
 	std::string text;
 	{
 		std::ifstream in(path);
@@ -158,6 +161,87 @@ TEST(Coarticulation, savedAndLoadedExactlyAndADamagedOrMissingFileIsOneClearErro
 	}
 	std::filesystem::remove(path);
 	error("cannot open");
+}
+
+// D70: the lips before the first words are learned as the speakers' mean there (each clip in its own
+// units), held by PauseStyle::Still's hold keyposes, kept by the file (version 2); a version-1 file has
+// none (the rest mouth then), and a damaged lead line is one clear error naming the file.
+TEST(Coarticulation, theLipsBeforeTheFirstWordsAreTheSpeakersMeanHeldAndSaved) {
+	std::vector<CoarticulationClip> cs = clips();
+	for (std::size_t k = 0; k < cs.size(); ++k) {  // half of the clips part their lips 0.3 of their /a/, half 0.7
+		CoarticulationClip& c = cs[k];
+		for (std::size_t f = 0; f < c.times.size(); ++f)
+			if (c.times[f] < 0.25) c.openings[f] = 0.1 * (k % 2 ? 0.7 : 0.3), c.widths[f] = 0.5 * 0.9;
+	}
+	// A clip's own units: its 90th percentile of the opening in speech (here its /a/s, half of it) and its
+	// median width there.
+	const Phone t = {"t", "t1"}, a = {"a", "a"};
+	CoarticulationClip ta = clip({t, a, t, a, t, a}, 3);
+	for (std::size_t f = 0; f < ta.times.size(); ++f)
+		if (ta.times[f] < 0.25) ta.openings[f] = 0.1 * 0.3, ta.widths[f] = 0.5 * 0.9;
+	const auto own = leadingPauseMouth(ta);
+	ASSERT_TRUE(own);
+	EXPECT_NEAR(own->first, 0.3, 1e-9);
+	EXPECT_NEAR(own->second, 0.9, 1e-9);
+	EXPECT_FALSE(leadingPauseMouth(clip({}, 0)));  // no speech: nothing before it
+	// The model's: the mean of its clips'.
+	CoarticulationModel m = trainCoarticulation(cs, ms(40), 1.0);
+	double open = 0, width = 0;
+	for (const CoarticulationClip& c : cs) open += leadingPauseMouth(c)->first / double(cs.size()), width += leadingPauseMouth(c)->second / double(cs.size());
+	ASSERT_TRUE(m.leadOpening && m.leadWidth);
+	EXPECT_NEAR(*m.leadOpening, open, 1e-12);
+	EXPECT_NEAR(*m.leadWidth, width, 1e-12);
+	EXPECT_GT(open, 0.4);
+	EXPECT_LT(open, 0.8);
+	EXPECT_EQ(m.leadClips, cs.size());
+	EXPECT_NEAR(*trainCoarticulation(clips(), ms(40), 1.0).leadOpening, 0.0, 1e-9);  // shut in the plain clips
+
+	const auto ph = phones({t, a, t});
+	auto keys = keyposes(ph, ms(40), PauseStyle::Still);
+	predictMouthOpenings(m, ph, keys);
+	std::vector<long> held;
+	for (const Keypose& k : keys)
+		if (k.hold) {
+			held.push_back(long(k.time / ms(1)));
+			EXPECT_NEAR(k.mouthOpening.value_or(-1), open, 1e-9);
+			EXPECT_NEAR(k.mouthWidth.value_or(-1), width, 1e-9);
+		}
+	EXPECT_EQ(held, (std::vector<long>{0, 250}));  // from the start until kStillLead before the first phone (400 ms)
+
+	const std::string path = (std::filesystem::temp_directory_path() / "talkhead-coarticulation-lead.tsv").string();
+	saveCoarticulation(m, path);
+	const CoarticulationModel back = loadCoarticulation(path);
+	ASSERT_TRUE(back.leadOpening && back.leadWidth);
+	EXPECT_NEAR(*back.leadOpening, open, 1e-8);
+	EXPECT_NEAR(*back.leadWidth, width, 1e-8);
+	EXPECT_EQ(back.leadClips, cs.size());
+	std::string text;
+	{
+		std::ifstream in(path);
+		text.assign(std::istreambuf_iterator<char>(in), {});
+	}
+	const std::size_t lead = text.find("\nlead\t") + 1, end = text.find('\n', lead) + 1;
+	ASSERT_NE(lead, std::string::npos + 1);
+	auto withLead = [&](const std::string& version, const std::string& line) {
+		std::string v = text;
+		v.replace(lead, end - lead, line);
+		v.replace(v.find("talkhead-coarticulation\t2"), 25, "talkhead-coarticulation\t" + version);
+		std::ofstream(path) << v;
+	};
+	withLead("1", "");  // a version-1 file: no lead, the rest mouth
+	EXPECT_FALSE(loadCoarticulation(path).leadOpening);
+	auto error = [&](const std::string& expected) { expectLoadError(path, expected); };
+	withLead("1", text.substr(lead, end - lead));
+	error("unexpected line");  // version 1 has no lead
+	withLead("2", text.substr(lead, end - lead) + text.substr(lead, end - lead));
+	error("unexpected line");  // twice
+	withLead("2", "lead\t-0.5\t0.9\t24\n");
+	error("lead: an opening or width out of range");
+	withLead("2", "lead\t0.5\t0.9\t0\n");
+	error("lead: not a count of clips");
+	withLead("2", "lead\t0.5\tnan\t3\n");
+	error("");
+	std::filesystem::remove(path);
 }
 
 TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePrediction) {
@@ -229,8 +313,12 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 			if (k.mouthOpening) out.emplace_back(k.cdv, k.sample);
 		return out;
 	};
-	const auto want = predicted(rendered.keys);
-	ASSERT_EQ(want.size(), 6u);
+	const auto rendered8 = predicted(rendered.keys);
+	ASSERT_EQ(rendered8.size(), 8u);  // the six phones and, before them, the lips held still (D70): two keyposes
+	EXPECT_TRUE(rendered.keys[0].hold && rendered.keys[1].hold);
+	// A live session holds the pose it shows until the utterance starts (its own keypose there, not the
+	// utterance's first), then goes to the held lips as the render does.
+	const std::vector<std::pair<std::string, long>> want(rendered8.begin() + 1, rendered8.end());
 
 	LiveSession live(model, o);
 	live.enqueue(u);
