@@ -22,6 +22,8 @@
 
 namespace talkhead {
 
+bool bilabial(const std::string& cdv) { return cdv == "p1" || cdv == "p2"; }
+
 namespace {
 
 std::string number(double v) {
@@ -51,7 +53,6 @@ const CdvTargets& cdvTargets() {
 	return t;
 }
 
-bool bilabial(const std::string& cdv) { return cdv == "p1" || cdv == "p2"; }
 bool labiodental(const std::string& cdv) { return cdv == "f1" || cdv == "f2"; }
 bool pause(const PhoneSegment& p) { return p.cdv == "sil" || p.phone == "_"; }
 
@@ -344,47 +345,71 @@ bool mouthScheme(const FaceModel& model, Scheme& out) {
 	return out.eyes.size() == 2 && !out.mouth.empty();
 }
 
+std::vector<MouthSize> sampleMouths(const FaceModel& model, const Scheme& scheme) {
+	std::vector<MouthSize> size(model.sampleCount());
+	for (std::size_t s = 0; s < model.sampleCount(); ++s) size[s] = mouthSize(scheme, model.alignedShapes[s]);
+	return size;
+}
+
+MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, const std::string& emotion) {
+	MouthPool p;
+	std::vector<double> open, width;
+	for (std::size_t s = 0; s < model.sampleCount(); ++s)
+		if (model.samples[s].emotion == emotion) {
+			p.samples.push_back(s);
+			if (model.samples[s].cdv != "sil") open.push_back(size[s].opening), width.push_back(size[s].width);
+		}
+	if (!open.empty()) {
+		std::sort(open.begin(), open.end());
+		p.scale = open[std::size_t(0.9 * double(open.size() - 1))];
+		p.closedLimit = open.front() + 0.1 * (open.back() - open.front());  // issue 32: ≤ 10 % of the open range
+		double mw = 0, sw = 0;
+		for (double w : width) mw += w;
+		mw /= double(width.size());
+		for (double w : width) sw += (w - mw) * (w - mw);
+		p.widthSpread = std::sqrt(sw / double(width.size())) + 1e-6;
+		std::sort(width.begin(), width.end());
+		p.width = width[width.size() / 2];
+	}
+	return p;
+}
+
+namespace {
+double mouthCost(const MouthPool& pool, const MouthSize& m, double opening, double width) {
+	const double dOpen = (m.opening - opening) / pool.scale, dWidth = (m.width - width) / pool.widthSpread;
+	return dOpen * dOpen + kWidthWeight * dWidth * dWidth;
+}
+}  // namespace
+
+long nearestMouth(const FaceModel& model, const MouthPool& pool, const std::vector<MouthSize>& size, double opening, double width, long prefer) {
+	long best = -1;
+	double least = std::numeric_limits<double>::max();
+	if (prefer >= 0) best = prefer, least = mouthCost(pool, size[std::size_t(prefer)], opening, width);
+	for (std::size_t s : pool.samples) {
+		if (model.samples[s].cdv == "sil") continue;
+		const double cost = mouthCost(pool, size[s], opening, width);
+		if (cost < least) least = cost, best = long(s);
+	}
+	return best;
+}
+
 std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion, std::vector<Keypose>& keys) {
 	Scheme scheme;
 	if (!mouthScheme(model, scheme)) return 0;
-	std::vector<MouthSize> size(model.sampleCount());
-	for (std::size_t s = 0; s < model.sampleCount(); ++s) size[s] = mouthSize(scheme, model.alignedShapes[s]);
+	const std::vector<MouthSize> size = sampleMouths(model, scheme);
 	// Per emotion: its samples and this face's scale (the 90th percentile of their openings, pauses left out).
-	struct Pool {
-		std::vector<std::size_t> samples;
-		double scale = 0, width = 0, widthSpread = 0, closedLimit = 0;
-	};
-	std::map<std::string, Pool> pools;
-	auto poolOf = [&](const std::string& e) -> const Pool& {
+	std::map<std::string, MouthPool> pools;
+	auto poolOf = [&](const std::string& e) -> const MouthPool& {
 		auto it = pools.find(e);
 		if (it != pools.end()) return it->second;
-		Pool p;
-		std::vector<double> open, width;
-		for (std::size_t s = 0; s < model.sampleCount(); ++s)
-			if (model.samples[s].emotion == e) {
-				p.samples.push_back(s);
-				if (model.samples[s].cdv != "sil") open.push_back(size[s].opening), width.push_back(size[s].width);
-			}
-		if (!open.empty()) {
-			std::sort(open.begin(), open.end());
-			p.scale = open[std::size_t(0.9 * double(open.size() - 1))];
-			p.closedLimit = open.front() + 0.1 * (open.back() - open.front());  // issue 32: ≤ 10 % of the open range
-			double mw = 0, sw = 0;
-			for (double w : width) mw += w;
-			mw /= double(width.size());
-			for (double w : width) sw += (w - mw) * (w - mw);
-			p.widthSpread = std::sqrt(sw / double(width.size())) + 1e-6;
-			std::sort(width.begin(), width.end());
-			p.width = width[width.size() / 2];
-		}
-		return pools.emplace(e, std::move(p)).first->second;
+		return pools.emplace(e, mouthPool(model, size, e)).first->second;
 	};
 	std::size_t chosen = 0;
 	for (Keypose& k : keys) {
 		if (!k.mouthOpening || k.sample >= 0) continue;
 		std::string e = k.emotion.value_or(emotion).label();
 		if (poolOf(e).samples.empty() || !(poolOf(e).scale > 0)) e = "neutral";
-		const Pool& pool = poolOf(e);
+		const MouthPool& pool = poolOf(e);
 		if (pool.samples.empty() || !(pool.scale > 0)) continue;
 		long own = model.findSample(e, k.cdv, &k.context);
 		if (own < 0) continue;  // the CDV's fallbacks stay the synthesizer's
@@ -400,13 +425,8 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 			}
 		} else {
 			const double target = *k.mouthOpening * pool.scale, width = k.mouthWidth ? *k.mouthWidth * pool.width : o.width;
-			double least = std::numeric_limits<double>::max();
-			for (std::size_t s : pool.samples) {
-				if (model.samples[s].cdv == "sil") continue;
-				const double dOpen = (size[s].opening - target) / pool.scale, dWidth = (size[s].width - width) / pool.widthSpread;
-				const double cost = dOpen * dOpen + kWidthWeight * dWidth * dWidth;
-				if (cost < least) least = cost, best = long(s);
-			}
+			const long nearest = nearestMouth(model, pool, size, target, width);
+			if (nearest >= 0) best = nearest;
 		}
 		k.sample = best;
 		++chosen;

@@ -82,6 +82,22 @@ MouthSize mouthSize(const Scheme& scheme, const Points& shape);
 // The model's scheme when it has two eyes and a mouth line; false if not.
 bool mouthScheme(const FaceModel& model, Scheme& out);
 
+// The mouths of a model's samples (mouthSize of each aligned shape).
+std::vector<MouthSize> sampleMouths(const FaceModel& model, const Scheme& scheme);
+// One emotion's samples and this face's measures of them (silences left out): the 90th percentile of the
+// openings (the scale), the median width and the spread of widths, and the limit of a shut mouth (10 % of
+// the open range above the most closed).
+struct MouthPool {
+	std::vector<std::size_t> samples;
+	double scale = 0, width = 0, widthSpread = 0, closedLimit = 0;
+};
+MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, const std::string& emotion);
+// The pool's sample (silences left out) whose mouth is nearest (opening, width), eye distances:
+// (Δopening / scale)² + 0.15 (Δwidth / spread)² (D62); `prefer` (≥ 0) is kept unless another is strictly
+// nearer. −1 when the pool has none.
+long nearestMouth(const FaceModel& model, const MouthPool& pool, const std::vector<MouthSize>& size, double opening, double width, long prefer = -1);
+bool bilabial(const std::string& cdv);  // p1, p2: the CDVs whose lips shut
+
 // For every keypose with a mouthOpening and no sample yet, the model's exemplar to show (Keypose::sample):
 // among the samples of its emotion (else neutral's), the one whose opening and width are nearest the
 // targets (scaled to this face's own 90th percentile of opening and median width); a bilabial closes

@@ -7,12 +7,23 @@
 
 #include "base/parallel.h"
 #include "phonetics/labels.h"
+#include "synth/coarticulation.h"
 #include "synth/face_rig.h"
 #include "warp/piecewise_affine.h"
 
 namespace talkhead {
 
 KeyposeCache::KeyposeCache(const FaceModel& model, const SynthOptions& options, const FaceRig& rig) : model_(model), o_(options), rig_(rig) {}
+KeyposeCache::~KeyposeCache() = default;
+
+// D71: the neutral samples' mouths, for the skin of keyposes made from action units.
+struct KeyposeCache::NeutralMouths {
+	Scheme scheme;
+	std::vector<MouthSize> size;
+	MouthPool pool;
+	std::vector<bool> regions;  // the model's regions that show the mouth and not the eyes: those that take its skin
+	bool usable = false;
+};
 
 namespace {
 // The homorganic group (first phone) of a CDV, from phonetics/visemes.tsv.
@@ -215,16 +226,23 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
 	std::vector<const std::uint8_t*> cached8, baseCached8;
 	std::vector<Eigen::VectorXf> synth, baseSynth;
-	const auto& [sample, base, intensity, auEmotion] = key;
+	const auto& [sample, base, intensity, auEmotion, look, lipsShut] = key;
 	load(sample, bytes, cached8, synth);
+	if (look >= 0) {  // D71: the mouth's skin from the neutral sample whose mouth is nearest the shape's
+		std::vector<std::vector<std::uint8_t>> lookBytes;
+		std::vector<const std::uint8_t*> lookCached8;
+		std::vector<Eigen::VectorXf> lookSynth;
+		load(look, lookBytes, lookCached8, lookSynth);
+		for (std::size_t r = 0; r < nr; ++r)
+			if (mouths_->regions[r]) bytes[r] = std::move(lookBytes[r]), cached8[r] = bytes[r].empty() ? nullptr : bytes[r].data(), synth[r] = std::move(lookSynth[r]);
+	}
 	if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
-		Points shape = model_.alignedShapes[std::size_t(sample)];
-		const AuProfile& profile = defaultAuProfiles().at(auEmotion);
-		applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, profile, intensity), rig_.auFrame);
+		const Points shape = actionUnitShape(sample, auEmotion, intensity, lipsShut);
 		static const std::vector<float> none;
 		const auto gain = auGains_.find({auEmotion, intensity});  // made by prepare() before the workers start
 		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth, gain == auGains_.end() ? none : gain->second));
 		made->usedEmotion = auEmotion + " (action units)";
+		made->mouthSample = look;
 		return made;
 	}
 	if (base < 0) {
@@ -249,6 +267,64 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	const Points& b = model_.alignedShapes[std::size_t(base)];
 	const std::vector<const std::uint8_t*> none(nr, nullptr);
 	return std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
+}
+
+Points KeyposeCache::actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut) const {
+	Points shape = model_.alignedShapes[std::size_t(sample)];
+	AuProfile profile = defaultAuProfiles().at(emotion);
+	if (lipsShut)  // a bilabial's closure overrides the units that part the lips (corpus-tools/data/expression-aus.tsv)
+		profile.erase(std::remove_if(profile.begin(), profile.end(),
+		                             [](const auto& u) { return u.first == "AU10" || u.first == "AU16" || u.first == "AU25" || u.first == "AU26"; }),
+		              profile.end());
+	applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, profile, intensity), rig_.auFrame);
+	return shape;
+}
+
+std::vector<bool> KeyposeCache::mouthRegions() const {
+	// A region shows the mouth alone when none of its pixels lies in an eye's box (corners and lids on the
+	// mean shape, a tenth of the eye distance around): another sample's eyes (a half-shut lid) never come in.
+	std::vector<bool> out(model_.regions.size(), false);
+	if (rig_.eyes.size() != 2) return out;
+	const Points& m = model_.meanShape;
+	const double margin = 0.1 * rig_.eyeDistance;
+	struct Box {
+		double x0, y0, x1, y1;
+	};
+	std::vector<Box> boxes;
+	for (const EyeSpec& e : rig_.eyes) {
+		Box b{1e300, 1e300, -1e300, -1e300};
+		std::vector<int> pts = e.upper;
+		pts.insert(pts.end(), e.lower.begin(), e.lower.end());
+		pts.push_back(e.corner0), pts.push_back(e.corner1);
+		for (int i : pts)
+			if (i >= 0) b = {std::min(b.x0, m(i, 0)), std::min(b.y0, m(i, 1)), std::max(b.x1, m(i, 0)), std::max(b.y1, m(i, 1))};
+		boxes.push_back({b.x0 - margin, b.y0 - margin, b.x1 + margin, b.y1 + margin});
+	}
+	Scheme scheme;
+	if (!mouthScheme(model_, scheme)) return out;
+	const double mouthY = m(scheme.mouth.corner0, 1);
+	for (std::size_t r = 0; r < model_.regions.size(); ++r) {
+		const RegionModel& reg = model_.regions[r];
+		bool eye = false, mouth = false;
+		for (std::int32_t idx : reg.pixels) {
+			const double x = idx % model_.width, y = idx / model_.width;
+			for (const Box& b : boxes) eye = eye || (x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1);
+			mouth = mouth || std::abs(y - mouthY) < 0.05 * rig_.eyeDistance;
+		}
+		out[r] = mouth && !eye;
+	}
+	return out;
+}
+
+long KeyposeCache::mouthLook(long sample, const Points& shape) const {
+	if (!mouths_ || !mouths_->usable) return -1;
+	const MouthSize want = mouthSize(mouths_->scheme, shape);
+	// A warp can close and narrow a mouth, not open it: the teeth and the mouth's inside that the units
+	// uncover come only from a sample that shows them. A mouth opened by less than a tenth of this face's
+	// open range keeps its own skin.
+	if (want.opening <= mouths_->size[std::size_t(sample)].opening + 0.1 * mouths_->pool.scale) return -1;
+	const long best = nearestMouth(model_, mouths_->pool, mouths_->size, want.opening, want.width, sample);
+	return best == sample ? -1 : best;
 }
 
 void KeyposeCache::prepareAuAppearance(const std::vector<std::string>& emotions) {
@@ -291,11 +367,28 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 				continue;
 			const Pair pair = resolvePair(k);
 			const bool au = fromActionUnits(k);
-			const ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
+			ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
+			if (au) {
+				if (!mouths_) {
+					mouths_ = std::make_unique<NeutralMouths>();
+					if (mouthScheme(model_, mouths_->scheme)) {
+						mouths_->size = sampleMouths(model_, mouths_->scheme);
+						mouths_->pool = mouthPool(model_, mouths_->size, "neutral");
+						mouths_->regions = mouthRegions();
+						mouths_->usable = mouths_->pool.scale > 0 && std::find(mouths_->regions.begin(), mouths_->regions.end(), true) != mouths_->regions.end();
+					}
+				}
+				key.lipsShut = bilabial(k.cdv);
+				// Lips parted (AU25) or the jaw dropped (AU26) open the mouth as speech does, so a speech sample
+				// shows it; AU10's bared upper teeth behind lips still together are not a speech mouth.
+				const AuProfile& profile = defaultAuProfiles().at(key.auEmotion);
+				const bool parts = std::any_of(profile.begin(), profile.end(), [](const auto& u) { return (u.first == "AU25" || u.first == "AU26") && u.second > 0; });
+				if (!key.lipsShut && parts) key.look = mouthLook(key.sample, actionUnitShape(key.sample, key.auEmotion, key.intensity, false));
+			}
 			fresh.push_back({&k, key});
 			if (images_.count(key) || std::find(pairs.begin(), pairs.end(), key) != pairs.end()) continue;
 			pairs.push_back(key);
-			for (long sample : {pair.first, pair.second})
+			for (long sample : {pair.first, pair.second, key.look})
 				if (sample >= 0 && std::find(samples.begin(), samples.end(), sample) == samples.end()) samples.push_back(sample);
 		}
 	}
@@ -313,14 +406,13 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 	std::vector<std::unique_ptr<KeyposeImage>> made(pairs.size());
 	std::vector<std::string> auEmotions;
 	for (const ImageKey& k : pairs)
-		if (!std::get<3>(k).empty() && std::find(auEmotions.begin(), auEmotions.end(), std::get<3>(k)) == auEmotions.end()) auEmotions.push_back(std::get<3>(k));
+		if (!k.auEmotion.empty() && std::find(auEmotions.begin(), auEmotions.end(), k.auEmotion) == auEmotions.end()) auEmotions.push_back(k.auEmotion);
 	if (!auEmotions.empty()) prepareAuAppearance(auEmotions);
 	for (const ImageKey& k : pairs) {
-		const auto& [sample, base, intensity, auEmotion] = k;
-		if (auEmotion.empty() || !auAppearance_ || auGains_.count({auEmotion, intensity})) continue;
-		AuProfile scaled = defaultAuProfiles().at(auEmotion);
-		for (auto& [au, w] : scaled) w *= intensity;
-		auGains_[{auEmotion, intensity}] = appearanceGain(*auAppearance_, scaled);
+		if (k.auEmotion.empty() || !auAppearance_ || auGains_.count({k.auEmotion, k.intensity})) continue;
+		AuProfile scaled = defaultAuProfiles().at(k.auEmotion);
+		for (auto& [au, w] : scaled) w *= k.intensity;
+		auGains_[{k.auEmotion, k.intensity}] = appearanceGain(*auAppearance_, scaled);
 	}
 	parallelFor(pairs.size(), 0, [&](std::size_t j) { made[j] = makeImage(pairs[j], synthesized, samples); });
 	std::lock_guard<std::mutex> lock(mutex_);

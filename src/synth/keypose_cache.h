@@ -25,6 +25,7 @@ struct FaceRig;
 class KeyposeCache {
 public:
 	KeyposeCache(const FaceModel& model, const SynthOptions& options, const FaceRig& rig);
+	~KeyposeCache();
 	// The keypose of a CDV in the options' emotion (see Synthesizer::keypose).
 	const KeyposeImage& keypose(const std::string& cdv);
 	// Computes every keypose of a timeline that is not there yet.
@@ -40,9 +41,21 @@ private:
 	const FaceRig& rig_;
 	mutable std::mutex mutex_;
 	// Keypose images by (sample, neutral sample or −1, intensity), and which one each (CDV, emotion,
-	// intensity; phone context) uses. A non-empty 4th element: the sample is neutral and its shape takes
-	// that emotion's action units (D48).
-	using ImageKey = std::tuple<long, long, double, std::string>;
+	// intensity; phone context) uses. A non-empty auEmotion: the sample is neutral and its shape takes
+	// that emotion's action units (D48); its skin then comes from `look`, the neutral sample whose mouth is
+	// nearest that shape's (D71; −1: the sample's own), and a bilabial's lips stay shut (`lipsShut`: the
+	// units that part them are left out).
+	struct ImageKey {
+		long sample = -1, base = -1;
+		double intensity = 1;
+		std::string auEmotion;
+		long look = -1;
+		bool lipsShut = false;
+		bool operator<(const ImageKey& o) const {
+			return std::tie(sample, base, intensity, auEmotion, look, lipsShut) < std::tie(o.sample, o.base, o.intensity, o.auEmotion, o.look, o.lipsShut);
+		}
+		bool operator==(const ImageKey& o) const { return !(*this < o) && !(o < *this); }
+	};
 	std::map<ImageKey, std::unique_ptr<KeyposeImage>> images_;
 	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;
@@ -63,6 +76,13 @@ private:
 	std::unique_ptr<MappedAuAppearance> auAppearance_;
 	std::map<std::pair<std::string, double>, std::vector<float>> auGains_;  // per (emotion, intensity): the skin's gain
 	void prepareAuAppearance(const std::vector<std::string>& emotions);  // maps the AUs these use, once each
+	// D71: the emotion's action units on a sample's shape (without those that part the lips when they
+	// stay shut), and the neutral sample whose mouth is nearest the result (−1: the sample's own).
+	Points actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut) const;
+	long mouthLook(long sample, const Points& shape) const;
+	std::vector<bool> mouthRegions() const;
+	struct NeutralMouths;
+	std::unique_ptr<NeutralMouths> mouths_;  // made with the first keypose from action units
 };
 
 }  // namespace talkhead

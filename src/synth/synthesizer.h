@@ -59,6 +59,9 @@ struct KeyposeImage {
 	std::vector<std::uint8_t> y, uv; // the same as luma and interleaved chroma (4:2:0) in the synthesizer's range
 	Points shape;
 	std::string usedEmotion, usedCdv;  // the model entry it came from (after fallbacks)
+	// A keypose from action units whose mouth they open: the neutral sample whose mouth skin it shows (D71),
+	// else −1 (its own).
+	long mouthSample = -1;
 };
 
 // The synthesizer of Costa (2015) §5: keypose appearances composited coarse to fine into the baseface and

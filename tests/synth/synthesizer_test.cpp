@@ -208,7 +208,19 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	const KeyposeImage& k = fear.keypose("sil");
 	EXPECT_EQ(k.usedEmotion, "fear (action units)");
 	EXPECT_LT(k.shape(reb1, 1), rest(reb1, 1) - 2);            // AU1: the inner brow rises
-	EXPECT_EQ(k.y, neutral.keypose("sil").y);                   // the neutral appearance, reshaped
+	// The neutral appearance, reshaped; fear's units part the lips (AU25, AU26), which a warp of the shut
+	// silence cannot show: the mouth's skin comes from the neutral sample whose mouth is nearest the
+	// reshaped one (D71), and everything above the mouth stays the silence's own.
+	ASSERT_GE(k.mouthSample, 0);
+	const SampleInfo& mouth = f.model.samples[std::size_t(k.mouthSample)];
+	EXPECT_EQ(mouth.emotion, "neutral");
+	EXPECT_NE(mouth.cdv, "sil");
+	const KeyposeImage& rested = neutral.keypose("sil");
+	ASSERT_EQ(k.y.size(), rested.y.size());
+	EXPECT_NE(k.y, rested.y);
+	const std::size_t upper = k.y.size() / 2;  // the face box's upper half: brows, eyes, nose
+	EXPECT_TRUE(std::equal(k.y.begin(), k.y.begin() + long(upper), rested.y.begin()));
+	EXPECT_EQ(neutral.keypose("sil").mouthSample, -1);
 	ASSERT_EQ(fear.substitutions().size(), 1u);
 	EXPECT_EQ(fear.substitutions()[0], "fear from the neutral images by its action units (the model has no fear images)");
 	if (installedAuAppearance({"AU1"})) {  // issue 31: with the appearance maps the skin changes too, the shape not
@@ -226,6 +238,13 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	const Points smile = joyAu.keypose("sil").shape;
 	EXPECT_LT(smile(rm2, 1) - smile(cum, 1), rest(rm2, 1) - rest(cum, 1) - 1);  // the corners rise against the lip
 	EXPECT_TRUE(joyAu.substitutions().empty());  // asked for: not a substitution
+	// A bilabial's closure overrides the units that part the lips (AU10, AU16, AU25, AU26): joy's /p/ stays
+	// shut, its /a/ opens wider than neutral's.
+	const int cium = f.model.scheme.indexOf("CIUM"), cilm = f.model.scheme.indexOf("CILM");
+	auto gap = [&](const Points& p) { return p(cilm, 1) - p(cium, 1); };
+	EXPECT_LE(gap(joyAu.keypose("p1").shape), gap(neutral.keypose("p1").shape) + 0.25);
+	EXPECT_EQ(joyAu.keypose("p1").mouthSample, -1);
+	EXPECT_GT(gap(joyAu.keypose("a").shape), gap(neutral.keypose("a").shape) + 1);
 	// Intensity scales the action units.
 	o.intensity = 0.5;
 	Synthesizer half(f.model, o);
