@@ -168,7 +168,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	          "CDV indicators for the phone and its neighbours). With a speaker column, also reports how well it\n"
 	          "predicts each speaker's openings when learned from the others (leave one speaker out). Render with\n"
 	          "'--coarticulation F.tsv'. It also learns the speakers' mean mouth before their first words, which\n"
-	          "pauses 'still' hold there.");
+	          "pauses 'still' hold there, and how long before or after their keypose /p b m/ shut.");
 	if (!args.parse(argv)) return 0;
 	if (!args.positionals().empty()) throw UsageError("corpus coarticulation: unexpected argument '" + args.positionals()[0] + "'");
 	const std::string list = args.required("--clips", "--clips LIST.tsv is required");
@@ -181,6 +181,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	for (std::size_t i = 0; i < clips.clips.size(); ++i) coarticulationExamples(clips.clips[i], frame, xs[i], ys[i]);
 	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
 	learnLeadingPause(m, clips.clips);
+	learnBilabialLead(m, clips.clips, frame);
 	m.source = std::to_string(clips.clips.size()) + " clips of " + std::filesystem::path(list).filename().string();
 	// Leave one speaker out: each speaker's keyposes predicted by a model of the others.
 	std::vector<std::string> speakers;
@@ -218,6 +219,11 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	if (m.leadOpening) {
 		char b[120];
 		std::snprintf(b, sizeof b, "; lips before the first words %.2f of the opening (%zu clips)", *m.leadOpening, m.leadClips);
+		held += b;
+	}
+	if (m.bilabialLead) {
+		char b[120];
+		std::snprintf(b, sizeof b, "; /p b m/ shut %+.0f ms from their keypose (%zu closures)", 1000 * *m.bilabialLead, m.bilabialCount);
 		held += b;
 	}
 	if (!args.has("--quiet"))

@@ -69,6 +69,7 @@ Args fromVideoArgs() {
 	             {"--start", "T", "use the video from T seconds (or m:ss)"},
 	             {"--duration", "T", "use T seconds of the video"},
 	             {"--min-confidence", "C", "tracked frames less consistent than this are never chosen (default 0.6)"},
+	             {"--min-eye-opening", "F", "nor frames whose eyes are less open than F × the video's median (a blink; default 0.7, 0: any)"},
 	             {"--quiet", "", "no progress and no summary", "-q"}},
 	            "Turns a video of a face into a viseme corpus for 'talkhead build': tracks the 68 points (dlib), then\n"
 	            "picks for each phone the frame at the articulators' inflection point (the extremum of the lip opening\n"
@@ -163,6 +164,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	fo.perCdv = int(args.number("--per-cdv", 1, 1, 100));
 	fo.baseface = std::int64_t(args.number("--baseface", -1, 0, 1e9));
 	fo.minConfidence = args.number("--min-confidence", fo.minConfidence, 0, 1);
+	fo.minEyeOpening = args.number("--min-eye-opening", fo.minEyeOpening, 0, 1);
 	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
 	const bool quiet = args.has("--quiet");
 	const auto t0 = std::chrono::steady_clock::now();

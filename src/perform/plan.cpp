@@ -102,7 +102,10 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	perf.modulation = spec.modulation;
 	perf.modulation.intensity = spec.intensity;
 	perf.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses);
-	if (spec.coarticulation && !spec.phones.empty()) predictMouthOpenings(*spec.coarticulation, spec.phones, perf.keys);
+	if (spec.coarticulation && !spec.phones.empty()) {
+		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.keys);
+		applyBilabialLead(*spec.coarticulation, spec.phones, perf.keys, spec.rate.frameLength());
+	}
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);
 		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());

@@ -231,11 +231,50 @@ void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationC
 	if (n > 0) m.leadOpening = open / double(n), m.leadWidth = width / double(n);
 }
 
+std::vector<double> bilabialClosureOffsets(const CoarticulationClip& c, Ticks frame) {
+	const ClipFrames f = clipFrames(c);
+	std::vector<double> out;
+	for (const Keypose& k : keyposes(c.phones, frame)) {
+		if (!bilabial(k.cdv) || !isPhoneKeypose(c.phones, k) || k.last >= c.phones.size()) continue;
+		const double from = toSeconds(c.phones[k.first].start) - 0.04, to = toSeconds(c.phones[k.last].end) + 0.04;
+		double least = std::numeric_limits<double>::max(), at = 0;
+		for (std::size_t i = 0; i < f.t.size(); ++i)
+			if (f.t[i] >= from && f.t[i] <= to && f.v[i] < least) least = f.v[i], at = f.t[i];
+		if (least == std::numeric_limits<double>::max()) continue;
+		const double offset = at - toSeconds(k.time);
+		if (std::abs(offset) <= 0.1) out.push_back(offset);
+	}
+	return out;
+}
+
+void learnBilabialLead(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips, Ticks frame) {
+	double sum = 0;
+	std::size_t n = 0;
+	for (const CoarticulationClip& c : clips)
+		for (double o : bilabialClosureOffsets(c, frame)) sum += o, ++n;
+	m.bilabialCount = n;
+	if (n > 0) m.bilabialLead = sum / double(n);
+}
+
+void applyBilabialLead(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys, Ticks frame) {
+	if (!m.bilabialLead || keys.empty()) return;
+	const Ticks lead = ticksFromSeconds(*m.bilabialLead);
+	for (std::size_t i = 0; i < keys.size(); ++i) {
+		Keypose& k = keys[i];
+		if (!bilabial(k.cdv) || !isPhoneKeypose(phones, k)) continue;
+		Ticks t = k.time + lead;
+		if (i > 0) t = std::max(t, keys[i - 1].time + frame);
+		if (i + 1 < keys.size()) t = std::min(t, keys[i + 1].time - frame);
+		if ((i == 0 || t > keys[i - 1].time) && (i + 1 == keys.size() || t < keys[i + 1].time)) k.time = std::max(Ticks(0), t);
+	}
+}
+
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda) {
 	std::vector<Eigen::MatrixXd> xs(clips.size()), ys(clips.size());
 	for (std::size_t i = 0; i < clips.size(); ++i) coarticulationExamples(clips[i], frame, xs[i], ys[i]);
 	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
 	learnLeadingPause(m, clips);
+	learnBilabialLead(m, clips, frame);
 	return m;
 }
 
@@ -258,10 +297,13 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 	out << "# talkhead coarticulation model (D62): a keypose's inner-lip opening, in units of the speaker's 90th\n"
 	    << "# percentile in speech, = intercept + Σ weight × feature (talkhead corpus coarticulation).\n";
 	if (!m.source.empty()) out << "# learned from " << m.source << "\n";
-	out << "talkhead-coarticulation\t2\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n";
+	out << "talkhead-coarticulation\t3\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n";
 	if (m.leadOpening)
 		out << "# the lips held before the first words (pauses 'still'): opening, width, clips it is the mean of\nlead\t" << number(*m.leadOpening)
 		    << "\t" << number(m.leadWidth.value_or(1.0)) << "\t" << m.leadClips << "\n";
+	if (m.bilabialLead)
+		out << "# /p b m/ shut this long after their keypose (s; < 0: before), closures it is the mean of\nbilabial\t" << number(*m.bilabialLead) << "\t"
+		    << m.bilabialCount << "\n";
 	out << "# name, weight for the opening, weight for the width\nintercept\t" << number(m.intercept) << "\t" << number(m.widthIntercept) << "\n";
 	for (std::size_t i = 0; i < m.features.size(); ++i)
 		out << "feature\t" << m.features[i] << "\t" << number(m.weights(Eigen::Index(i))) << "\t" << number(m.widthWeights(Eigen::Index(i))) << "\n";
@@ -287,8 +329,8 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			return v;
 		};
 		if (!header) {
-			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 2')");
-			if (f[1] != "1" && f[1] != "2") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 and 2)");
+			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 3')");
+			if (f[1] != "1" && f[1] != "2" && f[1] != "3") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 to 3)");
 			header = true, version = f[1];
 		} else if (f[0] == "lead" && f.size() == 4 && version != "1" && !m.leadOpening) {
 			m.leadOpening = parse(f[1]);
@@ -298,6 +340,12 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			m.leadClips = std::size_t(n);
 			if (*m.leadOpening < 0 || *m.leadOpening > 10 || *m.leadWidth <= 0 || *m.leadWidth > 10)
 				throw Error(path, ln, "lead: an opening or width out of range (0 … 10 of the speaker's own)");
+		} else if (f[0] == "bilabial" && f.size() == 3 && version == "3" && !m.bilabialLead) {
+			m.bilabialLead = parse(f[1]);
+			long long n = 0;
+			if (!parseInt(f[2], n) || n < 1) throw Error(path, ln, "bilabial: not a count of closures: '" + f[2] + "'");
+			m.bilabialCount = std::size_t(n);
+			if (std::abs(*m.bilabialLead) > 0.1) throw Error(path, ln, "bilabial: a lead out of range (−0.1 … 0.1 s)");
 		} else if (f[0] == "lambda" && f.size() == 2) {
 			m.lambda = parse(f[1]);
 		} else if (f[0] == "samples" && f.size() == 2) {
@@ -311,7 +359,7 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			weights.push_back(parse(f[2]));
 			widthWeights.push_back(parse(f[3]));
 		} else {
-			throw Error(path, ln, "unexpected line (expected lambda N, samples N, lead A B N (once, version 2), intercept A B or feature NAME A B)");
+			throw Error(path, ln, "unexpected line (expected lambda N, samples N, lead A B N (once, version 2 or 3), bilabial S N (once, version 3), intercept A B or feature NAME A B)");
 		}
 	}
 	if (!header) throw Error(path + ": empty: not a talkhead coarticulation model");

@@ -31,6 +31,11 @@ struct CoarticulationModel {
 	// opening and width there, in the same units (D70); unset in a version-1 file (the rest mouth then).
 	std::optional<double> leadOpening, leadWidth;
 	std::size_t leadClips = 0;  // clips it is the mean of
+	// /p b m/ shut before their keypose (D71): the real speakers' mean time from a bilabial's keypose (its
+	// phone run's midpoint) to their closure (the least opening within 40 ms of the run), seconds, < 0 =
+	// earlier; the keypose moves by it. Unset in version-1 and -2 files (the keypose stays at the midpoint).
+	std::optional<double> bilabialLead;
+	std::size_t bilabialCount = 0;  // closures it is the mean of
 	double lambda = 0;
 	std::size_t samples = 0;  // keyposes it was fitted on
 	std::string source;       // what it was learned from
@@ -63,13 +68,21 @@ CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& X, con
 std::optional<std::pair<double, double>> leadingPauseMouth(const CoarticulationClip& clip);
 // Sets the model's lead (the mean of its clips' leadingPauseMouth; left unset when none has one).
 void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips);
+// Each bilabial keypose's time to the clip's real closure (seconds; closures more than 0.1 s away, another
+// phone's, left out).
+std::vector<double> bilabialClosureOffsets(const CoarticulationClip& clip, Ticks frame);
+// Sets the model's bilabialLead (the mean of its clips' offsets; left unset when none has a bilabial).
+void learnBilabialLead(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips, Ticks frame);
+// Moves each bilabial phone keypose by the model's bilabialLead, kept at least a frame from the keyposes
+// either side (unmoved when there is no room); nothing without a lead.
+void applyBilabialLead(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys, Ticks frame);
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda = 10);
 
 // Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones), and
 // the held keyposes' before the first words (Keypose::hold) from its lead.
 void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys);
 
-// Text file "talkhead-coarticulation 2" (1: without the lead line); reading checks every line and the features, naming the file.
+// Text file "talkhead-coarticulation 3" (2: without the bilabial line; 1: without the lead line either); reading checks every line and the features, naming the file.
 void saveCoarticulation(const CoarticulationModel& m, const std::string& path);
 CoarticulationModel loadCoarticulation(const std::string& path);
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -54,14 +55,23 @@ double percentile(std::vector<double> v, double q) {
 
 namespace {
 
-// Frames that may be chosen.
+// Frames that may be chosen: a confident, frontal face with its eyes open as usual.
 std::vector<std::size_t> candidates(const LandmarkTrack& track, const FromVideoOptions& o) {
 	std::vector<std::size_t> c;
+	std::vector<double> eyes(track.frames.size(), 0), found;
 	const double maxRoll = o.maxRollDegrees * M_PI / 180;
 	for (std::size_t i = 0; i < track.frames.size(); ++i) {
 		const auto& f = track.frames[i];
 		if (!f.found || f.confidence < o.minConfidence) continue;
+		eyes[i] = eyeAspect(f.points);
+		if (std::isfinite(eyes[i])) found.push_back(eyes[i]);
+	}
+	const double minEyes = o.minEyeOpening * percentile(found, 0.5);
+	for (std::size_t i = 0; i < track.frames.size(); ++i) {
+		const auto& f = track.frames[i];
+		if (!f.found || f.confidence < o.minConfidence) continue;
 		if (std::abs(headRoll(f.points)) > maxRoll || std::abs(headYaw(f.points)) > o.maxYaw) continue;
+		if (!(eyes[i] >= minEyes)) continue;
 		c.push_back(i);
 	}
 	return c;
@@ -137,6 +147,15 @@ double headRoll(const Points& p) { return std::atan2(p(45, 1) - p(36, 1), p(45, 
 double headYaw(const Points& p) {
 	const EyeFrame e(p);
 	return e.x(p, 30) - 0.5 * (e.x(p, 36) + e.x(p, 45));
+}
+
+double eyeAspect(const Points& p) {
+	auto one = [&](int o) {
+		auto d = [&](int a, int b) { return (p.row(o + a) - p.row(o + b)).norm(); };
+		const double width = d(0, 3);
+		return width > 0 ? (d(1, 5) + d(2, 4)) / (2 * width) : std::numeric_limits<double>::quiet_NaN();
+	};
+	return 0.5 * (one(36) + one(42));
 }
 
 Points normalisedMouth(const Points& p) {

@@ -28,6 +28,8 @@ double percentile(std::vector<double> values, double q);
 // offset from the eyes' midpoint, in eye distances).
 double headRoll(const Points& ibug68);
 double headYaw(const Points& ibug68);
+// The eye's aspect (lid gap over corner distance) of a 68-point shape, both eyes' mean; NaN if degenerate.
+double eyeAspect(const Points& ibug68);
 
 // The mouth points (48–67) centred, derotated by the eye line and scaled by the eye distance.
 Points normalisedMouth(const Points& ibug68);
@@ -48,6 +50,9 @@ struct FromVideoOptions {
 	double maxRollDegrees = 12;         // nor frames with the head this tilted
 	double maxYaw = 0.12;               // or turned (nose offset in eye distances)
 	double duplicateFraction = 0.05;    // Braun: mouths closer than this × the mouth-corner distance are redundant
+	// D71: nor frames whose eyes are less open than this × the track's median (a blink or a lid on its
+	// way down: a still mouth in a pause is where people blink, so a still-frame preference chose them).
+	double minEyeOpening = 0.7;
 };
 
 // A chosen frame and its labels.

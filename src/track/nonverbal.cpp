@@ -37,12 +37,6 @@ Eigen::VectorXd rigidWeights() {
 	return w;
 }
 
-double eyeAspect(const Points& p, int o) {
-	auto d = [&](int a, int b) { return (p.row(o + a) - p.row(o + b)).norm(); };
-	const double width = d(0, 3);
-	return width > 0 ? (d(1, 5) + d(2, 4)) / (2 * width) : kNaN;
-}
-
 double smoothstep(double u) {
 	u = std::clamp(u, 0.0, 1.0);
 	return u * u * (3 - 2 * u);
@@ -246,7 +240,7 @@ std::vector<bool> measureFrames(const LandmarkTrack& track, const NonVerbalOptio
 		r.x = (c(0, 0) - pivot(0)) / nf.iod;
 		r.y = (c(0, 1) - pivot(1)) / nf.iod;
 		r.yaw = std::atan((across(raw) - neutralAcross) / kNoseDepth) * 180 / kPi;
-		r.eyeOpening = 0.5 * (eyeAspect(raw, 36) + eyeAspect(raw, 42));
+		r.eyeOpening = eyeAspect(raw);
 		if (std::abs(r.yaw) > o.maxTurnDegrees) continue;
 		ok[k] = true;
 		const Points back = s.inverse().apply(raw);

@@ -225,7 +225,7 @@ TEST(Coarticulation, theLipsBeforeTheFirstWordsAreTheSpeakersMeanHeldAndSaved) {
 	auto withLead = [&](const std::string& version, const std::string& line) {
 		std::string v = text;
 		v.replace(lead, end - lead, line);
-		v.replace(v.find("talkhead-coarticulation\t2"), 25, "talkhead-coarticulation\t" + version);
+		v.replace(v.find("talkhead-coarticulation\t3"), 25, "talkhead-coarticulation\t" + version);
 		std::ofstream(path) << v;
 	};
 	withLead("1", "");  // a version-1 file: no lead, the rest mouth
@@ -241,6 +241,90 @@ TEST(Coarticulation, theLipsBeforeTheFirstWordsAreTheSpeakersMeanHeldAndSaved) {
 	error("lead: not a count of clips");
 	withLead("2", "lead\t0.5\tnan\t3\n");
 	error("");
+	std::filesystem::remove(path);
+}
+
+TEST(Coarticulation, bilabialsShutAsEarlyAsTheSpeakersDoKeptAFrameFromTheirNeighbours) {
+	// Clips of "t a p a m a t": the lips shut 20 ms before each bilabial's midpoint (tracked at 100 frames/s).
+	const Phone t = {"t", "t1"}, a = {"a", "a"}, p = {"p", "p1"}, m = {"m", "p1"};
+	std::vector<CoarticulationClip> cs = clips();
+	for (int k = 0; k < 6; ++k) {
+		CoarticulationClip c = clip({t, a, p, a, m, a, t}, 100 + k);
+		for (const PhoneSegment& s : c.phones) {
+			if (s.cdv != "p1") continue;
+			const double mid = 0.5 * (toSeconds(s.start) + toSeconds(s.end)), shut = mid - 0.02;
+			for (std::size_t f = 0; f < c.times.size(); ++f)
+				if (std::abs(c.times[f] - mid) < 0.065) c.openings[f] = 0.1 * (0.1 + std::abs(c.times[f] - shut));  // least at `shut`
+		}
+		const auto offsets = bilabialClosureOffsets(c, ms(10));
+		ASSERT_EQ(offsets.size(), 2u);
+		for (double o : offsets) EXPECT_NEAR(o, -0.02, 0.0051);  // keyposes sit on the 10-ms frames, as the tracking
+		cs.push_back(c);
+	}
+	CoarticulationModel model = trainCoarticulation(cs, ms(10), 1.0);
+	ASSERT_TRUE(model.bilabialLead);
+	EXPECT_NEAR(*model.bilabialLead, -0.02, 0.005);
+	EXPECT_EQ(model.bilabialCount, 12u);
+	EXPECT_FALSE(trainCoarticulation(clips(), ms(10), 1.0).bilabialLead);  // no bilabial: no lead
+	// The keyposes: each bilabial's moves by the lead, the others stay; with no room it is kept a frame from
+	// its neighbours.
+	model.bilabialLead = -0.02;
+	const auto ph = phones({t, a, p, a, m, a, t});
+	const auto before = keyposes(ph, ms(40));
+	auto keys = before;
+	applyBilabialLead(model, ph, keys, ms(40));
+	ASSERT_EQ(keys.size(), before.size());
+	int moved = 0;
+	for (std::size_t i = 0; i < keys.size(); ++i) {
+		if (keys[i].cdv == "p1") {
+			EXPECT_EQ(keys[i].time, before[i].time - ms(20));
+			++moved;
+		} else {
+			EXPECT_EQ(keys[i].time, before[i].time);
+		}
+	}
+	EXPECT_EQ(moved, 2);
+	model.bilabialLead = -0.1;  // further than the room before it: a frame after the keypose before
+	keys = before;
+	applyBilabialLead(model, ph, keys, ms(40));
+	for (std::size_t i = 1; i < keys.size(); ++i)
+		if (keys[i].cdv == "p1") EXPECT_EQ(keys[i].time, std::max(before[i].time - ms(100), before[i - 1].time + ms(40)));
+	model.bilabialLead.reset();  // no lead: nothing moves
+	keys = before;
+	applyBilabialLead(model, ph, keys, ms(40));
+	for (std::size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(keys[i].time, before[i].time);
+
+	// Saved and read back (version 3); a version-2 file has no such line; damage is one clear error.
+	model.bilabialLead = -0.0213;
+	const std::string path = (std::filesystem::temp_directory_path() / "talkhead-coarticulation-bilabial.tsv").string();
+	saveCoarticulation(model, path);
+	const CoarticulationModel back = loadCoarticulation(path);
+	ASSERT_TRUE(back.bilabialLead);
+	EXPECT_NEAR(*back.bilabialLead, -0.0213, 1e-9);
+	EXPECT_EQ(back.bilabialCount, 12u);
+	std::string text;
+	{
+		std::ifstream in(path);
+		text.assign(std::istreambuf_iterator<char>(in), {});
+	}
+	const std::size_t at = text.find("\nbilabial\t") + 1, end = text.find('\n', at) + 1;
+	ASSERT_NE(at, std::string::npos + 1);
+	auto withLine = [&](const std::string& version, const std::string& line) {
+		std::string v = text;
+		v.replace(at, end - at, line);
+		v.replace(v.find("talkhead-coarticulation\t3"), 25, "talkhead-coarticulation\t" + version);
+		std::ofstream(path) << v;
+	};
+	withLine("2", "");
+	EXPECT_FALSE(loadCoarticulation(path).bilabialLead);
+	withLine("2", text.substr(at, end - at));
+	expectLoadError(path, "unexpected line");  // version 2 has none
+	withLine("3", text.substr(at, end - at) + text.substr(at, end - at));
+	expectLoadError(path, "unexpected line");  // twice
+	withLine("3", "bilabial\t-0.5\t12\n");
+	expectLoadError(path, "bilabial: a lead out of range");
+	withLine("3", "bilabial\t-0.02\t0\n");
+	expectLoadError(path, "bilabial: not a count of closures");
 	std::filesystem::remove(path);
 }
 

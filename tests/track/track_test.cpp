@@ -233,3 +233,35 @@ TEST(LandmarksTsv, roundTripsAndNamesFileAndLineOfBadRows) {
 		    << bad << ": " << e;
 	}
 }
+
+TEST(FromVideo, framesWithTheEyesHalfShutAreNeverChosen) {
+	// D71: 40 frames, the lids 10 px apart (eye aspect 0.33); frames 0–11 hold the lips shut and still,
+	// the mouth a baseface wants, and in 0–5 the eyes are mid-blink (people blink where the mouth is
+	// still); then the mouth opens and closes.
+	auto blink = [](std::size_t i) { return i <= 5; };
+	std::vector<double> gaps;
+	for (std::size_t i = 0; i < 40; ++i) gaps.push_back(i <= 11 ? 0 : 4 + 8 * double(i % 5));
+	LandmarkTrack t = trackOf(gaps);
+	auto lids = [](Points& p, double half) {
+		for (const auto& [first, x0] : {std::pair{36, 150.0}, std::pair{42, 220.0}}) {
+			p(first, 0) = x0, p(first + 3, 0) = x0 + 30;
+			p(first, 1) = p(first + 3, 1) = 180;
+			p(first + 1, 0) = p(first + 5, 0) = x0 + 10, p(first + 2, 0) = p(first + 4, 0) = x0 + 20;
+			p(first + 1, 1) = p(first + 2, 1) = 180 - half, p(first + 5, 1) = p(first + 4, 1) = 180 + half;
+		}
+	};
+	for (std::size_t i = 0; i < t.frames.size(); ++i) {
+		lids(t.frames[i].points, blink(i) ? 1 : 5);
+		t.frames[i].raw = t.frames[i].points;
+	}
+	EXPECT_NEAR(eyeAspect(t.frames[20].points), 10.0 / 30, 1e-12);
+	EXPECT_NEAR(eyeAspect(t.frames[3].points), 2.0 / 30, 1e-12);
+	FromVideoOptions o;
+	const std::int64_t rest = mostNeutralFrame(t, o);
+	EXPECT_FALSE(blink(std::size_t(rest))) << rest;
+	EXPECT_EQ(gaps[std::size_t(rest)], 0) << rest;  // the shut lips with the eyes open
+	for (const ChosenFrame& c : selectByShape(t, loadCdvMouthTargets(), o).entries) EXPECT_FALSE(blink(std::size_t(c.frame))) << c.cdv;
+	o.minEyeOpening = 0;  // any eyes: the first of the equally still shut lips, mid-blink
+	const std::int64_t any = mostNeutralFrame(t, o);
+	EXPECT_TRUE(blink(std::size_t(any))) << any;
+}
