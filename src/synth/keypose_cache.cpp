@@ -23,9 +23,30 @@ struct KeyposeCache::NeutralMouths {
 	MouthPool pool;
 	std::vector<bool> regions;  // the model's regions that show the mouth and not the eyes: those that take its skin
 	bool usable = false;
+	double restLift = 0;  // the corners' lift (cornerLift) of the face's shut mouths: its resting level
 };
 
 namespace {
+// The mouth corners' height above the inner lips' centre line, in eye distances (up > 0): a smile lifts it,
+// and a face that grins as it speaks (franck: +0.03 shut, +0.08 wide open) lifts it with the opening.
+// `down` and `iod` get the eye frame's downward unit and scale, `centre` the inner lips' centre.
+double cornerLift(const Scheme& scheme, const Points& p, Eigen::RowVector2d* down = nullptr, double* iod = nullptr, Eigen::RowVector2d* centre = nullptr) {
+	auto mid = [&](const EyeSpec& e) -> Eigen::RowVector2d { return 0.5 * (p.row(e.corner0) + p.row(e.corner1)); };
+	Eigen::RowVector2d a = mid(scheme.eyes[0]), b = mid(scheme.eyes[1]);
+	if (a(0) > b(0)) std::swap(a, b);
+	const double d = (b - a).norm();
+	if (!(d > 0)) return 0;
+	const Eigen::RowVector2d x = (b - a) / d, y(-x(1), x(0));
+	Eigen::RowVector2d c = Eigen::RowVector2d::Zero();
+	for (const auto& [up, low] : scheme.mouth.inner) c += 0.5 * (p.row(up) + p.row(low));
+	c /= double(scheme.mouth.inner.size());
+	const Eigen::RowVector2d corners = 0.5 * (p.row(scheme.mouth.corner0) + p.row(scheme.mouth.corner1));
+	if (down) *down = y;
+	if (iod) *iod = d;
+	if (centre) *centre = c;
+	return (c - corners).dot(y) / d;
+}
+
 // The homorganic group (first phone) of a CDV, from phonetics/visemes.tsv.
 std::string groupOf(const std::string& cdv) {
 	for (const auto& v : visemeLabels())
@@ -271,12 +292,34 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 
 Points KeyposeCache::actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut) const {
 	Points shape = model_.alignedShapes[std::size_t(sample)];
+	const Points own = shape;
 	AuProfile profile = defaultAuProfiles().at(emotion);
 	if (lipsShut)  // a bilabial's closure overrides the units that part the lips (corpus-tools/data/expression-aus.tsv)
 		profile.erase(std::remove_if(profile.begin(), profile.end(),
 		                             [](const auto& u) { return u.first == "AU10" || u.first == "AU16" || u.first == "AU25" || u.first == "AU26"; }),
 		              profile.end());
 	applyActionUnits(shape, *rig_.auTemplates, profileWeights(*rig_.auTemplates, profile, intensity), rig_.auFrame);
+	// D72: an emotion without a smile (no AU12) takes away the smile a face's own mouth brings: the
+	// sample's corners lifted above the face's resting level (its shut mouths') come down by that much, the
+	// mouth's points moved by (their distance from the centre / the half width)², so the centre stays and the
+	// corners move most; what the emotion's units do to the corners (AU15, AU20) comes on top.
+	const bool smiles = std::any_of(profile.begin(), profile.end(), [](const auto& u) { return u.first == "AU12" && u.second > 0; });
+	if (!smiles && mouths_ && mouths_->usable) {
+		Eigen::RowVector2d down, centre;
+		double iod = 0;
+		cornerLift(mouths_->scheme, shape, &down, &iod, &centre);
+		const double excess = cornerLift(mouths_->scheme, own) - mouths_->restLift;
+		if (excess > 0 && iod > 0) {
+			const Eigen::RowVector2d across(down(1), -down(0));
+			const double half = 0.5 * std::abs((shape.row(mouths_->scheme.mouth.corner1) - shape.row(mouths_->scheme.mouth.corner0)).dot(across));
+			const double amount = excess * iod * std::min(1.0, intensity);
+			for (Eigen::Index i = 0; i < shape.rows() && half > 0; ++i) {
+				const Eigen::RowVector2d v = shape.row(i) - centre;
+				const double u = std::abs(v.dot(across)) / half, w = v.dot(down) / half;
+				if (u <= 1.15 && std::abs(w) <= 0.7) shape.row(i) += amount * std::min(1.0, u * u) * down;
+			}
+		}
+	}
 	return shape;
 }
 
@@ -376,6 +419,12 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 						mouths_->pool = mouthPool(model_, mouths_->size, "neutral");
 						mouths_->regions = mouthRegions();
 						mouths_->usable = mouths_->pool.scale > 0 && std::find(mouths_->regions.begin(), mouths_->regions.end(), true) != mouths_->regions.end();
+						std::vector<double> shut;
+						for (std::size_t i : mouths_->pool.samples)
+							if (model_.samples[i].cdv != "sil" && mouths_->size[i].opening <= mouths_->pool.closedLimit)
+								shut.push_back(cornerLift(mouths_->scheme, model_.alignedShapes[i]));
+						std::sort(shut.begin(), shut.end());
+						if (!shut.empty()) mouths_->restLift = shut[shut.size() / 2];
 					}
 				}
 				key.lipsShut = bilabial(k.cdv);

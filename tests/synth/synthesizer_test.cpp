@@ -252,6 +252,39 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	EXPECT_NEAR(mid(rm2, 1), 0.5 * (rest(rm2, 1) + smile(rm2, 1)), 1e-6);
 }
 
+TEST(Synthesizer, anEmotionWithoutASmileTakesAwayTheSmileAFacesOwnMouthBrings) {
+	// D72: a face that grins as it opens its mouth (its /a/'s corners 3 px higher than the drawn face's).
+	// Anger and hate (no AU12) bring its corners down to its shut mouths' level; joy keeps the grin.
+	const FaceModel& plain = smallFace().model;
+	FaceModel grinning = plain;
+	const int rm2 = plain.scheme.indexOf("RM2"), lm2 = plain.scheme.indexOf("LM2");
+	const long a = plain.findSample("neutral", "a");
+	ASSERT_GE(a, 0);
+	grinning.alignedShapes[std::size_t(a)](rm2, 1) -= 3, grinning.alignedShapes[std::size_t(a)](lm2, 1) -= 3;
+	auto corners = [&](const FaceModel& m, const char* emotion) {
+		SynthOptions o;
+		o.emotion = Emotion::of(emotion);
+		o.emotionSource = EmotionSource::ActionUnits;
+		o.auAppearance = false;
+		Synthesizer s(m, o);
+		const Points p = s.keypose("a").shape;
+		return 0.5 * (p(rm2, 1) + p(lm2, 1));
+	};
+	for (const char* e : {"anger", "hate"}) {
+		EXPECT_GE(corners(grinning, e), corners(plain, e) - 0.5) << e;  // the grin taken away (y grows down)
+		EXPECT_GT(corners(grinning, e), corners(grinning, "joy") + 2) << e;
+	}
+	EXPECT_NEAR(corners(grinning, "joy"), corners(plain, "joy") - 3, 0.25);  // a smile keeps it
+	// Intensity 0: nothing taken away (the neutral keypose).
+	SynthOptions zero;
+	zero.emotion = Emotion::of("anger");
+	zero.intensity = 0;
+	zero.emotionSource = EmotionSource::ActionUnits;
+	zero.auAppearance = false;
+	Synthesizer none(grinning, zero), neutral(grinning, SynthOptions{});
+	EXPECT_EQ(none.keypose("a").shape, neutral.keypose("a").shape);
+}
+
 namespace {
 // Two seconds of silence and one action unit on the image's right half (the subject's left), rising at
 // 0.5 s, held to 1.2 s, gone at 1.4 s; no blinks or head motion.
