@@ -97,6 +97,25 @@ const FaceModel& smallFace() {
 }
 
 // Loading the file at path fails with one error naming it and containing expected.
+// A saved model file whose line `key` a test replaces (and whose version it sets) to write damaged copies.
+struct SavedLine {
+	std::string path, text;
+	std::size_t at = 0, end = 0;
+	SavedLine(const std::string& file, const std::string& key) : path(file) {
+		std::ifstream in(path);
+		text.assign(std::istreambuf_iterator<char>(in), {});
+		at = text.find("\n" + key + "\t") + 1, end = text.find('\n', at) + 1;
+	}
+	bool found() const { return at != std::string::npos + 1; }
+	std::string line() const { return text.substr(at, end - at); }
+	void write(const std::string& version, const std::string& line) const {
+		std::string v = text;
+		v.replace(at, end - at, line);
+		v.replace(v.find("talkhead-coarticulation\t3"), 25, "talkhead-coarticulation\t" + version);
+		std::ofstream(path) << v;
+	}
+};
+
 void expectLoadError(const std::string& path, const std::string& expected) {
 	try {
 		loadCoarticulation(path);
@@ -215,31 +234,20 @@ TEST(Coarticulation, theLipsBeforeTheFirstWordsAreTheSpeakersMeanHeldAndSaved) {
 	EXPECT_NEAR(*back.leadOpening, open, 1e-8);
 	EXPECT_NEAR(*back.leadWidth, width, 1e-8);
 	EXPECT_EQ(back.leadClips, cs.size());
-	std::string text;
-	{
-		std::ifstream in(path);
-		text.assign(std::istreambuf_iterator<char>(in), {});
-	}
-	const std::size_t lead = text.find("\nlead\t") + 1, end = text.find('\n', lead) + 1;
-	ASSERT_NE(lead, std::string::npos + 1);
-	auto withLead = [&](const std::string& version, const std::string& line) {
-		std::string v = text;
-		v.replace(lead, end - lead, line);
-		v.replace(v.find("talkhead-coarticulation\t3"), 25, "talkhead-coarticulation\t" + version);
-		std::ofstream(path) << v;
-	};
-	withLead("1", "");  // a version-1 file: no lead, the rest mouth
+	const SavedLine saved(path, "lead");
+	ASSERT_TRUE(saved.found());
+	saved.write("1", "");  // a version-1 file: no lead, the rest mouth
 	EXPECT_FALSE(loadCoarticulation(path).leadOpening);
 	auto error = [&](const std::string& expected) { expectLoadError(path, expected); };
-	withLead("1", text.substr(lead, end - lead));
+	saved.write("1", saved.line());
 	error("unexpected line");  // version 1 has no lead
-	withLead("2", text.substr(lead, end - lead) + text.substr(lead, end - lead));
+	saved.write("2", saved.line() + saved.line());
 	error("unexpected line");  // twice
-	withLead("2", "lead\t-0.5\t0.9\t24\n");
+	saved.write("2", "lead\t-0.5\t0.9\t24\n");
 	error("lead: an opening or width out of range");
-	withLead("2", "lead\t0.5\t0.9\t0\n");
+	saved.write("2", "lead\t0.5\t0.9\t0\n");
 	error("lead: not a count of clips");
-	withLead("2", "lead\t0.5\tnan\t3\n");
+	saved.write("2", "lead\t0.5\tnan\t3\n");
 	error("");
 	std::filesystem::remove(path);
 }
@@ -302,28 +310,17 @@ TEST(Coarticulation, bilabialsShutAsEarlyAsTheSpeakersDoKeptAFrameFromTheirNeigh
 	ASSERT_TRUE(back.bilabialLead);
 	EXPECT_NEAR(*back.bilabialLead, -0.0213, 1e-9);
 	EXPECT_EQ(back.bilabialCount, 12u);
-	std::string text;
-	{
-		std::ifstream in(path);
-		text.assign(std::istreambuf_iterator<char>(in), {});
-	}
-	const std::size_t at = text.find("\nbilabial\t") + 1, end = text.find('\n', at) + 1;
-	ASSERT_NE(at, std::string::npos + 1);
-	auto withLine = [&](const std::string& version, const std::string& line) {
-		std::string v = text;
-		v.replace(at, end - at, line);
-		v.replace(v.find("talkhead-coarticulation\t3"), 25, "talkhead-coarticulation\t" + version);
-		std::ofstream(path) << v;
-	};
-	withLine("2", "");
+	const SavedLine saved(path, "bilabial");
+	ASSERT_TRUE(saved.found());
+	saved.write("2", "");
 	EXPECT_FALSE(loadCoarticulation(path).bilabialLead);
-	withLine("2", text.substr(at, end - at));
+	saved.write("2", saved.line());
 	expectLoadError(path, "unexpected line");  // version 2 has none
-	withLine("3", text.substr(at, end - at) + text.substr(at, end - at));
+	saved.write("3", saved.line() + saved.line());
 	expectLoadError(path, "unexpected line");  // twice
-	withLine("3", "bilabial\t-0.5\t12\n");
+	saved.write("3", "bilabial\t-0.5\t12\n");
 	expectLoadError(path, "bilabial: a lead out of range");
-	withLine("3", "bilabial\t-0.02\t0\n");
+	saved.write("3", "bilabial\t-0.02\t0\n");
 	expectLoadError(path, "bilabial: not a count of closures");
 	std::filesystem::remove(path);
 }
