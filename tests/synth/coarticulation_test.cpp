@@ -296,7 +296,9 @@ TEST(Coarticulation, bilabialsShutAsEarlyAsTheSpeakersDoKeptAFrameFromTheirNeigh
 	keys = before;
 	applyBilabialLead(model, ph, keys, ms(40));
 	for (std::size_t i = 1; i < keys.size(); ++i)
-		if (keys[i].cdv == "p1") EXPECT_EQ(keys[i].time, std::max(before[i].time - ms(100), before[i - 1].time + ms(40)));
+		if (keys[i].cdv == "p1") {
+			EXPECT_EQ(keys[i].time, std::max(before[i].time - ms(100), before[i - 1].time + ms(40)));
+		}
 	model.bilabialLead.reset();  // no lead: nothing moves
 	keys = before;
 	applyBilabialLead(model, ph, keys, ms(40));
