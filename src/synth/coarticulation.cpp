@@ -373,18 +373,29 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 	return m;
 }
 
-MouthSize mouthSize(const Scheme& scheme, const Points& p) {
-	if (scheme.eyes.size() != 2 || scheme.mouth.empty()) throw std::logic_error("mouthSize: the scheme has no eyes or no mouth line");
+MouthFrame mouthFrame(const Scheme& scheme, const Points& p) {
+	if (scheme.eyes.size() != 2 || scheme.mouth.empty()) throw std::logic_error("mouthFrame: the scheme has no eyes or no mouth line");
 	auto centre = [&](const EyeSpec& e) -> Eigen::RowVector2d { return 0.5 * (p.row(e.corner0) + p.row(e.corner1)); };
 	Eigen::RowVector2d a = centre(scheme.eyes[0]), b = centre(scheme.eyes[1]);
 	if (a(0) > b(0)) std::swap(a, b);
-	const double iod = (b - a).norm();
-	if (!(iod > 0)) return {};
-	const Eigen::RowVector2d x = (b - a) / iod, y(-x(1), x(0));
+	MouthFrame f;
+	f.iod = (b - a).norm();
+	if (!(f.iod > 0)) return {};
+	f.across = (b - a) / f.iod, f.down = Eigen::RowVector2d(-f.across(1), f.across(0));
+	f.centre.setZero();
+	for (const auto& [up, low] : scheme.mouth.inner) f.centre += 0.5 * (p.row(up) + p.row(low));
+	f.centre /= double(scheme.mouth.inner.size());
+	return f;
+}
+
+MouthSize mouthSize(const Scheme& scheme, const Points& p) {
+	const MouthFrame f = mouthFrame(scheme, p);
+	if (!(f.iod > 0)) return {};
 	MouthSize m;
-	for (const auto& [up, down] : scheme.mouth.inner) m.opening += std::max(0.0, (p.row(down) - p.row(up)).dot(y));
-	m.opening /= double(scheme.mouth.inner.size()) * iod;
-	m.width = (p.row(scheme.mouth.corner1) - p.row(scheme.mouth.corner0)).norm() / iod;
+	for (const auto& [up, down] : scheme.mouth.inner) m.opening += std::max(0.0, (p.row(down) - p.row(up)).dot(f.down));
+	m.opening /= double(scheme.mouth.inner.size()) * f.iod;
+	m.width = (p.row(scheme.mouth.corner1) - p.row(scheme.mouth.corner0)).norm() / f.iod;
+	m.lift = (f.centre - 0.5 * (p.row(scheme.mouth.corner0) + p.row(scheme.mouth.corner1))).dot(f.down) / f.iod;
 	return m;
 }
 

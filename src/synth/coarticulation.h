@@ -88,10 +88,18 @@ CoarticulationModel loadCoarticulation(const std::string& path);
 
 // The inner-lip opening and mouth width of a shape in eye distances (between the eyes' centres; the
 // scheme needs two eyes and a mouth line).
+// `lift`: the corners' height above the inner lips' centre line (up > 0): a smile lifts it (D72).
 struct MouthSize {
-	double opening = 0, width = 0;
+	double opening = 0, width = 0, lift = 0;
 };
 MouthSize mouthSize(const Scheme& scheme, const Points& shape);
+// The frame those are measured in: the eye distance (between the eyes' centres; 0 when degenerate), the
+// unit vectors along the eye line toward the image-right eye and down the face, and the inner lips' centre.
+struct MouthFrame {
+	double iod = 0;
+	Eigen::RowVector2d across{1, 0}, down{0, 1}, centre{0, 0};
+};
+MouthFrame mouthFrame(const Scheme& scheme, const Points& shape);
 // The model's scheme when it has two eyes and a mouth line; false if not.
 bool mouthScheme(const FaceModel& model, Scheme& out);
 

@@ -23,30 +23,10 @@ struct KeyposeCache::NeutralMouths {
 	MouthPool pool;
 	std::vector<bool> regions;  // the model's regions that show the mouth and not the eyes: those that take its skin
 	bool usable = false;
-	double restLift = 0;  // the corners' lift (cornerLift) of the face's shut mouths: its resting level
+	double restLift = 0;  // the corners' lift (MouthSize::lift) of the face's shut mouths: its resting level
 };
 
 namespace {
-// The mouth corners' height above the inner lips' centre line, in eye distances (up > 0): a smile lifts it,
-// and a face that grins as it speaks (franck: +0.03 shut, +0.08 wide open) lifts it with the opening.
-// `down` and `iod` get the eye frame's downward unit and scale, `centre` the inner lips' centre.
-double cornerLift(const Scheme& scheme, const Points& p, Eigen::RowVector2d* down = nullptr, double* iod = nullptr, Eigen::RowVector2d* centre = nullptr) {
-	auto mid = [&](const EyeSpec& e) -> Eigen::RowVector2d { return 0.5 * (p.row(e.corner0) + p.row(e.corner1)); };
-	Eigen::RowVector2d a = mid(scheme.eyes[0]), b = mid(scheme.eyes[1]);
-	if (a(0) > b(0)) std::swap(a, b);
-	const double d = (b - a).norm();
-	if (!(d > 0)) return 0;
-	const Eigen::RowVector2d x = (b - a) / d, y(-x(1), x(0));
-	Eigen::RowVector2d c = Eigen::RowVector2d::Zero();
-	for (const auto& [up, low] : scheme.mouth.inner) c += 0.5 * (p.row(up) + p.row(low));
-	c /= double(scheme.mouth.inner.size());
-	const Eigen::RowVector2d corners = 0.5 * (p.row(scheme.mouth.corner0) + p.row(scheme.mouth.corner1));
-	if (down) *down = y;
-	if (iod) *iod = d;
-	if (centre) *centre = c;
-	return (c - corners).dot(y) / d;
-}
-
 // The homorganic group (first phone) of a CDV, from phonetics/visemes.tsv.
 std::string groupOf(const std::string& cdv) {
 	for (const auto& v : visemeLabels())
@@ -292,7 +272,6 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 
 Points KeyposeCache::actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut) const {
 	Points shape = model_.alignedShapes[std::size_t(sample)];
-	const Points own = shape;
 	AuProfile profile = defaultAuProfiles().at(emotion);
 	if (lipsShut)  // a bilabial's closure overrides the units that part the lips (corpus-tools/data/expression-aus.tsv)
 		profile.erase(std::remove_if(profile.begin(), profile.end(),
@@ -305,18 +284,15 @@ Points KeyposeCache::actionUnitShape(long sample, const std::string& emotion, do
 	// corners move most; what the emotion's units do to the corners (AU15, AU20) comes on top.
 	const bool smiles = std::any_of(profile.begin(), profile.end(), [](const auto& u) { return u.first == "AU12" && u.second > 0; });
 	if (!smiles && mouths_ && mouths_->usable) {
-		Eigen::RowVector2d down, centre;
-		double iod = 0;
-		cornerLift(mouths_->scheme, shape, &down, &iod, &centre);
-		const double excess = cornerLift(mouths_->scheme, own) - mouths_->restLift;
-		if (excess > 0 && iod > 0) {
-			const Eigen::RowVector2d across(down(1), -down(0));
-			const double half = 0.5 * std::abs((shape.row(mouths_->scheme.mouth.corner1) - shape.row(mouths_->scheme.mouth.corner0)).dot(across));
-			const double amount = excess * iod * std::min(1.0, intensity);
+		const double excess = mouths_->size[std::size_t(sample)].lift - mouths_->restLift;
+		const MouthFrame f = mouthFrame(mouths_->scheme, shape);
+		if (excess > 0 && f.iod > 0) {
+			const double half = 0.5 * std::abs((shape.row(mouths_->scheme.mouth.corner1) - shape.row(mouths_->scheme.mouth.corner0)).dot(f.across));
+			const double amount = excess * f.iod * std::min(1.0, intensity);
 			for (Eigen::Index i = 0; i < shape.rows() && half > 0; ++i) {
-				const Eigen::RowVector2d v = shape.row(i) - centre;
-				const double u = std::abs(v.dot(across)) / half, w = v.dot(down) / half;
-				if (u <= 1.15 && std::abs(w) <= 0.7) shape.row(i) += amount * std::min(1.0, u * u) * down;
+				const Eigen::RowVector2d v = shape.row(i) - f.centre;
+				const double u = std::abs(v.dot(f.across)) / half, w = v.dot(f.down) / half;
+				if (u <= 1.15 && std::abs(w) <= 0.7) shape.row(i) += amount * std::min(1.0, u * u) * f.down;
 			}
 		}
 	}
@@ -357,6 +333,21 @@ std::vector<bool> KeyposeCache::mouthRegions() const {
 		out[r] = mouth && !eye;
 	}
 	return out;
+}
+
+void KeyposeCache::measureNeutralMouths() {
+	mouths_ = std::make_unique<NeutralMouths>();
+	NeutralMouths& m = *mouths_;
+	if (!mouthScheme(model_, m.scheme)) return;
+	m.size = sampleMouths(model_, m.scheme);
+	m.pool = mouthPool(model_, m.size, "neutral");
+	m.regions = mouthRegions();
+	m.usable = m.pool.scale > 0 && std::find(m.regions.begin(), m.regions.end(), true) != m.regions.end();
+	std::vector<double> shut;
+	for (std::size_t i : m.pool.samples)
+		if (model_.samples[i].cdv != "sil" && m.size[i].opening <= m.pool.closedLimit) shut.push_back(m.size[i].lift);
+	std::sort(shut.begin(), shut.end());
+	if (!shut.empty()) m.restLift = shut[shut.size() / 2];
 }
 
 long KeyposeCache::mouthLook(long sample, const Points& shape) const {
@@ -412,21 +403,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 			const bool au = fromActionUnits(k);
 			ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
 			if (au) {
-				if (!mouths_) {
-					mouths_ = std::make_unique<NeutralMouths>();
-					if (mouthScheme(model_, mouths_->scheme)) {
-						mouths_->size = sampleMouths(model_, mouths_->scheme);
-						mouths_->pool = mouthPool(model_, mouths_->size, "neutral");
-						mouths_->regions = mouthRegions();
-						mouths_->usable = mouths_->pool.scale > 0 && std::find(mouths_->regions.begin(), mouths_->regions.end(), true) != mouths_->regions.end();
-						std::vector<double> shut;
-						for (std::size_t i : mouths_->pool.samples)
-							if (model_.samples[i].cdv != "sil" && mouths_->size[i].opening <= mouths_->pool.closedLimit)
-								shut.push_back(cornerLift(mouths_->scheme, model_.alignedShapes[i]));
-						std::sort(shut.begin(), shut.end());
-						if (!shut.empty()) mouths_->restLift = shut[shut.size() / 2];
-					}
-				}
+				if (!mouths_) measureNeutralMouths();
 				key.lipsShut = bilabial(k.cdv);
 				// Lips parted (AU25) or the jaw dropped (AU26) open the mouth as speech does, so a speech sample
 				// shows it; AU10's bared upper teeth behind lips still together are not a speech mouth.

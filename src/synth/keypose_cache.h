@@ -83,6 +83,7 @@ private:
 	std::vector<bool> mouthRegions() const;
 	struct NeutralMouths;
 	std::unique_ptr<NeutralMouths> mouths_;  // made with the first keypose from action units
+	void measureNeutralMouths();             // makes mouths_
 };
 
 }  // namespace talkhead
