@@ -86,14 +86,24 @@ double mouthSpeed(const LandmarkTrack& track, std::size_t i) {
 	return (normalisedMouth(b.points) - normalisedMouth(a.points)).rowwise().norm().mean() / dt;
 }
 
-// Mouth measures and mouth speed of every found frame, computed once per track.
+// Mouth measures, corner lift and mouth speed of every found frame, computed once per track.
 struct TrackMeasures {
 	std::vector<MouthMeasures> m;
-	std::vector<double> speed;
-	explicit TrackMeasures(const LandmarkTrack& track) : m(track.frames.size()), speed(track.frames.size(), 0) {
+	std::vector<double> lift, speed;
+	explicit TrackMeasures(const LandmarkTrack& track) : m(track.frames.size()), lift(track.frames.size(), 0), speed(track.frames.size(), 0) {
 		for (std::size_t i = 0; i < track.frames.size(); ++i)
-			if (track.frames[i].found) m[i] = mouthMeasures(track.frames[i].points), speed[i] = mouthSpeed(track, i);
+			if (track.frames[i].found)
+				m[i] = mouthMeasures(track.frames[i].points), lift[i] = cornerLift(track.frames[i].points), speed[i] = mouthSpeed(track, i);
 	}
+	// D73: the person's usual corner lift by opening, over these frames.
+	UsualLift usualLift(const std::vector<std::size_t>& frames) const {
+		std::vector<double> o, l;
+		for (std::size_t i : frames) o.push_back(m[i].opening), l.push_back(lift[i]);
+		return UsualLift(std::move(o), std::move(l));
+	}
+	// How far frame i's corners are from where this person's usually are at its opening, in spreads: a
+	// smile (or a grimace) the moment brought, not the person's neutral.
+	double liftCost(const UsualLift& u, std::size_t i) const { return std::pow((lift[i] - u.at(m[i].opening)) / u.spread(), 2); }
 };
 
 bool nearDuplicate(const Points& a, const Points& b, double fraction) {
@@ -156,6 +166,44 @@ double eyeAspect(const Points& p) {
 		return width > 0 ? (d(1, 5) + d(2, 4)) / (2 * width) : std::numeric_limits<double>::quiet_NaN();
 	};
 	return 0.5 * (one(36) + one(42));
+}
+
+double cornerLift(const Points& p) {
+	const EyeFrame e(p);
+	const double centre = (e.y(p, 61) + e.y(p, 62) + e.y(p, 63) + e.y(p, 65) + e.y(p, 66) + e.y(p, 67)) / 6;
+	return centre - 0.5 * (e.y(p, 48) + e.y(p, 54));
+}
+
+UsualLift::UsualLift(std::vector<double> openings, std::vector<double> lifts) {
+	if (openings.size() != lifts.size()) throw std::logic_error("UsualLift: one lift per opening");
+	for (std::size_t i = 0; i < openings.size(); ++i) byOpening_.emplace_back(openings[i], lifts[i]);
+	std::sort(byOpening_.begin(), byOpening_.end());
+	// The scale: half the 5th–95th percentile range of the lifts off the usual (a person whose corners rise
+	// as the jaw opens, franck, has a wide range of lifts but a narrow one of lifts for an opening).
+	std::vector<double> off;
+	for (const auto& [o, l] : byOpening_) off.push_back(l - at(o));
+	spread_ = std::max(1e-4, 0.5 * (percentile(off, 0.95) - percentile(off, 0.05)));
+}
+
+double UsualLift::at(double opening) const {
+	if (byOpening_.empty()) return 0;
+	const std::size_t n = byOpening_.size(), k = std::min(n, std::max<std::size_t>(25, n / 20));
+	// The k nearest openings form a window around the first opening not below this one.
+	std::size_t lo = std::size_t(std::lower_bound(byOpening_.begin(), byOpening_.end(), std::make_pair(opening, -1e300)) - byOpening_.begin());
+	std::size_t hi = lo;
+	while (hi - lo < k) {
+		if (lo == 0) ++hi;
+		else if (hi == n) --lo;
+		else if (opening - byOpening_[lo - 1].first <= byOpening_[hi].first - opening) --lo;
+		else ++hi;
+	}
+	// Equal openings come in or stay out together (many shut mouths measure 0: a window cut among them
+	// would take the ones with the lowest lifts).
+	while (lo > 0 && byOpening_[lo - 1].first == byOpening_[lo].first) --lo;
+	while (hi < n && byOpening_[hi].first == byOpening_[hi - 1].first) ++hi;
+	std::vector<double> v;
+	for (std::size_t i = lo; i < hi; ++i) v.push_back(byOpening_[i].second);
+	return percentile(v, 0.5);
 }
 
 Points normalisedMouth(const Points& p) {
@@ -265,6 +313,9 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 		plan.scale[k] = hi - lo > 1e-6 ? spread[k] / (hi - lo) : 1;
 	}
 	const double weight[kMeasures] = {1.0, 1.0, 0.5, 0.5};
+	const UsualLift usual = tm.usualLift(cand);
+	std::vector<double> liftCost(track.frames.size(), 0);
+	for (std::size_t i : cand) liftCost[i] = tm.liftCost(usual, i);
 	for (const auto& t : targets) {
 		MouthMeasures goal;
 		for (int k = 0; k < kMeasures; ++k) goal[k] = plan.rest[k] + plan.scale[k] * t.delta[k];
@@ -272,6 +323,9 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 		for (std::size_t i : cand) {
 			double cost = 0;
 			for (int k = 0; k < kMeasures; ++k) cost += weight[k] * std::pow((m[i][k] - goal[k]) / spread[k], 2);
+			// D73: the corners where this person's usually are at that opening — but not for a shut target
+			// (/p b m/, the rest): there the lips' closure comes first.
+			if (t.delta[0] > 0) cost += liftCost[i];
 			// Prefer still, confident frames (a frame mid-transition is blurred), posed like the baseface (a
 			// 2D model cannot undo a turned head: exemplars turned differently make the head wobble).
 			cost += 0.05 * std::pow(tm.speed[i] / 0.5, 2) + 0.2 * (1 - track.frames[i].confidence);
@@ -343,6 +397,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 		byCdv[ph.cdv].push_back({std::size_t(pick), p});
 	}
 	if (byCdv.empty()) throw Error(track.source, 0, "no phone of the transcript falls on a frame with a tracked face");
+	const UsualLift usual = tm.usualLift(cand);
 	for (auto& [cdv, picks] : byCdv) {
 		// Most typical first: nearest the CDV's median measures.
 		MouthMeasures med;
@@ -356,6 +411,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 			const MouthMeasures& m = tm.m[pk.frame];
 			double d = 0;
 			for (int k = 0; k < kMeasures; ++k) d += std::pow(m[k] - med[k], 2);
+			d += std::pow(tm.lift[pk.frame] - usual.at(m.opening), 2);  // D73: not a smile the moment brought
 			ranked.push_back({std::sqrt(d), pk});
 		}
 		std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -461,7 +517,9 @@ bool ColourMatch::identity() const {
 
 namespace {
 
-// Mean and standard deviation per channel of the face pixels (inside the landmarks' convex hull).
+// Mean and standard deviation per channel of the face pixels: inside the landmarks' convex hull, without
+// the mouth and the eyes (D73: a frame's gain must not follow what it says — an open mouth's teeth and dark
+// inside — or a blink).
 struct ColourStats {
 	double sum[3] = {0, 0, 0}, sq[3] = {0, 0, 0};
 	double n = 0;
@@ -471,6 +529,15 @@ struct ColourStats {
 		cv::convexHull(pts, hull);
 		cv::Mat mask = cv::Mat::zeros(img.height, img.width, CV_8U);
 		cv::fillConvexPoly(mask, hull, cv::Scalar(255));
+		if (points.rows() == kIbugPoints) {
+			const double iod = std::hypot(points(45, 0) - points(36, 0), points(45, 1) - points(36, 1));
+			const int margin = std::max(1, int(std::lround(0.08 * iod)));
+			for (const auto& [first, count] : {std::pair{48, 12}, std::pair{36, 6}, std::pair{42, 6}}) {
+				const std::vector<cv::Point> part(pts.begin() + first, pts.begin() + first + count);
+				cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{part}, cv::Scalar(0));
+				cv::polylines(mask, std::vector<std::vector<cv::Point>>{part}, true, cv::Scalar(0), margin);
+			}
+		}
 		for (int y = 0; y < img.height; ++y) {
 			const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
 			const std::uint8_t* p = &img.data[std::size_t(y) * std::size_t(img.width) * 3];
@@ -541,18 +608,55 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 	auto imageName = [&](std::size_t k, std::int64_t frame) {
 		return several ? "frames/take" + std::to_string(k + 1) + "_" + frameName(frame).substr(7) : frameName(frame);
 	};
-	// Decode every take's chosen frames; match the colours to the base take's.
+	// Decode every take's chosen frames and bring their colours together, in two steps (D73).
+	// (1) Within a take, one gain per frame and channel brings the mean of the frame's face to the take's
+	// median: lighting drifts within a recording (franck's own: 4–6 levels in 50 s) and a face's exemplars
+	// come from moments seconds or minutes apart, so they flickered as they followed one another, and a
+	// take's match hung on which frames were chosen. A gain is what a change of exposure or of the light's
+	// strength does; one over the whole face keeps the expression's own shading (a frown's darker glabella).
+	// (2) Between takes (D61), one map per take (gain × value + offset, per channel: the mean and spread of
+	// its faces brought to the base take's) so that lighting that drifted between recordings does not flash.
 	std::vector<std::map<std::int64_t, Image8>> frames;
-	std::vector<ColourStats> stats(takes.size());
+	std::vector<ColourStats> takeStats(takes.size());
+	std::vector<std::map<std::int64_t, std::array<double, 3>>> frameGain(takes.size());
 	for (std::size_t k = 0; k < takes.size(); ++k) {
 		frames.push_back(decodeFrames(takes[k].take.video, takes[k].plan));
-		if (several)
-			for (const auto& e : takes[k].plan.entries) stats[k].add(frames[k].at(e.frame), e.points);
+		std::map<std::int64_t, const Points*> points;  // each frame once
+		for (const auto& e : takes[k].plan.entries) points.emplace(e.frame, &e.points);
+		std::map<std::int64_t, ColourStats> stats;
+		for (const auto& [f, p] : points) stats[f].add(frames[k].at(f), *p);
+		double median[3];
+		for (int c = 0; c < 3; ++c) {
+			std::vector<double> v;
+			for (const auto& [f, st] : stats)
+				if (st.n > 0) v.push_back(st.mean(c));
+			median[c] = percentile(v, 0.5);
+		}
+		for (const auto& [f, p] : points) {
+			ColourMatch m;
+			for (int c = 0; c < 3; ++c) {
+				const double own = stats[f].mean(c);
+				m.gain[c] = own > 1 && median[c] > 1 ? std::clamp(median[c] / own, 0.8, 1.25) : 1.0;
+				frameGain[k][f][std::size_t(c)] = m.gain[c];
+			}
+			Image8& img = frames[k].at(f);
+			applyMatch(img, m);
+			if (takes.size() > 1)
+				for (const auto& e : takes[k].plan.entries)
+					if (e.frame == f) takeStats[k].add(img, e.points);  // every entry, as D61 counted them
+		}
 	}
 	std::vector<ColourMatch> matches(takes.size());
-	for (std::size_t k = 0; several && k < takes.size(); ++k) {
-		if (k != baseTake) matches[k] = matchTo(stats[k], stats[baseTake]);
-		for (auto& [index, img] : frames[k]) applyMatch(img, matches[k]);
+	for (std::size_t k = 0; k < takes.size(); ++k) {
+		ColourMatch take;
+		if (k != baseTake) take = matchTo(takeStats[k], takeStats[baseTake]);
+		std::vector<double> gains[3];
+		for (auto& [index, img] : frames[k]) {
+			applyMatch(img, take);
+			for (int c = 0; c < 3; ++c) gains[c].push_back(take.gain[c] * frameGain[k].at(index)[std::size_t(c)]);
+		}
+		matches[k] = take;
+		for (int c = 0; c < 3; ++c) matches[k].low[c] = percentile(gains[c], 0), matches[k].high[c] = percentile(gains[c], 1);
 	}
 	int width = -1, height = -1;
 	for (std::size_t k = 0; k < takes.size(); ++k)
@@ -576,8 +680,9 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 		    << baseTake + 1 << "\n";
 		for (std::size_t k = 0; k < takes.size(); ++k) {
 			char b[160];
-			std::snprintf(b, sizeof b, "gain %.3f %.3f %.3f offset %.1f %.1f %.1f", matches[k].gain[0], matches[k].gain[1], matches[k].gain[2], matches[k].offset[0],
-			              matches[k].offset[1], matches[k].offset[2]);
+			std::snprintf(b, sizeof b, "gain %.3f %.3f %.3f offset %.1f %.1f %.1f; with each frame's %.3f–%.3f", matches[k].gain[0], matches[k].gain[1],
+			              matches[k].gain[2], matches[k].offset[0], matches[k].offset[1], matches[k].offset[2],
+			              std::min({matches[k].low[0], matches[k].low[1], matches[k].low[2]}), std::max({matches[k].high[0], matches[k].high[1], matches[k].high[2]}));
 			csv << "# take " << k + 1 << ": " << fs::path(takes[k].take.video).filename().string() << ", " << takes[k].take.emotion << ", "
 			    << takes[k].plan.entries.size() << " frames by " << (takes[k].plan.method == "shape" ? "mouth shape" : "phone alignment") << "; " << b << "\n";
 		}

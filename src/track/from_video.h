@@ -30,6 +30,21 @@ double headRoll(const Points& ibug68);
 double headYaw(const Points& ibug68);
 // The eye's aspect (lid gap over corner distance) of a 68-point shape, both eyes' mean; NaN if degenerate.
 double eyeAspect(const Points& ibug68);
+// The mouth corners' height above the inner lips' centre (up > 0), eye distances: a smile lifts it (D73).
+double cornerLift(const Points& ibug68);
+// A person's usual corner lift at each mouth opening (D73): the median lift of the frames whose opening is
+// among the nearest (the larger of 25 frames and 5 % of them), so a frame can be told a smile caught in a
+// pause from the way this person's corners always move with the jaw.
+class UsualLift {
+public:
+	UsualLift(std::vector<double> openings, std::vector<double> lifts);
+	double at(double opening) const;
+	double spread() const { return spread_; }  // half the 5th–95th percentile range of lift − at(opening) (≥ 1e-4)
+
+private:
+	std::vector<std::pair<double, double>> byOpening_;  // (opening, lift), sorted
+	double spread_ = 1e-4;
+};
 
 // The mouth points (48–67) centred, derotated by the eye line and scaled by the eye distance.
 Points normalisedMouth(const Points& ibug68);
@@ -118,15 +133,20 @@ struct TakePlan {
 	VideoCorpusPlan plan;
 };
 // Per colour channel (R, G, B): out = gain × in + offset.
+// A colour map per channel: gain × value + offset; writeTakesCorpus's, per take, with the range of its
+// frames' gains (the take's times each frame's own).
 struct ColourMatch {
 	double gain[3] = {1, 1, 1}, offset[3] = {0, 0, 0};
+	double low[3] = {1, 1, 1}, high[3] = {1, 1, 1};
 	bool identity() const;
 };
 // Writes one corpus of the takes (as writeVideoCorpus; every take's frames the same size) whose baseface is
-// takes[baseTake]'s. With more than one take, images are frames/takeK_frame_NNNNNN.png and every take's
-// colours are matched to the base take's — mean and spread per channel over the face (inside its landmarks'
-// hull) in all its chosen frames, the gain kept within 0.8–1.25 — so that lighting that drifted between
-// recordings does not flash at an emotion change. Returns each take's match.
+// takes[baseTake]'s. With more than one take, images are frames/takeK_frame_NNNNNN.png. Colours (D73): each
+// chosen frame's gain per channel brings the mean of its face (inside its landmarks' hull, without the mouth
+// and the eyes) to its take's median, so lighting that drifted within a recording does not flicker between
+// exemplars; then each take's map (mean and spread over its faces) brings it to the base take's (D61), so
+// lighting that drifted between recordings does not flash at an emotion change. Gains kept within
+// 0.8–1.25. Returns each take's map, with the range of its frames' gains.
 std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir);
 
 }  // namespace talkhead

@@ -41,8 +41,10 @@ for e in neutral joy anger; do
 	test "$n" -ge 30
 done
 test -s "$T/fc/contact.png" && test -s "$T/fc/landmarks-take2.tsv"
-# The brightened take is matched back: its faces' mean colour within 3 levels of the neutral take's (it
-# was ~15 brighter before), the other take's gain near 1.
+# The brightened take is matched back: its faces' mean colour as near the neutral take's (it was ~15
+# brighter before) as that of the anger take, cut from the same video unchanged, give or take 2 levels —
+# franck's own light drifts, and which frames each take gives decides how far apart they are (D73: 3.6
+# levels for the unchanged take, on the cheeks).
 $PY - "$T/fc" <<'EOF'
 import sys, os, numpy as np
 from skimage import io
@@ -57,9 +59,10 @@ for r in rows:
     rr, cc = polygon([pts[29, 1], pts[2, 1], pts[14, 1]], [pts[29, 0], pts[2, 0], pts[14, 0]], img.shape[:2])
     means.setdefault(r[1], []).append(img[rr, cc].mean(axis=0))
 m = {e: np.mean(v, axis=0) for e, v in means.items()}
-for e in m: print(f'   {e}: mean face colour {m[e].round(1)}')
-diff = np.abs(m['joy'] - m['neutral']).max()
-assert diff <= 3, f'the brightened take still differs by {diff:.1f} levels'
+for e in m: print(f'   {e}: mean face colour {m[e].round(1)}, spread over its frames {np.std(means[e], axis=0).max():.1f}')
+diff = np.abs(m['joy'] - m['neutral']).max(); floor = np.abs(m['anger'] - m['neutral']).max()
+print(f'   brightened take {diff:.1f} levels from the neutral one, unchanged take {floor:.1f}')
+assert diff <= max(floor, 3) + 2, f'the brightened take still differs by {diff:.1f} levels (the unchanged one by {floor:.1f})'
 EOF
 grep -q '^# take 2: joy.mp4, joy, .*gain' "$T/fc/corpus.csv"
 

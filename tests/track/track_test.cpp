@@ -265,3 +265,50 @@ TEST(FromVideo, framesWithTheEyesHalfShutAreNeverChosen) {
 	const std::int64_t any = mostNeutralFrame(t, o);
 	EXPECT_TRUE(blink(std::size_t(any))) << any;
 }
+
+TEST(FromVideo, theUsualCornerLiftIsTheMedianAtThatOpeningWithEqualOpeningsTogether) {
+	// D73: 100 frames, the corners rising with the opening (lift = opening / 2) but every 4th lifted 0.05
+	// more (a smile): the usual lift at an opening is the plain one, and the scale is half the 5th–95th
+	// percentile range of the lifts off it (the smiles are a quarter: 95th 0.05, 5th 0).
+	std::vector<double> o, l;
+	for (int i = 0; i < 100; ++i) o.push_back(0.002 * i), l.push_back(0.001 * i + (i % 4 == 0 ? 0.05 : 0));
+	const UsualLift u(o, l);
+	EXPECT_NEAR(u.at(0.1), 0.05, 0.005);  // a quarter of the window smiles: the median moves up a little
+	EXPECT_NEAR(u.at(0.15), 0.075, 0.005);
+	EXPECT_NEAR(u.spread(), 0.025, 0.003);
+	// 60 shut mouths (opening 0) whose lifts run 0 … 0.059, and open ones: the shut mouths' usual is their
+	// median, not the lowest 25 of them.
+	std::vector<double> so(60, 0.0), sl;
+	for (int i = 0; i < 60; ++i) sl.push_back(0.001 * i);
+	for (int i = 0; i < 100; ++i) so.push_back(0.1 + 0.001 * i), sl.push_back(-0.2);
+	EXPECT_NEAR(UsualLift(so, sl).at(0), 0.0295, 1e-9);
+	// The measure itself: corners 5 px above the inner lips' centre, eye corners 100 px apart.
+	Points p = face(0);
+	EXPECT_NEAR(cornerLift(p), 0, 1e-9);
+	p(48, 1) -= 5, p(54, 1) -= 5;
+	EXPECT_NEAR(cornerLift(p), 0.05, 1e-9);
+	EXPECT_THROW(UsualLift({0.1}, {}), std::logic_error);
+}
+
+TEST(FromVideo, aSmileCaughtInAFrameIsNotChosenOverTheSameMouthWithoutIt) {
+	// D73: 80 frames whose mouths open and close; every 4th has the same mouth with its corners 5 px up (a
+	// smile: 0.05 eye distances above this person's usual) and a more confident track, so without the
+	// corners' cost it wins every tie. No open CDV takes a smiling frame; a shut one (/p b m/, the rest)
+	// chooses by closure alone.
+	std::vector<double> gaps;
+	for (std::size_t i = 0; i < 80; ++i) gaps.push_back(i % 8 == 1 ? 0 : 2 + 3 * double(i % 8));
+	LandmarkTrack t = trackOf(gaps);
+	auto smiles = [](std::int64_t i) { return i % 4 == 0; };
+	for (FrameLandmarks& f : t.frames) {
+		f.confidence = smiles(f.frame) ? 1.0 : 0.9;
+		if (smiles(f.frame)) f.points(48, 1) -= 5, f.points(54, 1) -= 5;
+		f.raw = f.points;
+	}
+	std::size_t open = 0;
+	for (const ChosenFrame& c : selectByShape(t, loadCdvMouthTargets(), FromVideoOptions{}).entries) {
+		if (c.cdv == "p1" || c.cdv == "p2" || c.cdv == "sil") continue;
+		++open;
+		EXPECT_FALSE(smiles(c.frame)) << c.cdv << " took frame " << c.frame;
+	}
+	EXPECT_GT(open, 20u);
+}
