@@ -176,6 +176,16 @@ std::vector<float> skinMask(const Scheme& scheme, const Points& shape, double gx
 				if (r.towards.empty() || r.towards[i] < 0) lips.push_back(grid(r.boundary[i]));
 			holes.push_back(lips);
 		}
+	// The base of the nose (wings, nostril bases, subnasale), where the scheme names it: the drawn nostrils
+	// rise with AU9 and AU10 and the warp's registration of them left dark dots above the upper lip, which
+	// on a real face looked like a moustache's shadow (D73). The folds beside the wings stay.
+	std::vector<Poly> noseBase;
+	for (const auto& names : {std::vector<std::string>{"RN2", "RN3", "N3", "LN3", "LN2"}, std::vector<std::string>{"NS0", "NS1", "NS2", "NS3", "NS4"}}) {
+		Poly line;
+		for (const std::string& n : names)
+			if (const int i = scheme.indexOf(n); i >= 0) line.push_back(grid(i));
+		if (line.size() == names.size()) noseBase.push_back(line);
+	}
 	const double feather = 0.05 * iod;
 	auto ramp = [&](double v) { return std::clamp(v / feather, 0.0, 1.0); };
 	std::vector<float> m(std::size_t(gw) * std::size_t(gh));
@@ -185,6 +195,7 @@ std::vector<float> skinMask(const Scheme& scheme, const Points& shape, double gx
 			double w = ramp(-signedDistance(face, q) - 0.08 * iod);
 			for (const Poly& h : holes) w *= ramp(signedDistance(h, q) - 0.03 * iod);
 			for (const Poly& b : brows) w *= ramp(polylineDistance(b, q) - 0.07 * iod);
+			for (const Poly& b : noseBase) w *= ramp(polylineDistance(b, q) - 0.06 * iod);
 			m[std::size_t(y) * gw + std::size_t(x)] = float(w);
 		}
 	return m;

@@ -207,3 +207,31 @@ TEST(AuAppearance, theDefaultFacesExpressionsFromItsNeutralImagesComeCloserToIts
 		EXPECT_GE(frameSkin, floor) << emotion;
 	}
 }
+
+// D73: the shipped maps leave the base of the nose alone — the drawn nostrils rise with AU9 and AU10, and
+// their registration darkened the skin just above the upper lip (a moustache's shadow on a real face) —
+// while the units still change the skin around it.
+TEST(AuAppearance, theShippedNoseWrinkleAndLipRaiseLeaveTheNostrilsBaseAlone) {
+	const std::optional<std::string> path = findDefaultModel();
+	const std::optional<AuAppearance> a = installedAuAppearance({"AU9", "AU10"});
+	if (!path || !a) GTEST_SKIP() << "no default model or models/au-appearance.bin built";
+	const FaceModel model = loadModel(*path);
+	Scheme scheme = model.scheme;
+	completeSchemeParts(scheme);
+	const MappedAuAppearance m = mapAuAppearance(*a, scheme, model.meanShape, 0, 0, model.width, model.height);
+	const Points& s = model.meanShape;
+	auto centre = [&](const char* a, const char* b) -> Eigen::RowVector2d { return 0.5 * (s.row(scheme.indexOf(a)) + s.row(scheme.indexOf(b))); };
+	const double iod = (centre("LEYE1", "LEYE3") - centre("REYE1", "REYE3")).norm();
+	for (const char* au : {"AU9", "AU10"}) {
+		const std::vector<float>& r = m.logRatio[std::size_t(m.find(au))];
+		auto value = [&](double x, double y) { return r[std::size_t(std::lround(y)) * std::size_t(m.width) + std::size_t(std::lround(x))]; };
+		float largest = 0;
+		for (float v : r) largest = std::max(largest, std::abs(v));
+		EXPECT_GT(largest, 0.05f) << au;
+		for (const char* p : {"RN3", "N3", "LN3"})
+			for (double down : {0.0, 0.04}) {
+				const int i = scheme.indexOf(p);
+				EXPECT_LT(std::abs(value(s(i, 0), s(i, 1) + down * iod)), 0.01f) << au << " at " << p << " + " << down;
+			}
+	}
+}
