@@ -639,12 +639,10 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 				m.gain[c] = own > 1 && median[c] > 1 ? std::clamp(median[c] / own, 0.8, 1.25) : 1.0;
 				frameGain[k][f][std::size_t(c)] = m.gain[c];
 			}
-			Image8& img = frames[k].at(f);
-			applyMatch(img, m);
-			if (takes.size() > 1)
-				for (const auto& e : takes[k].plan.entries)
-					if (e.frame == f) takeStats[k].add(img, e.points);  // every entry, as D61 counted them
+			applyMatch(frames[k].at(f), m);
 		}
+		if (several)
+			for (const auto& e : takes[k].plan.entries) takeStats[k].add(frames[k].at(e.frame), e.points);  // every entry, as D61 counted them
 	}
 	std::vector<ColourMatch> matches(takes.size());
 	for (std::size_t k = 0; k < takes.size(); ++k) {

@@ -132,8 +132,7 @@ struct TakePlan {
 	LandmarkTrack track;
 	VideoCorpusPlan plan;
 };
-// Per colour channel (R, G, B): out = gain × in + offset.
-// A colour map per channel: gain × value + offset; writeTakesCorpus's, per take, with the range of its
+// A colour map per channel (R, G, B): out = gain × in + offset; writeTakesCorpus's, per take, with the range of its
 // frames' gains (the take's times each frame's own).
 struct ColourMatch {
 	double gain[3] = {1, 1, 1}, offset[3] = {0, 0, 0};
