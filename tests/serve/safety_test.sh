@@ -88,7 +88,9 @@ grep -q 'no token within 10 s' "$T/t1.events" || fail "no token: $(cat "$T/t1.ev
 grep -q "^close	1008" "$T/t1.events"
 ! grep -q '"type": "hello"' "$T/t1.events"
 test "$(curl -s -o /dev/null -w '%{http_code}' "http://127.0.0.1:$port/metrics")" = 401 || fail "/metrics without the token"
-curl -sf -H "Authorization: Bearer $token" "http://127.0.0.1:$port/metrics" | grep -q '^talkhead_sessions_refused_total{reason="auth"} [1-9]'
+# Read whole before grep: 'producer | grep -q' under pipefail fails when grep quits before the producer ends.
+metrics=$(curl -sf -H "Authorization: Bearer $token" "http://127.0.0.1:$port/metrics")
+grep -q '^talkhead_sessions_refused_total{reason="auth"} [1-9]' <<<"$metrics" || fail "/metrics has no auth refusal"
 kill -TERM "$pid"; wait "$pid" || fail "serve did not exit 0 on SIGTERM"
 ! grep -q "$token" "$T/tok.err" "$T/tok.out" || fail "the token is in the log"
 echo "3 token: ok"
@@ -98,7 +100,7 @@ if command -v openssl >/dev/null; then
 	openssl req -x509 -newkey rsa:2048 -nodes -subj /CN=localhost -days 2 -keyout "$T/key.pem" -out "$T/cert.pem" 2>/dev/null
 	start tls --max-load 0 --tls-cert "$T/cert.pem" --tls-key "$T/key.pem"
 	grep -q 'serving on https://' "$T/tls.out"
-	curl -sfk "https://127.0.0.1:$port/health" | grep -q '"sessions": 0' || fail "HTTPS /health"
+	health=$(curl -sfk "https://127.0.0.1:$port/health") && grep -q '"sessions": 0' <<<"$health" || fail "HTTPS /health"
 	"$CLIENT" --tls "$port" "$T/tls" 1.5 '100:{"type":"say","id":"tls","text":"Secure."}'
 	grep -q '"type": "utterance_started".*"id": "tls"' "$T/tls.events" || fail "wss:// session: $(cat "$T/tls.events")"
 	test -s "$T/tls.mp4"
@@ -257,7 +259,7 @@ echo "8 load, metrics, SIGTERM: ok (stopped $(( (t1 - t0) / 1000000 )) ms after 
 # (sanitizer_common probes memory with pipe(); its suppressions file is read only at the first report) and
 # calls any object invalid without one, so a sanitized server cannot run out of descriptors. The normal
 # build runs this section.
-if ldd "$TH" | grep -q 'libasan\|libubsan'; then
+if grep -q 'libasan\|libubsan' <<<"$(ldd "$TH")"; then  # ld.so writes a line at a time: no early-quitting grep on its pipe
 	echo "6 descriptors: skipped in a sanitized build (UBSan needs a free descriptor to check a vptr)"
 else
 ( ulimit -n 48

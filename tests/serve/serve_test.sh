@@ -128,7 +128,7 @@ sleep 0.8
 "$CLIENT" "$port" "$T/m4" 1 || true
 wait "${pids[@]}"
 grep -q 'sessions already' "$T/m4.events" || { echo "m4 was not refused:"; cut -c1-200 "$T/m4.events"; exit 1; }
-curl -sf "http://127.0.0.1:$port/health" | grep -q '"sessions": 0' || { echo "sessions left: $(curl -s "http://127.0.0.1:$port/health")"; exit 1; }
+health=$(curl -sf "http://127.0.0.1:$port/health") && grep -q '"sessions": 0' <<<"$health" || { echo "sessions left: $(curl -s "http://127.0.0.1:$port/health")"; exit 1; }
 "$CLIENT" "$port" "$T/m5" 0.5
 grep -q '"type": "hello"' "$T/m5.events"
 kill -0 "$server"
