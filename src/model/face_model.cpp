@@ -9,6 +9,7 @@
 #include "base/error.h"
 #include "base/memory.h"
 #include "base/parallel.h"
+#include "geometry/eigen_products.h"
 #include "image/region_mask.h"
 #include "warp/piecewise_affine.h"
 
@@ -87,19 +88,20 @@ std::vector<RegionModel> regionMasks(const Scheme& scheme, const Points& meanSha
 	return regions;
 }
 
-// The render-time cache: each sample's reconstruction, 8-bit, by GEMM in chunks of samples.
+// The render-time cache: each sample's reconstruction, 8-bit, by GEMM in chunks of samples, the chunks in
+// parallel (fixed chunks: the bytes do not depend on the core count, D74).
 void cacheAppearances(RegionModel& region, std::size_t m) {
 	const std::size_t q3 = std::size_t(region.appearanceSize());
 	region.sampleAppearances.resize(m * q3);
-	for (std::size_t first = 0; first < m; first += 128) {
-		const std::size_t count = std::min<std::size_t>(128, m - first);
+	parallelFor((m + 127) / 128, 0, [&](std::size_t chunk) {
+		const std::size_t first = chunk * 128, count = std::min<std::size_t>(128, m - first);
 		const Eigen::MatrixXf a = synthesizeAppearances(
 		    region, region.pca.trainingCoefficients.middleRows(Eigen::Index(first), Eigen::Index(count)).transpose());
 		for (std::size_t k = 0; k < count; ++k) {
 			std::uint8_t* dst = &region.sampleAppearances[(first + k) * q3];
 			quantizeAppearance(a.col(Eigen::Index(k)).data(), q3, dst);
 		}
-	}
+	});
 }
 
 }  // namespace
@@ -252,6 +254,7 @@ Eigen::VectorXf combinedVector(const RegionModel& r, const Image& frame, const P
 }
 
 Eigen::MatrixXf projectCombined(const RegionModel& region, const Eigen::Ref<const Eigen::MatrixXf>& combined) {
+	pinEigenBlocking();
 	const auto& p = region.pca;
 	Eigen::MatrixXf h = (combined.colwise() - p.mean).array().colwise() / p.sigma.array();
 	return p.basis.transpose() * h;
@@ -291,6 +294,7 @@ Eigen::VectorXf sampleCoefficients(const RegionModel& region, std::size_t sample
 }
 
 Eigen::MatrixXf synthesizeAppearances(const RegionModel& region, const Eigen::Ref<const Eigen::MatrixXf>& coefficients) {
+	pinEigenBlocking();  // the same rounding on every machine (D74)
 	const auto& p = region.pca;
 	const Eigen::Index q3 = region.appearanceSize(), l = std::min<Eigen::Index>(coefficients.rows(), p.basis.cols());
 	Eigen::MatrixXf a = p.basis.topLeftCorner(q3, l) * coefficients.topRows(l);

@@ -3,6 +3,7 @@
 #include "model/pca.h"
 
 #include "base/memory.h"
+#include "geometry/eigen_products.h"
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -23,6 +24,7 @@ Eigen::Index CorrelationPca::componentsFor(double fraction) const {
 CorrelationPca correlationPca(Eigen::MatrixXf& Ht, const PcaOptions& options) {
 	const Eigen::Index n = Ht.rows(), m = Ht.cols();
 	if (m < 2) throw std::invalid_argument("PCA needs at least 2 samples");
+	pinEigenBlocking();  // the Gram matrix and the eigen-solver's products round the same everywhere (D74)
 	CorrelationPca r;
 	// Eq. 4.11–4.15: per-variable standardisation, accumulated in double, one sample column at a time.
 	Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), sumSq = Eigen::VectorXd::Zero(n);
@@ -70,7 +72,7 @@ CorrelationPca correlationPca(Eigen::MatrixXf& Ht, const PcaOptions& options) {
 	}
 	r.basis.resize(n, keep);
 	adviseHugePages(r.basis.data(), std::size_t(r.basis.size()) * sizeof(float));
-	r.basis.noalias() = Ht * Vs;
+	productInRowChunks(Ht, Vs, r.basis);
 	return r;
 }
 

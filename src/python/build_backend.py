@@ -90,6 +90,10 @@ def _build(config_settings):
         _run(["cmake", "-S", SOURCE, "-B", build, *generator, "-DCMAKE_BUILD_TYPE=Release", "-DTALKHEAD_BUILD_TESTS=OFF",
               "-DTALKHEAD_BUILD_BENCH=OFF", "-DTALKHEAD_PYTHON=ON", f"-DPython3_EXECUTABLE={sys.executable}"])
     cache = _cache(build)
+    # A wheel runs on every x86-64-v3 machine (D74): not from a build made for its own machine.
+    if cache.get("TALKHEAD_MARCH", "") != "x86-64-v3":
+        raise RuntimeError(f"{build}: configured with TALKHEAD_MARCH={cache.get('TALKHEAD_MARCH')!r}: a wheel is made from the "
+                           "portable build only (the default, x86-64-v3): use another build-dir")
     if cache.get("TALKHEAD_PYTHON", "OFF").upper() not in ("ON", "TRUE", "1"):
         raise RuntimeError(f"{build}: configured without the Python module (TALKHEAD_PYTHON=OFF): use another build-dir")
     want = f"python{sys.version_info.major}.{sys.version_info.minor}"
@@ -142,6 +146,8 @@ def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
         stage = Path(tmp) / "prefix"
         # Everything but the default face (component default_face), as the Debian package (D64).
         _run(["cmake", "--install", build, "--prefix", stage, "--component", "Unspecified", "--strip"])
+        # Nothing above the x86-64-v3 floor in what the wheel carries (as cpack checks the Debian package).
+        _run(["bash", SOURCE / "scripts" / "check-isa", stage])
         files = _files(stage)
         info = f"{NAME}-{version}.dist-info"
         name = f"{NAME}-{version}-{_tag()}.whl"

@@ -13,6 +13,7 @@
 #include <optional>
 #include <thread>
 
+#include "base/cpu_floor.h"
 #include "base/error.h"
 #include "cli/run.h"
 #include "render/frame_sink.h"
@@ -188,6 +189,8 @@ private:
 }  // namespace
 
 PYBIND11_MODULE(_talkhead, m) {
+	// A CPU below the build's floor (x86-64-v3 for the portable build): an ImportError that says so (D74).
+	if (const char* missing = talkhead::cpuFloorMissing()) throw py::import_error(missing);
 	m.doc() = "talkhead's native part: the commands in process (see the talkhead package)";
 	static py::exception<talkhead::Error> error(m, "Error", PyExc_RuntimeError);
 	static py::exception<std::invalid_argument> usage(m, "UsageError", error.ptr());

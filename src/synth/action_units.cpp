@@ -14,6 +14,7 @@
 #include "base/text.h"
 #include "base/tsv.h"
 #include "phonetics/labels.h"
+#include "geometry/eigen_products.h"
 
 namespace talkhead {
 
@@ -210,6 +211,7 @@ AuFit learnAuTemplates(const Scheme& scheme, const std::vector<LabelledShape>& s
 	for (Eigen::Index i = 0; i < m; ++i) A.row(i) = rows[std::size_t(i)], D.row(i) = targets[std::size_t(i)];
 	// Ridge least squares: a small penalty keeps AUs that always occur together from trading off wildly.
 	const double ridge = 1e-3 * double(m);
+	pinEigenBlocking();  // products that round the same on every machine (D74)
 	const Eigen::MatrixXd T = (A.transpose() * A + ridge * Eigen::MatrixXd::Identity(na, na)).ldlt().solve(A.transpose() * D);
 	const Eigen::MatrixXd R = A * T - D;
 	fit.pairs = std::size_t(m);

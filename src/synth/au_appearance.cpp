@@ -17,6 +17,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "warp/piecewise_affine.h"
+#include "geometry/eigen_products.h"
 
 namespace talkhead {
 
@@ -260,6 +261,7 @@ AuAppearance learnAuAppearance(const Scheme& scheme, const std::vector<Appearanc
 				Y(Eigen::Index(k), Eigen::Index(std::size_t(gy) * gw + gx)) = std::log((luma(&e.data[at]) + 8.f) / (luma(&n.data[at]) + 8.f));
 			}
 	}
+	pinEigenBlocking();  // products that round the same on every machine (D74)
 	Eigen::MatrixXf X = Eigen::MatrixXf::Zero(Eigen::Index(pairs.size()), Eigen::Index(aus.size()));
 	for (std::size_t k = 0; k < pairs.size(); ++k)
 		for (const auto& [au, w] : profiles.at(samples[pairs[k].first].emotion))

@@ -19,6 +19,7 @@
 #include "base/atomic_file.h"
 #include "base/text.h"
 #include "base/tsv.h"
+#include "geometry/eigen_products.h"
 
 namespace talkhead {
 
@@ -197,6 +198,7 @@ CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& xs, co
 	for (std::size_t i = 0; i < xs.size(); ++i) X.middleRows(at, xs[i].rows()) = xs[i], y.middleRows(at, ys[i].rows()) = ys[i], at += xs[i].rows();
 	const Eigen::RowVectorXd mean = X.colwise().mean(), ymean = y.colwise().mean();
 	const Eigen::MatrixXd Xc = X.rowwise() - mean;
+	pinEigenBlocking();  // products that round the same on every machine (D74)
 	Eigen::MatrixXd A = Xc.transpose() * Xc;
 	A.diagonal().array() += lambda;
 	const Eigen::MatrixXd w = A.ldlt().solve(Xc.transpose() * (y.rowwise() - ymean));

@@ -11,6 +11,7 @@
 #include "geometry/scheme.h"
 #include "geometry/shape.h"
 #include "track/from_video.h"
+#include "geometry/eigen_products.h"
 
 namespace talkhead {
 
@@ -82,6 +83,7 @@ void smoothCentred(std::vector<double>& v, double sigma) {
 
 // min ‖A w − d‖² + λ‖w‖² with 0 ≤ w ≤ hi, by projected coordinate descent (deterministic, a few unknowns).
 Eigen::VectorXd boxedRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& d, double lambda, double hi) {
+	pinEigenBlocking();  // products that round the same on every machine (D74)
 	const Eigen::MatrixXd G = A.transpose() * A + lambda * Eigen::MatrixXd::Identity(A.cols(), A.cols());
 	const Eigen::VectorXd b = A.transpose() * d;
 	Eigen::VectorXd w = Eigen::VectorXd::Zero(A.cols());

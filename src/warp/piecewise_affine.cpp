@@ -309,9 +309,9 @@ void PiecewiseAffineWarp::apply(const ImageT<In>& src, ImageT<Out>& dst) const {
 namespace {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define TALKHEAD_AVX2 1
-// The plane kernel's vector loop, eight pixels at a time from x while x + 8 ≤ fb: float positions (exact
-// to ~1e-4 px here) and 7-bit weights; returns where it stopped. Compiled for AVX2 + FMA whatever the
-// build's -march, and called only when the CPU has them (portable builds dispatch at run time).
+// The plane kernel's vector loop, eight pixels at a time over [x, fb): the scalar kernel's 32.32 fixed-point
+// positions and 7-bit weights, so both give the same bytes (D74); returns fb. Compiled for AVX2 + FMA
+// whatever the build's -march, and called only when the CPU has them (chosen at run time).
 // The low n (≤ 8) bytes of v to o.
 inline void storeUpTo8(std::uint8_t* o, __m128i v, int n) {
 	if (n == 8) {
@@ -323,11 +323,19 @@ inline void storeUpTo8(std::uint8_t* o, __m128i v, int n) {
 	}
 }
 
+// The 32.32 fixed-point positions of eight pixels (two registers of four 64-bit lanes) split into their
+// integer parts and 7-bit weights, exactly as the scalar kernel reads them (u >> 32, (u >> 25) & 127).
+__attribute__((target("avx2,fma"), always_inline)) inline void splitFixed(__m256i lo, __m256i hi, __m256i& whole, __m256i& weight) {
+	const __m256i odd = _mm256_setr_epi32(1, 3, 5, 7, 0, 2, 4, 6);  // high dwords low, low dwords high
+	const __m256i pl = _mm256_permutevar8x32_epi32(lo, odd), ph = _mm256_permutevar8x32_epi32(hi, odd);
+	whole = _mm256_permute2x128_si256(pl, ph, 0x20);
+	weight = _mm256_srli_epi32(_mm256_permute2x128_si256(pl, ph, 0x31), 25);
+}
+
 __attribute__((target("avx2,fma"), always_inline)) inline int planeRunAvx2(const std::uint8_t* sp, int sw, std::size_t stride, int ch, const float* a, float rx, float ry,
                                                     int x, int fb, std::uint8_t* const* dst, std::size_t row) {
-	const __m256 a0 = _mm256_set1_ps(a[0]), a3 = _mm256_set1_ps(a[3]), rxv = _mm256_set1_ps(rx), ryv = _mm256_set1_ps(ry);
-	const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7), w128 = _mm256_set1_ps(128.f);
-	const __m256i strideV = _mm256_set1_epi32(int(stride)), byte = _mm256_set1_epi32(0xFF), k128 = _mm256_set1_epi32(128);
+	const __m256i byte = _mm256_set1_epi32(0xFF), k128 = _mm256_set1_epi32(128);
+	const __m256i strideV = _mm256_set1_epi32(int(stride));
 	const __m256i round = _mm256_set1_epi32(1 << 13);
 	const int* base = reinterpret_cast<const int*>(sp);
 	const int* below = reinterpret_cast<const int*>(sp + stride);
@@ -337,16 +345,36 @@ __attribute__((target("avx2,fma"), always_inline)) inline int planeRunAvx2(const
 	const __m256i pairLow = _mm256_setr_epi8(0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1, -1, -1, -1, -1, -1, 0, 1, 4, 5, 8, 9, 12, 13, -1, -1, -1,
 	                                         -1, -1, -1, -1, -1);
 	const __m256i pack2 = _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7);
-	// Whole groups of eight, then the span's last 2–7 pixels as one group whose lanes past the end repeat
+	// Positions in the scalar kernel's 32.32 fixed point, from the same start and step, so both kernels
+	// sample the same pixels with the same weights: frames do not depend on the CPU (D74). Lane k of a
+	// group holds uStart + k·du, stepped by 8·du per group (integer adds: exact).
+	constexpr double one = 4294967296.0;
+	const int x0 = x;
+	const std::int64_t uStart = roundToInt64((double(a[0]) * x + rx) * one), vStart = roundToInt64((double(a[3]) * x + ry) * one);
+	const std::int64_t du = roundToInt64(double(a[0]) * one), dv = roundToInt64(double(a[3]) * one);
+	__m256i uLo = _mm256_setr_epi64x(uStart, uStart + du, uStart + 2 * du, uStart + 3 * du), uHi = _mm256_add_epi64(uLo, _mm256_set1_epi64x(4 * du));
+	__m256i vLo = _mm256_setr_epi64x(vStart, vStart + dv, vStart + 2 * dv, vStart + 3 * dv), vHi = _mm256_add_epi64(vLo, _mm256_set1_epi64x(4 * dv));
+	const __m256i du8 = _mm256_set1_epi64x(8 * du), dv8 = _mm256_set1_epi64x(8 * dv);
+	// Whole groups of eight, then the span's last 1–7 pixels as one group whose lanes past the end repeat
 	// the last pixel (so every sample stays inside the source) and are not stored.
-	const __m256 last = _mm256_set1_ps(float(fb - 1));
-	for (; x + 2 <= fb; x += 8) {
+	for (; x < fb; x += 8) {
 		const int n = std::min(8, fb - x);
-		const __m256 xs = _mm256_min_ps(_mm256_add_ps(_mm256_set1_ps(float(x)), lane), last);
-		const __m256 fu = _mm256_fmadd_ps(a0, xs, rxv), fv = _mm256_fmadd_ps(a3, xs, ryv);
-		const __m256i iu = _mm256_cvttps_epi32(fu), iv = _mm256_cvttps_epi32(fv);
-		const __m256i wx = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fu, _mm256_cvtepi32_ps(iu)), w128));
-		const __m256i wy = _mm256_cvttps_epi32(_mm256_mul_ps(_mm256_sub_ps(fv, _mm256_cvtepi32_ps(iv)), w128));
+		__m256i iu, iv, wx, wy;
+		if (n == 8) {
+			splitFixed(uLo, uHi, iu, wx);
+			splitFixed(vLo, vHi, iv, wy);
+			uLo = _mm256_add_epi64(uLo, du8), uHi = _mm256_add_epi64(uHi, du8);
+			vLo = _mm256_add_epi64(vLo, dv8), vHi = _mm256_add_epi64(vHi, dv8);
+		} else {
+			alignas(32) std::int64_t us[8], vs[8];
+			for (int k = 0; k < 8; ++k) {
+				const std::int64_t i = std::min(k, n - 1) + (x - x0);
+				us[k] = uStart + i * du;
+				vs[k] = vStart + i * dv;
+			}
+			splitFixed(_mm256_load_si256(reinterpret_cast<const __m256i*>(us)), _mm256_load_si256(reinterpret_cast<const __m256i*>(us + 4)), iu, wx);
+			splitFixed(_mm256_load_si256(reinterpret_cast<const __m256i*>(vs)), _mm256_load_si256(reinterpret_cast<const __m256i*>(vs + 4)), iv, wy);
+		}
 		const __m256i lx = _mm256_sub_epi32(k128, wx), ly = _mm256_sub_epi32(k128, wy);
 		if (ch == 1) {
 			// The 2×2 neighbourhoods of the eight pixels: from one 16-byte window of two rows when
@@ -426,12 +454,12 @@ __attribute__((target("avx2,fma"), always_inline)) inline int planeRunAvx2(const
 			storeUpTo8(dst[1] + row + std::size_t(x), _mm256_castsi256_si128(res[1]), n);
 		}
 	}
-	return std::min(x, fb);
+	return fb;
 }
 
 // The whole span list with the vector kernel: one call per warp, the kernel's constants set up once (the
 // spans are short — ~27 luma pixels on average for a face — so per-span overhead matters). Pixels whose
-// neighbourhood leaves the source, and a last odd pixel, take the clamped float path.
+// neighbourhood leaves the source take the clamped float path, as in the scalar kernel.
 __attribute__((target("avx2,fma"))) void planeSpansAvx2(const std::vector<Span>& spans, const std::vector<float>& affine,
                                                         const std::uint8_t* sp, int sw, int sh, std::size_t stride, int ch,
                                                         std::uint8_t* const* dst, std::size_t dstStride) {
@@ -462,11 +490,11 @@ bool cpuHasAvx2() {
 }  // namespace
 
 void PiecewiseAffineWarp::applyPlanes(const std::uint8_t* sp, int sw, int sh, std::size_t stride, int ch, std::uint8_t* const* dst,
-                                      std::size_t dstStride) const {
+                                      std::size_t dstStride, bool scalar) const {
 	if (ch != 1 && ch != 2) throw std::logic_error("PiecewiseAffineWarp::applyPlanes: 1 or 2 channels");
 	if (sw < 1 || sh < 1) throw std::logic_error("PiecewiseAffineWarp::applyPlanes: empty source");
 #ifdef TALKHEAD_AVX2
-	if (cpuHasAvx2()) {
+	if (!scalar && cpuHasAvx2()) {
 		planeSpansAvx2(spans_, affine_, sp, sw, sh, stride, ch, dst, dstStride);
 		return;
 	}

@@ -30,9 +30,11 @@ public:
 
 	// 8-bit planes: the source has `channels` (1 or 2) interleaved channels (luma; or chroma as U V pairs),
 	// sw × sh samples, srcStride bytes per row; channel c goes to its own destination plane dst[c]
-	// (width × height, dstStride bytes per row). Same fixed-point bilinear kernel as the RGB warp.
+	// (width × height, dstStride bytes per row). Same fixed-point bilinear kernel as the RGB warp. The AVX2
+	// kernel (chosen at run time; TALKHEAD_SCALAR_WARP forces the scalar one) and the scalar kernel give the
+	// same bytes (D74); `scalar` asks for the scalar one here (tests compare the two).
 	void applyPlanes(const std::uint8_t* src, int sw, int sh, std::size_t srcStride, int channels, std::uint8_t* const* dst,
-	                 std::size_t dstStride) const;
+	                 std::size_t dstStride, bool scalar = false) const;
 
 	// Restricts the warp to the destination pixels in [x0, x1) × [y0, y1); the others are left alone.
 	void clipSpans(int x0, int y0, int x1, int y1);

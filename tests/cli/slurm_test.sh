@@ -5,7 +5,7 @@
 # to a local unsharded run. Then a lost shard is re-run alone (the README's resume recipe) and merged again.
 # Skips (77) only where the packages are not installed or slurmd cannot run (it needs root).
 set -euo pipefail
-TH=$1; EX=$2
+TH=$1; EX=$2; TW=${3:-}   # TW: a build of another -march (cli.width_build), run by shard 1 (issue 44)
 for c in munged slurmctld slurmd sbatch scontrol sinfo; do
 	command -v "$c" >/dev/null || [[ -x /usr/sbin/$c ]] || { echo "skipped: $c is missing (scripts/setup-deps installs munge slurmctld slurmd slurm-client)"; exit 77; }
 done
@@ -82,6 +82,16 @@ head -n 7 "$EX/emotions.csv" | sed 's/640x360/160x90/' >"$T/m.csv"
 # Jobs find talkhead on the PATH (as on a cluster with the package installed).
 bin=$(cd "$(dirname "$TH")" && pwd)
 [[ "$(basename "$TH")" == talkhead ]] || { mkdir -p "$T/bin"; ln -s "$(cd "$(dirname "$TH")" && pwd)/$(basename "$TH")" "$T/bin/talkhead"; bin=$T/bin; }
+if [[ -n "$TW" ]]; then
+	# A cluster of mixed CPUs: shard 1 runs on a "node" whose talkhead is the other width's build.
+	[[ -x "$TW" ]] || fail "no second-width build at $TW"
+	mkdir -p "$T/mixed"
+	printf '#!/bin/sh\nif [ "${SLURM_ARRAY_TASK_ID:-}" = 1 ]; then exec "%s" "$@"; fi\nexec "%s" "$@"\n' \
+		"$(cd "$(dirname "$TW")" && pwd)/$(basename "$TW")" "$bin/talkhead" >"$T/mixed/talkhead"
+	chmod +x "$T/mixed/talkhead"
+	bin=$T/mixed
+	echo "slurm: shard 1 runs $("$TW" --version), the others $("$TH" --version)"
+fi
 submit() { sbatch --parsable --chdir="$T/work" --export="ALL,PATH=$bin:$PATH" --mem=1G "$@"; }
 wait_job() {  # until the job (all its array tasks) has ended; its final states
 	local id=$1 states

@@ -21,6 +21,14 @@ size=$(du -k "$deb" | cut -f1); echo "package: $(basename "$deb"), ${size} KiB"
 test "$size" -lt 100000
 dpkg-deb -x "$deb" "$T/root"
 TH="$T/root/usr/bin/talkhead"
+# Portable (issue 44, D74): no instruction above x86-64-v3 in the binary, the plugins or the Python module
+# (cpack refuses such files itself: cmake/check_isa.cmake) — and the scan can fail: an AVX-512 function is caught.
+"$(dirname "$0")/../../scripts/check-isa" "$T/root"
+printf '#include <immintrin.h>\n__m512 f(__m512 a, __m512 b) { return _mm512_add_ps(a, b); }\n' >"$T/v4.cpp"
+c++ -O2 -mavx512f -c "$T/v4.cpp" -o "$T/v4.o"
+if "$(dirname "$0")/../../scripts/check-isa" "$T/v4.o" >"$T/v4.log"; then cat "$T/v4.log"; echo "check-isa missed an AVX-512 instruction"; exit 1; fi
+grep -q "vaddps %zmm" "$T/v4.log"
+env -u TALKHEAD_DATA_DIR -u TALKHEAD_MODULE_DIR "$TH" --version | grep -q "built for x86-64-v3"
 env -u TALKHEAD_DATA_DIR -u TALKHEAD_MODULE_DIR "$TH" --version
 env -u TALKHEAD_DATA_DIR -u TALKHEAD_MODULE_DIR "$TH" corpus synth -q -o "$T/c" --size 160x90 --emotions neutral,joy --visemes sil,a,u,p1,i1
 env -u TALKHEAD_DATA_DIR -u TALKHEAD_MODULE_DIR "$TH" build -q "$T/c/corpus.csv" -o "$T/face.thm"
