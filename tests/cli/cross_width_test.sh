@@ -14,8 +14,8 @@ trap 'echo "cross_width_test.sh: failed at line $LINENO: $BASH_COMMAND" >&2' ERR
 [ -x "$TW" ] || { echo "no second-width build at $TW (cli.width_build makes it)"; exit 1; }
 echo "this build: $("$TH" --version); the other: $("$TW" --version)"
 "$TH" --version | grep -q "built for x86-64-v3\|built for native"
-# Forced-down kernels: every OpenCV feature above its Debian baseline off, and the scalar warp.
-down() { env TALKHEAD_SCALAR_WARP=1 OPENCV_CPU_DISABLE=AVX512_SKX,AVX512_COMMON,AVX_512F,AVX2,FMA3,FP16,AVX,POPCNT,SSE4_2,SSE4_1 "$TH" "$@"; }
+# Forced-down kernels: every OpenCV feature above its Debian baseline (SSE2) off, and the scalar warp.
+down() { env TALKHEAD_SCALAR_WARP=1 OPENCV_CPU_DISABLE=AVX512F,AVX512-SKX,AVX512-COMMON,AVX512BW,AVX512CD,AVX512DQ,AVX512VL,AVX2,FMA3,FP16,AVX,POPCNT,SSE4.2,SSE4.1,SSSE3,SSE3 "$TH" "$@"; }
 same() {  # same FILE_A FILE_B WHAT
 	if cmp -s "$1" "$2"; then echo "   same bytes: $3 ($(du -k "$1" | cut -f1) KiB)"; return; fi
 	echo "FAIL: $3 differs between the builds: $(cmp "$1" "$2" | head -1)"; exit 1

@@ -80,8 +80,8 @@ grep -q "fear from the neutral images by its action units (the model has no fear
 # differ by up to 2 levels), so the change is measured against the same sentence rendered in each emotion
 # alone: over the frames the dissolve mixes the two takes (an emotion event acts on the keyposes, so that
 # is where the ramp's keyposes are, not at the event's instant), the change's largest frame-to-frame step
-# is no larger than either take's own at those frames. And the measure can fail: the same model with the
-# joy take's frames 15 levels brighter (a take whose colours were not matched) is caught.
+# exceeds either take's own at those frames by less than a grey level. And the measure can fail: the same
+# model with the joy take's frames 15 levels brighter (a take whose colours were not matched) is caught.
 printf '{"events": [{"type": "emotion", "time": 0, "emotion": "neutral", "intensity": 1, "ramp": 0}, {"type": "emotion", "time": 1.0, "emotion": "joy", "intensity": 1, "ramp": 0.3}]}\n' >"$T/change.json"
 for e in neutral joy; do printf '{"events": [{"type": "emotion", "time": 0, "emotion": "%s", "intensity": 1, "ramp": 0}]}\n' "$e" >"$T/only-$e.json"; done
 cp -r "$T/fc" "$T/unmatched"
@@ -125,9 +125,16 @@ def steps(model):
     around, within = dc[ks].max(), np.maximum(dn[ks], dj[ks]).max()
     print(f'   {model}: frames {mixed.min()}..{mixed.max()} mix the takes; face luma step there {around:.2f}, each take alone {within:.2f}')
     return around, within
+# What counts as a jump: the change may add at most one grey level per frame to what speech alone moves
+# there. The matched takes still differ by a few levels (franck's own light drifts: 3.6 between two
+# unchanged takes, above), and a 0.3-s ramp spreads that over ~8 frames, a fraction of a level each; a
+# take left 15 levels brighter adds ~3 a frame. A bound of whole levels, not hundredths, so the assertion
+# holds for the reason above and not for one CPU's rounding (issue 44: 0.45 against 0.21 here, 0.62
+# against 0.63 on the machine where a 0.05 margin was written).
+JUMP = 1.0
 around, within = steps('takes')
-assert around <= within + 0.05, 'the colour jumps at the emotion change'
+assert around <= within + JUMP, f'the colour jumps at the emotion change: {around - within:.2f} levels a frame more than speech alone'
 around, within = steps('unmatched')
-assert around > within + 1, 'a take 15 levels brighter went unnoticed: the measure cannot fail'
+assert around > within + JUMP, 'a take 15 levels brighter went unnoticed: the measure cannot fail'
 EOF
 echo "takes tests passed"
