@@ -15,10 +15,10 @@
 
 namespace talkhead {
 
-AudioClip decodeAudio(const std::string& path, int sampleRate) {
+AudioClip decodeAudio(const std::string& path, int sampleRate, double maxSeconds) {
 	AudioClip clip;
 	std::string error;
-	if (!avModule().decodeAudio(path, sampleRate, clip, error)) throw Error(error);
+	if (!avModule().decodeAudio(path, sampleRate, maxSeconds, clip, error)) throw Error(error);
 	return clip;
 }
 
@@ -43,9 +43,9 @@ private:
 
 class FileSource final : public AudioSource {
 public:
-	FileSource(const std::string& path, int rate) : av_(avModule()) {
+	FileSource(const std::string& path, int rate, double maxSeconds) : av_(avModule()) {
 		std::string error;
-		handle_ = av_.openAudio(path, rate, rate_, channels_, error);
+		handle_ = av_.openAudio(path, rate, maxSeconds, rate_, channels_, error);
 		if (!handle_) throw Error(error);
 	}
 	~FileSource() override { av_.closeAudio(handle_); }
@@ -67,7 +67,9 @@ private:
 }  // namespace
 
 std::unique_ptr<AudioSource> clipSource(const AudioClip& clip) { return std::make_unique<ClipSource>(clip); }
-std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRate) { return std::make_unique<FileSource>(path, sampleRate); }
+std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRate, double maxSeconds) {
+	return std::make_unique<FileSource>(path, sampleRate, maxSeconds);
+}
 
 Ticks audioFileDuration(const std::string& path, int sampleRate) {
 	auto src = openAudioFile(path, sampleRate);

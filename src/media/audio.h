@@ -19,9 +19,15 @@ struct AudioClip {
 	Ticks duration() const { return sampleRate ? Ticks(std::int64_t(frameCount()) * (kTicksPerSecond / sampleRate)) : Ticks(0); }
 };
 
+// The longest audio read unless a caller says otherwise (a server says its own limit).
+constexpr double kMaxAudioSeconds = 4 * 3600;
+
 // Decodes any audio libav reads (WAV, MP3, MP2 in MPEG, AAC, …): the first audio stream, resampled to
-// `sampleRate` with at most 2 channels. Throws Error naming the file; zero-length audio is an error.
-AudioClip decodeAudio(const std::string& path, int sampleRate = 48000);
+// `sampleRate` with at most 2 channels. Throws Error naming the file; zero-length audio is an error, and
+// so is audio longer than maxSeconds — refused from the container's declared length before decoding
+// when it declares one, else as soon as the samples counted pass it, so memory stays bounded by the
+// limit, not by what a small file can expand to (issue 45).
+AudioClip decodeAudio(const std::string& path, int sampleRate = 48000, double maxSeconds = kMaxAudioSeconds);
 
 // Audio read in order a block at a time: a clip in memory, or a file decoded as it is read (so a render's
 // memory does not grow with the audio's length).
@@ -35,9 +41,9 @@ public:
 };
 // A source over a clip (which must outlive it).
 std::unique_ptr<AudioSource> clipSource(const AudioClip& clip);
-// A source decoding `path` as it is read (same decoding as decodeAudio; sampleRate 0 keeps the file's own
-// rate). Throws Error naming the file.
-std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRate = 48000);
+// A source decoding `path` as it is read (same decoding and limit as decodeAudio; sampleRate 0 keeps the
+// file's own rate). Throws Error naming the file.
+std::unique_ptr<AudioSource> openAudioFile(const std::string& path, int sampleRate = 48000, double maxSeconds = kMaxAudioSeconds);
 // `inner` shifted by `offset` (positive: that much silence first; negative: its first samples dropped),
 // then silence, `total` long in all (issue 14: lead-in, tail and audio-visual offset of stimuli).
 std::unique_ptr<AudioSource> shiftedSource(std::unique_ptr<AudioSource> inner, Ticks offset, Ticks total);

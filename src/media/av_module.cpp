@@ -13,6 +13,7 @@ extern "C" {
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <filesystem>
@@ -26,10 +27,19 @@ namespace talkhead {
 
 namespace {
 
-// The first audio stream of a file, decoded and resampled (float, at most 2 channels) as it is read.
+// "N s" for a limit in a message.
+std::string secondsText(double s) {
+	char b[32];
+	std::snprintf(b, sizeof b, "%g s", s);
+	return b;
+}
+
+// The first audio stream of a file, decoded and resampled (float, at most 2 channels) as it is read. At
+// most maxSeconds of it (issue 45: a 20 kB FLAC can hold hours of silence): a container that declares a
+// longer length is refused before anything is decoded, and the samples are counted as they come.
 class AudioDecoder {
 public:
-	AudioDecoder(const std::string& path, int outRate) : path_(path), rate_(outRate) {
+	AudioDecoder(const std::string& path, int outRate, double maxSeconds) : path_(path), rate_(outRate), maxSeconds_(maxSeconds) {
 		if (!std::filesystem::exists(path)) throw Error(path, 0, "audio file not found");
 		av_log_set_level(AV_LOG_FATAL);  // problems are reported through return codes, as one error line
 		checkAv(avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr), path, "cannot open audio");
@@ -37,6 +47,7 @@ public:
 		const AVCodec* dec = nullptr;
 		stream_ = av_find_best_stream(fmt_, AVMEDIA_TYPE_AUDIO, -1, -1, &dec, 0);
 		if (stream_ < 0 || !dec) throw Error(path, 0, "no audio stream");
+		refuseDeclaredLength();
 		ctx_ = avcodec_alloc_context3(dec);
 		checkAv(avcodec_parameters_to_context(ctx_, fmt_->streams[stream_]->codecpar), path, "bad audio parameters");
 		checkAv(avcodec_open2(ctx_, dec, nullptr), path, "cannot open the audio decoder");
@@ -76,11 +87,30 @@ public:
 			if (!refill()) break;
 		}
 		total_ += std::int64_t(done);
-		if (total_ > std::int64_t(rate_) * 4 * 3600) throw Error(path_, 0, "audio longer than 4 hours");
+		if (maxSeconds_ > 0 && double(total_) > maxSeconds_ * double(rate_))
+			throw Error(path_, 0, "lasts longer than the " + secondsText(maxSeconds_) + " allowed");
 		return done;
 	}
 
 private:
+	// The length the container or the stream declares, when it is read from the file (not estimated from
+	// the bit rate): longer than allowed is refused now, before a sample is decoded.
+	void refuseDeclaredLength() const {
+		if (maxSeconds_ <= 0) return;
+		if (fmt_->duration_estimation_method == AVFMT_DURATION_FROM_BITRATE) return;  // a guess: count instead
+		double declared = -1;
+		const AVStream* st = fmt_->streams[stream_];
+		if (st->duration != AV_NOPTS_VALUE && st->duration > 0 && st->time_base.den > 0)
+			declared = double(st->duration) * av_q2d(st->time_base);
+		else if (fmt_->duration != AV_NOPTS_VALUE && fmt_->duration > 0)
+			declared = double(fmt_->duration) / AV_TIME_BASE;
+		if (declared > maxSeconds_ + 0.5) {
+			char b[64];
+			std::snprintf(b, sizeof b, "%.1f s", declared);
+			throw Error(path_, 0, std::string("lasts ") + b + " (as its header says), longer than the " + secondsText(maxSeconds_) + " allowed");
+		}
+	}
+
 	// Decodes the next packet(s) into pending_; false at the end.
 	bool refill() {
 		if (flushed_) return false;
@@ -131,6 +161,7 @@ private:
 
 	std::string path_;
 	int rate_ = 0, channels_ = 0, stream_ = -1;
+	double maxSeconds_ = 0;
 	AVFormatContext* fmt_ = nullptr;
 	AVCodecContext* ctx_ = nullptr;
 	SwrContext* swr_ = nullptr;
@@ -142,8 +173,8 @@ private:
 	bool eof_ = false, flushed_ = false;
 };
 
-AudioClip decodeAudioImpl(const std::string& path, int outRate) {
-	AudioDecoder dec(path, outRate);
+AudioClip decodeAudioImpl(const std::string& path, int outRate, double maxSeconds) {
+	AudioDecoder dec(path, outRate, maxSeconds);
 	AudioClip clip;
 	clip.sampleRate = outRate;
 	clip.channels = dec.channels();
@@ -556,14 +587,14 @@ struct VideoDecoder {
 };
 
 // The plugin's entry points: exceptions stay inside (guarded, base/plugin.h), messages go out as strings.
-bool decodeAudioEntry(const std::string& path, int sampleRate, AudioClip& out, std::string& error) {
-	return guarded(error, [&] { out = decodeAudioImpl(path, sampleRate); });
+bool decodeAudioEntry(const std::string& path, int sampleRate, double maxSeconds, AudioClip& out, std::string& error) {
+	return guarded(error, [&] { out = decodeAudioImpl(path, sampleRate, maxSeconds); });
 }
 
-void* openAudioEntry(const std::string& path, int sampleRate, int& rate, int& channels, std::string& error) {
+void* openAudioEntry(const std::string& path, int sampleRate, double maxSeconds, int& rate, int& channels, std::string& error) {
 	AudioDecoder* d = nullptr;
 	guarded(error, [&] {
-		d = new AudioDecoder(path, sampleRate);
+		d = new AudioDecoder(path, sampleRate, maxSeconds);
 		rate = d->rate(), channels = d->channels();
 	});
 	return d;

@@ -16,15 +16,17 @@
 namespace talkhead {
 
 // 4: audio streamed (openAudio/readAudio, Mp4 takes an AudioSource); 5: readVideoYuv; 6: openMp4Live;
-// 7: VideoOptions::container and alpha (WebM, VP9 with alpha)
-constexpr int kAvModuleAbi = 7;
+// 7: VideoOptions::container and alpha (WebM, VP9 with alpha); 8: decodeAudio/openAudio take a length limit
+constexpr int kAvModuleAbi = 8;
 
 struct AvModule {
 	int abi;  // kAvModuleAbi
-	bool (*decodeAudio)(const std::string& path, int sampleRate, AudioClip& out, std::string& error);
+	// maxSeconds: the longest audio taken (refused from the container's declared length before decoding,
+	// and counted as samples come).
+	bool (*decodeAudio)(const std::string& path, int sampleRate, double maxSeconds, AudioClip& out, std::string& error);
 	// An MP4 encoder (opaque), or nullptr with `error` set.
 	// An audio decoder (opaque) that resamples to `sampleRate` (at most 2 channels), or nullptr with `error`.
-	void* (*openAudio)(const std::string& path, int sampleRate, int& rate, int& channels, std::string& error);
+	void* (*openAudio)(const std::string& path, int sampleRate, double maxSeconds, int& rate, int& channels, std::string& error);
 	// Up to `frames` interleaved sample frames; 0 at the end, −1 on error.
 	long (*readAudio)(void* decoder, float* out, std::size_t frames, std::string& error);
 	void (*closeAudio)(void* decoder);

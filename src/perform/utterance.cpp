@@ -64,9 +64,9 @@ Utterance speakText(const std::string& text, const Language& language, const std
 }
 
 Utterance utteranceFromAudio(const std::string& audioPath, const std::string& transcript, const std::string& transcriptName, const Language& language,
-                             int sampleRate) {
+                             int sampleRate, double maxSeconds) {
 	Utterance u;
-	AudioClip clip = decodeAudio(audioPath, sampleRate);
+	AudioClip clip = decodeAudio(audioPath, sampleRate, maxSeconds > 0 ? maxSeconds : kMaxAudioSeconds);
 	u.audio.sampleRate = sampleRate;
 	u.audio.channels = 1;
 	const std::size_t n = clip.frameCount(), ch = std::size_t(std::max(1, clip.channels));

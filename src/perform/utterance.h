@@ -37,9 +37,10 @@ Utterance speakText(const std::string& text, const Language& language, const std
                     int pitch = -1, const SpeechLimits& limits = {});
 
 // An utterance from a sound the caller has (any format libav decodes, in `audioPath`) and its timing in any
-// transcript format talkhead reads (`transcript`, named `transcriptName` in errors). Throws Error.
+// transcript format talkhead reads (`transcript`, named `transcriptName` in errors). A sound longer than
+// maxSeconds (> 0) is refused while it is decoded, before it takes the memory (decodeAudio). Throws Error.
 Utterance utteranceFromAudio(const std::string& audioPath, const std::string& transcript, const std::string& transcriptName,
-                             const Language& language, int sampleRate);
+                             const Language& language, int sampleRate, double maxSeconds = 0);
 
 // What an SSML text's events (D45) come to on its speech's timeline — the one place they are read, for
 // `say`, live sessions and serve. `times` are espeakSpeakSsml's (one per event), clamped to `end`. Emotion

@@ -191,7 +191,8 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 		::close(fd);
 		try {
 			if (done != r.audio.size()) throw Error("cannot write the audio to a temporary file");
-			u = utteranceFromAudio(path, r.timing ? std::string() : r.transcript, "transcript", lang, sampleRate);
+			// The limit bounds decoding itself (issue 45): a small compressed file may hold hours.
+			u = utteranceFromAudio(path, r.timing ? std::string() : r.transcript, "transcript", lang, sampleRate, limits.maxSeconds);
 			if (r.timing) {
 				Transcript t = *r.timing;
 				// Pauses between words, and the last viseme until the sound ends.

@@ -72,3 +72,37 @@ TEST(Audio, badFilesAreErrorsNamingThem) {
 	std::filesystem::remove(empty);
 	std::filesystem::remove(junk);
 }
+
+// Issue 45: a length limit refuses long audio from the declared length before decoding, and, where the
+// length is not declared (a streamed WAV: sizes 0xFFFFFFFF), as soon as the samples counted pass it.
+TEST(Audio, audioLongerThanTheLimitIsRefused) {
+	const std::string path = tempPath("three-seconds.wav");
+	writeWav(path, tone(8000, 3.0, 300));
+	EXPECT_EQ(decodeAudio(path, 8000, 5.0).frameCount(), 24000u);
+	const std::string declared = errorOf([&] { decodeAudio(path, 8000, 1.0); });
+	EXPECT_NE(declared.find(path + ": lasts 3.0 s (as its header says), longer than the 1 s allowed"), std::string::npos) << declared;
+	EXPECT_NE(errorOf([&] { openAudioFile(path, 8000, 2.0); }).find("longer than the 2 s allowed"), std::string::npos);
+	// The same samples with the sizes of a WAV written as a stream: nothing declared, so counted.
+	std::string bytes;
+	{
+		std::ifstream in(path, std::ios::binary);
+		bytes.assign(std::istreambuf_iterator<char>(in), {});
+	}
+	const std::size_t data = bytes.find("data");
+	ASSERT_NE(data, std::string::npos);
+	for (std::size_t at : {std::size_t(4), data + 4}) bytes.replace(at, 4, "\xff\xff\xff\xff", 4);
+	const std::string streamed = tempPath("streamed.wav");
+	std::ofstream(streamed, std::ios::binary) << bytes;
+	EXPECT_EQ(decodeAudio(streamed, 8000, 5.0).frameCount(), 24000u);
+	const std::string counted = errorOf([&] { decodeAudio(streamed, 8000, 1.0); });
+	EXPECT_NE(counted.find(streamed + ": lasts longer than the 1 s allowed"), std::string::npos) << counted;
+	auto source = openAudioFile(streamed, 8000, 1.0);
+	std::vector<float> block(4000);
+	EXPECT_NE(errorOf([&] {
+		          while (source->read(block.data(), 4000) > 0) {
+		          }
+	          }).find("longer than the 1 s allowed"),
+	          std::string::npos);
+	std::filesystem::remove(path);
+	std::filesystem::remove(streamed);
+}
