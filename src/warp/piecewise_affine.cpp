@@ -137,7 +137,10 @@ inline std::uint8_t storeInRange<std::uint8_t>(float v) {
 
 // The run [fa, fb) of the span's pixels whose 2×2 source neighbourhood (plus the 4-byte loads) lies
 // inside a sw × sh source under the affine map a; fa = fb = x1 when there is none.
+// The run's positions are stepped in 32.32 fixed point from a double start, which can round to just below
+// the float test's 0 (a row −1 read): the run keeps 1e-3 px from every edge, low as high.
 inline void interiorRun(const float* a, const Span& s, int sw, int sh, int& fa, int& fb) {
+	constexpr float lo = 1e-3f;
 	const float limX = float(sw - 2) - 1e-3f, limY = float(sh - 1) - 1e-3f;
 	const float rx = a[1] * float(s.y) + a[2], ry = a[4] * float(s.y) + a[5];
 	fa = s.x0;
@@ -145,15 +148,15 @@ inline void interiorRun(const float* a, const Span& s, int sw, int sh, int& fa, 
 	// The usual case: both ends inside, hence (the map is affine along the run) every pixel between.
 	const auto inside = [&](int x) {
 		const float u = a[0] * float(x) + rx, v = a[3] * float(x) + ry;
-		return u >= 0.f && u < limX && v >= 0.f && v < limY;
+		return u >= lo && u < limX && v >= lo && v < limY;
 	};
 	if (fb > fa && inside(fa) && inside(fb - 1)) return;
 	auto limit = [&](float slope, float offset, float lim) {
 		if (std::abs(slope) < 1e-9f) {
-			if (!(offset >= 0.f && offset < lim)) fb = fa;
+			if (!(offset >= lo && offset < lim)) fb = fa;
 			return;
 		}
-		float t0 = (0.f - offset) / slope, t1 = (lim - offset) / slope;
+		float t0 = (lo - offset) / slope, t1 = (lim - offset) / slope;
 		if (slope < 0) std::swap(t0, t1);
 		fa = std::max(fa, int(std::ceil(std::max(t0, -1e9f))) + 1);
 		fb = std::min(fb, int(std::floor(std::min(t1, 1e9f))) - 1);
@@ -162,7 +165,7 @@ inline void interiorRun(const float* a, const Span& s, int sw, int sh, int& fa, 
 	limit(a[3], ry, limY);
 	auto inBounds = [&](int x) {
 		const float u = a[0] * float(x) + rx, v = a[3] * float(x) + ry;
-		return u >= 0.f && u < limX && v >= 0.f && v < limY;
+		return u >= lo && u < limX && v >= lo && v < limY;
 	};
 	if (fb <= fa || !inBounds(fa) || !inBounds(fb - 1)) fa = fb = s.x1;
 }

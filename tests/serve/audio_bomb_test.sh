@@ -42,7 +42,11 @@ grep -q '"type": "error".*7200.0 s (as its header says)' "$T/b.events" || fail "
 grep -q '"type": "utterance_started".*"id": "after"' "$T/b.events" || fail "the session did not go on"
 grow=$(( (after - before) / 1024 ))
 echo "server peak memory: $((before / 1024)) MiB before the bomb, $((after / 1024)) MiB after (+$grow MiB)"
-test "$grow" -le 32 || fail "the bomb raised the server's peak memory by $grow MiB"
+# Under AddressSanitizer freed memory waits in its quarantine, so the bound there is looser (the old
+# server took 1244 MiB either way). ldd's output is read whole before grep (pipefail, see cli.real_inputs).
+libs=$(ldd "$TH" 2>/dev/null || true)
+bound=32; if grep -q libasan <<<"$libs"; then bound=128; fi
+test "$grow" -le "$bound" || fail "the bomb raised the server's peak memory by $grow MiB (at most $bound)"
 
 # The command line: a 5-hour FLAC is over its 4-hour limit, refused before decoding (one line, exit 1,
 # no output, little memory and time).
