@@ -130,16 +130,17 @@ namespace {
 // Reads the top-level object's members up to `key`'s value, then stops.
 class MemberFinder : public nlohmann::json_sax<nlohmann::json> {
 public:
-	explicit MemberFinder(std::string key) : key_(std::move(key)) {}
+	MemberFinder(std::string key, bool asJson) : key_(std::move(key)), json_(asJson) {}
 	std::optional<std::string> found;
-	bool null() override { return value(std::nullopt); }
-	bool boolean(bool) override { return value(std::nullopt); }
+	bool null() override { return value(json_ ? std::optional<std::string>("null") : std::nullopt); }
+	bool boolean(bool b) override { return value(json_ ? std::optional<std::string>(b ? "true" : "false") : std::nullopt); }
 	bool number_integer(number_integer_t n) override { return value(std::to_string(n)); }
 	bool number_unsigned(number_unsigned_t n) override { return value(std::to_string(n)); }
-	bool number_float(number_float_t n, const string_t&) override {
+	bool number_float(number_float_t n, const string_t& text) override {
+		if (json_) return value(text);
 		return value(std::isfinite(n) && n == std::floor(n) && std::fabs(n) < 1e18 ? std::optional<std::string>(std::to_string(std::llround(n))) : std::nullopt);
 	}
-	bool string(string_t& s) override { return value(s); }
+	bool string(string_t& s) override { return value(json_ ? jsonQuote(s) : s); }
 	bool binary(binary_t&) override { return value(std::nullopt); }
 	bool start_object(std::size_t) override { return open(); }
 	bool key(string_t& k) override {
@@ -153,6 +154,7 @@ public:
 
 private:
 	std::string key_;
+	bool json_;
 	int depth_ = 0;
 	bool here_ = false;
 	bool open() {
@@ -167,15 +169,29 @@ private:
 	}
 };
 
-}  // namespace
-
-std::optional<std::string> jsonTopLevelMember(const std::string& text, const std::string& key) {
-	MemberFinder f(key);
+std::optional<std::string> findMember(const std::string& text, const std::string& key, bool asJson) {
+	MemberFinder f(key, asJson);
 	try {
 		nlohmann::json::sax_parse(text, &f, nlohmann::json::input_format_t::json, false, false);
 	} catch (const std::exception&) {
 	}
 	return f.found;
+}
+
+}  // namespace
+
+std::optional<std::string> jsonTopLevelMember(const std::string& text, const std::string& key) { return findMember(text, key, false); }
+std::optional<std::string> jsonTopLevelMemberJson(const std::string& text, const std::string& key) { return findMember(text, key, true); }
+
+std::string jsonKeepMembers(const std::string& objectText, const std::vector<std::string>& keys) {
+	nlohmann::json j = nlohmann::json::parse(objectText, nullptr, false);
+	if (!j.is_object()) return "{}";
+	nlohmann::json kept = nlohmann::json::object();
+	for (const std::string& k : keys) {
+		auto it = j.find(k);
+		if (it != j.end()) kept[k] = std::move(*it);
+	}
+	return kept.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 JsonValue parseJson(const std::string& text, const std::string& path, long line, std::size_t maxValues) {

@@ -32,6 +32,12 @@ JsonValue parseJson(const std::string& text, const std::string& path, long line 
 // as the text can be read: for a text that is malformed or cut off after the member, too (an error reply
 // to a request that could not be parsed still names its id). nullopt when not found.
 std::optional<std::string> jsonTopLevelMember(const std::string& text, const std::string& key);
+// The same member as JSON text, for a scalar: a string quoted (escaped again), a number as written, true,
+// false or null. nullopt when not found or an object or an array.
+std::optional<std::string> jsonTopLevelMemberJson(const std::string& text, const std::string& key);
+// `objectText` (a JSON object) with only the top-level members named in `keys` (sorted by name), on one line
+// ("{}" when it is not an object).
+std::string jsonKeepMembers(const std::string& objectText, const std::vector<std::string>& keys);
 
 // Escapes a string for JSON output (quotes included).
 std::string jsonQuote(const std::string& s);

@@ -111,6 +111,7 @@ int runServe(const std::vector<std::string>& argv) {
 	                {"--crf", "N", "H.264 quality, 0–51 (default 23; 0 = lossless, which browsers do not play)"},
 	                {"--preset", "NAME", "x264 preset (default veryfast)"},
 	                {"--record", "DIR", "write each session's requests with the frame each took effect at (DIR/session-N.jsonl; 'talkhead live' replays one)"},
+	                {"--record-max", "MiB", "the most one session's record may take (default 64); past it, its recording stops (the record ends there)"},
 	                {"--token", "TOKEN", "every session must give it (header 'Authorization: Bearer TOKEN', or a first message {\"type\": \"auth\", \"token\": …}); also from $TALKHEAD_TOKEN or --token-file; required off loopback"},
 	                {"--token-file", "FILE", "read the token from FILE (its first line), not the command line"},
 	                {"--allow-origin", "O1,O2", "web pages (origins, e.g. https://app.example.com; * for any) that may open sessions besides the server's own and loopback pages"},
@@ -159,6 +160,7 @@ int runServe(const std::vector<std::string>& argv) {
 		checkWritableFolder(*dir + "/x");
 		o.recordDir = *dir;
 	}
+	o.recordMaxBytes = std::uint64_t(args.number("--record-max", 64, 1, 1 << 20) * double(1 << 20));
 	if (o.host == "localhost") o.host = "127.0.0.1";
 	securityOptions(args, o);
 	o.idleSeconds = args.number("--idle-timeout", 300, 0, 86400 * 7);

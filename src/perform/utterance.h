@@ -15,7 +15,7 @@ namespace talkhead {
 
 // Something to say: the sound and the phones in it, times relative to the sound's first sample.
 struct Utterance {
-	std::string id;                     // the client's, echoed in the events
+	std::string id;                     // the client's, as JSON text (serve: a quoted string or a number), echoed as is
 	AudioClip audio;                    // mono at the session's sample rate (empty: a silent utterance)
 	std::vector<PhoneSegment> phones;   // with CDVs (phoneSegments), from 0
 	struct Mark {

@@ -41,7 +41,7 @@ const char* liveEventName(LiveEvent::Kind kind) {
 std::string liveEventJson(const LiveEvent& e, std::optional<double> latencyMs) {
 	JsonObject j;
 	j.add("type", liveEventName(e.kind)).add("frame", static_cast<long long>(e.frame)).add("time", toSeconds(e.time), "%.3f");
-	if (!e.id.empty()) j.add("id", e.id);
+	if (!e.id.empty()) j.raw("id", e.id);  // JSON text already (the client's, as written)
 	if (!e.name.empty()) j.add(e.kind == LiveEvent::Kind::Viseme ? "viseme" : e.kind == LiveEvent::Kind::Emotion ? "emotion" : "name", e.name);
 	if (e.kind == LiveEvent::Kind::UtteranceEnded) j.add("interrupted", e.interrupted);
 	if (latencyMs) j.add("latency_ms", *latencyMs, "%.1f");
@@ -92,7 +92,7 @@ public:
 			++it;
 		}
 	}
-	std::int64_t position() const { return pos_; }
+	std::int64_t position() const { return pos_; }  // the next sample to be read
 
 private:
 	struct Segment {
@@ -193,7 +193,12 @@ void LiveSession::warm(const Utterance& u, Emotion emotion, double intensity) co
 }
 
 Ticks LiveSession::enqueue(Utterance u) {
-	const Ticks start = std::max(nextTime(), queueEnd_);
+	// Not before the sound read already: an encoder reads its priming ahead of the first frame (a live AAC
+	// stream skips the session's first 1024 samples, D54), so the first say of a session starts at the
+	// first frame whose sound is still to be read, its mouth and its sound together (issue 45: it lost 46 ms).
+	std::int64_t f = next_;
+	while (std::llround(toSeconds(o_.rate.time(f)) * o_.sampleRate) < sound_->position()) ++f;
+	const Ticks start = std::max(o_.rate.time(f), queueEnd_);
 	Performance planned;
 	if (!u.phones.empty()) planned = plan(u);
 	std::vector<Keypose>& fresh = planned.keys;
@@ -282,7 +287,7 @@ void LiveSession::setEmotion(Emotion e, double intensity, Ticks ramp) {
 	replan();
 }
 
-void LiveSession::stop() {
+void LiveSession::stop(const std::string& id, const std::vector<std::string>& unstarted) {
 	const Ticks t = nextTime(), frame = o_.rate.frameLength();
 	if (queueEnd_ > t) {
 		const Ticks closeAt = t + ticksFromSeconds(kStopClose);
@@ -316,8 +321,16 @@ void LiveSession::stop() {
 		blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b >= t; }), blinks.end());
 		queueEnd_ = t;
 	}
+	for (const std::string& u : unstarted) {  // the caller's, never queued here: after the session's own
+		LiveEvent e;
+		e.kind = LiveEvent::Kind::UtteranceEnded;
+		e.id = u;
+		e.interrupted = true;
+		addPending(t, e);
+	}
 	LiveEvent ev;
 	ev.kind = LiveEvent::Kind::Stopped;
+	ev.id = id;
 	addPending(t, ev);
 	replan();
 }

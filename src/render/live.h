@@ -45,7 +45,7 @@ struct LiveEvent {
 	enum class Kind { UtteranceStarted, UtteranceEnded, Mark, Viseme, Stopped, Emotion } kind = Kind::Viseme;
 	std::int64_t frame = 0;
 	Ticks time{0};
-	std::string id;    // the utterance's
+	std::string id;    // the utterance's, or the stop's: JSON text (a quoted string or a number), "" for none
 	std::string name;  // the mark, the viseme (CDV) or the emotion
 	bool interrupted = false;  // UtteranceEnded by a stop
 };
@@ -81,7 +81,9 @@ public:
 	void setEmotion(Emotion emotion, double intensity, Ticks ramp);
 	// Barge-in: the speech under way and everything queued is dropped (the sound fades out over 10 ms) and
 	// the mouth closes — at rest within 150 ms of the next frame.
-	void stop();
+	// `id` (JSON text, or "") goes on the `stopped` event; `unstarted`: ids of utterances the caller held
+	// back and now drops (a server's prepared ones), each ended (interrupted) after the session's own.
+	void stop(const std::string& id = {}, const std::vector<std::string>& unstarted = {});
 	// Speech under way or queued at the next frame.
 	bool speaking() const { return queueEnd_ > nextTime(); }
 	// When the speech queued so far ends (stream time; at or before nextTime() when silent).

@@ -96,7 +96,24 @@ std::string forClient(std::string m) {
 	return m;
 }
 
+const char* const kIdRule = "'id' must be a string of at most 200 bytes or a whole number from -9007199254740991 to 9007199254740991, written without a fraction or an exponent";
+
 }  // namespace
+
+std::string requestIdJson(const std::string& member) {
+	if (!member.empty() && member[0] == '"') {
+		const JsonValue v = parseJson(member, "id");
+		if (v.kind != JsonValue::Kind::String || v.string.size() > 200) throw Error(kIdRule);
+		return member;
+	}
+	// An integer as digits (JSON's grammar: no leading zeros, an optional minus) within JavaScript's safe range.
+	const std::size_t digits = member.size() - (member.rfind('-', 0) == 0 ? 1 : 0);
+	if (digits == 0 || digits > 16 || member.find_first_not_of("-0123456789") != std::string::npos || member.find('-', 1) != std::string::npos)
+		throw Error(kIdRule);
+	const long long n = std::strtoll(member.c_str(), nullptr, 10);
+	if (n > 9007199254740991LL || n < -9007199254740991LL) throw Error(kIdRule);
+	return member == "-0" ? "0" : member;
+}
 
 LiveRequest parseLiveRequest(const std::string& json) {
 	const JsonValue v = parseJson(json, "request", 1, kMaxRequestValues);
@@ -108,11 +125,13 @@ LiveRequest parseLiveRequest(const std::string& json) {
 	else if (type == "emotion") r.kind = LiveRequest::Kind::Emotion;
 	else if (type == "stop") r.kind = LiveRequest::Kind::Stop;
 	else throw Error("unknown request type '" + safeQuote(type) + "' (say, speak, emotion, stop)");
-	const JsonValue* id = v.find("id");
-	if (id && id->kind == JsonValue::Kind::String) r.id = id->string;
-	else if (id && id->kind == JsonValue::Kind::Number) r.id = std::to_string(std::llround(id->number));
-	else if (id && id->kind != JsonValue::Kind::Null) throw Error("'id' must be a string or a number");
-	if (r.id.size() > 200) throw Error("'id' is longer than 200 bytes");
+	if (const JsonValue* id = v.find("id"); id && id->kind != JsonValue::Kind::Null) {
+		// As the client wrote it (issue 45): 2 and "2" are two ids, and no number is rounded into another.
+		if (id->kind != JsonValue::Kind::String && id->kind != JsonValue::Kind::Number) throw Error(kIdRule);
+		const auto text = jsonTopLevelMemberJson(json, "id");
+		if (!text) throw Error(kIdRule);
+		r.id = requestIdJson(*text);
+	}
 	const std::string& emotion = stringMember(v, "emotion", r.kind == LiveRequest::Kind::Emotion);
 	if (!emotion.empty()) {
 		r.emotion = Emotion::find(emotion);
@@ -230,6 +249,14 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 	return u;
 }
 
+std::string requestForRecord(const std::string& json, const LiveRequest& r) {
+	std::vector<std::string> keys = {"type", "id", "emotion", "intensity", "ramp"};
+	if (r.kind == LiveRequest::Kind::Say) keys.insert(keys.end(), {"text", "lang", "voice", "rate", "pitch"});
+	if (r.kind == LiveRequest::Kind::Speak)
+		keys.insert(keys.end(), {"audio", "lang", "encoding", "sample_rate", "channels", "transcript", "visemes", "alignment", "normalized_alignment"});
+	return jsonKeepMembers(json, keys);
+}
+
 SessionScript readSessionScript(const std::string& path) {
 	SessionScript out;
 	const std::string text = readTextFile(path);
@@ -268,7 +295,7 @@ SessionScript readSessionScript(const std::string& path) {
 
 void applyLiveRequest(LiveSession& session, const LiveRequest& r, std::optional<Utterance> utterance) {
 	switch (r.kind) {
-	case LiveRequest::Kind::Stop: session.stop(); break;
+	case LiveRequest::Kind::Stop: session.stop(r.id); break;
 	case LiveRequest::Kind::Emotion: session.setEmotion(*r.emotion, r.intensity, r.ramp); break;
 	case LiveRequest::Kind::Say:
 	case LiveRequest::Kind::Speak:

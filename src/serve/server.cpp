@@ -24,6 +24,7 @@
 #include <deque>
 #include <fstream>
 #include <list>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -71,6 +72,15 @@ constexpr std::size_t kMaxQueuedBytes = 64u << 20;  // a client this far behind 
 constexpr std::size_t kMaxAuthMessage = 4096;       // an auth message; larger before authentication closes the connection
 constexpr int kAuthSeconds = 10;                    // to authenticate after the upgrade
 constexpr int kMaxConnections = 512;                // TCP connections at once (HTTP and sessions)
+// Connections not yet authenticated (issue 45: 512 idle ones from someone without the token locked out every
+// token holder): a small budget of their own, and a smaller one per address. When a budget is full, a new
+// connection takes the place of the oldest one that has waited kEvictAfter without authenticating (that one
+// is closed); when none has waited that long, the new one is refused. A client that has the token sends it
+// with its first request, within milliseconds of connecting, so idle connections cannot keep it out.
+constexpr int kMaxUnauthenticated = 64;
+constexpr int kMaxUnauthenticatedPerAddress = 16;
+constexpr auto kEvictAfter = std::chrono::seconds(1);
+constexpr auto kCloseGrace = std::chrono::milliseconds(500);  // shutdown: for clients to answer the close frames
 
 std::string errorJson(const std::string& message) { return JsonObject().add("type", "error").add("message", safeLine(message)).str(); }
 
@@ -80,6 +90,16 @@ public:
 	virtual ~SessionBase() = default;
 	virtual void beginShutdown(Clock::time_point deadline) = 0;
 	virtual void dropWorker() = 0;
+	virtual bool closeSent() const = 0;  // its close frame is written: nothing more to send
+};
+
+// A connection not yet authenticated (io thread): a place in the unauthenticated budget until it
+// authenticates or goes; `close` ends it when a newer connection takes its place.
+struct Unauthenticated {
+	std::string address;
+	Clock::time_point since;
+	std::function<void()> close;
+	bool listed = true;
 };
 
 }  // namespace
@@ -106,6 +126,11 @@ struct NetServer::Impl {
 	Clock::time_point lastAcceptLog{};
 	std::int64_t acceptErrorsSinceLog = 0;
 	Clock::time_point drainEnd{};
+	std::optional<Clock::time_point> allClosedAt;  // shutdown: when every session had sent its close frame
+	std::list<std::shared_ptr<Unauthenticated>> unauthenticated;  // io thread: oldest first
+	std::map<std::string, int> unauthenticatedBy;                  // per address
+	Clock::time_point lastUnauthLog{};
+	std::int64_t unauthRefusedSinceLog = 0, unauthClosedSinceLog = 0;
 	std::optional<ssl::context> tls;
 	// The io context after what its handlers use (destroyed first), the io objects after it.
 	net::io_context ioc{1};
@@ -186,6 +211,59 @@ struct NetServer::Impl {
 		}
 		return "";
 	}
+	// A place for a new connection from `address` that has not authenticated yet, or nullptr: refused.
+	std::shared_ptr<Unauthenticated> admitUnauthenticated(const std::string& address) {
+		const auto now = Clock::now();
+		auto makeRoom = [&](bool sameAddress) {
+			auto oldest = unauthenticated.end();
+			for (auto it = unauthenticated.begin(); it != unauthenticated.end(); ++it)
+				if (!sameAddress || (*it)->address == address) {
+					oldest = it;
+					break;
+				}
+			if (oldest == unauthenticated.end() || now - (*oldest)->since < kEvictAfter) return false;
+			const std::shared_ptr<Unauthenticated> gone = *oldest;
+			std::shared_ptr<Unauthenticated> place = gone;
+			authenticated(place);  // its place is free now; the connection ends when its handlers run
+			++counters.closedUnauthenticated;
+			++unauthClosedSinceLog;
+			if (gone->close) gone->close();
+			return true;
+		};
+		bool ok = true;
+		if (unauthenticatedBy[address] >= kMaxUnauthenticatedPerAddress) ok = makeRoom(true);
+		if (ok && int(unauthenticated.size()) >= kMaxUnauthenticated) ok = makeRoom(false);
+		if (!ok) ++counters.refusedUnauthenticated, ++unauthRefusedSinceLog;
+		if ((unauthRefusedSinceLog > 0 || unauthClosedSinceLog > 0) && now - lastUnauthLog >= std::chrono::seconds(1)) {  // once a second at most
+			char b[320];
+			std::snprintf(b, sizeof b, "connections not yet authenticated: %lld refused, %lld closed for newer ones since the last line (%zu open; at most %d, %d per address; %s has %d)",
+			              static_cast<long long>(unauthRefusedSinceLog), static_cast<long long>(unauthClosedSinceLog), unauthenticated.size(), kMaxUnauthenticated,
+			              kMaxUnauthenticatedPerAddress, address.c_str(), unauthenticatedBy[address]);
+			log(b);
+			lastUnauthLog = now;
+			unauthRefusedSinceLog = unauthClosedSinceLog = 0;
+		}
+		if (!ok) {
+			if (unauthenticatedBy[address] == 0) unauthenticatedBy.erase(address);
+			return nullptr;
+		}
+		auto u = std::make_shared<Unauthenticated>(Unauthenticated{address, now, {}, true});
+		unauthenticated.push_back(u);
+		++unauthenticatedBy[address];
+		return u;
+	}
+	// Its place is given back: authenticated, gone or closed for a newer one (null: nothing to give back).
+	void authenticated(std::shared_ptr<Unauthenticated>& u) {
+		if (!u) return;
+		if (u->listed) {
+			u->listed = false;
+			unauthenticated.remove(u);
+			if (--unauthenticatedBy[u->address] <= 0) unauthenticatedBy.erase(u->address);
+		}
+		u.reset();
+	}
+	// The authentication deadline of a connection not yet authenticated: kAuthSeconds after it connected.
+	static Clock::time_point authDeadline(const Unauthenticated& u) { return u.since + std::chrono::seconds(kAuthSeconds); }
 	void accept();
 	void beginShutdown();
 	void drainCheck();
@@ -203,12 +281,22 @@ public:
 	WsSession(Stream&& stream, NetServer::Impl& server) : ws_(std::move(stream)), server_(server), authTimer_(server.ioc) {}
 	~WsSession() override {
 		dropWorker();
+		server_.authenticated(unauthenticated_);
 		if (counted_) --server_.sessions;
 		--server_.connections;
 	}
 
-	void run(http::request<http::string_body> req, bool authenticated) {
+	void run(http::request<http::string_body> req, bool authenticated, std::shared_ptr<Unauthenticated> unauthenticated) {
 		authenticated_ = authenticated;
+		unauthenticated_ = std::move(unauthenticated);
+		if (unauthenticated_) {
+			unauthenticated_->close = [weak = this->weak_from_this()] {
+				if (auto self = weak.lock()) {
+					beast::error_code ignored;
+					beast::get_lowest_layer(self->ws_).socket().close(ignored);
+				}
+			};
+		}
 		ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
 		ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& res) { res.set(http::field::server, "talkhead"); }));
 		ws_.read_message_max(0);  // messages are read in parts and bounded here (an oversized one is an error, not a drop)
@@ -223,6 +311,7 @@ public:
 		gone_ = true;
 		server_.retire(std::move(worker_));
 	}
+	bool closeSent() const override { return closeSent_ && !writing_; }
 
 private:
 	websocket::stream<Stream> ws_;
@@ -238,18 +327,28 @@ private:
 	std::atomic<bool> gone_{false};
 	std::unique_ptr<SessionWorker> worker_;
 	std::shared_ptr<SessionStats> stats_;
+	std::shared_ptr<Unauthenticated> unauthenticated_;  // until the token came
 	int id_ = 0;
 
 	void onAccept(beast::error_code ec) {
 		if (ec) return;
 		if (!authenticated_) {
-			// The token comes as the first message: {"type": "auth", "token": "…"}.
-			authTimer_.expires_after(std::chrono::seconds(kAuthSeconds));
+			// The token comes as the first message: {"type": "auth", "token": "…"}, within kAuthSeconds of connecting.
+			if (unauthenticated_) authTimer_.expires_at(NetServer::Impl::authDeadline(*unauthenticated_));
+			else authTimer_.expires_after(std::chrono::seconds(kAuthSeconds));
 			authTimer_.async_wait([weak = this->weak_from_this()](beast::error_code e) {
 				auto self = weak.lock();
 				if (e || !self || self->authenticated_ || self->closing_) return;
 				++self->server_.counters.refusedAuth;
 				self->refuse("no token within " + std::to_string(kAuthSeconds) + " s: send {\"type\": \"auth\", \"token\": \"…\"} first", websocket::close_code::policy_error);
+				// A client that does not answer the close frame either is cut off a second later.
+				self->authTimer_.expires_after(std::chrono::seconds(1));
+				self->authTimer_.async_wait([weak = self->weak_from_this()](beast::error_code e2) {
+					if (auto s2 = weak.lock(); s2 && !e2) {
+						beast::error_code ignored;
+						beast::get_lowest_layer(s2->ws_).socket().close(ignored);
+					}
+				});
 			});
 			read();
 			return;
@@ -366,6 +465,7 @@ private:
 		}
 		authenticated_ = true;
 		authTimer_.cancel();
+		server_.authenticated(unauthenticated_);
 		start();
 	}
 
@@ -422,12 +522,20 @@ public:
 		++server_.connections;
 	}
 	~HttpSession() {
+		server_.authenticated(unauthenticated_);
 		if (!upgraded_) --server_.connections;
 	}
-	void run() {
+	void run(std::shared_ptr<Unauthenticated> unauthenticated) {
+		unauthenticated_ = std::move(unauthenticated);
+		unauthenticated_->close = [weak = this->weak_from_this()] {
+			if (auto self = weak.lock()) {
+				beast::error_code ignored;
+				beast::get_lowest_layer(self->stream_).socket().close(ignored);
+			}
+		};
 		net::dispatch(stream_.get_executor(), [self = this->shared_from_this()] {
 			if constexpr (kTls<Stream>) {
-				beast::get_lowest_layer(self->stream_).expires_after(std::chrono::seconds(30));
+				beast::get_lowest_layer(self->stream_).expires_at(NetServer::Impl::authDeadline(*self->unauthenticated_));
 				self->stream_.async_handshake(ssl::stream_base::server, [self](beast::error_code ec) {
 					if (!ec) self->read();
 				});
@@ -443,12 +551,15 @@ private:
 	NetServer::Impl& server_;
 	std::optional<http::request_parser<http::string_body>> parser_;
 	bool upgraded_ = false;
+	std::shared_ptr<Unauthenticated> unauthenticated_;  // until a request proves it may come in
 
 	void read() {
 		parser_.emplace();
 		parser_->body_limit(1 << 16);
 		parser_->header_limit(16 << 10);
-		beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+		// Not yet authenticated: kAuthSeconds from the connection on, whatever it sends meanwhile.
+		if (unauthenticated_) beast::get_lowest_layer(stream_).expires_at(NetServer::Impl::authDeadline(*unauthenticated_));
+		else beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
 		http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::onRead, this->shared_from_this()));
 	}
 
@@ -463,9 +574,19 @@ private:
 	}
 
 	void onRead(beast::error_code ec, std::size_t) {
+		if (ec == http::error::header_limit || ec == http::error::body_limit) {
+			// Answered, then closed (issue 45: an oversized header just closed the connection).
+			http::request<http::string_body> req;
+			req.version(11);
+			req.keep_alive(false);
+			return ec == http::error::header_limit
+			           ? reply(req, http::status::request_header_fields_too_large, "text/plain", "talkhead serve: the request's header is larger than 16 KiB\n")
+			           : reply(req, http::status::payload_too_large, "text/plain", "talkhead serve: the request's body is larger than 64 KiB\n");
+		}
 		if (ec) return shutdown();
 		http::request<http::string_body> req = parser_->release();
-		const std::string target(req.target());
+		// The path without its query (issue 45: /health?x=1 was not found).
+		const std::string target(req.target().substr(0, req.target().find('?')));
 		const std::string host(req[http::field::host]);
 		if (auto why = refusedHost(server_.policy, host)) {
 			++server_.counters.refusedHost;
@@ -473,6 +594,7 @@ private:
 		}
 		const auto bearer = bearerToken(std::string(req[http::field::authorization]));
 		const bool tokenOk = server_.o.token.empty() || (bearer && sameToken(server_.o.token, *bearer));
+		if (tokenOk) server_.authenticated(unauthenticated_);  // no token asked, or the right one given
 		if (websocket::is_upgrade(req)) {
 			if (target != "/live") return reply(req, http::status::not_found, "text/plain", "talkhead serve: WebSocket sessions are at /live\n");
 			if (auto why = refusedOrigin(server_.policy, std::string(req[http::field::origin]), host, kTls<Stream>)) {
@@ -488,7 +610,7 @@ private:
 			if (server_.connections > kMaxConnections) return reply(req, http::status::service_unavailable, "text/plain", "talkhead serve: too many connections\n");
 			beast::get_lowest_layer(stream_).expires_never();
 			upgraded_ = true;
-			std::make_shared<WsSession<Stream>>(std::move(stream_), server_)->run(std::move(req), server_.o.token.empty() || tokenOk);
+			std::make_shared<WsSession<Stream>>(std::move(stream_), server_)->run(std::move(req), tokenOk, std::move(unauthenticated_));
 			return;
 		}
 		if (req.method() != http::verb::get && req.method() != http::verb::head)
@@ -550,9 +672,13 @@ std::string NetServer::Impl::metrics() {
 	metric("talkhead_sessions_opened_total", "counter", "Sessions opened.", one("talkhead_sessions_opened_total", double(c.sessionsOpened)));
 	std::string refused;
 	for (const auto& [reason, v] : {std::pair<const char*, std::int64_t>{"full", c.refusedFull}, {"load", c.refusedLoad}, {"auth", c.refusedAuth},
-	                                {"origin", c.refusedOrigin}, {"host", c.refusedHost}, {"shutdown", c.refusedShutdown}})
+	                                {"origin", c.refusedOrigin}, {"host", c.refusedHost}, {"shutdown", c.refusedShutdown},
+	                                {"unauthenticated", c.refusedUnauthenticated}})
 		refused += "talkhead_sessions_refused_total{reason=\"" + std::string(reason) + "\"} " + std::to_string(v) + "\n";
 	metric("talkhead_sessions_refused_total", "counter", "Connections refused, by reason.", refused);
+	metric("talkhead_unauthenticated_closed_total", "counter", "Connections not yet authenticated closed for newer ones (their budget was full).",
+	       one("talkhead_unauthenticated_closed_total", double(c.closedUnauthenticated)));
+	metric("talkhead_unauthenticated_connections", "gauge", "Connections not yet authenticated.", one("talkhead_unauthenticated_connections", double(unauthenticated.size())));
 	metric("talkhead_sessions_closed_idle_total", "counter", "Sessions closed for idleness (--idle-timeout).", one("talkhead_sessions_closed_idle_total", double(c.closedIdle)));
 	metric("talkhead_frames_total", "counter", "Frames drawn and sent.", one("talkhead_frames_total", double(c.frames)));
 	metric("talkhead_late_frames_total", "counter", "Frames sent more than one frame after their time.", one("talkhead_late_frames_total", double(c.lateFrames)));
@@ -598,13 +724,17 @@ void NetServer::Impl::accept() {
 			});
 			return;
 		}
-		if (connections >= kMaxConnections) {
+		beast::error_code aec;
+		const auto remote = socket.remote_endpoint(aec);
+		std::shared_ptr<Unauthenticated> place;
+		if (connections < kMaxConnections && !aec) place = admitUnauthenticated(remote.address().to_string());
+		if (!place) {
 			beast::error_code ignored;
 			socket.close(ignored);
 		} else if (tls) {
-			std::make_shared<HttpSession<TlsStream>>(*this, std::move(socket), *tls)->run();
+			std::make_shared<HttpSession<TlsStream>>(*this, std::move(socket), *tls)->run(std::move(place));
 		} else {
-			std::make_shared<HttpSession<PlainStream>>(*this, std::move(socket))->run();
+			std::make_shared<HttpSession<PlainStream>>(*this, std::move(socket))->run(std::move(place));
 		}
 		accept();
 	});
@@ -626,10 +756,16 @@ void NetServer::Impl::beginShutdown() {
 }
 
 // Stops the io context once every session has closed, or a little after the drain's end.
+// A session that has sent its close frame is done: its client has kCloseGrace to answer it (issue 45: a
+// client that never answered kept the server for the whole drain and 2 s more).
 void NetServer::Impl::drainCheck() {
-	bool any = false;
-	for (auto& [w, s] : live) any |= !w.expired();
-	if (!any || Clock::now() > drainEnd + std::chrono::seconds(2)) {
+	bool any = false, open = false;
+	for (auto& [w, s] : live)
+		if (auto session = w.lock()) any = true, open |= !session->closeSent();
+	const auto now = Clock::now();
+	if (open) allClosedAt.reset();
+	else if (!allClosedAt) allClosedAt = now;
+	if (!any || (allClosedAt && now - *allClosedAt >= kCloseGrace) || now > drainEnd + std::chrono::seconds(2)) {
 		ioc.stop();
 		return;
 	}

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -23,7 +24,7 @@ namespace talkhead {
 // A client's request, parsed. Throws Error ("what is wrong") for anything malformed.
 struct LiveRequest {
 	enum class Kind { Say, Speak, Emotion, Stop } kind = Kind::Say;
-	std::string id;                 // echoed in the events (optional)
+	std::string id;                 // as JSON text (a quoted string or an integer as written), echoed as is; "" when absent
 	std::string text, lang, voice;  // say
 	int rate = 0, pitch = -1;       // say: words per minute (80–450), pitch (0–100); 0 / −1 = the voice's
 	std::optional<Emotion> emotion;  // emotion, or say/speak: the emotion from this utterance on
@@ -37,6 +38,13 @@ struct LiveRequest {
 // At most kMaxRequestValues JSON values (issue 28 item 4: each costs ~100 bytes parsed).
 constexpr std::size_t kMaxRequestValues = 500000;
 LiveRequest parseLiveRequest(const std::string& json);
+// A request's id, from the member's JSON text (jsonTopLevelMemberJson): that text when it is a string of at
+// most 200 bytes or an integer within ±(2^53 − 1) written as digits (so that no two ids a client tells apart
+// are echoed as one, in JavaScript too); throws Error otherwise.
+std::string requestIdJson(const std::string& member);
+// What a session record keeps of a request (`json` its text, `request` what was parsed from it): the members
+// the parser reads for its type, nothing else (a request may carry megabytes of members it ignores).
+std::string requestForRecord(const std::string& json, const LiveRequest& request);
 // The utterance of a say (espeak-ng, in process) or speak (the sound decoded, the transcript read)
 // request, at `sampleRate`, within `limits` (maxSeconds bounds speak's sound too). Throws Error, or
 // SpeechCancelled.
@@ -79,6 +87,7 @@ struct ServeOptions {
 	int encoderThreads = 1;         // per session
 	std::size_t maxMessage = 32u << 20;  // bytes; larger requests get an error, the session goes on
 	std::optional<std::string> recordDir;  // per session, the requests with the frame they took effect at
+	std::uint64_t recordMaxBytes = 64u << 20;  // one session's record at most: past it, its recording stops
 	std::function<void(const std::string&)> log;  // one line per event worth a log (stderr)
 	// Running it safely (issue 28, D58).
 	std::vector<std::string> allowOrigins;  // pages allowed to open sessions besides the server's own and loopback ones

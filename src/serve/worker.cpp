@@ -72,7 +72,7 @@ LiveWorker::~LiveWorker() {
 	if (intake_.joinable()) intake_.join();
 	if (speech_.joinable()) speech_.join();  // before the frames: it may be warming the frame thread's session
 	if (frames_.joinable()) frames_.join();
-	if (record_) record_ << JsonObject().add("type", "end").add("frame", static_cast<long long>(drawn_)).str() << "\n";
+	if (record_.is_open()) record_ << JsonObject().add("type", "end").add("frame", static_cast<long long>(drawn_)).str() << "\n";
 	if (o_.log && drawn_ > 0) {
 		char b[200];
 		std::snprintf(b, sizeof b, "session %d: %lld frames, %.1f ms each to draw and encode, %lld late by more than a frame (latest %.0f ms after its time)", id_,
@@ -96,7 +96,9 @@ void LiveWorker::shutdown(ServeClock::time_point deadline) {
 	std::lock_guard<std::mutex> lock(m_);
 	closing_ = true;
 	deadline_ = deadline;
-	speechQueue_.clear();  // not started: dropped (what is prepared still plays)
+	for (const Command& q : speechQueue_)  // not started: dropped (what is prepared still plays), each ended
+		if (q.request.kind != LiveRequest::Kind::Emotion) orphans_.push_back(q.request.id);
+	speechQueue_.clear();
 	frameCv_.notify_all();
 }
 
@@ -119,7 +121,7 @@ namespace {
 std::string messageJson(const char* type, const std::string& message, const std::string& id) {
 	JsonObject j;
 	j.add("type", type).add("message", safeLine(message));
-	if (!id.empty()) j.add("id", id);
+	if (!id.empty()) j.raw("id", id);
 	return j.str();
 }
 }  // namespace
@@ -155,8 +157,12 @@ void LiveWorker::intakeLoop() {
 		}
 		// Every answer to a request names its id: read from the text as far as it can be (item 10).
 		auto idOf = [&] {
-			auto id = jsonTopLevelMember(in.text, "id");
-			return id && id->size() <= 200 ? *id : std::string();
+			const auto id = jsonTopLevelMemberJson(in.text, "id");
+			try {
+				return id ? requestIdJson(*id) : std::string();
+			} catch (const Error&) {
+				return std::string();  // not an id: the error names none
+			}
 		};
 		if (in.oversize) {
 			error("the request is larger than " + std::to_string(o_.maxMessage >> 20) + " MiB", idOf());
@@ -174,12 +180,16 @@ void LiveWorker::intakeLoop() {
 			error("the server is shutting down: no new requests", r.id);
 			continue;
 		}
-		Command c{std::move(r), std::nullopt, o_.recordDir ? std::move(in.text) : std::string(), 0, in.received};
+		std::string recorded = o_.recordDir ? requestForRecord(in.text, r) : std::string();
+		Command c{std::move(r), std::nullopt, std::move(recorded), 0, in.received};
 		std::unique_lock<std::mutex> lock(m_);
 		if (c.request.kind == LiveRequest::Kind::Stop) {
 			// Barge-in: what waits for synthesis goes, the synthesis under way stops, and the stop overtakes
 			// everything queued: the frame thread takes it at its next frame.
 			++generation_;
+			for (const Command& q : speechQueue_)
+				if (q.request.kind != LiveRequest::Kind::Emotion) c.dropped.push_back(q.request.id);
+			if (preparing_) c.dropped.insert(c.dropped.begin(), preparingId_);
 			speechQueue_.clear();
 			cancel_ = true;
 			c.generation = generation_;
@@ -217,6 +227,7 @@ void LiveWorker::speechLoop() {
 			speechQueue_.pop_front();
 			cancel_ = false;  // a stop from now on cancels this one
 			preparing_ = c.request.kind != LiveRequest::Kind::Emotion;
+			preparingId_ = c.request.id;
 			limits = limitsNow();
 		}
 		double seconds = 0;
@@ -257,7 +268,11 @@ void LiveWorker::speechLoop() {
 		}
 		std::lock_guard<std::mutex> lock(m_);
 		preparing_ = false;
-		if (c.generation != generation_ || closing_) continue;  // a stop came meanwhile, or the server is going
+		if (c.generation != generation_) continue;  // a stop came meanwhile: it ends this one (its `dropped`)
+		if (closing_) {  // the server is going: it never starts
+			if (c.utterance) orphans_.push_back(c.request.id);
+			continue;
+		}
 		if (c.utterance) ++handed_, handedSeconds_ += seconds;
 		frameQueue_.push_back(std::move(c));
 		frameCv_.notify_all();
@@ -300,16 +315,15 @@ bool LiveWorker::hello(LiveSession& session, const std::string& codecs) {
 	                              .add("emotion", session.emotion().label())
 	                              .raw("emotions", emotions.str())
 	                              .str();
-	if (record_)
-		record_ << JsonObject()
-		               .add("type", "session")
-		               .add("width", info.width)
-		               .add("height", info.height)
-		               .add("rate", info.rate.str())
-		               .add("emotion", session.emotion().label())
-		               .add("lang", o_.lang)
-		               .str()
-		        << "\n";
+	record(JsonObject()
+	           .add("type", "session")
+	           .add("width", info.width)
+	           .add("height", info.height)
+	           .add("rate", info.rate.str())
+	           .add("emotion", session.emotion().label())
+	           .add("lang", o_.lang)
+	           .str(),
+	       0);
 	return send_(false, hello);
 }
 
@@ -318,7 +332,34 @@ void LiveWorker::apply(LiveSession& session, Command& c, std::int64_t frame) {
 	std::lock_guard<std::mutex> lock(m_);
 	emotion_ = session.emotion();
 	intensity_ = session.intensity();
-	if (record_) record_ << JsonObject().add("frame", frame).raw("request", c.json).str() << "\n";
+	record(JsonObject().add("frame", frame).raw("request", c.json).str(), frame);
+}
+
+void LiveWorker::record(const std::string& line, std::int64_t frame) {
+	if (!record_.is_open()) return;
+	if (recorded_ + line.size() + 1 > o_.recordMaxBytes) {
+		// Full (issue 45: ten 30 MB requests made a 300 MB file): the record ends here, a script that replays
+		// what came before; the session goes on.
+		record_ << JsonObject().add("type", "end").add("frame", static_cast<long long>(frame)).add("truncated", true).str() << "\n";
+		record_.close();
+		if (o_.log) o_.log("session " + std::to_string(id_) + ": its record reached " + std::to_string(o_.recordMaxBytes >> 20) + " MiB (--record-max): recording stopped at frame " + std::to_string(frame));
+		return;
+	}
+	recorded_ += line.size() + 1;
+	record_ << line << "\n";
+}
+
+bool LiveWorker::endUnstarted(LiveSession& session, const std::vector<std::string>& ids, std::int64_t n) {
+	for (const std::string& id : ids) {
+		LiveEvent e;
+		e.kind = LiveEvent::Kind::UtteranceEnded;
+		e.frame = n;
+		e.time = session.nextTime();
+		e.id = id;
+		e.interrupted = true;
+		if (!send_(false, liveEventJson(e))) return false;
+	}
+	return true;
 }
 
 bool LiveWorker::take(LiveSession& session, std::deque<Command>& todo, std::deque<Command>& ready, std::int64_t n) {
@@ -326,17 +367,15 @@ bool LiveWorker::take(LiveSession& session, std::deque<Command>& todo, std::dequ
 		try {
 			if (c.request.kind == LiveRequest::Kind::Stop) {
 				// Prepared utterances that never started end now, interrupted (as queued ones do in the session).
-				for (const Command& r : ready) {
-					LiveEvent e;
-					e.kind = LiveEvent::Kind::UtteranceEnded;
-					e.frame = n;
-					e.time = session.nextTime();
-					e.id = r.request.id;
-					e.interrupted = true;
-					if (!send_(false, liveEventJson(e))) return false;
-				}
+				// So do the requests the stop dropped before they were prepared: in the order they came, after
+				// the one under way and before `stopped`.
+				std::vector<std::string> ended;
+				for (const Command& r : ready) ended.push_back(r.request.id);
+				ended.insert(ended.end(), c.dropped.begin(), c.dropped.end());
 				ready.clear();
-				apply(session, c, n);
+				session.stop(c.request.id, ended);
+				std::lock_guard<std::mutex> lock(m_);
+				record(JsonObject().add("frame", n).raw("request", c.json).str(), n);
 			} else if (c.utterance) {
 				ready.push_back(std::move(c));
 			} else {
@@ -401,6 +440,7 @@ void LiveWorker::frames(LiveSession& session) {
 	Points points;
 	std::vector<LiveEvent> events;
 	std::deque<Command> ready;  // prepared say/speak, not yet in the session
+	std::vector<std::string> orphans;  // say/speak the shutdown dropped
 	std::map<std::string, ServeClock::time_point> requestTimes;  // utterance id → when its request came
 	const ServeClock::time_point start = ServeClock::now();
 	const double frameSeconds = 1.0 / info.rate.fps();
@@ -423,8 +463,11 @@ void LiveWorker::frames(LiveSession& session) {
 			if (handed_ == 0) handedSeconds_ = 0;
 			closing = closing_;
 			deadline = deadline_;
+			orphans.swap(orphans_);
 		}
 		if (!take(session, todo, ready, n)) return;
+		if (!orphans.empty() && !endUnstarted(session, orphans, n)) return;
+		orphans.clear();
 		// Into the session when the speech before is about to end.
 		while (!ready.empty() && session.queueEnd() <= session.nextTime() + ticksFromSeconds(kHandoff)) {
 			Command c = std::move(ready.front());

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "serve/server.h"
 
@@ -23,7 +24,7 @@ using ServeClock = std::chrono::steady_clock;
 // What the server counts, for /metrics (all sessions, since the start).
 struct ServeCounters {
 	std::atomic<std::int64_t> sessionsOpened{0}, refusedFull{0}, refusedLoad{0}, refusedAuth{0}, refusedOrigin{0}, refusedHost{0},
-	    refusedShutdown{0}, closedIdle{0}, requests{0}, requestErrors{0}, frames{0}, lateFrames{0}, acceptErrors{0};
+	    refusedShutdown{0}, refusedUnauthenticated{0}, closedUnauthenticated{0}, closedIdle{0}, requests{0}, requestErrors{0}, frames{0}, lateFrames{0}, acceptErrors{0};
 	// Request → first frame of its utterance (seconds), a Prometheus histogram.
 	static constexpr double kBuckets[] = {0.025, 0.05, 0.1, 0.2, 0.5, 1, 2, 5};
 	std::mutex latencyMutex;
@@ -85,6 +86,7 @@ private:
 		std::string json;  // for the record
 		std::uint64_t generation = 0;
 		ServeClock::time_point received;
+		std::vector<std::string> dropped;  // a stop: the ids of the say/speak it dropped before they were prepared
 	};
 	const FaceModel& model_;
 	const ServeOptions& o_;
@@ -104,6 +106,8 @@ private:
 	std::uint64_t generation_ = 0;                  // a stop starts a new one: older commands are dropped
 	std::deque<Command> speechQueue_, frameQueue_;
 	bool preparing_ = false;
+	std::string preparingId_;                       // the id of the say/speak being prepared
+	std::vector<std::string> orphans_;              // ids of say/speak the shutdown dropped: ended at the next frame
 	int handed_ = 0;                                // say/speak prepared, not yet taken by the frame thread
 	double handedSeconds_ = 0;
 	Emotion emotion_;                               // the session's, for warming (the frame thread's copy)
@@ -112,6 +116,7 @@ private:
 	std::atomic<std::int64_t> lastRequestNs_;
 
 	std::ofstream record_;
+	std::uint64_t recorded_ = 0;                    // bytes written to it
 	std::int64_t drawn_ = 0;                        // frames drawn and encoded (the record's end)
 	double work_ = 0, worst_ = 0;                   // seconds drawing + encoding; the latest a frame went out after its time
 	std::int64_t late_ = 0;                         // frames out more than a frame after their time
@@ -130,9 +135,12 @@ private:
 	bool hello(LiveSession& session, const std::string& codecs);
 	void apply(LiveSession& session, Command& c, std::int64_t frame);
 	bool take(LiveSession& session, std::deque<Command>& todo, std::deque<Command>& ready, std::int64_t n);
+	// utterance_ended (interrupted) for say/speak that never joined the session; false: the client is gone.
+	bool endUnstarted(LiveSession& session, const std::vector<std::string>& ids, std::int64_t n);
 	void account(double took, double behind, double frameSeconds);
 	bool ends(bool closing, bool busy, ServeClock::time_point deadline, bool& told);
 	SpeechLimits limitsNow() const;  // under m_
+	void record(const std::string& line, std::int64_t frame);  // a line of the record, within --record-max
 };
 
 }  // namespace talkhead

@@ -193,6 +193,38 @@ TEST(LiveSession, backToBackUtterancesAreSplicedWithoutAGapAndTheSoundIsTheirs) 
 	for (std::size_t i = 0; i < pb.size(); ++i) ASSERT_EQ(sound[b0 + i], pb[i]) << i;
 }
 
+// Issue 45: a live AAC encoder reads its priming (1024 samples, 46 ms at 22 050 Hz) before the first frame;
+// a say that came then started at frame 0 and lost its first 46 ms of sound.
+TEST(LiveSession, theFirstSayKeepsAllItsSoundAfterTheEncodersPriming) {
+	NEED_DEFAULT_FACE();
+	LiveSession s(*face, smallOptions());
+	std::vector<float> priming(1024);
+	s.audio().read(priming.data(), priming.size());  // as Mp4LiveWriter does when it opens
+	Utterance u = sentence("Hello.", "first");
+	const std::vector<float> pcm = u.audio.samples;
+	const Ticks start = s.enqueue(std::move(u));
+	// It starts at the first frame whose sound is still to be read (frame 2 at 30 fps: 66.7 ms ≥ 46.4 ms).
+	EXPECT_EQ(start, (FrameRate{30, 1}.time(2)));
+	YuvImage f;
+	Points p;
+	std::vector<LiveEvent> ev;
+	const std::size_t total = pcm.size() + 4000;
+	std::vector<float> sound(1024 + total);
+	std::size_t read = 1024;
+	Ticks started{-1};
+	for (int n = 0; read < sound.size(); ++n) {
+		ev.clear();
+		s.drawNext(f, p, ev);
+		for (const LiveEvent& e : ev)
+			if (e.kind == LiveEvent::Kind::UtteranceStarted) started = e.time;
+		const std::size_t until = std::min(sound.size(), std::size_t(std::llround(toSeconds(FrameRate{30, 1}.time(n + 1)) * 22050)));
+		if (until > read) s.audio().read(sound.data() + read, until - read), read = until;
+	}
+	EXPECT_EQ(started, start);  // the mouth and the sound together
+	const std::size_t s0 = std::size_t(std::llround(toSeconds(start) * 22050));
+	for (std::size_t i = 0; i < pcm.size(); ++i) ASSERT_EQ(sound[s0 + i], pcm[i]) << "sample " << i << " of the say";
+}
+
 TEST(LiveSession, stopClosesTheMouthWithin150msAndSilencesTheSound) {
 	NEED_DEFAULT_FACE();
 	LiveSession s(*face, smallOptions());
