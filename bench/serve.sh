@@ -12,7 +12,11 @@
 #                         when 12 arrive a second apart and each speaks every 2.5 s
 #   flood:                the paced session above beside one that floods (1 000 queued say, a 30 MB
 #                         message, stops): its say latency and late frames, side by side with it alone
-# usage: bench/serve.sh [BUILD_DIR] [--only capacity|flood|latency]
+#   admission (issue 45):  a burst of 40 sessions opened at once, and a ramp of one a second, each speaking
+#                         every 2.5 s, with the default --max-load: how many are admitted, the share of late
+#                         frames of the worst admitted session (goal ≤ 1 %), and whether the first refusal
+#                         came before the first late frame
+# usage: bench/serve.sh [BUILD_DIR] [--only capacity|flood|latency|admission]   (CLIENT=… another client)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"
@@ -23,7 +27,7 @@ while [ $# -gt 0 ]; do
 	*) build=$1; shift ;;
 	esac
 done
-TH="$build/talkhead" CLIENT="$build/tests/talkhead_live_client"
+TH="$build/talkhead" CLIENT="${CLIENT:-$build/tests/talkhead_live_client}"
 T=$(mktemp -d)
 pids=()
 trap 'for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$T"' EXIT
@@ -156,6 +160,48 @@ print(f"  {sys.argv[3]:<8} say -> first frame {statistics.median(lat):6.1f} ms (
 PY
 	done
 }
+admission() {
+	echo "admission: default --max-load 0.9, each session speaking every 2.5 s"
+	for size in 640x360 320x180; do
+		for mode in burst ramp; do
+			local name="adm2-$size-$mode" n=40 gap=0 length=15
+			[ "$mode" = ramp ] && n=24 gap=1 length=27
+			"$TH" serve --listen 127.0.0.1:0 --size "$size" --max-sessions 64 >"$T/$name.out" 2> >(while IFS= read -r l; do printf '%s %s\n' "$(date +%s%N)" "$l"; done >"$T/$name.err") &
+			server=$!
+			pids+=("$server")
+			for _ in $(seq 150); do grep -q serving "$T/$name.out" 2>/dev/null && break; sleep 0.1; done
+			port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/$name.out")
+			local cs=() t0
+			t0=$(date +%s%N)
+			for i in $(seq "$n"); do
+				local says=() left=$(( length - (i - 1) * gap ))
+				for at in $(seq 500 2500 $(( left * 1000 - 1000 ))); do says+=("$at:{\"type\":\"say\",\"text\":\"Hello, nice to meet you, how are you today?\"}"); done
+				"$CLIENT" "$port" "$T/$name-$i" "$left" "${says[@]}" >/dev/null 2>&1 &
+				cs+=($!)
+				[ "$gap" = 0 ] || sleep "$gap"
+			done
+			wait "${cs[@]}" || true
+			kill -TERM "$server"; wait "$server" 2>/dev/null || true
+			sleep 0.3
+			/usr/bin/python3 - "$T/$name.err" "$size" "$mode" "$t0" <<'PY'
+import re, sys
+lines = open(sys.argv[1]).read().splitlines()
+t0 = int(sys.argv[4])
+rows = [re.search(r'session (\d+): (\d+) frames, [\d.]+ ms each to draw and encode, (\d+) late', l) for l in lines]
+rows = [(int(m.group(2)), int(m.group(3))) for m in rows if m]
+refused = [int(l.split()[0]) for l in lines if 'session refused' in l]
+late = [int(l.split()[0]) for l in lines if 'first late frame' in l]
+worst = max([100 * l / f for f, l in rows if f] or [0])
+bad = sum(1 for f, l in rows if f and l > 0.01 * f)
+first_ref = f'{(refused[0] - t0) / 1e9:.1f} s' if refused else 'never'
+first_late = f'{(late[0] - t0) / 1e9:.1f} s' if late else 'never'
+order = 'before' if refused and (not late or refused[0] < late[0]) else ('after' if refused else 'n/a')
+print(f"  {sys.argv[2]:<8} {sys.argv[3]:<5}: {len(rows):2d} admitted, {len(refused):2d} refused; {sum(l for f, l in rows)} of {sum(f for f, l in rows)} frames late, "
+      f"worst session {worst:.1f} % late, {bad} over 1 %; first refusal at {first_ref}, first late frame at {first_late} (refusal {order})")
+PY
+		done
+	done
+}
 echo "talkhead serve, 30 fps ($(nproc) cores)"
 if [ -z "$only" ] || [ "$only" = latency ]; then
 	echo "latency: 20 s sessions"
@@ -165,3 +211,4 @@ if [ -z "$only" ] || [ "$only" = latency ]; then
 fi
 if [ -z "$only" ] || [ "$only" = capacity ]; then capacity; fi
 if [ -z "$only" ] || [ "$only" = flood ]; then flood; fi
+if [ -z "$only" ] || [ "$only" = admission ]; then admission; fi

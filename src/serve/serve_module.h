@@ -13,7 +13,7 @@
 
 namespace talkhead {
 
-constexpr int kServeModuleAbi = 1;
+constexpr int kServeModuleAbi = 2;
 
 // What the plugin uses of the serve module, given by the Server facade: the plugin links only the base
 // module (errors, JSON, text) and the access rules, no second copy of the library (checked by
@@ -22,6 +22,7 @@ struct ServeHost {
 	std::unique_ptr<SessionWorker> (*makeWorker)(const FaceModel& model, const ServeOptions& options, int id, SessionWorker::Send send,
 	                                             SessionWorker::Close close, std::shared_ptr<SessionStats> stats, ServeCounters& counters);
 	bool (*lateRecently)(const SessionStats& stats);
+	double sessionLoad = 0;  // cores one speaking session takes (measureSessionLoad; 0: not measured, --max-load 0)
 };
 
 struct ServeModule {

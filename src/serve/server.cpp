@@ -81,6 +81,14 @@ constexpr int kMaxUnauthenticated = 64;
 constexpr int kMaxUnauthenticatedPerAddress = 16;
 constexpr auto kEvictAfter = std::chrono::seconds(1);
 constexpr auto kCloseGrace = std::chrono::milliseconds(500);  // shutdown: for clients to answer the close frames
+// Admission by load (D58, issue 45 item 3).
+constexpr auto kSettled = std::chrono::seconds(3);  // a session's own load is known after this long
+constexpr double kOverhead = 1.15;                 // process CPU over the sessions' own, until measured
+constexpr double kHysteresis = 0.1;                // of the cores: the bar after a load refusal
+constexpr std::int64_t kLateFrames = 3;            // late frames in the window that refuse new sessions (not a blip)
+constexpr double kLoadWindowSeconds = 3;
+constexpr auto kLoadSample = std::chrono::milliseconds(500);
+constexpr auto kStartGap = std::chrono::milliseconds(150);  // between two sessions' starts
 
 std::string errorJson(const std::string& message) { return JsonObject().add("type", "error").add("message", safeLine(message)).str(); }
 
@@ -126,7 +134,15 @@ struct NetServer::Impl {
 	Clock::time_point lastAcceptLog{};
 	std::int64_t acceptErrorsSinceLog = 0;
 	Clock::time_point drainEnd{};
-	std::optional<Clock::time_point> allClosedAt;  // shutdown: when every session had sent its close frame
+	std::optional<Clock::time_point> allClosedAt;
+	bool refusingForLoad = false;  // io thread
+	Clock::time_point nextStart{};  // io thread: the earliest a newly admitted session's frames start
+	struct LoadSample {
+		Clock::time_point at;
+		std::int64_t processCpuNs, lateFrames;
+	};
+	std::deque<LoadSample> loadSamples;  // every kLoadSample, the last kLoadWindowSeconds
+
 	std::list<std::shared_ptr<Unauthenticated>> unauthenticated;  // io thread: oldest first
 	std::map<std::string, int> unauthenticatedBy;                  // per address
 	Clock::time_point lastUnauthLog{};
@@ -138,6 +154,7 @@ struct NetServer::Impl {
 	net::steady_timer backoff{ioc};
 	std::optional<net::signal_set> signals;
 	net::steady_timer drainTimer{ioc};
+	net::steady_timer loadTimer{ioc};
 
 	Impl(const ServeHost& h, const FaceModel& m, ServeOptions opts) : host(h), model(m), o(std::move(opts)) {
 		reaper = std::thread([this] {
@@ -195,19 +212,43 @@ struct NetServer::Impl {
 			}
 			return m;
 		}
-		if (o.maxLoad > 0 && !live.empty()) {
-			double load = 0;
-			bool late = false;
-			for (const auto& [w, s] : live) load += s->load.load(), late |= host.lateRecently(*s);
+		if (o.maxLoad > 0 && !live.empty()) {  // one session is always served
+			// Each session counts at what a speaking one takes (issue 45 item 3: an admitted session not yet
+			// measured counted as 0, so a burst of 40 was all admitted): the larger of the start-up
+			// measurement and what settled sessions take, or its own measured load when that is more; times
+			// what the sessions' own threads do not see (the network thread, the kernel: the process's CPU
+			// time over theirs). A load refusal lowers the bar by kHysteresis until a session fits under it.
+			const auto now = Clock::now();
 			const double cores = std::max(1u, std::thread::hardware_concurrency());
-			const double next = load / double(live.size());
-			if (late || load + next > o.maxLoad * cores) {
+			double expected = host.sessionLoad, settledLoad = 0, measured = 0;
+			int settled = 0;
+			for (const auto& [w, s] : live) {
+				measured += s->load.load();
+				if (now - s->opened >= kSettled) settledLoad += s->load.load(), ++settled;
+			}
+			if (settled > 0) expected = std::max(expected, settledLoad / settled);
+			double overhead = kOverhead;
+			const auto window = loadWindow();
+			if (window && settled == int(live.size()) && measured > 0.1 * cores) overhead = std::clamp(window->processLoad / measured, 1.0, 2.0);
+			double committed = 0;
+			for (const auto& [w, s] : live) committed += std::max(s->load.load(), expected);
+			committed *= overhead;
+			const double next = expected * overhead;
+			const double bar = std::max(0.0, refusingForLoad ? o.maxLoad - kHysteresis : o.maxLoad) * cores;
+			const std::int64_t late = window ? window->lateFrames : 0;
+			if (late >= kLateFrames || committed + next > bar) {
+				refusingForLoad = true;
 				reason = "load";
-				char b[240];
-				std::snprintf(b, sizeof b, "the server is at capacity (its %zu sessions take %.2f of %g cores%s): a new session's frames would be late; try again later",
-				              live.size(), load, cores, late ? ", and frames were late in the last seconds" : "");
+				char b[320];
+				if (late >= kLateFrames)
+					std::snprintf(b, sizeof b, "the server is at capacity (%lld frames were late in the last %d s): a new session's frames would be late; try again later",
+					              static_cast<long long>(late), int(kLoadWindowSeconds));
+				else
+					std::snprintf(b, sizeof b, "the server is at capacity (its %zu sessions take %.2f of %g cores, a new one %.2f more, over %.2f): a new session's frames would be late; try again later",
+					              live.size(), committed, cores, next, bar);
 				return b;
 			}
+			refusingForLoad = false;
 		}
 		return "";
 	}
@@ -264,6 +305,23 @@ struct NetServer::Impl {
 	}
 	// The authentication deadline of a connection not yet authenticated: kAuthSeconds after it connected.
 	static Clock::time_point authDeadline(const Unauthenticated& u) { return u.since + std::chrono::seconds(kAuthSeconds); }
+	struct LoadWindow {
+		double processLoad;       // cores the whole process took
+		std::int64_t lateFrames;  // frames sent late, all sessions
+	};
+	// Over the last kLoadWindowSeconds (nullopt until a second has been sampled).
+	std::optional<LoadWindow> loadWindow() const {
+		if (loadSamples.size() < 3) return std::nullopt;
+		const LoadSample &a = loadSamples.front(), &b = loadSamples.back();
+		const double wall = std::chrono::duration<double>(b.at - a.at).count();
+		return LoadWindow{double(b.processCpuNs - a.processCpuNs) * 1e-9 / std::max(1e-3, wall), counters.lateFrames.load() - a.lateFrames};
+	}
+	void sampleLoad() {
+		timespec t{};
+		clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+		loadSamples.push_back({Clock::now(), std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec, counters.lateFrames.load()});
+		while (loadSamples.size() > 2 && loadSamples.back().at - loadSamples[1].at >= std::chrono::duration<double>(kLoadWindowSeconds)) loadSamples.pop_front();
+	}
 	void accept();
 	void beginShutdown();
 	void drainCheck();
@@ -379,6 +437,8 @@ private:
 		id_ = server_.nextId++;
 		server_.log("session " + std::to_string(id_) + " opened");
 		stats_ = std::make_shared<SessionStats>();
+		stats_->opened = std::max(Clock::now(), server_.nextStart);  // paced: kStartGap apart
+		server_.nextStart = stats_->opened + kStartGap;
 		server_.live.emplace_back(this->weak_from_this(), stats_);
 		std::weak_ptr<WsSession> weak = this->shared_from_this();
 		auto executor = ws_.get_executor();
@@ -682,6 +742,8 @@ std::string NetServer::Impl::metrics() {
 	metric("talkhead_sessions_closed_idle_total", "counter", "Sessions closed for idleness (--idle-timeout).", one("talkhead_sessions_closed_idle_total", double(c.closedIdle)));
 	metric("talkhead_frames_total", "counter", "Frames drawn and sent.", one("talkhead_frames_total", double(c.frames)));
 	metric("talkhead_late_frames_total", "counter", "Frames sent more than one frame after their time.", one("talkhead_late_frames_total", double(c.lateFrames)));
+	metric("talkhead_session_load_expected_cores", "gauge", "Cores a speaking session takes, as admission counts a session whose own load is not yet known (measured at start-up).",
+	       one("talkhead_session_load_expected_cores", host.sessionLoad));
 	metric("talkhead_load_cores", "gauge", "Cores the sessions' frames take (drawing and encoding), measured.", one("talkhead_load_cores", load));
 	metric("talkhead_queued_requests", "gauge", "say and speak requests queued in all sessions.", one("talkhead_queued_requests", queued));
 	metric("talkhead_queued_speech_seconds", "gauge", "Seconds of speech queued in all sessions.", one("talkhead_queued_speech_seconds", queuedSeconds));
@@ -807,6 +869,14 @@ NetServer::NetServer(const ServeHost& host, const FaceModel& model, ServeOptions
 	if (!ec) s.acceptor.bind(ep, ec);
 	if (!ec) s.acceptor.listen(net::socket_base::max_listen_connections, ec);
 	if (ec) throw Error("cannot listen on " + s.o.host + ":" + std::to_string(s.o.port) + ": " + ec.message());
+	if (s.o.maxLoad > 0 && s.host.sessionLoad > 0) {
+		const double cores = std::max(1u, std::thread::hardware_concurrency());
+		char b[240];
+		std::snprintf(b, sizeof b, "a speaking session at %dx%d takes %.2f cores (measured at start-up): about %d at once within --max-load %g of %g cores",
+		              s.o.live.render.synth.width, s.o.live.render.synth.height, s.host.sessionLoad,
+		              int(std::floor(s.o.maxLoad * cores / (s.host.sessionLoad * kOverhead))), s.o.maxLoad, cores);
+		s.log(b);
+	}
 }
 
 NetServer::~NetServer() = default;
@@ -828,6 +898,17 @@ void NetServer::run() {
 		});
 	}
 	s.accept();
+	if (s.o.maxLoad > 0) {
+		std::function<void()> tick;
+		tick = [&s, &tick] {
+			s.sampleLoad();
+			s.loadTimer.expires_after(kLoadSample);
+			s.loadTimer.async_wait([&tick](beast::error_code e) {
+				if (!e) tick();
+			});
+		};
+		tick();
+	}
 	s.ioc.run();
 	// Every session's threads end before the io context goes (their callbacks post to it).
 	for (auto& [w, st] : s.live)

@@ -22,7 +22,6 @@ std::unique_ptr<SessionWorker> makeWorker(const FaceModel& model, const ServeOpt
 	return std::make_unique<LiveWorker>(model, options, id, std::move(send), std::move(close), std::move(stats), counters);
 }
 
-const ServeHost kHost = {makeWorker, lateRecently};
 
 }  // namespace
 
@@ -35,8 +34,10 @@ Server::Server(const FaceModel& model, ServeOptions options) : module_(&serveMod
 	// The encoder's plugin loaded now: loaded later, it could meet a process out of file descriptors, and
 	// one of libav's libraries (libgcrypt, through libssh) aborts the process in its initialiser then.
 	loadVideoPlugin();
+	ServeHost host{makeWorker, lateRecently};
+	if (options.maxLoad > 0) host.sessionLoad = measureSessionLoad(model, options);
 	std::string error;
-	server_ = module_->create(kHost, model, options, error);
+	server_ = module_->create(host, model, options, error);
 	if (!server_) throw Error(error);
 }
 

@@ -18,6 +18,7 @@
 #include "base/text.h"
 #include "media/video_writer.h"
 #include "phonetics/labels.h"
+#include "phonetics/language.h"
 
 namespace talkhead {
 
@@ -280,6 +281,13 @@ void LiveWorker::speechLoop() {
 }
 
 void LiveWorker::frameLoop() {
+	{
+		// Sessions admitted together start one after another (issue 45: a session's start takes ~90 ms of a
+		// core, and eight at once made the running sessions' frames late); requests queue meanwhile.
+		std::unique_lock<std::mutex> lock(m_);
+		frameCv_.wait_until(lock, stats_->opened, [&] { return quit_; });
+		if (quit_) return;
+	}
 	try {
 		LiveSession session(model_, o_.live);
 		session_ = &session;
@@ -393,6 +401,11 @@ void LiveWorker::account(double took, double behind, double frameSeconds) {
 	worst_ = std::max(worst_, behind);
 	++counters_.frames;
 	if (behind > frameSeconds) {
+		if (late_ == 0 && o_.log) {  // the first (admission should have refused before it, issue 45)
+			char b[160];
+			std::snprintf(b, sizeof b, "session %d: its first late frame, %lld (%.0f ms after its time)", id_, static_cast<long long>(drawn_), 1000 * behind);
+			o_.log(b);
+		}
 		++late_;
 		++counters_.lateFrames;
 		stats_->lastLateNs = nowNs();
@@ -520,6 +533,33 @@ void LiveWorker::frames(LiveSession& session) {
 		const bool busy = session.queueEnd() > info.rate.time(session.nextFrame() - 1) || !ready.empty();
 		if (ends(closing, busy, deadline, told)) break;
 	}
+}
+
+double measureSessionLoad(const FaceModel& model, const ServeOptions& o) {
+	LiveSession session(model, o.live);
+	const StreamInfo& info = session.info();
+	VideoOptions vo;
+	vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = o.crf, vo.preset = o.preset, vo.threads = o.encoderThreads;
+	Mp4LiveWriter writer([](const std::uint8_t*, std::size_t) { return true; }, vo, &session.audio());
+	// Speaking (the dearer case): a sentence long enough for the whole measurement; its synthesis and keypose
+	// images, made on a session's speech thread, are counted too.
+	const std::int64_t t0 = threadCpuNs();
+	try {
+		Utterance u = speakText("Hello, how are you today? I am fine, thank you very much.", Language::get(o.lang), "", o.live.sampleRate);
+		session.warm(u, session.emotion(), session.intensity());
+		session.enqueue(std::move(u));
+	} catch (const std::exception&) {  // no speech (espeak-ng missing): the idle face is measured
+	}
+	YuvImage frame;
+	Points points;
+	std::vector<LiveEvent> events;
+	const int frames = std::max(10, int(std::lround(info.rate.fps())));
+	for (int n = 0; n < frames; ++n) {
+		session.drawNext(frame, points, events);
+		writer.write(frame);
+		events.clear();
+	}
+	return double(threadCpuNs() - t0) * 1e-9 / (double(frames) / info.rate.fps());
 }
 
 bool lateRecently(const SessionStats& s) {

@@ -40,10 +40,15 @@ struct SessionStats {
 	std::atomic<std::int64_t> lastLateNs{-1};  // steady clock of its last late frame, −1: none
 	std::atomic<int> queuedRequests{0};        // say/speak waiting, being prepared or queued to play
 	std::atomic<double> queuedSeconds{0};      // speech ahead of the frames
+	std::chrono::steady_clock::time_point opened;  // when its frames may start (set before its threads start)
 };
 
-// A late frame within the last few seconds (admission refuses new sessions then).
+// A late frame within the last few seconds.
 bool lateRecently(const SessionStats& s);
+// The cores one speaking session takes at these options (drawing, encoding, its speech), measured by doing
+// it for a second of stream on this thread: what admission counts a session at before its own load is
+// known (issue 45 item 3).
+double measureSessionLoad(const FaceModel& model, const ServeOptions& options);
 
 // A session's worker as the network side (server.cpp, the plugin libtalkhead-serve.so, D68) sees it: called
 // through its vtable, so the plugin holds no second copy of the library (one espeak-ng lock, one plugin

@@ -115,6 +115,19 @@ grep -q '"type": "utterance_started".*"id": "first"' "$T/first1.events" || fail 
 ! grep -q 'late for the sound' "$T/main.err" || fail "$(grep 'late for the sound' "$T/main.err" | head -1)"
 echo "first say: ok"
 
+# Admission (item 3): a burst counts each admitted session at a speaking session's measured cost before its
+# own load is known (it counted as 0: a burst was all admitted), and the admitted ones start paced.
+start burst --max-load "$($PY -c "import os; print(0.4 / os.cpu_count())")" --max-sessions 64 --size 320x180  # 0.4 cores
+cost=$(sed -nE 's/.*takes ([0-9.]+) cores \(measured at start-up\).*/\1/p' "$T/burst.err")
+[ -n "$cost" ] || fail "no start-up measurement: $(cat "$T/burst.err")"
+bs=()
+for i in $(seq 8); do "$CLIENT" "$port" "$T/b$i" 2 '300:{"type":"say","text":"Hello there."}' >/dev/null 2>&1 & bs+=($!); done
+wait "${bs[@]}" || true
+admitted=$(grep -l '"type": "hello"' "$T"/b?.events | wc -l)
+refused=$(grep -l 'at capacity' "$T"/b?.events | wc -l)
+test "$admitted" -ge 1 -a "$admitted" -lt 8 -a $((admitted + refused)) = 8 || fail "burst of 8 within 0.4 cores (a session $cost cores): $admitted admitted, $refused refused"
+echo "admission: ok (a session $cost cores; a burst of 8 within 0.4 cores: $admitted admitted, $refused refused)"
+
 # Drain: a client that never answers the close frame does not hold the server for drain + 2 s.
 start drain --drain 5
 $PY - "$port" >"$T/raw.out" <<'PY' &
