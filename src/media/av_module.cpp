@@ -71,6 +71,7 @@ public:
 	}
 	int channels() const { return channels_; }
 	int rate() const { return rate_; }
+	double declared() const { return declared_; }  // seconds its header declares, −1 when none (or a bit-rate guess)
 
 	// Up to `frames` sample frames into out; fewer only at the end.
 	std::size_t read(float* out, std::size_t frames) {
@@ -95,16 +96,15 @@ public:
 private:
 	// The length the container or the stream declares, when it is read from the file (not estimated from
 	// the bit rate): longer than allowed is refused now, before a sample is decoded.
-	void refuseDeclaredLength() const {
-		if (maxSeconds_ <= 0) return;
+	void refuseDeclaredLength() {
 		if (fmt_->duration_estimation_method == AVFMT_DURATION_FROM_BITRATE) return;  // a guess: count instead
-		double declared = -1;
+		double& declared = declared_;
 		const AVStream* st = fmt_->streams[stream_];
 		if (st->duration != AV_NOPTS_VALUE && st->duration > 0 && st->time_base.den > 0)
 			declared = double(st->duration) * av_q2d(st->time_base);
 		else if (fmt_->duration != AV_NOPTS_VALUE && fmt_->duration > 0)
 			declared = double(fmt_->duration) / AV_TIME_BASE;
-		if (declared > maxSeconds_ + 0.5) {
+		if (maxSeconds_ > 0 && declared > maxSeconds_ + 0.5) {
 			char b[64];
 			std::snprintf(b, sizeof b, "%.1f s", declared);
 			throw Error(path_, 0, std::string("lasts ") + b + " (as its header says), longer than the " + secondsText(maxSeconds_) + " allowed");
@@ -161,7 +161,7 @@ private:
 
 	std::string path_;
 	int rate_ = 0, channels_ = 0, stream_ = -1;
-	double maxSeconds_ = 0;
+	double maxSeconds_ = 0, declared_ = -1;
 	AVFormatContext* fmt_ = nullptr;
 	AVCodecContext* ctx_ = nullptr;
 	SwrContext* swr_ = nullptr;
@@ -173,18 +173,41 @@ private:
 	bool eof_ = false, flushed_ = false;
 };
 
+// Decodes the whole file into a scratch block, keeping nothing: throws at the decoder's limit.
+void countSamples(AudioDecoder& dec) {
+	std::vector<float> scratch(16384 * std::size_t(dec.channels()));
+	while (dec.read(scratch.data(), 16384) == 16384) {
+	}
+}
+
 AudioClip decodeAudioImpl(const std::string& path, int outRate, double maxSeconds) {
-	AudioDecoder dec(path, outRate, maxSeconds);
+	auto dec = std::make_unique<AudioDecoder>(path, outRate, maxSeconds);
+	// A file that does not declare its length is counted first, keeping nothing, so that one holding more
+	// than allowed is refused for a few MiB, not the limit's worth of samples (issue 45, D75); that costs
+	// such files a second decoding. One whose header says less than it holds is counted when it passes what
+	// its header says (+1 s).
+	bool counted = maxSeconds <= 0;
+	if (!counted && dec->declared() < 0) {
+		countSamples(*dec);
+		dec = std::make_unique<AudioDecoder>(path, outRate, maxSeconds);
+		counted = true;
+	}
 	AudioClip clip;
-	clip.sampleRate = outRate;
-	clip.channels = dec.channels();
+	clip.sampleRate = dec->rate();
+	clip.channels = dec->channels();
 	const std::size_t block = 16384;
 	for (;;) {
 		const std::size_t old = clip.samples.size();
 		clip.samples.resize(old + block * std::size_t(clip.channels));
-		const std::size_t n = dec.read(clip.samples.data() + old, block);
+		const std::size_t n = dec->read(clip.samples.data() + old, block);
 		clip.samples.resize(old + n * std::size_t(clip.channels));
 		if (n < block) break;
+		if (!counted && double(clip.frameCount()) > (dec->declared() + 1) * double(dec->rate())) {  // the header lied
+			clip.samples = {};
+			countSamples(*std::make_unique<AudioDecoder>(path, outRate, maxSeconds));
+			dec = std::make_unique<AudioDecoder>(path, outRate, maxSeconds);
+			counted = true;
+		}
 	}
 	if (clip.frameCount() == 0) throw Error(path, 0, "the audio has no samples (zero length)");
 	return clip;

@@ -16,13 +16,16 @@ trap cleanup EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
 ffmpeg -v error -f lavfi -i anullsrc=r=8000:cl=mono -t 7200 -c:a flac -frame_size 65535 -compression_level 12 "$T/bomb.flac"
-echo "bomb: $(stat -c %s "$T/bomb.flac") bytes of FLAC, 7200 s"
+# The same written to a pipe: its header declares no length (counted, not read from the header).
+ffmpeg -v error -f lavfi -i anullsrc=r=8000:cl=mono -t 7200 -c:a flac -frame_size 65535 -compression_level 12 -f flac pipe:1 >"$T/quiet.flac"
+echo "bomb: $(stat -c %s "$T/bomb.flac") bytes of FLAC, 7200 s; $(stat -c %s "$T/quiet.flac") bytes without a length in its header"
 "$TH" say "Boa noite." -q --size 160x90 --no-audio -o "$T/x.mp4" --save-transcript "$T/a.TextGrid"
 $PY - "$T" <<'PY'
 import base64, json, sys
 t = sys.argv[1]
-json.dump({'type': 'speak', 'id': 'bomb', 'lang': 'pt-BR', 'audio': base64.b64encode(open(f'{t}/bomb.flac', 'rb').read()).decode(),
-           'transcript': open(f'{t}/a.TextGrid').read()}, open(f'{t}/bomb.json', 'w'))
+for name in ('bomb', 'quiet'):
+    json.dump({'type': 'speak', 'id': name, 'lang': 'pt-BR', 'audio': base64.b64encode(open(f'{t}/{name}.flac', 'rb').read()).decode(),
+               'transcript': open(f'{t}/a.TextGrid').read()}, open(f'{t}/{name}.json', 'w'))
 PY
 
 "$TH" serve --listen 127.0.0.1:0 --size 160x90 --max-load 0 -q >"$T/serve.out" 2>"$T/serve.err" &
@@ -47,6 +50,16 @@ echo "server peak memory: $((before / 1024)) MiB before the bomb, $((after / 102
 libs=$(ldd "$TH" 2>/dev/null || true)
 bound=32; if grep -q libasan <<<"$libs"; then bound=128; fi
 test "$grow" -le "$bound" || fail "the bomb raised the server's peak memory by $grow MiB (at most $bound)"
+# One that declares nothing is counted before its samples are kept: refused for as little (it took the
+# limit's worth, 600 s at 22 050 Hz: +100 MiB, before).
+t0=$(date +%s%N)
+"$CLIENT" "$port" "$T/q" 3 "100:@$T/quiet.json" '2000:{"type":"say","id":"after","text":"Ainda aqui."}'
+quiet=$(awk '/VmHWM/ {print $2}' /proc/$server/status)
+grep -q '"type": "error".*lasts longer than the 600 s allowed.*"id": "quiet"' "$T/q.events" || fail "the headerless bomb was not refused: $(grep quiet "$T/q.events" | cut -c1-300)"
+grep -q '"type": "utterance_started".*"id": "after"' "$T/q.events" || fail "the session did not go on after the headerless bomb"
+qgrow=$(( (quiet - before) / 1024 ))
+echo "headerless bomb: server peak +$qgrow MiB over the warm session"
+test "$qgrow" -le "$bound" || fail "the headerless bomb raised the server's peak memory by $qgrow MiB (at most $bound)"
 
 # The command line: a 5-hour FLAC is over its 4-hour limit, refused before decoding (one line, exit 1,
 # no output, little memory and time).
