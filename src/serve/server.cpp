@@ -322,6 +322,14 @@ struct NetServer::Impl {
 		loadSamples.push_back({Clock::now(), std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec, counters.lateFrames.load()});
 		while (loadSamples.size() > 2 && loadSamples.back().at - loadSamples[1].at >= std::chrono::duration<double>(kLoadWindowSeconds)) loadSamples.pop_front();
 	}
+	// Samples the load every kLoadSample (io thread).
+	void loadTick() {
+		sampleLoad();
+		loadTimer.expires_after(kLoadSample);
+		loadTimer.async_wait([this](beast::error_code e) {
+			if (!e) loadTick();
+		});
+	}
 	void accept();
 	void beginShutdown();
 	void drainCheck();
@@ -898,17 +906,7 @@ void NetServer::run() {
 		});
 	}
 	s.accept();
-	if (s.o.maxLoad > 0) {
-		std::function<void()> tick;
-		tick = [&s, &tick] {
-			s.sampleLoad();
-			s.loadTimer.expires_after(kLoadSample);
-			s.loadTimer.async_wait([&tick](beast::error_code e) {
-				if (!e) tick();
-			});
-		};
-		tick();
-	}
+	if (s.o.maxLoad > 0) s.loadTick();
 	s.ioc.run();
 	// Every session's threads end before the io context goes (their callbacks post to it).
 	for (auto& [w, st] : s.live)

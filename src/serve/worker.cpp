@@ -182,7 +182,7 @@ void LiveWorker::intakeLoop() {
 			continue;
 		}
 		std::string recorded = o_.recordDir ? requestForRecord(in.text, r) : std::string();
-		Command c{std::move(r), std::nullopt, std::move(recorded), 0, in.received};
+		Command c{std::move(r), std::nullopt, std::move(recorded), 0, in.received, {}};
 		std::unique_lock<std::mutex> lock(m_);
 		if (c.request.kind == LiveRequest::Kind::Stop) {
 			// Barge-in: what waits for synthesis goes, the synthesis under way stops, and the stop overtakes
