@@ -140,6 +140,7 @@ struct NetServer::Impl {
 	struct LoadSample {
 		Clock::time_point at;
 		std::int64_t processCpuNs, lateFrames;
+		double machineBusy = -1, machineTotal = -1;  // /proc/stat's jiffies, all CPUs (−1: unreadable)
 	};
 	std::deque<LoadSample> loadSamples;  // every kLoadSample, the last kLoadWindowSeconds
 
@@ -234,18 +235,19 @@ struct NetServer::Impl {
 			for (const auto& [w, s] : live) committed += std::max(s->load.load(), expected);
 			committed *= overhead;
 			const double next = expected * overhead;
-			const double bar = std::max(0.0, refusingForLoad ? o.maxLoad - kHysteresis : o.maxLoad) * cores;
+			// What other processes take is not the sessions' to have.
+			const double bar = std::max(0.0, (refusingForLoad ? o.maxLoad - kHysteresis : o.maxLoad) * cores - (window ? window->others : 0.0));
 			const std::int64_t late = window ? window->lateFrames : 0;
 			if (late >= kLateFrames || committed + next > bar) {
 				refusingForLoad = true;
 				reason = "load";
-				char b[320];
+				char b[400];
 				if (late >= kLateFrames)
 					std::snprintf(b, sizeof b, "the server is at capacity (%lld frames were late in the last %d s): a new session's frames would be late; try again later",
 					              static_cast<long long>(late), int(kLoadWindowSeconds));
 				else
-					std::snprintf(b, sizeof b, "the server is at capacity (its %zu sessions take %.2f of %g cores, a new one %.2f more, over %.2f): a new session's frames would be late; try again later",
-					              live.size(), committed, cores, next, bar);
+					std::snprintf(b, sizeof b, "the server is at capacity (its %zu sessions take %.2f of %g cores, a new one %.2f more, over %.2f; other processes %.2f): a new session's frames would be late; try again later",
+					              live.size(), committed, cores, next, bar, window ? window->others : 0.0);
 				return b;
 			}
 			refusingForLoad = false;
@@ -308,18 +310,46 @@ struct NetServer::Impl {
 	struct LoadWindow {
 		double processLoad;       // cores the whole process took
 		std::int64_t lateFrames;  // frames sent late, all sessions
+		double others = 0;        // cores the machine's other processes took
 	};
 	// Over the last kLoadWindowSeconds (nullopt until a second has been sampled).
 	std::optional<LoadWindow> loadWindow() const {
 		if (loadSamples.size() < 3) return std::nullopt;
 		const LoadSample &a = loadSamples.front(), &b = loadSamples.back();
 		const double wall = std::chrono::duration<double>(b.at - a.at).count();
-		return LoadWindow{double(b.processCpuNs - a.processCpuNs) * 1e-9 / std::max(1e-3, wall), counters.lateFrames.load() - a.lateFrames};
+		LoadWindow w{double(b.processCpuNs - a.processCpuNs) * 1e-9 / std::max(1e-3, wall), counters.lateFrames.load() - a.lateFrames};
+		if (a.machineTotal > 0 && b.machineTotal > a.machineTotal) {
+			const double cores = std::max(1u, std::thread::hardware_concurrency());
+			w.others = std::max(0.0, (b.machineBusy - a.machineBusy) / (b.machineTotal - a.machineTotal) * cores - w.processLoad);
+		}
+		return w;
+	}
+	// The machine's CPU time, busy and in all, from /proc/stat's first line (when it counts the CPUs this
+	// process sees: in a container it may count the host's, and then it is not used).
+	static std::pair<double, double> machineCpu() {
+		std::ifstream f("/proc/stat");
+		std::string line;
+		double busy = -1, total = -1;
+		int cpus = 0;
+		while (std::getline(f, line)) {
+			if (line.rfind("cpu ", 0) == 0) {
+				std::istringstream in(line.substr(4));
+				double v[8] = {};
+				for (double& x : v) in >> x;
+				total = v[0] + v[1] + v[2] + v[3] + v[4] + v[5] + v[6] + v[7];
+				busy = total - v[3] - v[4];  // not idle, not waiting for I/O
+			} else if (line.rfind("cpu", 0) == 0) {
+				++cpus;
+			}
+		}
+		if (cpus != int(std::thread::hardware_concurrency())) return {-1, -1};
+		return {busy, total};
 	}
 	void sampleLoad() {
 		timespec t{};
 		clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-		loadSamples.push_back({Clock::now(), std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec, counters.lateFrames.load()});
+		const auto [busy, total] = machineCpu();
+		loadSamples.push_back({Clock::now(), std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec, counters.lateFrames.load(), busy, total});
 		while (loadSamples.size() > 2 && loadSamples.back().at - loadSamples[1].at >= std::chrono::duration<double>(kLoadWindowSeconds)) loadSamples.pop_front();
 	}
 	// Samples the load every kLoadSample (io thread).

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // A scripted WebSocket client of talkhead serve for the tests and the latency bench (Boost.Beast):
-//   live_client [--tls] [--host HOST] [--header 'Name: value']… [--auth-first TOKEN] PORT OUT_PREFIX SECONDS
+//   live_client [--tls] [--host HOST] [--header 'Name: value']… [--auth-first TOKEN] [--connect-at UNIX_MS] PORT OUT_PREFIX SECONDS
 //               [AT_MS:JSON | AT_MS:@FILE]…
 // connects to ws://127.0.0.1:PORT/live (wss:// with --tls, any certificate), sends each JSON text message
 // AT_MS milliseconds after the hello (from FILE with @), and after SECONDS closes. Writes OUT_PREFIX.mp4
 // (every binary message, in order) and OUT_PREFIX.events (one line per text message: milliseconds since
 // the hello, a tab, the message; the close code as "close\tCODE"). --auth-first sends
 // {"type": "auth", "token": TOKEN} before anything (the hello comes after it). A refused upgrade exits 3
-// with "live_client: handshake: STATUS" on stderr.
+// with "live_client: handshake: STATUS" on stderr. --connect-at waits until that wall-clock time (ms since
+// the epoch) before connecting: clients started one after another then connect at the same moment.
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/asio/ssl.hpp>
@@ -24,6 +25,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace net = boost::asio;
@@ -39,6 +41,7 @@ struct Send {
 struct Options {
 	bool tls = false;
 	std::string host, authFirst;
+	long long connectAt = 0;
 	std::vector<std::pair<std::string, std::string>> headers;
 };
 
@@ -53,6 +56,7 @@ int main(int argc, char** argv) {
 		if (f == "--tls") opt.tls = true;
 		else if (f == "--host" && a + 1 < argc) opt.host = argv[++a];
 		else if (f == "--auth-first" && a + 1 < argc) opt.authFirst = argv[++a];
+		else if (f == "--connect-at" && a + 1 < argc) opt.connectAt = std::stoll(argv[++a]);
 		else if (f == "--header" && a + 1 < argc) {
 			const std::string h = argv[++a];
 			const auto colon = h.find(':');
@@ -82,6 +86,8 @@ int main(int argc, char** argv) {
 		sends.push_back(std::move(s));
 	}
 	std::stable_sort(sends.begin(), sends.end(), [](const Send& a, const Send& b) { return a.at < b.at; });
+	if (opt.connectAt > 0)
+		std::this_thread::sleep_until(std::chrono::system_clock::time_point(std::chrono::milliseconds(opt.connectAt)));
 	try {
 		net::io_context ioc;
 		tcp::resolver resolver(ioc);
