@@ -10,6 +10,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/corpus_filter.h"
+#include "corpus/build.h"
 #include "base/progress.h"
 #include "media/image_io.h"
 #include "model/face_model.h"
@@ -87,14 +88,11 @@ int runBuild(const std::vector<std::string>& argv) {
 	const auto started = std::chrono::steady_clock::now();
 
 	Corpus corpus = loadFilteredCorpus(args.positionals()[0], args);
-	std::string schemeName = args.get("--scheme", corpus.schemeName);
+	const std::string schemeName = args.get("--scheme", corpus.schemeName);
 	if (schemeName.empty())
 		throw Error(corpus.path, 0, "cannot tell the landmark scheme from " + std::to_string(corpus.entries.front().points.rows()) +
 		                                " points; name one with --scheme");
-	Scheme scheme = loadScheme(schemeName);
-	const int k = int(corpus.entries.front().points.rows());
-	if (scheme.pointCount() != k)
-		throw Error(corpus.path, 0, "has " + std::to_string(k) + " points per shape, scheme " + scheme.name + " has " + std::to_string(scheme.pointCount()));
+	const Scheme scheme = corpusScheme(corpus, schemeName);
 
 	std::vector<std::string> regionNames;
 	for (const auto& r : scheme.regions) regionNames.push_back(r.name);
@@ -109,25 +107,14 @@ int runBuild(const std::vector<std::string>& argv) {
 	if (!out.parent_path().empty() && !std::filesystem::is_directory(out.parent_path(), ec))
 		throw Error(output, 0, "cannot write model: folder '" + out.parent_path().string() + "' does not exist");
 
-	int width, height;
-	imageSize(corpus.entries.front().imagePath, width, height);
-	std::vector<Points> shapes;
-	std::vector<SampleInfo> samples;
-	for (const auto& e : corpus.entries) {
-		if (!corpus.baseface.empty() && e.imagePath == corpus.baseface && opts.baseface < 0) opts.baseface = long(shapes.size());
-		if (!corpus.closedEyes.empty() && e.imagePath == corpus.closedEyes) opts.closedEyes = long(shapes.size());
-		shapes.push_back(e.points);
-		samples.push_back(SampleInfo{std::filesystem::path(e.imagePath).filename().string(), e.emotion, e.cdv, e.word, e.context});
-	}
 	ProgressBar bar(quiet);
-	FaceModel model = buildFaceModel(
-	    scheme, shapes, samples, width, height, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, opts, bar);
+	const FaceModel model = buildFaceModel(corpus, scheme, opts, bar);
 	saveModel(model, output);
 	bar.finish();
 	if (!quiet) {
 		double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 		std::fprintf(stderr, "built %s: %zu images %dx%d, %d points (%s), Procrustes %d iterations;", output.c_str(), model.sampleCount(),
-		             width, height, model.pointCount(), scheme.name.c_str(), model.procrustesIterations);
+		             model.width, model.height, model.pointCount(), scheme.name.c_str(), model.procrustesIterations);
 		for (const auto& r : model.regions)
 			std::fprintf(stderr, " %s %zu px %ld PCs;", r.name.c_str(), r.pixels.size(), long(r.pca.components()));
 		std::fprintf(stderr, " %.1f s (%.3f s/image)\n", secs, secs / double(model.sampleCount()));

@@ -11,6 +11,8 @@
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "corpus/build.h"
+#include "model/model_file.h"
 
 namespace talkhead::cli {
 
@@ -55,15 +57,20 @@ void ensureDefaultFace(bool quiet) {
 	std::error_code ec;
 	fs::create_directories(models, ec);
 	if (ec) throw Error(models.string() + ": cannot make the folder for the default face (" + ec.message() + ")");
-	// The same steps and sizes as CMakeLists.txt's default_model target.
-	std::vector<std::vector<std::string>> steps = {{"corpus", "synth", "-q", "-o", corpus.string(), "--size", "1280x720"},
-	                                               {"build", "-q", (corpus / "corpus.csv").string(), "-o", (models / "default.thm").string()}};
-	if (!findDataFile("models/au-appearance.bin"))  // a package installs the skin's maps (6 MB)
-		steps.push_back({"corpus", "au-appearance", "-q", (corpus / "corpus.csv").string(), "-o", (models / "au-appearance.bin").string()});
-	for (const auto& step : steps) {
+	// The same steps and sizes as CMakeLists.txt's default_model target; the model is built by the library
+	// call `talkhead build` makes (issue 46).
+	auto run = [&](const std::vector<std::string>& step) {
 		std::string error;
 		if (runCommandLine(step, error) != 0) throw Error("making the default face in " + models.string() + " failed: " + error);
+	};
+	run({"corpus", "synth", "-q", "-o", corpus.string(), "--size", "1280x720"});
+	{
+		const Corpus c = loadCorpus((corpus / "corpus.csv").string());
+		NullProgress quiet;
+		saveModel(buildFaceModel(c, corpusScheme(c), BuildOptions{}, quiet), (models / "default.thm").string());
 	}
+	if (!findDataFile("models/au-appearance.bin"))  // a package installs the skin's maps (6 MB)
+		run({"corpus", "au-appearance", "-q", (corpus / "corpus.csv").string(), "-o", (models / "au-appearance.bin").string()});
 	fs::remove_all(corpus, ec);  // 200 MB of images, not needed once the model is made
 	if (!quiet)
 		std::fprintf(stderr, "talkhead: the default face is ready (%.0f s): %s\n",

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "corpus/build.h"
 #include "corpus/corpus.h"
 #include "test_support.h"
 
@@ -154,6 +155,24 @@ TEST(Asf, immShapesAreInPixels) {
 	EXPECT_NEAR(e.points(0, 0), 0.31251052 * 800, 1e-9);
 	EXPECT_NEAR(e.points(0, 1), 0.37090045 * 600, 1e-9);
 	EXPECT_EQ(e.cdv, "01_01");
+}
+
+// Issue 46: the corpus → model step is a library call (talkhead build and the first run's default face
+// use it; the default face comes out byte for byte as before).
+TEST(CorpusBuild, schemeAndModelFromACorpusAndClearErrors) {
+	SKIP_WITHOUT_IMM();
+	Corpus c = test::immCorpus();
+	EXPECT_EQ(corpusScheme(c).name, "imm-73");
+	EXPECT_NE(errorOf([&] { corpusScheme(c, "ibug-68"); }).find("has 73 points per shape, scheme ibug-68 has 68"), std::string::npos);
+	c.entries.resize(6);
+	NullProgress quiet;
+	const FaceModel m = buildFaceModel(c, corpusScheme(c), BuildOptions{}, quiet);
+	EXPECT_EQ(m.sampleCount(), 6u);
+	EXPECT_EQ(m.width, 800);
+	EXPECT_EQ(m.height, 600);
+	EXPECT_EQ(m.pointCount(), 73);
+	c.entries.clear();
+	EXPECT_NE(errorOf([&] { corpusScheme(c); }).find("the corpus has no image"), std::string::npos);
 }
 
 TEST(Corpus, folderWithoutShapesIsRejected) {
