@@ -19,6 +19,7 @@
 #include "base/parallel.h"
 #include "base/text.h"
 #include "base/tsv.h"
+#include "corpus/corpus.h"
 #include "media/image_io.h"
 #include "phonetics/labels.h"
 
@@ -162,19 +163,6 @@ SynthItem closedEyesItem(const SynthCorpusOptions& o) {
 	return it;
 }
 
-std::string chUnicampCsvRow(const SynthItem& it, const Points& p) {
-	std::ostringstream row;
-	row << it.fileName << ',' << it.emotion;
-	for (const auto& c : it.context) row << ',' << c;
-	row << ',' << it.viseme << ',' << it.word;
-	char buf[64];
-	for (Eigen::Index i = 0; i < p.rows(); ++i) {
-		std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", p(i, 0), p(i, 1));
-		row << buf;
-	}
-	return row.str();
-}
-
 void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, ProgressSink& progress) {
 	if (o.width < 64 || o.height < 64 || o.width > 7680 || o.height > 4320)
 		throw Error("absurd corpus image size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " (64x64 to 7680x4320)");
@@ -192,7 +180,10 @@ void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, Progr
 	parallelFor(items.size(), o.threads, [&](std::size_t i) {
 		SynthFace face = renderer.render(items[i].articulation, items[i].actionUnits, items[i].pose);
 		staged.writeFile(items[i].fileName, [&](const std::string& p) { writeImage(p, face.image, o.pngCompression); });
-		rows[i] = chUnicampCsvRow(items[i], face.points);
+		CorpusEntry row;
+		row.imagePath = items[i].fileName, row.emotion = items[i].emotion, row.context = items[i].context, row.cdv = items[i].viseme;
+		row.word = items[i].word, row.points = face.points;
+		rows[i] = chUnicampCsvRow(row);
 		std::size_t d = ++done;
 		std::lock_guard<std::mutex> lock(m);
 		progress.report(double(d) / double(items.size()), "drawing faces");

@@ -50,7 +50,4 @@ SynthItem closedEyesItem(const SynthCorpusOptions& options);
 // closed-eyes image when the emotions include neutral.
 void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& options, ProgressSink& progress);
 
-// One CH-Unicamp CSV row for an item and its points.
-std::string chUnicampCsvRow(const SynthItem& item, const Points& points);
-
 }  // namespace talkhead

@@ -252,4 +252,27 @@ Corpus loadCorpus(const std::string& path) {
 	return c;
 }
 
+namespace {
+std::string csvField(const std::string& s) {
+	if (s.find_first_of(",\"") != std::string::npos) {
+		std::string q = "\"";
+		for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+		return q + "\"";
+	}
+	return s.empty() ? std::string("-") : s;
+}
+}  // namespace
+
+std::string chUnicampCsvRow(const CorpusEntry& e) {
+	std::string row = csvField(e.imagePath) + "," + csvField(e.emotion);
+	for (const auto& c : e.context) row += "," + csvField(c);
+	row += "," + csvField(e.cdv) + "," + csvField(e.word);
+	char buf[64];
+	for (Eigen::Index i = 0; i < e.points.rows(); ++i) {
+		std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", e.points(i, 0), e.points(i, 1));
+		row += buf;
+	}
+	return row;
+}
+
 }  // namespace talkhead

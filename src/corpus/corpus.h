@@ -37,6 +37,10 @@ struct Corpus {
 // (D36): emotion and CDV through the phonetics tables (aliases, "<p1>"), an unknown one is an error naming
 // the row; emotion "-" marks an unlabelled row, whose CDV is kept as written.
 Corpus readChUnicampCsv(const std::string& path, int pointCount = 0);
+// One row of a CH-Unicamp CSV, as readChUnicampCsv reads it back (issue 46: the one writer, for corpus
+// synth and corpus from-video): `imagePath` as given (relative to the CSV), a field holding ',' or '"'
+// quoted, an empty one written "-", each point "(x;y)" with 3 decimals. No newline.
+std::string chUnicampCsvRow(const CorpusEntry& entry);
 
 // AAM-API .asf shape file (IMM): relative 0–1 coordinates, host image name at the end. The image's
 // size is needed to turn them into pixels; it is read from the image header.

@@ -17,6 +17,7 @@
 #include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/tsv.h"
+#include "corpus/corpus.h"
 #include "media/image_io.h"
 #include "media/video_reader.h"
 #include "phonetics/labels.h"
@@ -590,15 +591,6 @@ std::map<std::int64_t, Image8> decodeFrames(const std::string& video, const Vide
 	return frames;
 }
 
-std::string csvField(const std::string& s) {
-	if (s.find_first_of(",\"") != std::string::npos) {
-		std::string q = "\"";
-		for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-		return q + "\"";
-	}
-	return s.empty() ? std::string("-") : s;
-}
-
 }  // namespace
 
 std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir) {
@@ -686,19 +678,15 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 		}
 	}
 	csv << "# baseface: " << imageName(baseTake, takes[baseTake].plan.basefaceFrame) << "\n";
-	char buf[64];
 	for (std::size_t k = 0; k < takes.size(); ++k)
 		for (const auto& e : takes[k].plan.entries) {
-			csv << imageName(k, e.frame) << "," << csvField(e.emotion);
-			for (const auto& c : e.context) csv << "," << csvField(c);
-			csv << "," << csvField(e.cdv) << "," << csvField(e.word);
-			for (int i = 0; i < kIbugPoints; ++i) {
-				std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", e.points(i, 0), e.points(i, 1));
-				csv << buf;
-			}
-			csv << "\n";
+			CorpusEntry row;
+			row.imagePath = imageName(k, e.frame), row.emotion = e.emotion, row.context = e.context, row.cdv = e.cdv, row.word = e.word;
+			row.points = e.points.topRows(kIbugPoints);
+			csv << chUnicampCsvRow(row) << "\n";
 		}
 	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), csv.str());
+	char buf[64];
 	// Contact sheet: the face of each chosen frame (CDV label, and the take's emotion with several), baseface first.
 	const int cell = 160, labelH = 16, cols = 8;
 	std::vector<std::pair<std::size_t, const ChosenFrame*>> order;
