@@ -13,6 +13,7 @@
 #include "cli/commands.h"
 #include "corpus/build.h"
 #include "model/model_file.h"
+#include "synth_corpus.h"
 
 namespace talkhead::cli {
 
@@ -57,16 +58,18 @@ void ensureDefaultFace(bool quiet) {
 	std::error_code ec;
 	fs::create_directories(models, ec);
 	if (ec) throw Error(models.string() + ": cannot make the folder for the default face (" + ec.message() + ")");
-	// The same steps and sizes as CMakeLists.txt's default_model target; the model is built by the library
-	// call `talkhead build` makes (issue 46).
+	// The same steps and sizes as CMakeLists.txt's default_model target, by the library calls `corpus synth`
+	// and `talkhead build` make (issue 46); the skin's maps, when not installed, by the command.
 	auto run = [&](const std::vector<std::string>& step) {
 		std::string error;
 		if (runCommandLine(step, error) != 0) throw Error("making the default face in " + models.string() + " failed: " + error);
 	};
-	run({"corpus", "synth", "-q", "-o", corpus.string(), "--size", "1280x720"});
 	{
-		const Corpus c = loadCorpus((corpus / "corpus.csv").string());
 		NullProgress quiet;
+		SynthCorpusOptions synth;  // as `corpus synth --size 1280x720`
+		synth.width = 1280, synth.height = 720;
+		writeSynthCorpus(corpus.string(), synth, quiet);
+		const Corpus c = loadCorpus((corpus / "corpus.csv").string());
 		saveModel(buildFaceModel(c, corpusScheme(c), BuildOptions{}, quiet), (models / "default.thm").string());
 	}
 	if (!findDataFile("models/au-appearance.bin"))  // a package installs the skin's maps (6 MB)
