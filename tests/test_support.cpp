@@ -64,6 +64,7 @@ std::string tempDir(const std::string& name) {
 #include <map>
 #include <memory>
 
+#include "corpus/build.h"
 #include "geometry/scheme.h"
 #include "media/image_io.h"
 #include "base/progress.h"
@@ -75,16 +76,12 @@ const FaceModel& immModel(std::size_t count) {
 	static std::map<std::size_t, std::unique_ptr<FaceModel>> cache;
 	auto& slot = cache[count];
 	if (!slot) {
-		const Corpus& c = immCorpus();
-		std::vector<Points> shapes;
-		std::vector<SampleInfo> samples;
-		for (std::size_t i = 0; i < count; ++i) {
-			shapes.push_back(c.entries[i].points);
-			samples.push_back(SampleInfo{fs::path(c.entries[i].imagePath).filename().string(), "-", c.entries[i].cdv, "", {}});
-		}
+		// The first `count` IMM faces, unlabelled (emotion "-"), through the library's corpus → model step.
+		Corpus c = immCorpus();
+		c.entries.resize(count);
+		for (CorpusEntry& e : c.entries) e.emotion = "-", e.word.clear(), e.context = {};
 		NullProgress quiet;
-		slot = std::make_unique<FaceModel>(buildFaceModel(loadScheme("imm-73"), shapes, samples, 800, 600,
-		                                                  [&](std::size_t i) { return readImage(c.entries[i].imagePath); }, BuildOptions{}, quiet));
+		slot = std::make_unique<FaceModel>(buildFaceModel(c, corpusScheme(c), BuildOptions{}, quiet));
 	}
 	return *slot;
 }
