@@ -16,6 +16,7 @@
 #include "cli/output_dir.h"
 #include "base/progress.h"
 #include "media/video_reader.h"
+#include "phonetics/emotion.h"
 #include "phonetics/labels.h"
 #include "phonetics/language.h"
 #include "track/from_video.h"
@@ -179,7 +180,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	// The baseface: the neutral take's (the first neutral one), else the first take's.
 	std::size_t base = 0;
 	for (std::size_t k = plans.size(); k-- > 0;)
-		if (plans[k].take.emotion == "neutral") base = k;
+		if (plans[k].take.emotion == Emotion::neutralLabel()) base = k;
 	OutputDir dir(out);
 	const std::vector<ColourMatch> matches = writeTakesCorpus(plans, base, dir.path(""));
 	if (plans.size() == 1) {

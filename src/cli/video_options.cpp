@@ -17,6 +17,7 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/text.h"
+#include "phonetics/emotion.h"
 #include "phonetics/labels.h"
 #include "phonetics/timing_formats.h"
 #include "phonetics/transcript.h"
@@ -219,7 +220,7 @@ Fit parseFit(const Args& args, const std::string& command) {
 std::pair<Emotion, double> parseEmotionOption(const Args& args, const std::string& command) {
 	double intensity = 1;
 	// --emotion LABEL[:INTENSITY]: 0 = neutral, 1 = the corpus (default), up to 1.5 (extrapolated, with a warning).
-	std::string emotionArg = args.get("--emotion", "neutral");
+	std::string emotionArg = args.get("--emotion", Emotion::neutralLabel());
 	if (const auto colon = emotionArg.rfind(':'); colon != std::string::npos) {
 		const std::string value = emotionArg.substr(colon + 1);
 		if (!parseDouble(value, intensity) || !(intensity >= 0 && intensity <= 1.5))

@@ -35,6 +35,10 @@ public:
 	static Emotion at(std::size_t index);
 	std::size_t index() const { return std::size_t(index_); }
 
+	// The neutral emotion's label, the table's first (the one place it is spelt is phonetics/emotions.tsv),
+	// for code that compares labels as strings (corpus rows, model samples).
+	static const std::string& neutralLabel() { return Emotion().label(); }
+
 	friend bool operator==(Emotion a, Emotion b) { return a.index_ == b.index_; }
 	friend bool operator!=(Emotion a, Emotion b) { return a.index_ != b.index_; }
 	friend bool operator<(Emotion a, Emotion b) { return a.index_ < b.index_; }

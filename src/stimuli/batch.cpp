@@ -191,7 +191,7 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 		intensity = emotion.substr(colon + 1);
 		emotion = emotion.substr(0, colon);
 	}
-	canonical = "neutral";
+	canonical = Emotion::neutralLabel();
 	if (!emotion.empty()) {
 		if (auto c = canonicalEmotion(emotion)) canonical = *c;
 		else fail("emotion", "unknown emotion '" + emotion + "' (known: " + emotionList() + ")");
@@ -622,12 +622,12 @@ Score scoreAnswers(const std::string& keyPath, const std::vector<std::string>& a
 	for (std::size_t r = 1; r < key.size(); ++r) {
 		std::string e = kem < key[r].size() ? key[r][kem] : "";
 		if (auto colon = e.find(':'); colon != std::string::npos) e = e.substr(0, colon);
-		const auto c = canonicalEmotion(e.empty() ? "neutral" : e);
+		const auto c = canonicalEmotion(e.empty() ? Emotion::neutralLabel() : e);
 		if (!c) throw Error(keyPath, long(r + 1), "unknown emotion '" + e + "'");
 		truth[key[r][kid]] = {*c, kcond < key[r].size() ? key[r][kcond] : ""};
 	}
 	Score s;
-	s.truths = {"neutral"};
+	s.truths = {Emotion::neutralLabel()};
 	s.truths.insert(s.truths.end(), thesisOrder().begin(), thesisOrder().end());
 	s.answers = thesisOrder();
 	s.answers.push_back("none");
@@ -646,7 +646,7 @@ Score scoreAnswers(const std::string& keyPath, const std::vector<std::string>& a
 			const auto row = std::find(s.truths.begin(), s.truths.end(), t->second.first);
 			++s.confusion[std::size_t(row - s.truths.begin())][std::size_t(col - s.answers.begin())];
 			// Neutral is right when the answer is "none of the above" (the thesis's terms have no neutral).
-			const bool right = answer == t->second.first || (t->second.first == "neutral" && answer == "none");
+			const bool right = answer == t->second.first || (t->second.first == Emotion::neutralLabel() && answer == "none");
 			s.correct += right, ++s.answered;
 			auto& c = s.byCondition[t->second.second];
 			c.first += right, ++c.second;
@@ -662,7 +662,7 @@ std::string scoreReport(const Score& s) {
 		int n = 0;
 		for (int v : s.confusion[r]) n += v;
 		if (n == 0) continue;
-		const std::size_t col = s.truths[r] == "neutral" ? s.answers.size() - 1 : std::size_t(std::find(s.answers.begin(), s.answers.end(), s.truths[r]) - s.answers.begin());
+		const std::size_t col = s.truths[r] == Emotion::neutralLabel() ? s.answers.size() - 1 : std::size_t(std::find(s.answers.begin(), s.answers.end(), s.truths[r]) - s.answers.begin());
 		std::snprintf(b, sizeof b, "%-18s %7d  %5.1f %%\n", s.truths[r].c_str(), n, 100.0 * s.confusion[r][col] / n);
 		out += b;
 	}

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "base/error.h"
+#include "phonetics/emotion.h"
 #include <string>
 #include <vector>
 
@@ -31,7 +32,7 @@ struct BatchRow {
 	std::map<std::string, std::string> fields;  // column → value (empty values left out)
 	std::string command;                        // "say" or "render"
 	std::vector<std::string> args;              // the command's arguments, without -o
-	std::string emotion = "neutral";            // canonical
+	std::string emotion = Emotion::neutralLabel();            // canonical
 	// Side-by-side (any `versus:COLUMN`): the other side's arguments (the row's with those columns
 	// replaced), and which side it is on (assignSides).
 	bool sideBySide = false;

@@ -13,6 +13,7 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "base/tsv.h"
+#include "phonetics/emotion.h"
 #include "phonetics/labels.h"
 #include "geometry/eigen_products.h"
 
@@ -174,7 +175,7 @@ AuFit learnAuTemplates(const Scheme& scheme, const std::vector<LabelledShape>& s
 	std::vector<std::string> aus;
 	for (const auto& au : knownActionUnits())
 		for (const auto& [emotion, p] : profiles)
-			if (emotion != "neutral" && std::any_of(p.begin(), p.end(), [&](const auto& x) { return x.first == au && x.second > 0; }) &&
+			if (emotion != Emotion::neutralLabel() && std::any_of(p.begin(), p.end(), [&](const auto& x) { return x.first == au && x.second > 0; }) &&
 			    std::find(aus.begin(), aus.end(), au) == aus.end())
 				aus.push_back(au);
 	AuFit fit;
@@ -183,10 +184,10 @@ AuFit learnAuTemplates(const Scheme& scheme, const std::vector<LabelledShape>& s
 	// Neutral shape per CDV (the first).
 	std::map<std::string, const Points*> neutral;
 	for (const auto& s : shapes)
-		if (s.emotion == "neutral" && !neutral.count(s.cdv)) neutral[s.cdv] = &s.points;
+		if (s.emotion == Emotion::neutralLabel() && !neutral.count(s.cdv)) neutral[s.cdv] = &s.points;
 	std::vector<Eigen::RowVectorXd> rows, targets;
 	for (const auto& s : shapes) {
-		if (s.emotion == "neutral" || !profiles.count(s.emotion) || !neutral.count(s.cdv)) continue;
+		if (s.emotion == Emotion::neutralLabel() || !profiles.count(s.emotion) || !neutral.count(s.cdv)) continue;
 		if (s.points.rows() != k) throw Error("shape of " + s.emotion + " " + s.cdv + " has " + std::to_string(s.points.rows()) + " points, the scheme " + std::to_string(k));
 		const Points& n = *neutral.at(s.cdv);
 		const Points aligned = alignSimilarity(s.points, n, rigid).apply(s.points);

@@ -16,6 +16,7 @@
 #include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/text.h"
+#include "phonetics/emotion.h"
 #include "warp/piecewise_affine.h"
 #include "geometry/eigen_products.h"
 
@@ -209,7 +210,7 @@ AuAppearance learnAuAppearance(const Scheme& scheme, const std::vector<Appearanc
 	// The neutral sample of each CDV; the reference: the neutral rest shape (sil, else the first neutral).
 	std::map<std::string, std::size_t> neutralOf;
 	for (std::size_t i = 0; i < samples.size(); ++i)
-		if (samples[i].emotion == "neutral" && !neutralOf.count(samples[i].cdv)) neutralOf[samples[i].cdv] = i;
+		if (samples[i].emotion == Emotion::neutralLabel() && !neutralOf.count(samples[i].cdv)) neutralOf[samples[i].cdv] = i;
 	if (neutralOf.empty()) throw Error("the corpus has no neutral images: action-unit appearance is learned against them");
 	const std::size_t ref = neutralOf.count("sil") ? neutralOf["sil"] : neutralOf.begin()->second;
 	// The (emotion, CDV) pairs, the AUs their profiles use.
@@ -218,7 +219,7 @@ AuAppearance learnAuAppearance(const Scheme& scheme, const std::vector<Appearanc
 	for (std::size_t i = 0; i < samples.size(); ++i) {
 		const auto p = profiles.find(samples[i].emotion);
 		const auto n = neutralOf.find(samples[i].cdv);
-		if (samples[i].emotion == "neutral" || p == profiles.end() || n == neutralOf.end()) continue;
+		if (samples[i].emotion == Emotion::neutralLabel() || p == profiles.end() || n == neutralOf.end()) continue;
 		pairs.emplace_back(i, n->second);
 		for (const auto& [au, w] : p->second)
 			if (w > 0 && std::find(aus.begin(), aus.end(), au) == aus.end()) aus.push_back(au);

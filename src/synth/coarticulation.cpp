@@ -20,6 +20,7 @@
 #include "base/text.h"
 #include "base/tsv.h"
 #include "geometry/eigen_products.h"
+#include "phonetics/emotion.h"
 
 namespace talkhead {
 
@@ -469,7 +470,7 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 	for (Keypose& k : keys) {
 		if (!k.mouthOpening || k.sample >= 0) continue;
 		std::string e = k.emotion.value_or(emotion).label();
-		if (poolOf(e).samples.empty() || !(poolOf(e).scale > 0)) e = "neutral";
+		if (poolOf(e).samples.empty() || !(poolOf(e).scale > 0)) e = Emotion::neutralLabel();
 		const MouthPool& pool = poolOf(e);
 		if (pool.samples.empty() || !(pool.scale > 0)) continue;
 		long own = model.findSample(e, k.cdv, &k.context);

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "base/parallel.h"
+#include "phonetics/emotion.h"
 #include "phonetics/labels.h"
 #include "synth/coarticulation.h"
 #include "synth/face_rig.h"
@@ -38,7 +39,7 @@ std::string groupOf(const std::string& cdv) {
 bool KeyposeCache::fromActionUnits(const Keypose& key) const {
 	if (!rig_.auTemplates || o_.emotionSource == EmotionSource::Corpus) return false;
 	const std::string& emotion = emotionOf(key).label();
-	if (emotion == "neutral" || !defaultAuProfiles().count(emotion)) return false;
+	if (emotion == Emotion::neutralLabel() || !defaultAuProfiles().count(emotion)) return false;
 	if (o_.emotionSource == EmotionSource::ActionUnits) return true;
 	for (const auto& s : model_.samples)
 		if (s.emotion == emotion) return false;
@@ -46,12 +47,12 @@ bool KeyposeCache::fromActionUnits(const Keypose& key) const {
 }
 
 std::pair<long, long> KeyposeCache::resolvePair(const Keypose& key) const {
-	if (fromActionUnits(key)) return {resolve(key, "neutral"), -1};
+	if (fromActionUnits(key)) return {resolve(key, Emotion::neutralLabel()), -1};
 	const long sample = resolve(key);
 	// Intensity (D43): between the neutral keypose of the same CDV and context (0) and the emotion's (1).
 	const double intensity = intensityOf(key);
 	if (emotionOf(key).isNeutral() || intensity == 1.0) return {sample, -1};
-	return {sample, resolve(key, "neutral")};
+	return {sample, resolve(key, Emotion::neutralLabel())};
 }
 
 Emotion KeyposeCache::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.emotion); }
@@ -69,12 +70,12 @@ long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const
 	const auto* context = &key.context;
 	if (key.sample >= 0 && std::size_t(key.sample) < model_.sampleCount() && model_.samples[std::size_t(key.sample)].emotion == emotion) return key.sample;
 	long sample = model_.findSample(emotion, cdv, context);
-	if (sample < 0) sample = model_.findSample("neutral", cdv, context);
+	if (sample < 0) sample = model_.findSample(Emotion::neutralLabel(), cdv, context);
 	if (sample < 0)
 		for (const auto& v : visemeLabels())
 			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) {
 				sample = model_.findSample(emotion, v.label, context);
-				if (sample < 0) sample = model_.findSample("neutral", v.label, context);
+				if (sample < 0) sample = model_.findSample(Emotion::neutralLabel(), v.label, context);
 			}
 	if (sample < 0) {
 		// Last resort: the emotion's silence, then anything of the emotion, then the first sample.
@@ -340,7 +341,7 @@ void KeyposeCache::measureNeutralMouths() {
 	NeutralMouths& m = *mouths_;
 	if (!mouthScheme(model_, m.scheme)) return;
 	m.size = sampleMouths(model_, m.scheme);
-	m.pool = mouthPool(model_, m.size, "neutral");
+	m.pool = mouthPool(model_, m.size, Emotion::neutralLabel());
 	m.regions = mouthRegions();
 	m.usable = m.pool.scale > 0 && std::find(m.regions.begin(), m.regions.end(), true) != m.regions.end();
 	std::vector<double> shut;

@@ -95,7 +95,7 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks
 	Random rng{o.seed * 0x2545F4914F6CDD1Dull + 1};
 	const double length = std::max(0.0, toSeconds(duration));
 	if (o.blinks) {
-		const double rate = o.blinkRate > 0 ? o.blinkRate : scaledByIntensity(blinkRateFor(emotion), blinkRateFor(Emotion::of("neutral")), o.intensity, 3);
+		const double rate = o.blinkRate > 0 ? o.blinkRate : scaledByIntensity(blinkRateFor(emotion), blinkRateFor(Emotion()), o.intensity, 3);
 		const double mean = 60.0 / rate;
 		drawBlinks(rng.state, mean, 0.3 + rng.uniform() * mean, -1e9, length);
 	}
@@ -118,7 +118,7 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks
 		}
 	}
 	// A tracked head (curves) replaces the drawn motion.
-	factor_ = o.headMotion && !o.curves.hasHead() ? std::max(0.0, o.headAmplitude) * scaledByIntensity(headFactorFor(emotion), headFactorFor(Emotion::of("neutral")), o.intensity, 0) : 0.0;
+	factor_ = o.headMotion && !o.curves.hasHead() ? std::max(0.0, o.headAmplitude) * scaledByIntensity(headFactorFor(emotion), headFactorFor(Emotion()), o.intensity, 0) : 0.0;
 	double gestureAngle = 0;
 	const double gesture = gestureShift(o, gestureAngle);
 	maxAngle_ = kPeakAngle * factor_ + gestureAngle;
@@ -198,7 +198,7 @@ ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const
 			lastEnd = std::max(lastEnd, toSeconds(b.end()));
 		}
 	if (o.blinks) {
-		const double rate = o.blinkRate > 0 ? o.blinkRate : scaledByIntensity(blinkRateFor(emotion), blinkRateFor(Emotion::of("neutral")), o.intensity, 3);
+		const double rate = o.blinkRate > 0 ? o.blinkRate : scaledByIntensity(blinkRateFor(emotion), blinkRateFor(Emotion()), o.intensity, 3);
 		const double mean = 60.0 / rate;
 		Random rng{splitmix64(o.seed * 0x2545F4914F6CDD1Dull + std::uint64_t(from.count()))};
 		drawBlinks(rng.state, mean, std::max(at + rng.uniform() * mean, lastEnd + 0.8), lastEnd, length);

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "base/error.h"
+#include "phonetics/emotion.h"
 
 namespace talkhead {
 
@@ -40,7 +41,7 @@ MouthClassifier MouthClassifier::fromTargets(const std::vector<CdvMouthTarget>& 
 }
 
 MouthClassifier MouthClassifier::forModel(const FaceModel& model, const std::string& emotion) {
-	auto has = [&](const std::string& cdv) { return model.findSample(emotion, cdv) >= 0 || model.findSample("neutral", cdv) >= 0; };
+	auto has = [&](const std::string& cdv) { return model.findSample(emotion, cdv) >= 0 || model.findSample(Emotion::neutralLabel(), cdv) >= 0; };
 	if (model.scheme.name == "ch-unicamp-56") {  // the synthetic corpus's CDV shapes: the default face's own
 		std::vector<CdvMouthTarget> kept;
 		for (const auto& t : loadCdvMouthTargets())
@@ -57,7 +58,7 @@ MouthClassifier MouthClassifier::forModel(const FaceModel& model, const std::str
 	for (const auto& s : model.samples) {
 		if (s.cdv.empty() || std::find(seen.begin(), seen.end(), s.cdv) != seen.end()) continue;
 		seen.push_back(s.cdv);
-		const std::string& e = model.findSample(emotion, s.cdv) >= 0 ? emotion : std::string("neutral");
+		const std::string& e = model.findSample(emotion, s.cdv) >= 0 ? emotion : Emotion::neutralLabel();
 		MouthMeasures sum;
 		int n = 0;
 		for (std::size_t i = 0; i < model.sampleCount(); ++i)
@@ -170,7 +171,7 @@ DrivenMouth driveMouth(const LandmarkTrack& driver, const FaceModel& model, cons
 		k.cdv = classifier.classes[std::size_t(cls[i])];
 		k.first = k.last = mid;
 		if (ibug) {
-			const std::string& e = model.findSample(emotion, k.cdv) >= 0 ? emotion : std::string("neutral");
+			const std::string& e = model.findSample(emotion, k.cdv) >= 0 ? emotion : Emotion::neutralLabel();
 			std::vector<std::size_t> exemplars;
 			for (std::size_t s = 0; s < model.sampleCount(); ++s)
 				if (model.samples[s].cdv == k.cdv && model.samples[s].emotion == e) exemplars.push_back(s);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "phonetics/emotion.h"
 #include "phonetics/language.h"
 #include "track/landmarks.h"
 
@@ -58,7 +59,7 @@ struct CdvMouthTarget {
 std::vector<CdvMouthTarget> loadCdvMouthTargets(const std::string& path = "");
 
 struct FromVideoOptions {
-	std::string emotion = "neutral";   // CH-Unicamp label of every entry
+	std::string emotion = Emotion::neutralLabel();   // CH-Unicamp label of every entry
 	int perCdv = 1;                     // frames kept per (emotion, CDV)
 	std::int64_t baseface = -1;         // frame index of the baseface; −1 = the most neutral frame found
 	double minConfidence = 0.6;         // tracked frames less consistent than this are not chosen
@@ -113,7 +114,7 @@ void writeVideoCorpus(const std::string& video, const LandmarkTrack& track, cons
 // a model of every recorded emotion).
 struct VideoTake {
 	std::string video;
-	std::string emotion = "neutral";  // canonical label
+	std::string emotion = Emotion::neutralLabel();  // canonical label
 	Ticks start{0}, duration{0};      // the part of the video used (duration 0: to its end)
 	std::string transcript, text, audio;  // its speech: a timed transcript, or words to align to the audio
 	                                      // (the video's own, or `audio`); neither: frames chosen by shape
