@@ -187,11 +187,12 @@ AudioClip decodeAudioImpl(const std::string& path, int outRate, double maxSecond
 	// such files a second decoding. One whose header says less than it holds is counted when it passes what
 	// its header says (+1 s).
 	bool counted = maxSeconds <= 0;
-	if (!counted && dec->declared() < 0) {
-		countSamples(*dec);
+	auto countThenReopen = [&] {  // throws at the limit; else a fresh decoder from the start
+		countSamples(*std::make_unique<AudioDecoder>(path, outRate, maxSeconds));
 		dec = std::make_unique<AudioDecoder>(path, outRate, maxSeconds);
 		counted = true;
-	}
+	};
+	if (!counted && dec->declared() < 0) countThenReopen();
 	AudioClip clip;
 	clip.sampleRate = dec->rate();
 	clip.channels = dec->channels();
@@ -204,9 +205,8 @@ AudioClip decodeAudioImpl(const std::string& path, int outRate, double maxSecond
 		if (n < block) break;
 		if (!counted && double(clip.frameCount()) > (dec->declared() + 1) * double(dec->rate())) {  // the header lied
 			clip.samples = {};
-			countSamples(*std::make_unique<AudioDecoder>(path, outRate, maxSeconds));
-			dec = std::make_unique<AudioDecoder>(path, outRate, maxSeconds);
-			counted = true;
+			dec.reset();
+			countThenReopen();
 		}
 	}
 	if (clip.frameCount() == 0) throw Error(path, 0, "the audio has no samples (zero length)");

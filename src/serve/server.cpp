@@ -90,6 +90,9 @@ constexpr double kLoadWindowSeconds = 3;
 constexpr auto kLoadSample = std::chrono::milliseconds(500);
 constexpr auto kStartGap = std::chrono::milliseconds(150);  // between two sessions' starts
 
+// The cores admission divides (at least 1).
+double machineCores() { return std::max(1u, std::thread::hardware_concurrency()); }
+
 std::string errorJson(const std::string& message) { return JsonObject().add("type", "error").add("message", safeLine(message)).str(); }
 
 // The sessions' interface the server keeps (one io thread uses it).
@@ -220,7 +223,7 @@ struct NetServer::Impl {
 			// what the sessions' own threads do not see (the network thread, the kernel: the process's CPU
 			// time over theirs). A load refusal lowers the bar by kHysteresis until a session fits under it.
 			const auto now = Clock::now();
-			const double cores = std::max(1u, std::thread::hardware_concurrency());
+			const double cores = machineCores();
 			double expected = host.sessionLoad, settledLoad = 0, measured = 0;
 			int settled = 0;
 			for (const auto& [w, s] : live) {
@@ -319,7 +322,7 @@ struct NetServer::Impl {
 		const double wall = std::chrono::duration<double>(b.at - a.at).count();
 		LoadWindow w{double(b.processCpuNs - a.processCpuNs) * 1e-9 / std::max(1e-3, wall), counters.lateFrames.load() - a.lateFrames};
 		if (a.machineTotal > 0 && b.machineTotal > a.machineTotal) {
-			const double cores = std::max(1u, std::thread::hardware_concurrency());
+			const double cores = machineCores();
 			w.others = std::max(0.0, (b.machineBusy - a.machineBusy) / (b.machineTotal - a.machineTotal) * cores - w.processLoad);
 		}
 		return w;
@@ -342,7 +345,7 @@ struct NetServer::Impl {
 				++cpus;
 			}
 		}
-		if (cpus != int(std::thread::hardware_concurrency())) return {-1, -1};
+		if (cpus != int(machineCores())) return {-1, -1};
 		return {busy, total};
 	}
 	void sampleLoad() {
@@ -908,7 +911,7 @@ NetServer::NetServer(const ServeHost& host, const FaceModel& model, ServeOptions
 	if (!ec) s.acceptor.listen(net::socket_base::max_listen_connections, ec);
 	if (ec) throw Error("cannot listen on " + s.o.host + ":" + std::to_string(s.o.port) + ": " + ec.message());
 	if (s.o.maxLoad > 0 && s.host.sessionLoad > 0) {
-		const double cores = std::max(1u, std::thread::hardware_concurrency());
+		const double cores = machineCores();
 		char b[240];
 		std::snprintf(b, sizeof b, "a speaking session at %dx%d takes %.2f cores (measured at start-up): about %d at once within --max-load %g of %g cores",
 		              s.o.live.render.synth.width, s.o.live.render.synth.height, s.host.sessionLoad,
