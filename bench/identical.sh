@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Behaviour unchanged (issue 30): ~27 cases — the README's renders (emotions, sources, fit, controls,
+# Behaviour unchanged (issue 30, 46): ~30 cases — the README's renders (emotions, sources, fit, controls,
 # sidecars), visemes as JSON and Rhubarb JSON, `say` (text, SSML, saved speech and transcript, dry run), two
 # batches with their players, live session scripts (`talkhead live`, the serve path frame for frame; y4m and
 # mp4), and with the research data beside the project a GRID clip with its audio, its text aligned, a
@@ -45,6 +45,9 @@ cases=(
 	"say-dry-run|@TH@ say 'Que notícia excelente!' --dry-run"
 	"visemes-json|@TH@ visemes $ex/que_noticia.TextGrid --out-format json"
 	"visemes-rhubarb|@TH@ visemes $ex/que_noticia.TextGrid --out-format rhubarb-json -o @OUT@/r.json"
+	"live-speak|@TH@ live $tmp/speak.jsonl --size 320x180 --format y4m -o @OUT@/a.y4m -q"
+	"live-speak-webm|@TH@ live $tmp/speak.jsonl --size 160x90 --background transparent -o @OUT@/a.webm -q"
+	"batch-columns|@TH@ batch $tmp/manifest2.csv -o @OUT@/stimuli --seed 3 -q"
 )
 # With the research data beside the project: speech from a real clip (its GRID alignment, its text aligned
 # to it, sentence cues aligned to it) and a driving video.
@@ -67,6 +70,24 @@ Bom dia.,,joy:0.5,160x90,,a
 ,$ex/que_noticia.TextGrid,fear,160x90,,b
 Que notícia excelente!,,anger,160x90,distress,c
 CSV
+cat >"$tmp/manifest2.csv" <<CSV
+text,transcript,emotion,intensity,size,trajectory,lead-in,tail,muted,crf,condition
+Bom dia.,,anger,0.4,160x90,linear,200,100,yes,30,a
+,$ex/que_noticia.TextGrid,joy:1.3,,160x90,monotone,,,,,b
+,$ex/que_noticia.TextGrid,,,160x90,,,,,,c
+CSV
+# A speak (raw PCM, its timing as a TextGrid), emotions with intensities, a stop mid-word, a say.
+python3 - "$ex/que_noticia.TextGrid" >"$tmp/speak.jsonl" <<'PY'
+import base64, json, math, struct, sys
+tg = open(sys.argv[1], encoding="utf-8").read()
+pcm = b"".join(struct.pack("<h", int(6000 * math.sin(2 * math.pi * 180 * n / 16000) * (0.5 + 0.5 * math.sin(n / 900)))) for n in range(16000 * 2))
+print(json.dumps({"frame": 2, "request": {"type": "emotion", "emotion": "distress", "intensity": 0.6, "ramp": 0.2}}))
+print(json.dumps({"frame": 5, "request": {"type": "speak", "id": 1, "audio": base64.b64encode(pcm).decode(), "encoding": "pcm_s16le", "sample_rate": 16000, "transcript": tg, "lang": "pt-BR", "emotion": "joy", "intensity": 1.2}}))
+print(json.dumps({"frame": 50, "request": {"type": "emotion", "emotion": "anger", "intensity": 0.3, "ramp": 0}}))
+print(json.dumps({"frame": 70, "request": {"type": "stop", "id": "s"}}))
+print(json.dumps({"frame": 75, "request": {"type": "say", "id": "b", "text": "Tudo bem.", "lang": "pt-BR", "emotion": "fear"}}))
+print(json.dumps({"type": "end", "frame": 130}))
+PY
 cat >"$tmp/controls.json" <<'JSON'
 {"events": [
   {"type": "emotion", "time": 0.4, "emotion": "anger", "intensity": 0.9, "ramp": 0.3},

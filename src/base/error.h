@@ -2,6 +2,7 @@
 #pragma once
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace talkhead {
 
@@ -12,6 +13,18 @@ public:
 	explicit Error(const std::string& message) : std::runtime_error(message) {}
 	// "FILE:LINE: message" (line 0 = no line).
 	Error(const std::string& file, long line, const std::string& message);
+};
+
+// A value that is wrong, named by its field (what the command line calls a flag and serve a JSON member:
+// "crf", "background", "output"). The message does not spell the field the way a front end does: each
+// front end words it for its users (the CLI with its flag, serve with its member).
+class FieldError : public Error {
+public:
+	FieldError(std::string field, const std::string& message) : Error(message), field_(std::move(field)) {}
+	const std::string& field() const { return field_; }
+
+private:
+	std::string field_;
 };
 
 // Flattens a chain of nested exceptions (std::throw_with_nested) into "outer: inner: innermost".

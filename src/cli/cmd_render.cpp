@@ -76,7 +76,7 @@ int runRender(const std::vector<std::string>& argv) {
 	spec.phones = speech.phones;
 	spec.source = speech.name;
 	if (drive.mouth && cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
-	if (drive.mouth) drive.mouthKeys(spec, loadRenderModel(cmd.modelPath, cmd.components), cmd.emotion);
+	if (drive.mouth) drive.mouthKeys(spec, loadRenderModel(cmd.modelPath, cmd.components), cmd.expression.emotion());
 	// The sound (decoded once without keeping it, unless aligned; at the file's own sample rate).
 	std::unique_ptr<AudioSource> sound;
 	if (audioPath) {

@@ -72,7 +72,7 @@ int runSay(const std::vector<std::string>& argv) {
 	spec.phones = phones;
 	spec.duration = audio.duration();
 	if (spoken.ssml) {  // marks reported; blinks, brows and emotions performed
-		SpeechEvents events = ssmlEvents(*spoken.ssml, spoken.eventTimes, *spec.duration, cmd.emotion, cmd.intensity);
+		SpeechEvents events = ssmlEvents(*spoken.ssml, spoken.eventTimes, *spec.duration, cmd.expression);
 		reportMarks(cmd, events.marks);
 		spec.controls.push_back(controlTrackOf(std::move(events), textName));
 	}

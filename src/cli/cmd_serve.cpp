@@ -50,7 +50,7 @@ LiveOptions liveOptions(const Args& args, const std::string& command) {
 	o.rate = parseFps(args, command);
 	parseSize(command + ": --size", args.get("--size", "1280x720"), o.render.synth.width, o.render.synth.height);
 	o.render.fit = parseFit(args, command);
-	std::tie(o.emotion, o.intensity) = parseEmotionOption(args, command);
+	o.expression = parseEmotionOption(args, command);
 	o.modulation = parseModulation(args, command);
 	o.speechBrows = parseSpeechBrows(args, command, "on");
 	o.sampleRate = int(args.number("--sample-rate", 22050, 8000, 96000));
@@ -203,7 +203,7 @@ int runLive(const std::vector<std::string>& argv) {
 	args.onePositional("give one session script");
 	const std::string script = args.positionals()[0];
 	const std::string out = args.required("--output", "-o OUT is required");
-	const std::string format = parseVideoFormat(args, "live", out, false);
+	const VideoFormat format = *parseVideoFormat(args, "live", out, false);
 	const bool transparent = parseTransparent(args, "live", format);
 	LiveOptions o = liveOptions(args, "live");
 	const std::string lang = args.get("--lang", "en-US");
@@ -218,15 +218,11 @@ int runLive(const std::vector<std::string>& argv) {
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
 	LiveSession session(model, o);
 	const StreamInfo& info = session.info();
-	Mp4Settings mp4;
-	WebmSettings webm;
-	(format == "webm" ? webm.crf : mp4.crf) = parseCrf(args, format);
-	webm.alpha = transparent;
+	OutputSpec spec;
+	spec.format = format, spec.path = out, spec.crf = parseCrf(args, format), spec.alpha = transparent;
 	// Through a frame sink, as render writes (a temporary name, renamed when complete: nothing partial). The
 	// session's sound never ends: the video's length of it.
-	auto sound = [&] { return shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total)); };
-	const std::unique_ptr<FrameSink> sink =
-	    format == "mp4" ? makeMp4Sink(out, mp4, sound()) : format == "webm" ? makeWebmSink(out, webm, sound()) : makeY4mSink(out);
+	const std::unique_ptr<FrameSink> sink = makeVideoSink(spec, shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total)));
 	std::optional<FaceMatte> matte;  // --background transparent: the face's matte, as render draws it (D65)
 	if (transparent) matte.emplace(model.scheme);
 	sink->begin(info);

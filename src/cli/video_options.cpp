@@ -148,8 +148,7 @@ PerformanceSpec performanceSpec(const VideoCommand& cmd) {
 	spec.rate = cmd.rate;
 	spec.coarticulation = cmd.coarticulation;
 	spec.pauses = cmd.pauses;
-	spec.emotion = cmd.emotion;
-	spec.intensity = cmd.intensity;
+	spec.expression = cmd.expression;
 	spec.modulation = cmd.modulation;
 	spec.speechBrows = cmd.speechBrows;
 	return spec;
@@ -217,19 +216,17 @@ Fit parseFit(const Args& args, const std::string& command) {
 	return fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
 }
 
-std::pair<Emotion, double> parseEmotionOption(const Args& args, const std::string& command) {
-	double intensity = 1;
+Expression parseEmotionOption(const Args& args, const std::string& command) {
 	// --emotion LABEL[:INTENSITY]: 0 = neutral, 1 = the corpus (default), up to 1.5 (extrapolated, with a warning).
-	std::string emotionArg = args.get("--emotion", Emotion::neutralLabel());
-	if (const auto colon = emotionArg.rfind(':'); colon != std::string::npos) {
-		const std::string value = emotionArg.substr(colon + 1);
-		if (!parseDouble(value, intensity) || !(intensity >= 0 && intensity <= 1.5))
-			throw UsageError(command + ": --emotion LABEL:INTENSITY takes an intensity from 0 to 1.5, not '" + value + "'");
-		emotionArg = emotionArg.substr(0, colon);
-		if (intensity > 1)
-			std::fprintf(stderr, "talkhead: warning: intensity %g is beyond the corpus's emotion: shapes and appearances are extrapolated\n", intensity);
+	try {
+		const Expression e = Expression::parse(args.get("--emotion", Emotion::neutralLabel()));
+		if (e.extrapolated())
+			std::fprintf(stderr, "talkhead: warning: intensity %g is beyond the corpus's emotion: shapes and appearances are extrapolated\n", e.intensity());
+		return e;
+	} catch (const FieldError& e) {
+		if (e.field() == "emotion") throw Error(e.what());  // as an unknown label in a file: exit 1
+		throw UsageError(command + ": --emotion LABEL:INTENSITY: " + e.what());
 	}
-	return {Emotion::parse(emotionArg), intensity};
 }
 
 ModulatorOptions parseModulation(const Args& args, const std::string& command) {
@@ -255,28 +252,38 @@ double parseSpeechBrows(const Args& args, const std::string& command, const std:
 	return amount;
 }
 
-std::string parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone) {
-	const std::string extension = toLower(fs::path(output).extension().string());
-	const std::string format = args.get("--format", extension == ".webm" ? "webm" : extension == ".y4m" ? "y4m" : "mp4");
-	if (format != "mp4" && format != "webm" && format != "y4m" && (format != "none" || !allowNone))
-		throw UsageError(command + ": --format must be mp4, webm" + (allowNone ? ", y4m or none" : " or y4m"));
-	if ((format == "mp4" && extension == ".webm") || (format == "webm" && (extension == ".mp4" || extension == ".m4v" || extension == ".mov")))
-		throw UsageError(command + ": --format " + format + " but -o " + output + " names another container: ambiguous");
-	return format;
+std::string cliField(const std::string& field) { return field == "output" ? "-o" : "--" + field; }
+
+std::optional<VideoFormat> parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone) {
+	const std::string named = args.get("--format", "");
+	if (named == "none" && allowNone) return std::nullopt;
+	if (const OutputFormat* f = findOutputFormat(named); !named.empty() && (!f || f->stream))
+		throw UsageError(command + ": --format must be " + (allowNone ? outputFormatNames() + " or none" : outputFormatNames()));
+	try {
+		return videoFormatFor(output, named);
+	} catch (const FieldError& e) {
+		throw UsageError(command + ": " + cliField(e.field()) + " " + e.what());
+	}
 }
 
-bool parseTransparent(const Args& args, const std::string& command, const std::string& format, const std::string& alternatives) {
+bool parseTransparent(const Args& args, const std::string& command, std::optional<VideoFormat> format, const std::string& alternatives) {
 	const std::string background = args.get("--background", "opaque");
 	if (background != "opaque" && background != "transparent") throw UsageError(command + ": --background takes opaque or transparent");
 	const bool transparent = background == "transparent";
-	if (transparent && (format == "mp4" || format == "y4m"))
-		throw UsageError(command + ": --background transparent: " + (format == "mp4" ? "MP4 (H.264)" : "y4m") +
-		                 " has no alpha channel; write --format webm (VP9 with alpha)" + alternatives);
+	if (transparent && format && !outputFormat(*format).alpha) {
+		std::string withAlpha;
+		for (const OutputFormat& f : outputFormats())
+			if (f.alpha && !f.stream) withAlpha += (withAlpha.empty() ? "" : " or ") + ("--format " + f.name);
+		throw UsageError(command + ": --background transparent: " + outputFormat(*format).name + " (" + outputFormat(*format).description +
+		                 ") has no alpha channel; write " + withAlpha + alternatives);
+	}
 	return transparent;
 }
 
-int parseCrf(const Args& args, const std::string& format) {
-	return format == "webm" ? int(args.number("--crf", 32, 0, 63)) : int(args.number("--crf", 20, 0, 51));
+int parseCrf(const Args& args, std::optional<VideoFormat> format) {
+	const OutputFormat& f = outputFormat(format.value_or(VideoFormat::Mp4));
+	if (f.crfMax < 0) return -1;
+	return int(args.number("--crf", f.crfDefault, 0, f.crfMax));
 }
 
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired) {
@@ -286,26 +293,25 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	if (auto o = args.get("--output")) c.output = *o;
 	else if (outputRequired && args.get("--format", "") != "none") throw UsageError(command + ": -o OUT is required");
 	c.format = parseVideoFormat(args, command, c.output, true);
-	if (c.format == "none" && args.get("--output")) throw UsageError(command + ": --format none writes no video: drop -o");
-	if (c.output == "-" && c.format != "y4m") throw UsageError(command + ": -o - needs --format y4m");
+	if (!c.format && args.get("--output")) throw UsageError(command + ": --format none writes no video: drop -o");
+	if (c.output == "-" && !(c.format && outputFormat(*c.format).standardOutput)) throw UsageError(command + ": -o - needs --format y4m");
 	c.framesDir = args.get("--frames");
 	c.landmarksOut = args.get("--landmarks-out");
 	c.transparent = parseTransparent(args, command, c.format, " or --frames DIR (RGBA PNG) with --format none");
-	if (c.transparent && c.format == "none" && !c.framesDir && !extraFrameSink())
+	if (c.transparent && !c.format && !c.framesDir && !extraFrameSink())
 		throw UsageError(command + ": --background transparent with --format none needs --frames DIR (RGBA PNG)");
 	if (args.has("--feather") && !c.transparent) throw UsageError(command + ": --feather is for --background transparent");
 	c.render.matte.feather = args.number("--feather", 0, 0.5, 500);
-	c.webm.alpha = c.transparent;
-	if (c.format == "none" && !c.framesDir && !c.landmarksOut && !extraFrameSink())
+	if (!c.format && !c.framesDir && !c.landmarksOut && !extraFrameSink())
 		throw UsageError(command + ": --format none writes nothing: give --frames DIR or --landmarks-out F.tsv");
 	c.rate = parseFps(args, command);
 	if (auto s = args.get("--size")) parseSize(command + ": --size", *s, c.render.synth.width, c.render.synth.height);
 	c.render.fit = parseFit(args, command);
-	(c.format == "webm" ? c.webm.crf : c.mp4.crf) = parseCrf(args, c.format);
-	if (args.has("--preset") && c.format != "mp4") throw UsageError(command + ": --preset is x264's (--format mp4)");
-	c.mp4.preset = args.get("--preset", "veryfast");
+	c.crf = parseCrf(args, c.format);
+	if (args.has("--preset") && !(c.format && outputFormat(*c.format).preset)) throw UsageError(command + ": --preset is x264's (--format mp4)");
+	c.preset = args.get("--preset", "veryfast");
 	c.noAudio = args.has("--no-audio");
-	std::tie(c.emotion, c.intensity) = parseEmotionOption(args, command);
+	c.expression = parseEmotionOption(args, command);
 	c.modelPath = args.get("--model", "");
 	const auto pauses = parsePauseStyle(args.get("--pauses", args.has("--coarticulation") ? "still" : "natural"));
 	if (!pauses) throw UsageError(command + ": --pauses takes natural, still or thesis");
@@ -386,9 +392,7 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	}
 	const bool withAudio = audio && !cmd.noAudio;
 	std::vector<std::unique_ptr<FrameSink>> owned;
-	if (cmd.format == "mp4") owned.push_back(makeMp4Sink(cmd.output, cmd.mp4, withAudio ? std::move(audio) : nullptr));
-	else if (cmd.format == "webm") owned.push_back(makeWebmSink(cmd.output, cmd.webm, withAudio ? std::move(audio) : nullptr));
-	else if (cmd.format == "y4m") owned.push_back(makeY4mSink(cmd.output));
+	if (cmd.format) owned.push_back(makeVideoSink(cmd.videoSpec(), withAudio ? std::move(audio) : nullptr));
 	if (cmd.landmarksOut) owned.push_back(makeLandmarksSink(*cmd.landmarksOut));
 	if (cmd.framesDir) owned.push_back(makePngFramesSink(*cmd.framesDir, cmd.transparent));
 	std::vector<FrameSink*> sinks;
@@ -408,7 +412,7 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	if (!cmd.quiet && !cmd.jsonProgress)
 		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %s fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
 		             cmd.output.c_str(), (long long)st.frames, st.width, st.height, perf.rate.str().c_str(), toSeconds(perf.duration),
-		             withAudio ? "audio" : "transcript", st.keyposes, perf.emotion.label().c_str(), secs, double(st.frames) / secs, toSeconds(perf.duration) / secs);
+		             withAudio ? "audio" : "transcript", st.keyposes, perf.expression.emotion().label().c_str(), secs, double(st.frames) / secs, toSeconds(perf.duration) / secs);
 }
 
 std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio) {

@@ -13,6 +13,7 @@
 #include "perform/controls.h"
 #include "perform/plan.h"
 #include "perform/utterance.h"
+#include "render/output.h"
 #include "render/render.h"
 
 namespace talkhead::cli {
@@ -25,26 +26,32 @@ std::vector<OptionSpec> videoOptionSpecs();
 
 struct VideoCommand {
 	std::string command;                 // "render" or "say", for messages
-	std::string output, format = "mp4";  // -o (- = standard output, y4m only); mp4 | webm | y4m | none
+	std::string output;                  // -o (- = standard output, y4m only)
+	std::optional<VideoFormat> format = VideoFormat::Mp4;  // --format (nullopt: none, no video)
+	int crf = -1;                        // --crf, the format's scale
+	std::string preset = "veryfast";     // --preset (x264)
 	bool transparent = false;            // --background transparent: the face's matte as alpha (webm, PNG frames)
 	std::optional<std::string> framesDir, landmarksOut;
 	std::string modelPath;               // empty = the default face
-	Emotion emotion;
-	double intensity = 1;                // --emotion LABEL:INTENSITY
+	Expression expression;               // --emotion LABEL:INTENSITY
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
 	ModulatorOptions modulation;
 	double speechBrows = 0;  // --speech-brows: 0 off, else the raise amount (D49)
 	std::optional<ControlTrack> controls;  // --controls F (read and checked with the options)
 	std::shared_ptr<const CoarticulationModel> coarticulation;  // --coarticulation F (D62)
-	Mp4Settings mp4;
-	WebmSettings webm;
 	RenderOptions render;
 	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
 	Ticks leadIn{0}, tail{0}, avOffset{0};     // --lead-in, --tail, --av-offset (issue 14)
 	std::optional<std::string> timelineOut;    // --timeline-out F.json
 	ComponentLevels components;                // --components REGION=N,… (Appendix C reductions)
 	std::optional<std::string> audioOut;       // --audio-out F.wav: the sound track as muxed
+	// The video output (format set): what makeVideoSink writes.
+	OutputSpec videoSpec() const {
+		OutputSpec s;
+		s.format = format.value_or(VideoFormat::Mp4), s.path = output, s.crf = crf, s.preset = preset, s.alpha = transparent;
+		return s;
+	}
 };
 
 // How a timed transcript is read (visemes, render): the format option (`formatOption`: "--format" or
@@ -99,16 +106,18 @@ OptionSpec genericVisemesOption();
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired = true);
 // --fps, --fit, and --emotion LABEL[:INTENSITY] (canonical label; an unknown one is an Error).
 FrameRate parseFps(const Args& args, const std::string& command);
-// --format: mp4, webm, y4m (and none when `allowNone`), by default from -o's extension (.webm, .y4m; else
-// mp4); a --format that contradicts the extension is ambiguous: a UsageError.
-std::string parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone);
+// --format: a file format of the registry (render/output.h; and none, nullopt, when `allowNone`), by
+// default from -o's extension; a --format that contradicts the extension is ambiguous: a UsageError.
+std::optional<VideoFormat> parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone);
+// A library field's flag ("output" → "-o", "crf" → "--crf").
+std::string cliField(const std::string& field);
 // --background opaque|transparent; transparent in a format without alpha (mp4, y4m) is a UsageError that
 // names WebM and then `alternatives` (the command's other ways to alpha).
-bool parseTransparent(const Args& args, const std::string& command, const std::string& format, const std::string& alternatives = "");
+bool parseTransparent(const Args& args, const std::string& command, std::optional<VideoFormat> format, const std::string& alternatives = "");
 // --crf for the format: VP9's 0–63 (default 32) for webm, else H.264's 0–51 (default 20).
-int parseCrf(const Args& args, const std::string& format);
+int parseCrf(const Args& args, std::optional<VideoFormat> format);
 Fit parseFit(const Args& args, const std::string& command);
-std::pair<Emotion, double> parseEmotionOption(const Args& args, const std::string& command);
+Expression parseEmotionOption(const Args& args, const std::string& command);
 // --blinks, --head-motion, --seed (render, say, serve, live).
 ModulatorOptions parseModulation(const Args& args, const std::string& command);
 // --speech-brows on|off|X (default `fallback`): 0 off, else the raise amount.

@@ -75,8 +75,7 @@ void addEvent(ControlTrack& track, const EventReader& r) {
 		const std::string label = r.text("emotion");
 		const auto emotion = Emotion::find(label);
 		if (!emotion) r.fail("unknown emotion '" + shown(label) + "' (known: " + emotionList() + ")");
-		c.emotion = *emotion;
-		c.intensity = r.number("intensity", 1, 0, 1.5);
+		c.expression = Expression(*emotion, r.number("intensity", 1, 0, Expression::kMaxIntensity));
 		c.ramp = ticksFromSeconds(r.number("ramp", 0.3, 0, 60));
 		track.emotions.push_back(c);
 	} else if (type == "blink") {
@@ -279,7 +278,7 @@ std::vector<std::string> eventObjects(const ControlTrack& t) {
 		return events.back().second.add("type", type).raw("time", seconds(time));
 	};
 	for (const auto& e : t.emotions)
-		event(e.time, "emotion").add("emotion", e.emotion.label()).raw("intensity", controlNumber(e.intensity)).raw("ramp", seconds(e.ramp));
+		event(e.time, "emotion").add("emotion", e.expression.emotion().label()).raw("intensity", controlNumber(e.expression.intensity())).raw("ramp", seconds(e.ramp));
 	for (Ticks b : t.blinks) event(b, "blink");
 	for (const auto& g : t.gestures) {
 		JsonObject& e = event(g.time, g.kind == HeadGesture::Kind::Nod ? "nod" : g.kind == HeadGesture::Kind::Shake ? "shake" : "turn");
@@ -415,26 +414,28 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 		if (t > perf.duration)
 			throw Error(track.path, 0, what + " at " + formatNumber(toSeconds(t)) + " s is past the end of the video (" + formatNumber(toSeconds(perf.duration)) + " s)");
 	};
-	for (const auto& c : track.emotions) past(c.time, "the emotion change to " + c.emotion.label());
+	for (const auto& c : track.emotions) past(c.time, "the emotion change to " + c.expression.emotion().label());
 	for (Ticks t : track.blinks) past(t, "a blink");
 	for (const auto& g : track.gestures) past(g.time, g.kind == HeadGesture::Kind::Nod ? "a nod" : g.kind == HeadGesture::Kind::Shake ? "a shake" : "a turn");
 	for (const auto& b : track.brows) past(b.time, "a brows event");
 	for (const auto& a : track.actionUnits) past(a.time, "the action unit " + a.au);
 	// Each keypose takes the emotion in effect at its time.
 	for (Keypose& k : perf.keys) {
-		Emotion before = perf.emotion;
-		double beforeIntensity = perf.intensity;
+		Emotion before = perf.expression.emotion();
+		double beforeIntensity = perf.expression.intensity();
 		for (const auto& c : track.emotions) {
 			if (c.time > k.time) break;
 			const double ramp = toSeconds(c.ramp), s = ramp > 0 ? toSeconds(k.time - c.time) / ramp : 1.0;
+			const Emotion to = c.expression.emotion();
+			const double toIntensity = c.expression.intensity();
 			if (s >= 1) {
-				k.emotion = c.emotion, k.intensity = c.intensity;
+				k.emotion = to, k.intensity = toIntensity;
 			} else if (s < 0.5) {  // the old emotion fading out
 				k.emotion = before, k.intensity = beforeIntensity * (1 - 2 * s);
 			} else {  // the new one fading in
-				k.emotion = c.emotion, k.intensity = c.intensity * (2 * s - 1);
+				k.emotion = to, k.intensity = toIntensity * (2 * s - 1);
 			}
-			before = c.emotion, beforeIntensity = c.intensity;
+			before = to, beforeIntensity = toIntensity;
 		}
 	}
 	perf.modulation.forcedBlinks.insert(perf.modulation.forcedBlinks.end(), track.blinks.begin(), track.blinks.end());

@@ -26,8 +26,7 @@ namespace talkhead {
 struct ControlTrack {
 	struct EmotionChange {
 		Ticks time{0}, ramp{0};
-		Emotion emotion;
-		double intensity = 1;
+		Expression expression;
 	};
 	std::string path;  // for messages
 	std::vector<EmotionChange> emotions;

@@ -41,11 +41,11 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 	}
 	for (const auto& ph : phones)
 		phoneItems.raw(JsonObject().raw("start", sec(ph.start + leadIn)).raw("end", sec(ph.end + leadIn)).add("phone", ph.phone).add("cdv", ph.cdv).str());
-	for (const auto& k : p.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv).add("emotion", k.emotion.value_or(p.emotion).label()).str());
+	for (const auto& k : p.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv).add("emotion", k.emotion.value_or(p.expression.emotion()).label()).str());
 	JsonObject o;
 	o.add("fps", p.rate.str()).add("frames", p.frameCount()).raw("duration", sec(p.duration)).raw("lead_in", sec(leadIn)).raw("tail", sec(tail));
 	o.raw("av_offset", sec(avOffset)).raw("speech_onset", onset < Ticks(0) ? "null" : sec(onset + leadIn));
-	o.raw("speech_offset", onset < Ticks(0) ? "null" : sec(offset + leadIn)).add("emotion", p.emotion.label());
+	o.raw("speech_offset", onset < Ticks(0) ? "null" : sec(offset + leadIn)).add("emotion", p.expression.emotion().label());
 	o.raw("words", wordItems.str(itemLines)).raw("phones", phoneItems.str(itemLines)).raw("keyposes", keyItems.str(itemLines));
 	return o.str({"\n  ", ",\n  ", "\n"}) + "\n";
 }

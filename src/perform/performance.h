@@ -18,8 +18,7 @@ struct Performance {
 	FrameRate rate;                  // output frames per second (exact fraction)
 	Ticks duration{0};               // the video's length (the audio's, or the transcript's end)
 	std::vector<Keypose> keys;       // keyposes in time order (CDV, instant, phone context)
-	Emotion emotion;                 // for every keypose without its own (default neutral)
-	double intensity = 1;            // of the emotion: 0 = neutral keyposes, 1 = the corpus's, up to 1.5 (D43)
+	Expression expression;           // for every keypose without its own (default neutral; intensity: D43)
 	ModulatorOptions modulation;     // blinks and head motion (on by default; D42)
 	// (The expressive-control issue adds per-keypose emotion and control tracks here.)
 

@@ -97,10 +97,9 @@ Ticks PerformanceSpec::videoDuration() const {
 Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string>* warnings) {
 	Performance perf;
 	perf.rate = spec.rate;
-	perf.emotion = spec.emotion;
-	perf.intensity = spec.intensity;
+	perf.expression = spec.expression;
 	perf.modulation = spec.modulation;
-	perf.modulation.intensity = spec.intensity;
+	perf.modulation.intensity = spec.expression.intensity();
 	perf.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses);
 	if (spec.coarticulation && !spec.phones.empty()) {
 		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.keys);

@@ -52,8 +52,7 @@ struct PerformanceSpec {
 	std::vector<Keypose> keys;         // or the keyposes themselves (a driven mouth, D55), phones empty
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
-	Emotion emotion;
-	double intensity = 1;
+	Expression expression;             // the emotion and its intensity
 	ModulatorOptions modulation;       // blinks and head motion
 	double speechBrows = 0;            // brow raises with speech (D49); 0 = none
 	// The video's length: `duration` when set, else the audio's when there is one, else the speech's end.

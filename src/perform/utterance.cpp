@@ -84,9 +84,9 @@ Utterance utteranceFromAudio(const std::string& audioPath, const std::string& tr
 	return u;
 }
 
-SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, Ticks end, Emotion outerEmotion, double outerIntensity) {
+SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, Ticks end, const Expression& outer) {
 	SpeechEvents out;
-	std::vector<std::pair<Emotion, double>> stack{{outerEmotion, outerIntensity}};
+	std::vector<Expression> stack{outer};
 	for (std::size_t i = 0; i < ssml.events.size() && i < times.size(); ++i) {
 		const SsmlText::Event& e = ssml.events[i];
 		const Ticks t = std::min(times[i], end);
@@ -99,11 +99,11 @@ SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, T
 			if (e.kind == SsmlText::Event::Kind::EmotionStart) {
 				const auto c = Emotion::find(e.name);
 				if (!c) throw Error("text", e.line, "column " + std::to_string(e.column) + ": unknown emotion '" + e.name + "'");
-				stack.emplace_back(*c, e.intensity);
+				stack.emplace_back(*c, e.intensity);  // checked by the SSML reader
 			} else if (stack.size() > 1) {
 				stack.pop_back();
 			}
-			out.emotions.push_back(ControlTrack::EmotionChange{t, ticksFromSeconds(0.2), stack.back().first, stack.back().second});
+			out.emotions.push_back(ControlTrack::EmotionChange{t, ticksFromSeconds(0.2), stack.back()});
 			break;
 		}
 	}

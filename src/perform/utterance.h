@@ -52,7 +52,7 @@ struct SpeechEvents {
 	std::vector<BrowEvent> brows;
 	std::vector<ControlTrack::EmotionChange> emotions;
 };
-SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, Ticks end, Emotion outerEmotion = {}, double outerIntensity = 1);
+SpeechEvents ssmlEvents(const SsmlText& ssml, const std::vector<Ticks>& times, Ticks end, const Expression& outer = {});
 
 // A control track of the events (blinks, brows, emotion changes; the marks are reported, not performed),
 // named `path` in messages.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "phonetics/emotion.h"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "base/error.h"
@@ -64,5 +65,41 @@ Emotion Emotion::at(std::size_t index) {
 	if (index >= count()) throw std::out_of_range("Emotion::at");
 	return Emotion(int(index));
 }
+
+namespace {
+
+std::string intensityText(double intensity) {
+	char b[32];
+	std::snprintf(b, sizeof b, "%g", intensity);
+	return b;
+}
+
+}  // namespace
+
+Expression::Expression(Emotion emotion, double intensity) : emotion_(emotion), intensity_(intensity) {
+	if (!(intensity >= 0 && intensity <= kMaxIntensity))
+		throw FieldError("intensity", "intensity '" + intensityText(intensity) + "' is not a number from 0 to 1.5");
+}
+
+Expression Expression::parse(std::string_view text) {
+	double intensity = 1;
+	if (const auto colon = text.rfind(':'); colon != std::string_view::npos) {
+		const std::string_view value = text.substr(colon + 1);
+		if (!parseDouble(value, intensity) || !(intensity >= 0 && intensity <= kMaxIntensity))
+			throw FieldError("intensity", "intensity '" + safeQuote(value) + "' is not a number from 0 to 1.5");
+		text = text.substr(0, colon);
+	}
+	const std::optional<Emotion> e = Emotion::find(text);
+	if (!e) {
+		try {
+			Emotion::parse(text);
+		} catch (const Error& error) {
+			throw FieldError("emotion", error.what());
+		}
+	}
+	return Expression(*e, intensity);
+}
+
+std::string Expression::str() const { return intensity_ == 1 ? emotion_.label() : emotion_.label() + ":" + intensityText(intensity_); }
 
 }  // namespace talkhead

@@ -48,4 +48,31 @@ private:
 	int index_ = 0;
 };
 
+// An emotion at an intensity (D43): 0 = the neutral keyposes, 1 = the corpus's emotion, up to 1.5
+// (extrapolated). Checked where it is made, once: a value of this type is always in range. Every front end
+// (a flag, a manifest column, a request, a control track) makes one through the constructor or parse().
+class Expression {
+public:
+	static constexpr double kMaxIntensity = 1.5;
+
+	Expression() = default;  // neutral, at 1
+	// FieldError("intensity", …) for an intensity outside 0–1.5 (or not a number).
+	explicit Expression(Emotion emotion, double intensity = 1);
+	// "LABEL" or "LABEL:I", a label or alias in any case: FieldError("emotion", …) for an unknown label,
+	// FieldError("intensity", …) for an intensity that is not a number from 0 to 1.5.
+	static Expression parse(std::string_view text);
+
+	Emotion emotion() const { return emotion_; }
+	double intensity() const { return intensity_; }
+	bool extrapolated() const { return intensity_ > 1; }  // beyond the corpus's emotion
+	std::string str() const;  // "joy" at 1, else "joy:0.5"
+
+	friend bool operator==(const Expression& a, const Expression& b) { return a.emotion_ == b.emotion_ && a.intensity_ == b.intensity_; }
+	friend bool operator!=(const Expression& a, const Expression& b) { return !(a == b); }
+
+private:
+	Emotion emotion_;
+	double intensity_ = 1;
+};
+
 }  // namespace talkhead

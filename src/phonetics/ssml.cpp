@@ -9,6 +9,7 @@
 
 #include "base/error.h"
 #include "base/text.h"
+#include "phonetics/emotion.h"
 
 namespace talkhead {
 
@@ -143,7 +144,7 @@ private:
 			const std::string* label = attribute("name");
 			if (!label) throw here("<emotion> needs name=\"…\"");
 			double intensity = 1;
-			if (const std::string* v = attribute("intensity"); v && (!parseDouble(*v, intensity) || !(intensity >= 0 && intensity <= 1.5)))
+			if (const std::string* v = attribute("intensity"); v && (!parseDouble(*v, intensity) || !(intensity >= 0 && intensity <= Expression::kMaxIntensity)))
 				throw here("<emotion> intensity must be a number from 0 to 1.5");
 			if (selfClosing) throw here("<emotion/> must enclose the words it colours");
 			open.push_back(name);

@@ -49,6 +49,8 @@ public:
 	virtual void frame(const RenderedFrame& f) = 0;
 	virtual void finish() {}   // everything written, still under temporary names
 	virtual void commit() {}   // outputs appear under their names
+	// A stream's codecs (RFC 6381, "avc1.64001f,mp4a.40.2"), known after begin(); empty for files.
+	virtual std::string codecs() const { return {}; }
 };
 
 // H.264 + AAC MP4 (libav, in process) written to a temporary name beside `path`, renamed on commit.

@@ -108,11 +108,9 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	if (o_.rate.num < 1 || o_.rate.den < 1) throw Error("invalid frame rate " + o_.rate.str());
 	if (o_.sampleRate < 8000 || o_.sampleRate > 192000 || kTicksPerSecond % o_.sampleRate != 0)
 		throw Error("live: sample rate " + std::to_string(o_.sampleRate) + " Hz is not one of the rates a sample lasts a whole number of ticks at (8000, 11025, 16000, 22050, 24000, 32000, 44100, 48000, 96000, …)");
-	emotion_ = o_.emotion;
-	intensity_ = o_.intensity;
+	expression_ = o_.expression;
 	SynthOptions so = o_.render.synth;
-	so.emotion = emotion_;
-	so.intensity = intensity_;
+	so.expression = expression_;
 	so.yuvRange = YuvRange::Limited;
 	const OutputFit fit = fitOutput(model.width, model.height, so, o_.render.fit);
 	box_ = fit.box;
@@ -156,8 +154,8 @@ Keypose LiveSession::rest(Ticks t) const {
 	Keypose k;
 	k.time = t;
 	k.cdv = "sil";
-	k.emotion = emotion_;
-	k.intensity = intensity_;
+	k.emotion = expression_.emotion();
+	k.intensity = expression_.intensity();
 	return k;
 }
 
@@ -178,15 +176,15 @@ Performance LiveSession::plan(const Utterance& u) const {
 }
 
 void LiveSession::chooseExemplars(std::vector<Keypose>& keys) const {
-	if (o_.coarticulation) chooseMouthExemplars(model_, emotion_, keys);  // each key by its own emotion
+	if (o_.coarticulation) chooseMouthExemplars(model_, expression_.emotion(), keys);  // each key by its own emotion
 }
 
-void LiveSession::warm(const Utterance& u, Emotion emotion, double intensity) const {
+void LiveSession::warm(const Utterance& u, const Expression& expression) const {
 	if (u.phones.empty()) return;
 	std::vector<Keypose> keys = plan(u).keys;
 	for (Keypose& k : keys) {
-		k.emotion = emotion;
-		k.intensity = intensity;
+		k.emotion = expression.emotion();
+		k.intensity = expression.intensity();
 	}
 	chooseExemplars(keys);
 	synth_->prepare(keys);  // thread-safe; what is there already is skipped
@@ -204,8 +202,8 @@ Ticks LiveSession::enqueue(Utterance u) {
 	std::vector<Keypose>& fresh = planned.keys;
 	for (Keypose& k : fresh) {
 		k.time += start;
-		if (!k.emotion) k.emotion = emotion_;
-		if (!k.intensity) k.intensity = intensity_;
+		if (!k.emotion) k.emotion = expression_.emotion();
+		if (!k.intensity) k.intensity = expression_.intensity();
 	}
 	chooseExemplars(fresh);
 	// What frames already drawn depend on stays: the keys up to the first one after the last drawn frame.
@@ -251,8 +249,9 @@ Ticks LiveSession::enqueue(Utterance u) {
 	return start;
 }
 
-void LiveSession::setEmotion(Emotion e, double intensity, Ticks ramp) {
-	if (!(intensity >= 0 && intensity <= 1.5)) throw Error("emotion intensity must be from 0 to 1.5");
+void LiveSession::setEmotion(const Expression& expression, Ticks ramp) {
+	const Emotion e = expression.emotion();
+	const double intensity = expression.intensity();
 	const Ticks t = nextTime(), frame = o_.rate.frameLength();
 	const std::size_t c = committed();
 	if (c + 1 < keys_.size()) {
@@ -278,8 +277,7 @@ void LiveSession::setEmotion(Emotion e, double intensity, Ticks ramp) {
 		keys_.push_back(k);
 	}
 	chooseExemplars(keys_);
-	emotion_ = e;
-	intensity_ = intensity;
+	expression_ = expression;
 	LiveEvent ev;
 	ev.kind = LiveEvent::Kind::Emotion;
 	ev.name = e.label();
@@ -346,9 +344,9 @@ void LiveSession::replan() {
 	brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time + b.duration < behind; }), brows.end());
 	auto& blinks = modOptions_.forcedBlinks;
 	blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b < behind; }), blinks.end());
-	modOptions_.intensity = intensity_;
-	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, emotion_, horizon_, keys_);
-	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, emotion_, horizon_, keys_);
+	modOptions_.intensity = expression_.intensity();
+	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, expression_.emotion(), horizon_, keys_);
+	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, expression_.emotion(), horizon_, keys_);
 	synth_->setModulator(modulator_);
 }
 

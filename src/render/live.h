@@ -29,8 +29,7 @@ namespace talkhead {
 struct LiveOptions {
 	RenderOptions render;              // output size and fit, trajectory, dissolve (threads: unused)
 	FrameRate rate{30, 1};
-	Emotion emotion;                   // at the start
-	double intensity = 1;
+	Expression expression;             // at the start
 	ModulatorOptions modulation;       // blinks and head motion, idle and speaking (seeded)
 	int sampleRate = 22050;            // of the session's sound (espeak-ng's own rate: no resampling for say)
 	double speechBrows = 1;            // brow raises with speech (D49), 0 = none
@@ -66,19 +65,18 @@ public:
 	int sampleRate() const { return o_.sampleRate; }
 	std::int64_t nextFrame() const { return next_; }
 	Ticks nextTime() const { return o_.rate.time(next_); }
-	Emotion emotion() const { return emotion_; }
-	double intensity() const { return intensity_; }
+	const Expression& expression() const { return expression_; }
 
 	// Computes ahead the keypose images `u` will need in `emotion` — the one call that may come from
 	// another thread while frames are drawn (a server's speech thread), so that enqueue() then costs a
 	// frame nothing.
-	void warm(const Utterance& u, Emotion emotion, double intensity) const;
+	void warm(const Utterance& u, const Expression& expression) const;
 	// Queues an utterance: it starts at the next frame, or when the speech queued before it ends. Returns
 	// its start (stream time).
 	Ticks enqueue(Utterance u);
 	// The emotion from the next frame on, reached over `ramp` when idle (at the next keypose when
-	// speaking). Throws Error for an intensity outside 0–1.5.
-	void setEmotion(Emotion emotion, double intensity, Ticks ramp);
+	// speaking).
+	void setEmotion(const Expression& expression, Ticks ramp);
 	// Barge-in: the speech under way and everything queued is dropped (the sound fades out over 10 ms) and
 	// the mouth closes — at rest within 150 ms of the next frame.
 	// `id` (JSON text, or "") goes on the `stopped` event; `unstarted`: ids of utterances the caller held
@@ -121,8 +119,7 @@ private:
 	bool drawnBefore_ = false;
 	std::int64_t next_ = 0;
 	std::vector<Keypose> keys_;
-	Emotion emotion_;
-	double intensity_ = 1;
+	Expression expression_;
 	Ticks queueEnd_{0};
 	std::deque<Pending> pending_;
 	std::string lastViseme_;

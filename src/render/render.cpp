@@ -295,8 +295,8 @@ struct FramePainter {
 		std::size_t i = 0;
 		while (i + 1 < keys.size() && keys[i + 1].time <= tau) ++i;
 		auto label = [&](const Keypose& k) {
-			const std::string& e = k.emotion.value_or(perf.emotion).label();
-			const double in = k.intensity.value_or(perf.intensity);
+			const std::string& e = k.emotion.value_or(perf.expression.emotion()).label();
+			const double in = k.intensity.value_or(perf.expression.intensity());
 			char l[96];
 			std::snprintf(l, sizeof l, "%s %s:%.2g @%.3f", k.cdv.c_str(), e.c_str(), in, toSeconds(k.time));
 			return std::string(l);
@@ -318,64 +318,18 @@ struct FramePainter {
 	}
 };
 
-}  // namespace
-
-RenderStats renderPerformance(const FaceModel& model, const Performance& performance, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
-                              RenderProgress* progress) {
-	const auto t0 = Clock::now();
-	RenderProgress none;
-	RenderProgress& prog = progress ? *progress : none;
-	// D62: keyposes with a predicted mouth show the face's exemplar nearest it.
-	std::optional<Performance> withExemplars;
-	if (std::any_of(performance.keys.begin(), performance.keys.end(), [](const Keypose& k) { return k.mouthOpening && k.sample < 0; })) {
-		withExemplars = performance;
-		chooseMouthExemplars(model, performance.emotion, withExemplars->keys);
-	}
-	const Performance& perf = withExemplars ? *withExemplars : performance;
-	if (perf.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
-	if (perf.rate.num < 1 || perf.rate.den < 1) throw Error("invalid frame rate " + perf.rate.str());
+// Frames are independent. Drawing threads draw batches of frames a few batches ahead while this
+// thread feeds finished batches to the sinks in order. The drawing threads run at a lower priority
+// (kDrawNice) than this thread and the encoder's threads, which the sinks started: the encoder is the
+// bottleneck, so drawing takes the moments it leaves a core idle instead of slowing it down. The
+// keyposes a batch needs are made just before it, and the first batch is one frame per thread, so a
+// stream starts at once.
+void drawInOrder(const Performance& perf, Synthesizer& synth, const FramePainter& painter, std::vector<Batch>& batches,
+                 std::vector<Synthesizer::Workspace>& workspaces, unsigned nThreads, const std::vector<FrameSink*>& ordered, RenderProgress& prog,
+                 RenderStats& st, Clock::time_point t0) {
+	const std::size_t batch = workspaces.size();
 	const std::vector<Keypose>& keys = perf.keys;
 	const std::int64_t frames = perf.frameCount();
-	SynthOptions so = options.synth;
-	so.emotion = perf.emotion;
-	so.intensity = perf.intensity;
-	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
-	// Even sizes for 4:2:0; another aspect than the model's frame drawn at the fitted size, then cropped or padded.
-	const OutputFit fit = fitOutput(model.width, model.height, so, options.fit);
-	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.emotion, perf.duration, perf.keys);
-	Synthesizer synth(model, so);
-	RenderStats st;
-	st.frames = frames;
-	st.width = fit.place ? fit.outWidth : synth.width();
-	st.height = fit.place ? fit.outHeight : synth.height();
-	st.keyposes = keys.size();
-	st.substitutions = synth.substitutionsFor(keys);
-	StreamInfo info;
-	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = so.yuvRange;
-	info.pointNames = model.scheme.pointNames;
-	bool rgbFrames = false;
-	std::vector<FrameSink*> ordered, anyThread;
-	for (FrameSink* s : sinks) {
-		rgbFrames = rgbFrames || s->needsRgb();
-		info.alpha = info.alpha || s->needsAlpha();
-		(s->anyThread() ? anyThread : ordered).push_back(s);
-	}
-	std::optional<FaceMatte> matte;
-	if (info.alpha) matte.emplace(model.scheme, options.matte);
-	for (FrameSink* s : sinks) s->begin(info);
-	prog.started(info, st.substitutions);
-
-	// Frames are independent. Drawing threads draw batches of frames a few batches ahead while this
-	// thread feeds finished batches to the sinks in order. The drawing threads run at a lower priority
-	// (kDrawNice) than this thread and the encoder's threads, which the sinks started: the encoder is the
-	// bottleneck, so drawing takes the moments it leaves a core idle instead of slowing it down. The
-	// keyposes a batch needs are made just before it, and the first batch is one frame per thread, so a
-	// stream starts at once.
-	const unsigned nThreads = resolveThreads(options.threads);
-	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
-	std::vector<Batch> batches = makeBatches(st, rgbFrames, fit.place, batch);
-	std::vector<Synthesizer::Workspace> workspaces(batch);
-	const FramePainter painter{perf, synth, so, options, fit, st, rgbFrames, matte ? &*matte : nullptr, anyThread};
 	BatchQueue queue(batches);
 	std::thread drawer([&] {
 		try {
@@ -421,6 +375,60 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 		queue.putSpare(bt);
 	}
 	drawer.join();
+}
+
+}  // namespace
+
+RenderStats renderPerformance(const FaceModel& model, const Performance& performance, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
+                              RenderProgress* progress) {
+	const auto t0 = Clock::now();
+	RenderProgress none;
+	RenderProgress& prog = progress ? *progress : none;
+	// D62: keyposes with a predicted mouth show the face's exemplar nearest it.
+	std::optional<Performance> withExemplars;
+	if (std::any_of(performance.keys.begin(), performance.keys.end(), [](const Keypose& k) { return k.mouthOpening && k.sample < 0; })) {
+		withExemplars = performance;
+		chooseMouthExemplars(model, performance.expression.emotion(), withExemplars->keys);
+	}
+	const Performance& perf = withExemplars ? *withExemplars : performance;
+	if (perf.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
+	if (perf.rate.num < 1 || perf.rate.den < 1) throw Error("invalid frame rate " + perf.rate.str());
+	const std::vector<Keypose>& keys = perf.keys;
+	const std::int64_t frames = perf.frameCount();
+	SynthOptions so = options.synth;
+	so.expression = perf.expression;
+	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
+	// Even sizes for 4:2:0; another aspect than the model's frame drawn at the fitted size, then cropped or padded.
+	const OutputFit fit = fitOutput(model.width, model.height, so, options.fit);
+	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.keys);
+	Synthesizer synth(model, so);
+	RenderStats st;
+	st.frames = frames;
+	st.width = fit.place ? fit.outWidth : synth.width();
+	st.height = fit.place ? fit.outHeight : synth.height();
+	st.keyposes = keys.size();
+	st.substitutions = synth.substitutionsFor(keys);
+	StreamInfo info;
+	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = so.yuvRange;
+	info.pointNames = model.scheme.pointNames;
+	bool rgbFrames = false;
+	std::vector<FrameSink*> ordered, anyThread;
+	for (FrameSink* s : sinks) {
+		rgbFrames = rgbFrames || s->needsRgb();
+		info.alpha = info.alpha || s->needsAlpha();
+		(s->anyThread() ? anyThread : ordered).push_back(s);
+	}
+	std::optional<FaceMatte> matte;
+	if (info.alpha) matte.emplace(model.scheme, options.matte);
+	for (FrameSink* s : sinks) s->begin(info);
+	prog.started(info, st.substitutions);
+
+	const unsigned nThreads = resolveThreads(options.threads);
+	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
+	std::vector<Batch> batches = makeBatches(st, rgbFrames, fit.place, batch);
+	std::vector<Synthesizer::Workspace> workspaces(batch);
+	const FramePainter painter{perf, synth, so, options, fit, st, rgbFrames, matte ? &*matte : nullptr, anyThread};
+	drawInOrder(perf, synth, painter, batches, workspaces, nThreads, ordered, prog, st, t0);
 	const auto tFinish = Clock::now();
 	for (FrameSink* s : sinks) s->finish();
 	st.writeSeconds += since(tFinish);

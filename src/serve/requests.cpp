@@ -133,11 +133,12 @@ LiveRequest parseLiveRequest(const std::string& json) {
 		r.id = requestIdJson(*text);
 	}
 	const std::string& emotion = stringMember(v, "emotion", r.kind == LiveRequest::Kind::Emotion);
+	const double intensity = numberMember(v, "intensity", 0, Expression::kMaxIntensity).value_or(1);
 	if (!emotion.empty()) {
-		r.emotion = Emotion::find(emotion);
-		if (!r.emotion) throw Error("unknown emotion '" + safeQuote(emotion) + "' (" + emotionList() + ")");
+		const std::optional<Emotion> e = Emotion::find(emotion);
+		if (!e) throw Error("unknown emotion '" + safeQuote(emotion) + "' (" + emotionList() + ")");
+		r.expression = Expression(*e, intensity);
 	}
-	r.intensity = numberMember(v, "intensity", 0, 1.5).value_or(1);
 	if (auto ramp = numberMember(v, "ramp", 0, 10)) r.ramp = ticksFromSeconds(*ramp);
 	if (r.kind == LiveRequest::Kind::Say) {
 		r.text = stringMember(v, "text", true);
@@ -296,10 +297,10 @@ SessionScript readSessionScript(const std::string& path) {
 void applyLiveRequest(LiveSession& session, const LiveRequest& r, std::optional<Utterance> utterance) {
 	switch (r.kind) {
 	case LiveRequest::Kind::Stop: session.stop(r.id); break;
-	case LiveRequest::Kind::Emotion: session.setEmotion(*r.emotion, r.intensity, r.ramp); break;
+	case LiveRequest::Kind::Emotion: session.setEmotion(*r.expression, r.ramp); break;
 	case LiveRequest::Kind::Say:
 	case LiveRequest::Kind::Speak:
-		if (r.emotion) session.setEmotion(*r.emotion, r.intensity, r.ramp);
+		if (r.expression) session.setEmotion(*r.expression, r.ramp);
 		if (utterance) session.enqueue(std::move(*utterance));
 		break;
 	}

@@ -27,8 +27,7 @@ struct LiveRequest {
 	std::string id;                 // as JSON text (a quoted string or an integer as written), echoed as is; "" when absent
 	std::string text, lang, voice;  // say
 	int rate = 0, pitch = -1;       // say: words per minute (80–450), pitch (0–100); 0 / −1 = the voice's
-	std::optional<Emotion> emotion;  // emotion, or say/speak: the emotion from this utterance on
-	double intensity = 1;
+	std::optional<Expression> expression;  // emotion, or say/speak: the emotion from this utterance on
 	Ticks ramp{kTicksPerSecond * 3 / 10};
 	std::string audio;              // speak: the sound's bytes (any format libav reads, or raw PCM:)
 	int pcmRate = 0, pcmChannels = 1;  // speak: "encoding": "pcm_s16le" with "sample_rate" (and "channels")

@@ -17,6 +17,7 @@
 #include "base/json.h"
 #include "base/text.h"
 #include "media/video_writer.h"
+#include "render/output.h"
 #include "phonetics/labels.h"
 #include "phonetics/language.h"
 
@@ -243,15 +244,13 @@ void LiveWorker::speechLoop() {
 				c.utterance = prepareUtterance(c.request, o_.lang, o_.live.sampleRate, limits);
 				seconds = toSeconds(c.utterance->duration());
 				// Its keypose images made here, not in the frame thread (a frame would be late).
-				Emotion emotion;
-				double intensity = 1;
+				Expression expression;
 				{
 					std::lock_guard<std::mutex> lock(m_);
-					emotion = c.request.emotion ? *c.request.emotion : emotion_;
-					intensity = c.request.emotion ? c.request.intensity : intensity_;
+					expression = c.request.expression.value_or(expression_);
 				}
 				std::lock_guard<std::mutex> warming(warmMutex_);
-				if (LiveSession* s = session_.load()) s->warm(*c.utterance, emotion, intensity);
+				if (LiveSession* s = session_.load()) s->warm(*c.utterance, expression);
 				for (const auto& w : c.utterance->warnings)
 					send_(false, messageJson("warning", w, c.request.id));
 			} catch (const SpeechCancelled&) {
@@ -320,7 +319,7 @@ bool LiveWorker::hello(LiveSession& session, const std::string& codecs) {
 	                              .add("rate", info.rate.str())
 	                              .add("sample_rate", session.sampleRate())
 	                              .add("mime", "video/mp4; codecs=\"" + codecs + "\"")
-	                              .add("emotion", session.emotion().label())
+	                              .add("emotion", session.expression().emotion().label())
 	                              .raw("emotions", emotions.str())
 	                              .str();
 	record(JsonObject()
@@ -328,7 +327,7 @@ bool LiveWorker::hello(LiveSession& session, const std::string& codecs) {
 	           .add("width", info.width)
 	           .add("height", info.height)
 	           .add("rate", info.rate.str())
-	           .add("emotion", session.emotion().label())
+	           .add("emotion", session.expression().emotion().label())
 	           .add("lang", o_.lang)
 	           .str(),
 	       0);
@@ -338,8 +337,7 @@ bool LiveWorker::hello(LiveSession& session, const std::string& codecs) {
 void LiveWorker::apply(LiveSession& session, Command& c, std::int64_t frame) {
 	applyLiveRequest(session, c.request, std::move(c.utterance));
 	std::lock_guard<std::mutex> lock(m_);
-	emotion_ = session.emotion();
-	intensity_ = session.intensity();
+	expression_ = session.expression();
 	record(JsonObject().add("frame", frame).raw("request", c.json).str(), frame);
 }
 
@@ -435,19 +433,36 @@ bool LiveWorker::ends(bool closing, bool busy, ServeClock::time_point deadline, 
 	return true;
 }
 
+namespace {
+
+// The session's stream, from the registry of output formats (render/output.h), begun: its init segment is
+// written and its codecs known.
+std::unique_ptr<FrameSink> streamSink(const ServeOptions& o, LiveSession& session, std::function<bool(const std::uint8_t*, std::size_t)> write) {
+	OutputSpec spec;
+	spec.format = VideoFormat::Mp4Stream, spec.write = std::move(write), spec.crf = o.crf, spec.preset = o.preset, spec.threads = o.encoderThreads;
+	std::unique_ptr<FrameSink> sink = makeVideoSink(spec, borrowedSource(session.audio()));
+	sink->begin(session.info());
+	return sink;
+}
+
+RenderedFrame renderedFrame(const StreamInfo& info, std::int64_t n, const YuvImage& frame, const Points& points) {
+	RenderedFrame rf;
+	rf.index = n, rf.time = info.rate.time(n), rf.yuv = &frame, rf.points = &points;
+	return rf;
+}
+
+}  // namespace
+
 void LiveWorker::frames(LiveSession& session) {
 	{
 		std::lock_guard<std::mutex> lock(m_);
-		emotion_ = session.emotion();
-		intensity_ = session.intensity();
+		expression_ = session.expression();
 	}
 	const StreamInfo& info = session.info();
 	std::string bytes;  // what the encoder made since the last send
-	VideoOptions vo;
-	vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = o_.crf, vo.preset = o_.preset, vo.threads = o_.encoderThreads;
-	Mp4LiveWriter writer([&bytes](const std::uint8_t* d, std::size_t n) { bytes.append(reinterpret_cast<const char*>(d), n); return true; }, vo,
-	                     &session.audio());
-	if (!hello(session, writer.codecs()) || !send_(true, std::move(bytes))) return;
+	const std::unique_ptr<FrameSink> stream =
+	    streamSink(o_, session, [&bytes](const std::uint8_t* d, std::size_t n) { bytes.append(reinterpret_cast<const char*>(d), n); return true; });
+	if (!hello(session, stream->codecs()) || !send_(true, std::move(bytes))) return;
 	bytes.clear();
 	YuvImage frame;
 	Points points;
@@ -499,7 +514,7 @@ void LiveWorker::frames(LiveSession& session) {
 		events.clear();
 		const auto t0 = ServeClock::now();
 		session.drawNext(frame, points, events);
-		writer.write(frame);
+		stream->frame(renderedFrame(info, n, frame, points));
 		drawn_ = session.nextFrame();
 		const auto sent = ServeClock::now();
 		// Pace: a frame out later than one frame after its time is late (the stream falls behind).
@@ -538,15 +553,13 @@ void LiveWorker::frames(LiveSession& session) {
 double measureSessionLoad(const FaceModel& model, const ServeOptions& o) {
 	LiveSession session(model, o.live);
 	const StreamInfo& info = session.info();
-	VideoOptions vo;
-	vo.width = info.width, vo.height = info.height, vo.rate = info.rate, vo.crf = o.crf, vo.preset = o.preset, vo.threads = o.encoderThreads;
-	Mp4LiveWriter writer([](const std::uint8_t*, std::size_t) { return true; }, vo, &session.audio());
+	const std::unique_ptr<FrameSink> stream = streamSink(o, session, [](const std::uint8_t*, std::size_t) { return true; });
 	// Speaking (the dearer case): a sentence long enough for the whole measurement; its synthesis and keypose
 	// images, made on a session's speech thread, are counted too.
 	const std::int64_t t0 = threadCpuNs();
 	try {
 		Utterance u = speakText("Hello, how are you today? I am fine, thank you very much.", Language::get(o.lang), "", o.live.sampleRate);
-		session.warm(u, session.emotion(), session.intensity());
+		session.warm(u, session.expression());
 		session.enqueue(std::move(u));
 	} catch (const std::exception&) {  // no speech (espeak-ng missing): the idle face is measured
 	}
@@ -556,7 +569,7 @@ double measureSessionLoad(const FaceModel& model, const ServeOptions& o) {
 	const int frames = std::max(10, int(std::lround(info.rate.fps())));
 	for (int n = 0; n < frames; ++n) {
 		session.drawNext(frame, points, events);
-		writer.write(frame);
+		stream->frame(renderedFrame(info, n, frame, points));
 		events.clear();
 	}
 	return double(threadCpuNs() - t0) * 1e-9 / (double(frames) / info.rate.fps());

@@ -115,8 +115,7 @@ private:
 	std::vector<std::string> orphans_;              // ids of say/speak the shutdown dropped: ended at the next frame
 	int handed_ = 0;                                // say/speak prepared, not yet taken by the frame thread
 	double handedSeconds_ = 0;
-	Emotion emotion_;                               // the session's, for warming (the frame thread's copy)
-	double intensity_ = 1;
+	Expression expression_;                         // the session's, for warming (the frame thread's copy)
 	std::atomic<bool> cancel_{false};               // the synthesis under way stops
 	std::atomic<std::int64_t> lastRequestNs_;
 

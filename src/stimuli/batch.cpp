@@ -191,14 +191,11 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 		intensity = emotion.substr(colon + 1);
 		emotion = emotion.substr(0, colon);
 	}
-	canonical = Emotion::neutralLabel();
-	if (!emotion.empty()) {
-		if (auto c = canonicalEmotion(emotion)) canonical = *c;
-		else fail("emotion", "unknown emotion '" + emotion + "' (known: " + emotionList() + ")");
+	try {  // checked as every front end checks it (phonetics/emotion.h); the child gets the row's own text
+		canonical = Expression::parse((emotion.empty() ? Emotion::neutralLabel() : emotion) + (intensity.empty() ? "" : ":" + intensity)).emotion().label();
+	} catch (const FieldError& e) {
+		fail(e.field(), e.what());
 	}
-	double level = 1;
-	if (!intensity.empty() && (!parseDouble(intensity, level) || !(level >= 0 && level <= 1.5)))
-		fail("intensity", "'" + intensity + "' is not a number from 0 to 1.5");
 	args.insert(args.end(), {"--emotion", canonical + (intensity.empty() ? "" : ":" + intensity)});
 	// Muted.
 	if (auto muted = toLower(get("muted")); !muted.empty()) {

@@ -6,6 +6,7 @@
 
 #include "base/error.h"
 #include "media/video_reader.h"
+#include "render/output.h"
 
 namespace talkhead {
 
@@ -25,7 +26,9 @@ void writeSideBySide(const std::string& left, const std::string& right, const st
 	info.height = ia.height;
 	info.rate = FrameRate{ia.fpsNum, ia.fpsDen};
 	info.frames = ia.frameCountHint;
-	auto sink = makeMp4Sink(out, options.mp4, audioPath.empty() ? nullptr : openAudioFile(audioPath));
+	OutputSpec spec;
+	spec.format = VideoFormat::Mp4, spec.path = out, spec.crf = options.mp4.crf, spec.preset = options.mp4.preset;
+	auto sink = makeVideoSink(spec, audioPath.empty() ? nullptr : openAudioFile(audioPath));
 	sink->begin(info);
 	YuvImage fa, fb, both;
 	both.resize(info.width, info.height);

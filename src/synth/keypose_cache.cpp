@@ -55,8 +55,8 @@ std::pair<long, long> KeyposeCache::resolvePair(const Keypose& key) const {
 	return {sample, resolve(key, Emotion::neutralLabel())};
 }
 
-Emotion KeyposeCache::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.emotion); }
-double KeyposeCache::intensityOf(const Keypose& key) const { return key.intensity.value_or(o_.intensity); }
+Emotion KeyposeCache::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.expression.emotion()); }
+double KeyposeCache::intensityOf(const Keypose& key) const { return key.intensity.value_or(o_.expression.intensity()); }
 std::string KeyposeCache::indexKey(const Keypose& key) const {
 	return key.cdv + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
 }

@@ -36,8 +36,7 @@ enum class WarpPath { Direct, Keypose };
 enum class EmotionSource { Corpus, ActionUnits, Auto };
 
 struct SynthOptions {
-	Emotion emotion;                  // of keyposes without their own (default neutral)
-	double intensity = 1;             // 0 = the neutral keyposes, 1 = the corpus's emotion, up to 1.5 (D43)
+	Expression expression;            // of keyposes without their own (default neutral; intensity: D43)
 	int width = 0, height = 0;        // output size; 0 = the model's frame size
 	Trajectory trajectory = Trajectory::Hermite;  // feature points between keyposes (spec §5.5)
 	Trajectory dissolve = Trajectory::Linear;     // cross-dissolve weight: t (thesis) or the Hermite ease

@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 	const std::string text(reinterpret_cast<const char*>(data), size);
 	fuzz::expectOnlyErrors([&] {
 		const LiveRequest r = parseLiveRequest(text);
-		TALKHEAD_FUZZ_CHECK(r.intensity >= 0 && r.intensity <= 1.5, "intensity out of range");
+		TALKHEAD_FUZZ_CHECK(!r.expression || (r.expression->intensity() >= 0 && r.expression->intensity() <= 1.5), "intensity out of range");
 		TALKHEAD_FUZZ_CHECK(r.id.size() <= 200, "id longer than 200 bytes");
 		if (r.timing) {
 			const auto& iv = r.timing->intervals;

@@ -22,7 +22,7 @@ Performance fourSeconds() {
 	Performance p;
 	p.rate = FrameRate{30, 1};
 	p.duration = ms(4000);
-	p.emotion = Emotion::of("joy");
+	p.expression = Expression(Emotion::of("joy"));
 	for (long t = 100; t < 4000; t += 200) p.keys.push_back(Keypose{ms(t), "a", 0, 0});
 	return p;
 }
@@ -36,8 +36,8 @@ TEST(Controls, eventsAreReadAndBadOnesNamed) {
 		{"type": "shake", "time": 0.5, "amount": 2}]})",
 	                                     "c.json");
 	ASSERT_EQ(t.emotions.size(), 1u);
-	EXPECT_EQ(t.emotions[0].emotion.label(), "distress");  // the alias, canonical
-	EXPECT_EQ(t.emotions[0].intensity, 0.5);
+	EXPECT_EQ(t.emotions[0].expression.emotion().label(), "distress");  // the alias, canonical
+	EXPECT_EQ(t.emotions[0].expression.intensity(), 0.5);
 	EXPECT_EQ(t.emotions[0].ramp, ms(400));
 	ASSERT_EQ(t.blinks.size(), 1u);
 	EXPECT_EQ(t.blinks[0], ms(1250));
@@ -87,7 +87,7 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 	// The modulator blinks there even with its own blinks off, and nods (down, then back).
 	p.modulation.blinks = false;
 	p.modulation.headMotion = false;
-	const ShapeModulator m(p.modulation, p.emotion, p.duration, p.keys);
+	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys);
 	ASSERT_EQ(m.blinks().size(), 1u);
 	EXPECT_EQ(m.blinks()[0].start, ms(3500));
 	EXPECT_EQ(m.eyeClosure(ms(3500 + 85)), 1.0);
@@ -163,7 +163,7 @@ TEST(Controls, aTextGridTierIsAControlTrack) {
 	EXPECT_EQ(t.actionUnits[0].side, 1);
 	EXPECT_EQ(t.actionUnits[0].onset + t.actionUnits[0].apex + t.actionUnits[0].offset, ms(1000));  // the interval
 	ASSERT_EQ(t.emotions.size(), 1u);
-	EXPECT_EQ(t.emotions[0].emotion.label(), "anger");
+	EXPECT_EQ(t.emotions[0].expression.emotion().label(), "anger");
 	EXPECT_EQ(t.emotions[0].ramp, ms(200));
 	ASSERT_EQ(t.gestures.size(), 1u);
 	EXPECT_EQ(t.gestures[0].amount, 0.5);
@@ -225,7 +225,7 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	Performance p = fourSeconds();
 	applyControls(p, t);
 	EXPECT_FALSE(p.modulation.blinks);
-	const ShapeModulator m(p.modulation, p.emotion, p.duration, p.keys);
+	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys);
 	EXPECT_NEAR(m.head(ms(600)).roll, c.roll[1], 1e-6);
 	EXPECT_EQ(m.head(ms(600)).angle, 0);  // no drawn sinusoids
 	EXPECT_NEAR(m.head(ms(650)).scale, 1.01, 1e-6);

@@ -125,7 +125,7 @@ TEST(LiveSession, sameRequestsAtTheSameFramesGiveTheSameFramesAndSound) {
 		std::vector<LiveEvent> ev;
 		for (int n = 0; n < 60; ++n) {
 			if (n == 3) s.enqueue(said);
-			if (n == 20) s.setEmotion(Emotion::of("joy"), 1, ticksFromSeconds(0.3));
+			if (n == 20) s.setEmotion(Expression(Emotion::of("joy")), ticksFromSeconds(0.3));
 			if (n == 40) s.stop();
 			s.drawNext(f, p, ev);
 			all.insert(all.end(), f.y.begin(), f.y.end());
@@ -291,8 +291,8 @@ TEST(LiveSession, anEmotionChangesGraduallyWhileIdleAndBadOnesAreErrors) {
 	std::vector<LiveEvent> ev;
 	s.drawNext(f, p, ev);
 	const std::vector<std::uint8_t> first = f.y;
-	EXPECT_NE(errorOf([&] { s.setEmotion(Emotion::of("joy"), 2, Ticks(0)); }).find("intensity"), std::string::npos);
-	s.setEmotion(Emotion::of("joy"), 1, ticksFromSeconds(0.5));
+	EXPECT_NE(errorOf([&] { s.setEmotion(Expression(Emotion::of("joy"), 2), Ticks(0)); }).find("intensity"), std::string::npos);
+	s.setEmotion(Expression(Emotion::of("joy")), ticksFromSeconds(0.5));
 	double largest = 0, total = 0;
 	std::vector<std::uint8_t> last = first;
 	for (int n = 0; n < 25; ++n) {

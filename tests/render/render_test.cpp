@@ -74,7 +74,7 @@ Performance threeSyllables() {
 	perf.rate = FrameRate{25, 1};
 	perf.keys = keyposes(p, perf.rate.frameLength());
 	perf.duration = ms(500);
-	perf.emotion = Emotion::of("joy");
+	perf.expression = Expression(Emotion::of("joy"));
 	return perf;
 }
 }  // namespace

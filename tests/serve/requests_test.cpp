@@ -16,8 +16,8 @@ TEST(LiveRequest, parsesEachTypeAndRefusesWhatIsWrong) {
 	const LiveRequest say = parseLiveRequest(R"({"type": "say", "id": 7, "text": "Olá", "lang": "pt-BR", "emotion": "happy", "intensity": 0.5})");
 	EXPECT_EQ(say.kind, LiveRequest::Kind::Say);
 	EXPECT_EQ(say.id, "7");
-	EXPECT_EQ(say.emotion.value_or(Emotion()).label(), "joy");  // an alias
-	EXPECT_DOUBLE_EQ(say.intensity, 0.5);
+	EXPECT_EQ(say.expression.value_or(Expression()).emotion().label(), "joy");  // an alias
+	EXPECT_DOUBLE_EQ(say.expression->intensity(), 0.5);
 	EXPECT_EQ(parseLiveRequest(R"({"type": "stop"})").kind, LiveRequest::Kind::Stop);
 	const LiveRequest e = parseLiveRequest(R"({"type": "emotion", "emotion": "anger", "ramp": 1.5})");
 	EXPECT_EQ(e.ramp, ticksFromSeconds(1.5));

@@ -166,7 +166,7 @@ TEST(AuAppearance, theDefaultFacesExpressionsFromItsNeutralImagesComeCloserToIts
 	};
 	auto face = [&](const std::string& emotion, EmotionSource source, bool skin) {
 		SynthOptions o;
-		o.emotion = Emotion::of(emotion);
+		o.expression = Expression(Emotion::of(emotion));
 		o.emotionSource = source;
 		o.auAppearance = skin;
 		Synthesizer s(model, o);

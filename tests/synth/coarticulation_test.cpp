@@ -418,7 +418,7 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	Points points;
 	std::vector<LiveEvent> events;
 	live.drawNext(frame, points, events);
-	live.setEmotion(Emotion::of("joy"), 1, Ticks(0));
+	live.setEmotion(Expression(Emotion::of("joy")), Ticks(0));
 	std::size_t joyful = 0;
 	for (const Keypose& k : live.keyposes())
 		if (k.mouthOpening) {

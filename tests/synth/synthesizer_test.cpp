@@ -133,7 +133,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 	for (const WarpPath path : {WarpPath::Direct, WarpPath::Keypose})
 	for (const std::string emotion : {"joy", "anger"}) {
 		SynthOptions o;
-		o.emotion = Emotion::parse(emotion);
+		o.expression = Expression(Emotion::parse(emotion));
 		o.warpPath = path;
 		Synthesizer synth(f.model, o);
 		// A timeline through every viseme of the model: 200 ms phones, keyposes at their midpoints.
@@ -181,7 +181,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 TEST(Synthesizer, missingEntriesFallBackAndSaySo) {
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = Emotion::of("fear");  // not in the small model
+	o.expression = Expression(Emotion::of("fear"));  // not in the small model
 	o.emotionSource = EmotionSource::Corpus;  // the corpus alone (the default, Auto, takes action units)
 	Synthesizer synth(f.model, o);
 	synth.keypose("a");
@@ -201,7 +201,7 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	Synthesizer neutral(f.model, n);
 	const Points rest = neutral.keypose("sil").shape;
 	SynthOptions o;
-	o.emotion = Emotion::of("fear");
+	o.expression = Expression(Emotion::of("fear"));
 	o.emotionSource = EmotionSource::Auto;
 	o.auAppearance = false;
 	Synthesizer fear(f.model, o);
@@ -230,7 +230,7 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 		EXPECT_NE(skin.keypose("sil").y, k.y);
 		o.auAppearance = false;
 	}
-	o.emotion = Emotion::of("joy");  // in the model: Auto uses the corpus
+	o.expression = Expression(Emotion::of("joy"));  // in the model: Auto uses the corpus
 	Synthesizer joyCorpus(f.model, o);
 	EXPECT_EQ(joyCorpus.keypose("sil").usedEmotion, "joy");
 	o.emotionSource = EmotionSource::ActionUnits;
@@ -246,7 +246,7 @@ TEST(Synthesizer, anEmotionTheModelLacksComesFromActionUnits) {
 	EXPECT_EQ(joyAu.keypose("p1").mouthSample, -1);
 	EXPECT_GT(gap(joyAu.keypose("a").shape), gap(neutral.keypose("a").shape) + 1);
 	// Intensity scales the action units.
-	o.intensity = 0.5;
+	o.expression = Expression(o.expression.emotion(), 0.5);
 	Synthesizer half(f.model, o);
 	const Points mid = half.keypose("sil").shape;
 	EXPECT_NEAR(mid(rm2, 1), 0.5 * (rest(rm2, 1) + smile(rm2, 1)), 1e-6);
@@ -263,7 +263,7 @@ TEST(Synthesizer, anEmotionWithoutASmileTakesAwayTheSmileAFacesOwnMouthBrings) {
 	grinning.alignedShapes[std::size_t(a)](rm2, 1) -= 3, grinning.alignedShapes[std::size_t(a)](lm2, 1) -= 3;
 	auto corners = [&](const FaceModel& m, const char* emotion) {
 		SynthOptions o;
-		o.emotion = Emotion::of(emotion);
+		o.expression = Expression(Emotion::of(emotion));
 		o.emotionSource = EmotionSource::ActionUnits;
 		o.auAppearance = false;
 		Synthesizer s(m, o);
@@ -277,8 +277,7 @@ TEST(Synthesizer, anEmotionWithoutASmileTakesAwayTheSmileAFacesOwnMouthBrings) {
 	EXPECT_NEAR(corners(grinning, "joy"), corners(plain, "joy") - 3, 0.25);  // a smile keeps it
 	// Intensity 0: nothing taken away (the neutral keypose).
 	SynthOptions zero;
-	zero.emotion = Emotion::of("anger");
-	zero.intensity = 0;
+	zero.expression = Expression(Emotion::of("anger"), 0);
 	zero.emotionSource = EmotionSource::ActionUnits;
 	zero.auAppearance = false;
 	Synthesizer none(grinning, zero), neutral(grinning, SynthOptions{});
@@ -370,7 +369,7 @@ TEST(Synthesizer, actionUnitEventsChangeTheSkinOnTheirSideOnlyWhileTheyAct) {
 TEST(Synthesizer, sameInputsGiveTheSameFrames) {
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = Emotion::of("joy");
+	o.expression = Expression(Emotion::of("joy"));
 	o.width = 640;
 	o.height = 360;  // scaled output
 	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "u", 0}};
@@ -403,7 +402,7 @@ TEST(Synthesizer, yuvFramesAndBothWarpOrdersDrawTheSameFrame) {
 	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "p1", 0}, {ms(300), ms(450), "", "", "u", 0}};
 	auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
 	SynthOptions o;
-	o.emotion = Emotion::of("joy");
+	o.expression = Expression(Emotion::of("joy"));
 	o.width = 480;
 	o.height = 270;
 	Synthesizer direct(f.model, o);
@@ -446,7 +445,7 @@ TEST(Synthesizer, keyposesAreMadeOnlyForTheFramesThatNeedThem) {
 	// Substitutions are known before any keypose is made, and agree with the ones prepare() reports.
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = Emotion::of("fear");
+	o.expression = Expression(Emotion::of("fear"));
 	Synthesizer synth(f.model, o);
 	std::vector<Keypose> k2 = {Keypose{ms(100), "a", 0, 0}, Keypose{ms(300), "p2", 0, 0}};
 	const auto planned = synth.substitutionsFor(k2);
@@ -482,7 +481,7 @@ TEST(Synthesizer, theBackgroundBeyondTheAnchorsNeverMovesAndReusedBuffersDrawThe
 	// the same bytes as a fresh one (RGB and YUV).
 	const SmallFace& f = smallFace();
 	SynthOptions o;
-	o.emotion = Emotion::of("joy");
+	o.expression = Expression(Emotion::of("joy"));
 	Synthesizer synth(f.model, o);
 	std::vector<PhoneSegment> phones = {{ms(0), ms(150), "", "", "a", 0}, {ms(150), ms(300), "", "", "p1", 0}, {ms(300), ms(450), "", "", "u", 0},
 	                                    {ms(450), ms(600), "", "", "i1", 0}};
@@ -550,7 +549,7 @@ TEST(ShapeModulator, blinksCloseTheEyesAndOpenThemAgainSeeded) {
 	mo.seed = 8;
 	EXPECT_NE(ShapeModulator(mo, Emotion::of("joy"), ms(6000), keys).blinks()[0].start, mod->blinks()[0].start);
 	SynthOptions o;
-	o.emotion = Emotion::of("joy");
+	o.expression = Expression(Emotion::of("joy"));
 	Synthesizer plain(f.model, o);
 	o.modulator = mod;
 	Synthesizer blinking(f.model, o);
@@ -616,7 +615,7 @@ TEST(ShapeModulator, headMotionHasTheAmplitudeAskedForAndKeepsTheFaceInTheFrame)
 		for (long t = 0; t < 30000; t += 33)
 			EXPECT_LT(std::abs(mod->head(ms(t + 33)).angle - mod->head(ms(t)).angle), 0.1 * mod->maxAngle());
 		SynthOptions o;
-		o.emotion = Emotion::of("joy");
+		o.expression = Expression(Emotion::of("joy"));
 		o.modulator = mod;
 		Synthesizer synth(f.model, o);
 		synth.prepare(keys);
@@ -645,8 +644,7 @@ TEST(Synthesizer, intensityGoesFromTheNeutralKeyposesToTheEmotionAndBeyond) {
 	const auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
 	auto frame = [&](const std::string& emotion, double intensity, long t) {
 		SynthOptions o;
-		o.emotion = Emotion::parse(emotion);
-		o.intensity = intensity;
+		o.expression = Expression(Emotion::parse(emotion), intensity);
 		Synthesizer s(f.model, o);
 		s.prepare(keys);
 		Synthesizer::Workspace ws;
@@ -680,7 +678,7 @@ TEST(Synthesizer, keyposesTakeTheirOwnEmotionWhenATrackSetsIt) {
 	keys[2].emotion = keys[3].emotion = Emotion::of("anger");
 	keys[2].intensity = keys[3].intensity = 1;
 	SynthOptions o;
-	o.emotion = Emotion::of("joy");
+	o.expression = Expression(Emotion::of("joy"));
 	Synthesizer synth(f.model, o);
 	synth.prepare(keys);
 	Synthesizer::Workspace ws;
@@ -703,7 +701,7 @@ TEST(ShapeModulator, browsRiseForARaiseAndComeDownAndTogetherForAFrown) {
 	mo.blinks = mo.headMotion = false;
 	mo.browEvents = {BrowEvent{ms(500), ms(800), 1, 0}, BrowEvent{ms(2000), ms(800), 0, 1}};
 	SynthOptions o;
-	o.emotion = Emotion::of("joy");
+	o.expression = Expression(Emotion::of("joy"));
 	Synthesizer plain(f.model, o);
 	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("joy"), ms(3000), keys);
 	Synthesizer moved(f.model, o);
