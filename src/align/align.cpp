@@ -373,6 +373,36 @@ std::vector<Ticks> phoneBoundaries(const Rendition& ref, const std::vector<Rendi
 	return bt;
 }
 
+// The speaking rate (words per minute) at which the first voice's rendition lasts as long as the input's speech.
+int matchedRate(const std::string& text, const std::string& voice, double inputSpeech, const AlignTuning& t) {
+	int rate = 175;
+	for (int it = 0; it <= t.rateIterations; ++it) {
+		const Rendition probe = renderText(text, voice, rate, t);
+		const double next = rate * probe.speechSeconds / std::max(inputSpeech, 0.05);
+		const int clamped = int(std::lround(std::clamp(next, 80.0, 450.0)));
+		if (clamped == rate) break;
+		rate = clamped;
+	}
+	return rate;
+}
+
+// Words: between their first phone's start and last phone's end, pauses between them, each with its confidence.
+void addWords(Alignment& al, const Rendition& ref, const std::vector<RenditionResult>& results, const std::vector<Ticks>& bt, const AlignTuning& t,
+              Ticks duration) {
+	Ticks at{0};
+	for (std::size_t w = 0; w < ref.words.size(); ++w) {
+		const Ticks s = std::max(at, bt[ref.words[w].firstPhone]), e = bt[ref.words[w].lastPhone + 1];
+		if (e <= s) continue;
+		if (s > at) al.words.intervals.push_back({at, s, "", 0});
+		al.words.intervals.push_back({s, e, ref.words[w].text, long(w + 1)});
+		std::vector<double> v;
+		for (const auto& r : results) v.push_back(r.wordRank[w]);
+		al.wordList.push_back({s, e, ref.words[w].text, confidenceOf(median(v), t)});
+		at = e;
+	}
+	if (at < duration) al.words.intervals.push_back({at, duration, "", 0});
+}
+
 }  // namespace
 
 Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& o) {
@@ -396,16 +426,7 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 		voices = defaultVoices(lang.tag());
 		voices.resize(std::size_t(std::clamp(t.renditions, 1, int(voices.size()))));
 	}
-	int rate = 175;
-	if (t.matchRate) {
-		for (int it = 0; it <= t.rateIterations; ++it) {
-			const Rendition probe = renderText(text, voices[0], rate, t);
-			const double next = rate * probe.speechSeconds / std::max(inputSpeech, 0.05);
-			const int clamped = int(std::lround(std::clamp(next, 80.0, 450.0)));
-			if (clamped == rate) break;
-			rate = clamped;
-		}
-	}
+	const int rate = t.matchRate ? matchedRate(text, voices[0], inputSpeech, t) : 175;
 	std::vector<Rendition> renditions;
 	std::vector<RenditionResult> results;
 	for (const std::string& v : voices) {
@@ -442,18 +463,7 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	double rank = 0;
 	for (const auto& r : results) rank += r.rank;
 	al.confidence = confidenceOf(rank / double(results.size()), t);
-	Ticks at{0};
-	for (std::size_t w = 0; w < ref.words.size(); ++w) {
-		const Ticks s = std::max(at, bt[ref.words[w].firstPhone]), e = bt[ref.words[w].lastPhone + 1];
-		if (e <= s) continue;
-		if (s > at) al.words.intervals.push_back({at, s, "", 0});
-		al.words.intervals.push_back({s, e, ref.words[w].text, long(w + 1)});
-		std::vector<double> v;
-		for (const auto& r : results) v.push_back(r.wordRank[w]);
-		al.wordList.push_back({s, e, ref.words[w].text, confidenceOf(median(v), t)});
-		at = e;
-	}
-	if (at < audio.duration()) al.words.intervals.push_back({at, audio.duration(), "", 0});
+	addWords(al, ref, results, bt, t, audio.duration());
 	al.speechStart = ticksFromSeconds(std::max(0.0, vadStart));
 	al.speechEnd = ticksFromSeconds(std::min(duration, vadEnd));
 	al.renditions = int(results.size());

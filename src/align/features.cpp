@@ -214,6 +214,26 @@ std::vector<std::pair<int, int>> backtrack(const std::vector<std::int8_t>& step,
 	return path;
 }
 
+// The band: row i covers columns [lo[i], hi[i]] (all of them without a band); its cells are stored row after
+// row from offset[i].
+struct DtwBand {
+	std::vector<int> lo, hi;
+	std::vector<std::size_t> offset;
+	DtwBand(int n, int m, double width) : lo(std::size_t(n)), hi(std::size_t(n)), offset(std::size_t(n) + 1, 0) {
+		for (int i = 0; i < n; ++i) {
+			if (width > 0) {
+				const double centre = n > 1 ? double(i) * double(m - 1) / double(n - 1) : 0.0;
+				lo[std::size_t(i)] = std::max(0, int(std::floor(centre - width)));
+				hi[std::size_t(i)] = std::min(m - 1, int(std::ceil(centre + width)));
+			} else {
+				lo[std::size_t(i)] = 0;
+				hi[std::size_t(i)] = m - 1;
+			}
+			offset[std::size_t(i) + 1] = offset[std::size_t(i)] + std::size_t(hi[std::size_t(i)] - lo[std::size_t(i)] + 1);
+		}
+	}
+};
+
 }  // namespace
 
 DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<bool>& pauseA, const std::vector<bool>& pauseB, const DtwOptions& o) {
@@ -223,20 +243,9 @@ DtwResult dtw(const FeatureMatrix& a, const FeatureMatrix& b, const std::vector<
 	const int K = std::max(1, o.maxSlope);
 	const auto isPauseA = [&](int i) { return std::size_t(i) < pauseA.size() && pauseA[std::size_t(i)]; };
 	const auto isPauseB = [&](int j) { return std::size_t(j) < pauseB.size() && pauseB[std::size_t(j)]; };
-	// Band: row i covers columns [lo[i], hi[i]].
-	std::vector<int> lo(static_cast<std::size_t>(n)), hi(static_cast<std::size_t>(n));
-	std::vector<std::size_t> offset(std::size_t(n) + 1, 0);
-	for (int i = 0; i < n; ++i) {
-		if (o.band > 0) {
-			const double centre = n > 1 ? double(i) * double(m - 1) / double(n - 1) : 0.0;
-			lo[std::size_t(i)] = std::max(0, int(std::floor(centre - o.band)));
-			hi[std::size_t(i)] = std::min(m - 1, int(std::ceil(centre + o.band)));
-		} else {
-			lo[std::size_t(i)] = 0;
-			hi[std::size_t(i)] = m - 1;
-		}
-		offset[std::size_t(i) + 1] = offset[std::size_t(i)] + std::size_t(hi[std::size_t(i)] - lo[std::size_t(i)] + 1);
-	}
+	const DtwBand band(n, m, o.band);
+	const std::vector<int>&lo = band.lo, &hi = band.hi;
+	const std::vector<std::size_t>& offset = band.offset;
 	// Step codes: 1..K = (k,1); -1..-K = (1,k) with k ≥ 2 coded as −k; 100 = (1,0); 101 = (0,1); 0 = start.
 	std::vector<std::int8_t> step(offset[std::size_t(n)], 0);
 	constexpr float kInf = std::numeric_limits<float>::infinity();

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <stdexcept>
+#include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -26,6 +28,15 @@ public:
 private:
 	std::string field_;
 };
+
+// A field named inside a message ("give the tier with {{tier}}"): the library names the field, not a flag;
+// each front end words it (wordFields) — the command line as its flag (--tier), serve as the request's
+// member where the request has one, leaving out the clause that suggests it where it has none.
+inline std::string fieldRef(const std::string& field) { return "{{" + field + "}}"; }
+// `message` with every {{field}} worded by `word`: its wording, or nullopt for a field this front end does not
+// have — then the clause around it goes (from the '(' or ';' before it to the ')' or ';' after it; a
+// message that is only about the field keeps the field's bare name).
+std::string wordFields(std::string message, const std::function<std::optional<std::string>(const std::string& field)>& word);
 
 // Flattens a chain of nested exceptions (std::throw_with_nested) into "outer: inner: innermost".
 std::string describeException(const std::exception& e);

@@ -6,6 +6,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
+#include "cli/run.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 
@@ -47,7 +48,7 @@ int runAlign(const std::vector<std::string>& argv) {
 	const std::string grid = alignmentTextGrid(al, al.phones.intervals.empty() ? Ticks(0) : al.phones.intervals.back().end);
 	if (output == "-") std::fwrite(grid.data(), 1, grid.size(), stdout);
 	else writeFileAtomically(output, grid);
-	for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(input + ": " + w).c_str());
+	for (const std::string& w : al.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(input + ": " + w).c_str());
 	if (!args.has("--quiet")) std::fprintf(stderr, "%s: %s\n", input.c_str(), alignmentSummary(al).c_str());
 	return 0;
 }

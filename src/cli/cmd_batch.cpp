@@ -16,6 +16,7 @@
 #include "base/error.h"
 #include "base/sha256.h"
 #include "base/text.h"
+#include "cli/run.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "base/interrupt.h"
@@ -82,6 +83,21 @@ int runChild(const std::vector<std::string>& args, std::string* message) {
 	return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
+// A row's child command line: its job's fields as this command line's flags (D51: each row in its own
+// process); say's text is its positional argument.
+std::vector<std::string> jobArguments(const std::string& command, const std::vector<JobField>& job) {
+	std::vector<std::string> a{command};
+	for (const JobField& f : job) {
+		if (command == "say" && f.field == "text") {
+			a.push_back(f.value.value_or(""));
+			continue;
+		}
+		a.push_back(cliField(f.field));
+		if (f.value) a.push_back(*f.value);
+	}
+	return a;
+}
+
 // A side-by-side stimulus: both sides rendered as y4m (lossless) in a temporary folder beside the output —
 // the row's sound track from its own side — then composed into one MP4 (stimuli/side_by_side.h).
 template <class Run>
@@ -107,15 +123,12 @@ void renderSideBySide(const BatchRow& row, const std::string& path, const std::s
 		}
 	} release{{own, other, wav, json}};
 	// A sound track: speech from text (say), or a render's audio, unless muted.
-	const bool muted = std::find(row.args.begin(), row.args.end(), "--no-audio") != row.args.end() ||
-	                   (row.command == "render" && std::find(row.args.begin(), row.args.end(), "--audio") == row.args.end());
-	std::vector<std::string> a{row.command};
-	a.insert(a.end(), row.args.begin(), row.args.end());
+	const bool muted = jobValue(row.job, "no-audio") || (row.command == "render" && !jobValue(row.job, "audio"));
+	std::vector<std::string> a = jobArguments(row.command, row.job);
 	a.insert(a.end(), {"--format", "y4m", "-o", own, "-q", "--threads", threads, "--timeline-out", json});
 	if (!muted) a.insert(a.end(), {"--audio-out", wav});
 	run(a);
-	std::vector<std::string> b{row.command};
-	b.insert(b.end(), row.versusArgs.begin(), row.versusArgs.end());
+	std::vector<std::string> b = jobArguments(row.command, row.versusJob);
 	b.insert(b.end(), {"--format", "y4m", "-o", other, "-q", "--threads", threads});
 	if (!muted) b.push_back("--no-audio");
 	run(b);
@@ -233,8 +246,7 @@ struct BatchRun {
 				if (rc != 0) throw Error(message.empty() ? "exit code " + std::to_string(rc) : message);
 			};
 			if (!row.sideBySide) {
-				std::vector<std::string> a{row.command};
-				a.insert(a.end(), row.args.begin(), row.args.end());
+				std::vector<std::string> a = jobArguments(row.command, row.job);
 				a.insert(a.end(), {"-o", path, "-q", "--threads", threads, "--timeline-out", timeline});
 				run(a);
 			} else {
@@ -248,7 +260,7 @@ struct BatchRun {
 			++failed;
 			failures.emplace_back(row.line, e.what());
 			bar.finish();
-			std::fprintf(stderr, "talkhead: error: %s\n", safeLine(m.path + ":" + std::to_string(row.line) + ": " + e.what()).c_str());
+			std::fprintf(stderr, "talkhead: error: %s\n", shownLine(m.path + ":" + std::to_string(row.line) + ": " + e.what()).c_str());
 			report(row, "failed", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(), e.what());
 		}
 		// After every stimulus, so a batch stopped half-way resumes from where it was.
@@ -299,7 +311,7 @@ int runBatch(const std::vector<std::string>& argv) {
 		m = loadManifest(args.positionals()[0]);
 		checkManifestModels(m);
 	} catch (const ManifestErrors& e) {
-		for (const auto& msg : e.messages) std::fprintf(stderr, "talkhead: error: %s\n", safeLine(msg).c_str());
+		for (const auto& msg : e.messages) std::fprintf(stderr, "talkhead: error: %s\n", shownLine(msg).c_str());
 		return 1;
 	}
 	const std::size_t n = m.rows.size();

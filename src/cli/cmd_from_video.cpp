@@ -11,6 +11,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
+#include "cli/run.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/output_dir.h"
@@ -39,7 +40,7 @@ std::vector<PhoneSegment> takeSpeech(const VideoTake& take, const VideoInfo& inf
 		AlignOptions ao;
 		ao.languageTag = lang.tag();
 		Alignment a = alignSpeechFile(audio, take.text, ao);
-		for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
+		for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
 		if (!quiet) std::fprintf(stderr, "aligned the text to %s (confidence %.2f)\n", audio.c_str(), a.confidence);
 		phoneTranscript = a.phones;
 		words = a.words.intervals;

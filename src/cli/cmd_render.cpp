@@ -16,7 +16,10 @@
 
 namespace talkhead::cli {
 
-int runRender(const std::vector<std::string>& argv) {
+namespace {
+
+// render's own options, then the driving video's and the video options render and say share.
+std::vector<OptionSpec> renderOptionSpecs() {
 	std::vector<OptionSpec> options = {
 	    {"--transcript", "FILE", "timed transcript (TextGrid, .pho, HTK, GRID, speech marks, TSV, Rhubarb; - = stdin)"},
 	    {"--text", "TEXT", "instead of --transcript: what --audio says, aligned to it (as 'talkhead align' does)"},
@@ -36,6 +39,13 @@ int runRender(const std::vector<std::string>& argv) {
 	    {"--drive-model", "F.dat", "with --drive: dlib 68-point predictor"}};
 	for (auto& o : nonVerbalOptionSpecs()) options.push_back(o);
 	for (auto& o : videoOptionSpecs()) options.push_back(o);
+	return options;
+}
+
+}  // namespace
+
+int runRender(const std::vector<std::string>& argv) {
+	const std::vector<OptionSpec> options = renderOptionSpecs();
 	Args args("render", "talkhead render (--transcript T [--audio A] | --audio A --text \"…\") [--emotion LABEL] -o OUT.mp4 [options]", options,
 	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint (pauses: rest, then\n"
 	          "a breath before speech; --pauses thesis for the thesis rule), its appearance\n"
@@ -88,11 +98,11 @@ int runRender(const std::vector<std::string>& argv) {
 	if (drive.video) spec.controls.push_back(clippedTo(controlsOf(drive.nv), spec.videoDuration()));
 	std::vector<std::string> warnings;
 	Performance perf = planPerformance(spec, &warnings);
-	for (const std::string& w : warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(*audioPath + ": " + w).c_str());
+	for (const std::string& w : warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(*audioPath + ": " + w).c_str());
 	drive.report(perf, cmd.quiet);
 	// Which TextGrid tier was read (once everything is checked: an error stays one line).
 	if (!speech.read.tier.empty() && !cmd.quiet)
-		std::fprintf(stderr, "%s\n", safeLine("talkhead: " + speech.name + ": tier '" + speech.read.tier + "' (" + speech.read.tierNote + ")").c_str());
+		std::fprintf(stderr, "%s\n", shownLine("talkhead: " + speech.name + ": tier '" + speech.read.tier + "' (" + speech.read.tierNote + ")").c_str());
 	sound = applyStimulusTiming(cmd, perf, std::move(sound));
 	runVideoCommand(cmd, perf, std::move(sound), t0, "", timelineOutput(cmd, perf, speech.phones, speech.words));
 	return 0;

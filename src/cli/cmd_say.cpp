@@ -8,6 +8,7 @@
 #include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/text.h"
+#include "cli/run.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/video_options.h"
@@ -61,7 +62,7 @@ int runSay(const std::vector<std::string>& argv) {
 	const SpokenText spoken = speakWithEvents(text, textName, voice, rate, pitch);
 	const double speechSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tSpeech).count();
 	const TimedSpeech timed = speechFromEspeak(spoken.speech, lang);
-	for (const auto& w : timed.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
+	for (const auto& w : timed.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
 	const std::vector<PhoneSegment>& phones = timed.phones;
 	if (dryRun) {
 		std::cout << formatVisemes(phones, keyposes(phones, cmd.rate.frameLength(), cmd.pauses), "tsv", lang.tag(), "espeak-ng");

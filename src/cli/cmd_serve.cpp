@@ -100,6 +100,29 @@ void securityOptions(const Args& args, ServeOptions& o) {
 	if (o.tlsCert.empty() != o.tlsKey.empty()) throw UsageError("serve: --tls-cert and --tls-key go together");
 }
 
+// --listen HOST:PORT ([v6]:PORT; port 0: any free one).
+void listenOption(const Args& args, ServeOptions& o) {
+	const std::string listen = args.get("--listen", "127.0.0.1:8765");
+	const auto colon = listen.rfind(':');
+	double port = -1;
+	if (colon == std::string::npos || !parseDouble(listen.substr(colon + 1), port) || !(port >= 0 && port <= 65535) || port != std::floor(port))
+		throw UsageError("serve: --listen takes HOST:PORT, e.g. 127.0.0.1:8765");
+	o.host = listen.substr(0, colon);
+	if (o.host.size() > 2 && o.host.front() == '[' && o.host.back() == ']') o.host = o.host.substr(1, o.host.size() - 2);
+	o.port = int(port);
+}
+
+// What one session may take, and the server's load bar and drain.
+void limitOptions(const Args& args, ServeOptions& o) {
+	o.idleSeconds = args.number("--idle-timeout", 300, 0, 86400 * 7);
+	o.limits.queuedRequests = int(args.number("--max-queued-requests", 32, 1, 100000));
+	o.limits.queuedSeconds = args.number("--max-queued-speech", 900, 1, 86400);
+	o.limits.utteranceSeconds = args.number("--max-utterance", 600, 1, 86400);
+	o.limits.breakSeconds = args.number("--max-breaks", 60, 0, 86400);
+	o.maxLoad = args.number("--max-load", 0.9, 0, 64);
+	o.drainSeconds = args.number("--drain", 5, 0, 3600);
+}
+
 }  // namespace
 
 int runServe(const std::vector<std::string>& argv) {
@@ -135,21 +158,15 @@ int runServe(const std::vector<std::string>& argv) {
 	if (!args.positionals().empty()) throw UsageError("serve: no positional arguments");
 	ServeOptions o;
 	o.live = liveOptions(args, "serve");
-	const std::string listen = args.get("--listen", "127.0.0.1:8765");
-	const auto colon = listen.rfind(':');
-	double port = -1;
-	if (colon == std::string::npos || !parseDouble(listen.substr(colon + 1), port) || !(port >= 0 && port <= 65535) || port != std::floor(port))
-		throw UsageError("serve: --listen takes HOST:PORT, e.g. 127.0.0.1:8765");
-	o.host = listen.substr(0, colon);
-	if (o.host.size() > 2 && o.host.front() == '[' && o.host.back() == ']') o.host = o.host.substr(1, o.host.size() - 2);
-	o.port = int(port);
+	listenOption(args, o);
 	o.maxSessions = int(args.number("--max-sessions", 4, 1, 64));
-	o.crf = int(args.number("--crf", 23, 0, 51));
+	o.crf = parseCrf(args, VideoFormat::Mp4Stream);
 	o.preset = args.get("--preset", "veryfast");
 	o.lang = args.get("--lang", "en-US");
 	Language::get(o.lang);  // checked now
 	const bool quiet = args.has("--quiet");
-	if (!quiet) o.log = [](const std::string& s) { std::fprintf(stderr, "talkhead: serve: %s\n", safeLine(s).c_str()); };
+	if (!quiet) o.log = [](const std::string& s) { std::fprintf(stderr, "talkhead: serve: %s\n", shownLine(s).c_str()); };
+	o.operatorField = [](const std::string& f) { return std::optional<std::string>(cliField(f)); };
 	if (args.has("--demo")) {
 		const auto page = findDataFile("examples/live/index.html");
 		if (!page) throw Error("the demo page examples/live/index.html is not installed");
@@ -163,13 +180,7 @@ int runServe(const std::vector<std::string>& argv) {
 	o.recordMaxBytes = std::uint64_t(args.number("--record-max", 64, 1, 1 << 20) * double(1 << 20));
 	if (o.host == "localhost") o.host = "127.0.0.1";
 	securityOptions(args, o);
-	o.idleSeconds = args.number("--idle-timeout", 300, 0, 86400 * 7);
-	o.limits.queuedRequests = int(args.number("--max-queued-requests", 32, 1, 100000));
-	o.limits.queuedSeconds = args.number("--max-queued-speech", 900, 1, 86400);
-	o.limits.utteranceSeconds = args.number("--max-utterance", 600, 1, 86400);
-	o.limits.breakSeconds = args.number("--max-breaks", 60, 0, 86400);
-	o.maxLoad = args.number("--max-load", 0.9, 0, 64);
-	o.drainSeconds = args.number("--drain", 5, 0, 3600);
+	limitOptions(args, o);
 	o.handleSignals = true;
 	if (!args.get("--model")) ensureDefaultFace(false);
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
@@ -235,12 +246,12 @@ int runLive(const std::vector<std::string>& argv) {
 		for (; next < steps.size() && steps[next].frame <= n; ++next) {
 			const SessionScript::Step& s = steps[next];
 			try {
-				const LiveRequest r = parseLiveRequest(s.json);
+				const LiveRequest r = parseLiveRequest(s.json);  // errors worded as a client reads them (serve/server.h)
 				std::optional<Utterance> u;
 				if (r.kind == LiveRequest::Kind::Say || r.kind == LiveRequest::Kind::Speak) u = prepareUtterance(r, lang, o.sampleRate);
 				applyLiveRequest(session, r, std::move(u));
 			} catch (const std::exception& e) {
-				throw Error(script, s.line, describeException(e));
+				throw Error(script, s.line, forRequester(describeException(e)));
 			}
 		}
 		events.clear();

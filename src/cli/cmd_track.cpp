@@ -43,6 +43,36 @@ private:
 	std::vector<Thumbnail> thumbs_;
 };
 
+// How a video is tracked: --every, --start, --duration, the one-euro smoothing, --redetect, --model.
+TrackOptions trackOptions(const Args& args) {
+	TrackOptions o;
+	o.every = int(args.number("--every", 1, 1, 10000));
+	if (auto s = args.get("--start")) o.start = ticksFromSeconds(parseTimeOption("--start", *s));
+	if (auto d = args.get("--duration")) o.duration = ticksFromSeconds(parseTimeOption("--duration", *d));
+	o.smoothing.enabled = !args.has("--no-smooth");
+	o.smoothing.minCutoffHz = args.number("--min-cutoff", o.smoothing.minCutoffHz, 0.01, 100);
+	o.smoothing.beta = args.number("--beta", o.smoothing.beta, 0, 1000);
+	o.smoothing.mouthMinCutoffHz = args.number("--mouth-min-cutoff", o.smoothing.mouthMinCutoffHz, 0.01, 100);
+	o.smoothing.mouthBeta = args.number("--mouth-beta", o.smoothing.mouthBeta, 0, 10000);
+	o.redetectSeconds = args.number("--redetect", o.redetectSeconds, 0, 3600);
+	if (auto m = args.get("--model")) o.modelPath = *m;
+	return o;
+}
+
+// About how many frames the input gives (for spacing the contact sheet's thumbnails).
+double expectedFrames(const std::string& input, const TrackOptions& o) {
+	if (std::filesystem::is_directory(input)) {
+		double n = 0;
+		for (const auto& e : std::filesystem::directory_iterator(input)) n += e.is_regular_file();
+		return n;
+	}
+	VideoReader probe(input);
+	const auto& info = probe.info();
+	double secs = toSeconds(info.duration) - toSeconds(o.start);
+	if (o.duration.count() >= 0) secs = std::min(secs, toSeconds(o.duration));
+	return info.fpsNum > 0 ? secs * info.fpsNum / info.fpsDen / o.every : double(info.frameCountHint);
+}
+
 }  // namespace
 
 int runCorpusLandmarks(const std::vector<std::string>& argv) {
@@ -71,17 +101,7 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	args.onePositional("give one video or image folder");
 	const std::string out = args.required("--output", "-o DIR is required");
 	const std::string input = args.positionals()[0];
-	TrackOptions o;
-	o.every = int(args.number("--every", 1, 1, 10000));
-	if (auto s = args.get("--start")) o.start = ticksFromSeconds(parseTimeOption("--start", *s));
-	if (auto d = args.get("--duration")) o.duration = ticksFromSeconds(parseTimeOption("--duration", *d));
-	o.smoothing.enabled = !args.has("--no-smooth");
-	o.smoothing.minCutoffHz = args.number("--min-cutoff", o.smoothing.minCutoffHz, 0.01, 100);
-	o.smoothing.beta = args.number("--beta", o.smoothing.beta, 0, 1000);
-	o.smoothing.mouthMinCutoffHz = args.number("--mouth-min-cutoff", o.smoothing.mouthMinCutoffHz, 0.01, 100);
-	o.smoothing.mouthBeta = args.number("--mouth-beta", o.smoothing.mouthBeta, 0, 10000);
-	o.redetectSeconds = args.number("--redetect", o.redetectSeconds, 0, 3600);
-	if (auto m = args.get("--model")) o.modelPath = *m;
+	const TrackOptions o = trackOptions(args);
 	const int sheetCount = int(args.number("--sheet", 24, 0, 400));
 	const bool quiet = args.has("--quiet");
 	const auto t0 = std::chrono::steady_clock::now();
@@ -91,19 +111,7 @@ int runCorpusLandmarks(const std::vector<std::string>& argv) {
 	std::unique_ptr<ThumbnailPicker> picker;
 	const bool writeEachPts = !args.has("--no-pts");
 	auto onFrame = [&](const FrameLandmarks& f, const Image8& rgb) {
-		if (!picker) {
-			double expected = 0;
-			if (std::filesystem::is_directory(input)) {
-				for (const auto& e : std::filesystem::directory_iterator(input)) expected += e.is_regular_file();
-			} else {
-				VideoReader probe(input);
-				const auto& info = probe.info();
-				double secs = toSeconds(info.duration) - toSeconds(o.start);
-				if (o.duration.count() >= 0) secs = std::min(secs, toSeconds(o.duration));
-				expected = info.fpsNum > 0 ? secs * info.fpsNum / info.fpsDen / o.every : double(info.frameCountHint);
-			}
-			picker = std::make_unique<ThumbnailPicker>(std::size_t(std::max(0, sheetCount)), std::max(1.0, expected));
-		}
+		if (!picker) picker = std::make_unique<ThumbnailPicker>(std::size_t(std::max(0, sheetCount)), std::max(1.0, expectedFrames(input, o)));
 		if (sheetCount > 0) picker->offer(f, rgb);
 		if (writeEachPts && f.found) {
 			char name[64];

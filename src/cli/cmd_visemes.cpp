@@ -11,6 +11,7 @@
 #include "base/error.h"
 #include "base/frame_rate.h"
 #include "base/text.h"
+#include "cli/run.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/video_options.h"
@@ -71,7 +72,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
-	for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(path + ": " + w).c_str());
+	for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(path + ": " + w).c_str());
 	noteWordLanguage(args, tr, lang, path);
 	// The notation is decided once, here, so the evidence for it can be printed.
 	std::string evidence;

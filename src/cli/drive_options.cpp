@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "cli/run.h"
 #include "cli/drive_options.h"
 
 #include <cstdio>
@@ -45,7 +46,7 @@ NonVerbalTrack trackNonVerbal(const std::string& input, const NonVerbalOptions& 
 		bar.finish();
 	}
 	NonVerbalTrack nv = analyseNonVerbal(lt, o);
-	for (const std::string& w : nv.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(input + ": " + w).c_str());
+	for (const std::string& w : nv.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(input + ": " + w).c_str());
 	if (landmarks) *landmarks = std::move(lt);
 	return nv;
 }

@@ -24,6 +24,12 @@ thread_local FrameSink* extraSink = nullptr;
 void setExtraFrameSink(FrameSink* sink) { extraSink = sink; }
 FrameSink* extraFrameSink() { return extraSink; }
 
+std::string cliField(const std::string& field) { return field == "output" ? "-o" : "--" + field; }
+
+std::string shownLine(const std::string& message) {
+	return safeLine(wordFields(message, [](const std::string& f) { return std::optional<std::string>(cliField(f)); }));
+}
+
 int runCommandLine(const std::vector<std::string>& args, std::string& error) {
 	error.clear();
 	const std::string command = args.empty() ? std::string() : args[0];
@@ -32,7 +38,7 @@ int runCommandLine(const std::vector<std::string>& args, std::string& error) {
 		if (const Command* c = findCommand(command)) return c->run(rest);
 		throw UsageError("unknown command '" + command + "'");
 	} catch (const UsageError& e) {
-		error = "talkhead: " + safeLine(e.what()) + " (see 'talkhead " + (findCommand(command) ? command + " " : std::string()) + "--help')";
+		error = "talkhead: " + shownLine(e.what()) + " (see 'talkhead " + (findCommand(command) ? command + " " : std::string()) + "--help')";
 		return 2;
 	} catch (const std::bad_alloc&) {
 		error = "talkhead: error: out of memory";
@@ -40,7 +46,7 @@ int runCommandLine(const std::vector<std::string>& args, std::string& error) {
 	} catch (const std::exception& e) {
 		// One line, valid UTF-8 and bounded, whatever the message quotes (a label with a newline, raw bytes,
 		// a 200 KB line): base/text.h safeLine.
-		error = "talkhead: error: " + safeLine(describeException(e));
+		error = "talkhead: error: " + shownLine(describeException(e));
 		return 1;
 	}
 }

@@ -15,6 +15,12 @@ namespace talkhead::cli {
 // other failure); on failure `error` gets the one line the executable prints on stderr.
 int runCommandLine(const std::vector<std::string>& args, std::string& error);
 
+// A library field's flag ("output" → "-o", "tier" → "--tier"): how the command line words the fields
+// library messages name ({{tier}}, base/error.h).
+std::string cliField(const std::string& field);
+// A library message as one line for the terminal: its fields worded as flags, then base/text.h safeLine.
+std::string shownLine(const std::string& message);
+
 // For in-process callers: while set (on this thread), every frame `render` and `say` draw also goes to
 // this sink (RGB when it asks), after the command's own outputs.
 void setExtraFrameSink(FrameSink* sink);

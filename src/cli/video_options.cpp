@@ -103,7 +103,7 @@ void noteWordLanguage(const Args& args, const Transcript& tr, const Language& la
 		if (path != "-" && timingFileLanguage(readTextFile(path))) return;
 	} catch (const std::exception&) {
 	}
-	std::fprintf(stderr, "talkhead: warning: %s: its words are read as %s (the default; the file names no language): --lang for another\n", safeLine(path).c_str(),
+	std::fprintf(stderr, "talkhead: warning: %s: its words are read as %s (the default; the file names no language): --lang for another\n", shownLine(path).c_str(),
 	             lang.tag().c_str());
 }
 
@@ -132,8 +132,8 @@ TranscriptOptions parseTranscriptOptions(const Args& args, const std::string& co
 
 void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech) {
 	if (!cmd.quiet)
-		for (const std::string& n : speech.notes) std::fprintf(stderr, "%s\n", safeLine(n).c_str());
-	for (const std::string& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", safeLine(w).c_str());
+		for (const std::string& n : speech.notes) std::fprintf(stderr, "%s\n", shownLine(n).c_str());
+	for (const std::string& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
 }
 
 void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& marks) {
@@ -251,8 +251,6 @@ double parseSpeechBrows(const Args& args, const std::string& command, const std:
 		throw UsageError(command + ": --speech-brows takes on, off or an amount from 0 to 3");
 	return amount;
 }
-
-std::string cliField(const std::string& field) { return field == "output" ? "-o" : "--" + field; }
 
 std::optional<VideoFormat> parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone) {
 	const std::string named = args.get("--format", "");

@@ -109,8 +109,6 @@ FrameRate parseFps(const Args& args, const std::string& command);
 // --format: a file format of the registry (render/output.h; and none, nullopt, when `allowNone`), by
 // default from -o's extension; a --format that contradicts the extension is ambiguous: a UsageError.
 std::optional<VideoFormat> parseVideoFormat(const Args& args, const std::string& command, const std::string& output, bool allowNone);
-// A library field's flag ("output" → "-o", "crf" → "--crf").
-std::string cliField(const std::string& field);
 // --background opaque|transparent; transparent in a format without alpha (mp4, y4m) is a UsageError that
 // names WebM and then `alternatives` (the command's other ways to alpha).
 bool parseTransparent(const Args& args, const std::string& command, std::optional<VideoFormat> format, const std::string& alternatives = "");

@@ -251,6 +251,45 @@ struct Mp4Encoder {
 		if (o.alpha && !webm) throw Error(path, 0, "MP4 (H.264) has no alpha channel: write WebM");
 		checkAv(avformat_alloc_output_context2(&fmt, nullptr, webm ? "webm" : "mp4", live ? nullptr : path.c_str()), path,
 		        webm ? "cannot create the WebM muxer" : "cannot create the MP4 muxer");
+		openVideo(webm, live);
+		if (audio) openAudio(webm, live);
+		AVDictionary* opts = nullptr;
+		if (live) {
+			const int size = 1 << 16;
+			auto* buffer = static_cast<unsigned char*>(av_malloc(size));
+			if (!buffer) throw Error(path, 0, "out of memory");
+			fmt->pb = avio_alloc_context(buffer, size, 1, this, nullptr, &Mp4Encoder::writeToSink, nullptr);
+			if (!fmt->pb) {
+				av_free(buffer);
+				throw Error(path, 0, "out of memory");
+			}
+			fmt->flags |= AVFMT_FLAG_CUSTOM_IO;
+			av_dict_set(&opts, "movflags", "+empty_moov+default_base_moof+frag_custom", 0);
+			// RFC 6381 codec names: avc1.PPCCLL (profile, constraints, level) from the sequence parameter set,
+			// found in an avcC record or in Annex B NAL units (what libx264 gives as extradata); AAC-LC.
+			const std::uint8_t* x = venc->extradata;
+			const int xs = venc->extradata_size;
+			char name[32] = "";
+			if (x && xs >= 4 && x[0] == 1) std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[1], x[2], x[3]);
+			for (int i = 0; x && !name[0] && i + 6 < xs; ++i)
+				if (x[i] == 0 && x[i + 1] == 0 && x[i + 2] == 1 && (x[i + 3] & 0x1f) == 7)
+					std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[i + 4], x[i + 5], x[i + 6]);
+			if (!name[0]) throw Error(path, 0, "the H.264 encoder gave no sequence parameter set");
+			codecs = std::string(name) + (audio ? ",mp4a.40.2" : "");
+		} else {
+			checkAv(avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot write the video");
+			if (!webm) av_dict_set(&opts, "movflags", "+faststart", 0);
+		}
+		fmt->flags |= AVFMT_FLAG_BITEXACT;  // no library version strings: the same input gives the same file
+		const int r = avformat_write_header(fmt, &opts);
+		av_dict_free(&opts);
+		checkAv(r, path, webm ? "cannot write the WebM header" : "cannot write the MP4 header");
+		if (!wrapped) throw Error(path, 0, "out of memory");
+		pkt = av_packet_alloc();
+	}
+
+	// The video encoder and stream: x264 (crf, preset; zerolatency for a live stream) or libvpx-vp9.
+	void openVideo(bool webm, bool live) {
 		const char* videoCodec = webm ? "libvpx-vp9" : "libx264";
 		const AVCodec* vcodec = avcodec_find_encoder_by_name(videoCodec);
 		if (!vcodec) throw Error(path, 0, std::string("this libav has no ") + videoCodec + " encoder");
@@ -293,69 +332,38 @@ struct Mp4Encoder {
 		vst->time_base = venc->time_base;
 		vst->avg_frame_rate = venc->framerate;
 
-		if (audio) {
-			const AVCodec* acodec = webm ? avcodec_find_encoder_by_name("libvorbis") : avcodec_find_encoder(AV_CODEC_ID_AAC);
-			if (!acodec) throw Error(path, 0, webm ? "this libav has no libvorbis encoder" : "this libav has no AAC encoder");
-			ast = avformat_new_stream(fmt, nullptr);
-			aenc = avcodec_alloc_context3(acodec);
-			aenc->sample_fmt = AV_SAMPLE_FMT_FLTP;
-			aenc->sample_rate = audio->sampleRate();
-			av_channel_layout_default(&aenc->ch_layout, audio->channels());
-			if (webm) {  // Vorbis at quality 5 (VBR; an average bitrate cannot be set up for every rate and layout)
-				aenc->flags |= AV_CODEC_FLAG_QSCALE;
-				aenc->global_quality = 5 * FF_QP2LAMBDA;
-			} else {
-				aenc->bit_rate = 128000;
-			}
-			aenc->time_base = AVRational{1, audio->sampleRate()};
-			if (fmt->oformat->flags & AVFMT_GLOBALHEADER) aenc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
-			checkAv(avcodec_open2(aenc, acodec, nullptr), path, webm ? "cannot open the Vorbis encoder" : "cannot open the AAC encoder");
-			checkAv(avcodec_parameters_from_context(ast->codecpar, aenc), path, "audio parameters");
-			ast->time_base = aenc->time_base;
-			aframe = av_frame_alloc();
-			aframe->format = AV_SAMPLE_FMT_FLTP;
-			aframe->sample_rate = audio->sampleRate();
-			av_channel_layout_copy(&aframe->ch_layout, &aenc->ch_layout);
-			aframe->nb_samples = aenc->frame_size;
-			checkAv(av_frame_get_buffer(aframe, 0), path, "audio frame");
-			if (live && aenc->initial_padding > 0) {
-				std::vector<float> skip(std::size_t(aenc->initial_padding) * std::size_t(audio->channels()));
-				audio->read(skip.data(), std::size_t(aenc->initial_padding));
-			}
-		}
-		AVDictionary* opts = nullptr;
-		if (live) {
-			const int size = 1 << 16;
-			auto* buffer = static_cast<unsigned char*>(av_malloc(size));
-			if (!buffer) throw Error(path, 0, "out of memory");
-			fmt->pb = avio_alloc_context(buffer, size, 1, this, nullptr, &Mp4Encoder::writeToSink, nullptr);
-			if (!fmt->pb) {
-				av_free(buffer);
-				throw Error(path, 0, "out of memory");
-			}
-			fmt->flags |= AVFMT_FLAG_CUSTOM_IO;
-			av_dict_set(&opts, "movflags", "+empty_moov+default_base_moof+frag_custom", 0);
-			// RFC 6381 codec names: avc1.PPCCLL (profile, constraints, level) from the sequence parameter set,
-			// found in an avcC record or in Annex B NAL units (what libx264 gives as extradata); AAC-LC.
-			const std::uint8_t* x = venc->extradata;
-			const int xs = venc->extradata_size;
-			char name[32] = "";
-			if (x && xs >= 4 && x[0] == 1) std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[1], x[2], x[3]);
-			for (int i = 0; x && !name[0] && i + 6 < xs; ++i)
-				if (x[i] == 0 && x[i + 1] == 0 && x[i + 2] == 1 && (x[i + 3] & 0x1f) == 7)
-					std::snprintf(name, sizeof name, "avc1.%02x%02x%02x", x[i + 4], x[i + 5], x[i + 6]);
-			if (!name[0]) throw Error(path, 0, "the H.264 encoder gave no sequence parameter set");
-			codecs = std::string(name) + (audio ? ",mp4a.40.2" : "");
+	}
+
+	// The audio encoder and stream: AAC, or Vorbis in WebM; a live stream skips the encoder's priming.
+	void openAudio(bool webm, bool live) {
+		const AVCodec* acodec = webm ? avcodec_find_encoder_by_name("libvorbis") : avcodec_find_encoder(AV_CODEC_ID_AAC);
+		if (!acodec) throw Error(path, 0, webm ? "this libav has no libvorbis encoder" : "this libav has no AAC encoder");
+		ast = avformat_new_stream(fmt, nullptr);
+		aenc = avcodec_alloc_context3(acodec);
+		aenc->sample_fmt = AV_SAMPLE_FMT_FLTP;
+		aenc->sample_rate = audio->sampleRate();
+		av_channel_layout_default(&aenc->ch_layout, audio->channels());
+		if (webm) {  // Vorbis at quality 5 (VBR; an average bitrate cannot be set up for every rate and layout)
+			aenc->flags |= AV_CODEC_FLAG_QSCALE;
+			aenc->global_quality = 5 * FF_QP2LAMBDA;
 		} else {
-			checkAv(avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE), path, "cannot write the video");
-			if (!webm) av_dict_set(&opts, "movflags", "+faststart", 0);
+			aenc->bit_rate = 128000;
 		}
-		fmt->flags |= AVFMT_FLAG_BITEXACT;  // no library version strings: the same input gives the same file
-		const int r = avformat_write_header(fmt, &opts);
-		av_dict_free(&opts);
-		checkAv(r, path, webm ? "cannot write the WebM header" : "cannot write the MP4 header");
-		if (!wrapped) throw Error(path, 0, "out of memory");
-		pkt = av_packet_alloc();
+		aenc->time_base = AVRational{1, audio->sampleRate()};
+		if (fmt->oformat->flags & AVFMT_GLOBALHEADER) aenc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+		checkAv(avcodec_open2(aenc, acodec, nullptr), path, webm ? "cannot open the Vorbis encoder" : "cannot open the AAC encoder");
+		checkAv(avcodec_parameters_from_context(ast->codecpar, aenc), path, "audio parameters");
+		ast->time_base = aenc->time_base;
+		aframe = av_frame_alloc();
+		aframe->format = AV_SAMPLE_FMT_FLTP;
+		aframe->sample_rate = audio->sampleRate();
+		av_channel_layout_copy(&aframe->ch_layout, &aenc->ch_layout);
+		aframe->nb_samples = aenc->frame_size;
+		checkAv(av_frame_get_buffer(aframe, 0), path, "audio frame");
+		if (live && aenc->initial_padding > 0) {
+			std::vector<float> skip(std::size_t(aenc->initial_padding) * std::size_t(audio->channels()));
+			audio->read(skip.data(), std::size_t(aenc->initial_padding));
+		}
 	}
 
 	void drain(AVCodecContext* enc, AVStream* st) {

@@ -104,6 +104,47 @@ void cacheAppearances(RegionModel& region, std::size_t m) {
 	});
 }
 
+// Appearance: every image warped to s̄, each region's data matrix filled (a column per image: its
+// appearance, then its aligned shape).
+std::vector<Eigen::MatrixXf> appearanceData(const FaceModel& model, const std::vector<Points>& shapes, const std::vector<SampleInfo>& samples,
+                                            const ImageSource& images, const Points& meanWithBorder, unsigned threads, ProgressSink& progress) {
+	const std::size_t m = shapes.size();
+	const int k = model.scheme.pointCount(), width = model.width, height = model.height;
+	std::vector<Eigen::MatrixXf> data(model.regions.size());
+	for (std::size_t r = 0; r < model.regions.size(); ++r) {
+		data[r].resize(model.regions[r].appearanceSize() + 2 * k, Eigen::Index(m));
+		adviseHugePages(data[r].data(), std::size_t(data[r].size()) * sizeof(float));
+	}
+	// Only the pixels of the regions are needed: warp just their bounding box.
+	int bx0 = width, by0 = height, bx1 = 0, by1 = 0;
+	for (const auto& r : model.regions)
+		for (auto p : r.pixels) {
+			const int x = p % width, y = p / width;
+			bx0 = std::min(bx0, x), by0 = std::min(by0, y), bx1 = std::max(bx1, x + 1), by1 = std::max(by1, y + 1);
+		}
+	PiecewiseAffineWarp toMean(model.frameMesh, meanWithBorder, width, height);
+	toMean.clipSpans(bx0, by0, bx1, by1);
+	std::atomic<std::size_t> done{0};
+	std::mutex progressMutex;
+	parallelFor(m, threads, [&](std::size_t i) {
+		Image8 img = images(i);
+		if (img.width != width || img.height != height)
+			throw Error(samples[i].image, 0, "is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+			                                     ", the other images are " + std::to_string(width) + "x" + std::to_string(height));
+		PiecewiseAffineWarp warp = toMean;
+		warp.setSource(withFrameBorder(shapes[i], width, height));
+		thread_local Image frame;  // reused: one 1280×720 float frame is 11 MB of page faults
+		if (frame.width != width || frame.height != height) frame = Image(width, height, 3);
+		warp.apply(img, frame);
+		for (std::size_t r = 0; r < model.regions.size(); ++r)
+			fillColumn(model.regions[r], frame, model.alignedShapes[i], data[r], Eigen::Index(i));
+		std::size_t d = ++done;
+		std::lock_guard<std::mutex> lock(progressMutex);
+		progress.report(0.7 * double(d) / double(m), "warping images");
+	});
+	return data;
+}
+
 }  // namespace
 
 FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes, const std::vector<SampleInfo>& samples,
@@ -140,39 +181,7 @@ FaceModel buildFaceModel(const Scheme& scheme, const std::vector<Points>& shapes
 
 	model.regions = regionMasks(scheme, model.meanShape, width, height);
 
-	// Appearance: warp every image to s̄ and fill each region's data matrix row.
-	std::vector<Eigen::MatrixXf> data(model.regions.size());
-	for (std::size_t r = 0; r < model.regions.size(); ++r) {
-		data[r].resize(model.regions[r].appearanceSize() + 2 * k, Eigen::Index(m));
-		adviseHugePages(data[r].data(), std::size_t(data[r].size()) * sizeof(float));
-	}
-	// Only the pixels of the regions are needed: warp just their bounding box.
-	int bx0 = width, by0 = height, bx1 = 0, by1 = 0;
-	for (const auto& r : model.regions)
-		for (auto p : r.pixels) {
-			const int x = p % width, y = p / width;
-			bx0 = std::min(bx0, x), by0 = std::min(by0, y), bx1 = std::max(bx1, x + 1), by1 = std::max(by1, y + 1);
-		}
-	PiecewiseAffineWarp toMean(model.frameMesh, meanWithBorder, width, height);
-	toMean.clipSpans(bx0, by0, bx1, by1);
-	std::atomic<std::size_t> done{0};
-	std::mutex progressMutex;
-	parallelFor(m, options.threads, [&](std::size_t i) {
-		Image8 img = images(i);
-		if (img.width != width || img.height != height)
-			throw Error(samples[i].image, 0, "is " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-			                                     ", the other images are " + std::to_string(width) + "x" + std::to_string(height));
-		PiecewiseAffineWarp warp = toMean;
-		warp.setSource(withFrameBorder(shapes[i], width, height));
-		thread_local Image frame;  // reused: one 1280×720 float frame is 11 MB of page faults
-		if (frame.width != width || frame.height != height) frame = Image(width, height, 3);
-		warp.apply(img, frame);
-		for (std::size_t r = 0; r < model.regions.size(); ++r)
-			fillColumn(model.regions[r], frame, model.alignedShapes[i], data[r], Eigen::Index(i));
-		std::size_t d = ++done;
-		std::lock_guard<std::mutex> lock(progressMutex);
-		progress.report(0.7 * double(d) / double(m), "warping images");
-	});
+	std::vector<Eigen::MatrixXf> data = appearanceData(model, shapes, samples, images, meanWithBorder, options.threads, progress);
 
 	// The baseface: the image nearest to the mean, warped to it over the whole frame.
 	{

@@ -493,7 +493,7 @@ ComponentLevels parseComponentLevels(const std::string& spec) {
 	ComponentLevels out;
 	if (spec == "all") return out;  // every region at full quality
 	auto bad = [&](const std::string& what) -> Error {
-		return Error("--components '" + spec.substr(0, 80) + "': " + what + " (expected REGION=N, REGION=P% or REGION=all, comma-separated, e.g. face=20,lips=all)");
+		return Error("{{components}} '" + spec.substr(0, 80) + "': " + what + " (expected REGION=N, REGION=P% or REGION=all, comma-separated, e.g. face=20,lips=all)");
 	};
 	std::size_t at = 0;
 	while (at <= spec.size()) {
@@ -709,7 +709,7 @@ Eigen::Index readRegionPca(Reader& r, RegionModel& rm, const RegionLoad& ld, std
 		const ComponentLevel& lv = ld.level;
 		if (lv.count > 0) {
 			if (lv.count > l)
-				throw Error(r.path(), 0, "--components asks for " + std::to_string(lv.count) + " components of region '" + rm.name + "', which keeps " +
+				throw Error(r.path(), 0, "{{components}} asks for " + std::to_string(lv.count) + " components of region '" + rm.name + "', which keeps " +
 				                             std::to_string(l));
 			kept = Eigen::Index(lv.count);
 		} else {
@@ -830,7 +830,7 @@ FaceModel readRecords(Reader& r, bool bases, std::uint32_t version, const Compon
 		if (m.regionIndex(name) >= 0) continue;
 		std::string names;
 		for (const auto& rg : m.regions) names += (names.empty() ? "" : ", ") + rg.name;
-		throw Error(r.path(), 0, "--components names region '" + name.substr(0, 40) + "', which this model does not have (regions: " + names + ")");
+		throw Error(r.path(), 0, "{{components}} names region '" + name.substr(0, 40) + "', which this model does not have (regions: " + names + ")");
 	}
 	return m;
 }

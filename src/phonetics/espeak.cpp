@@ -638,8 +638,8 @@ std::string voiceLanguageMismatch(const std::string& voice, const Language& lang
 		if (toLower(a) == v->language) table = a;
 	for (const auto& a : Language::available())
 		if (table.empty() && primaryLanguage(a) == primary) table = a;
-	return "voice '" + voice + "' speaks " + name + " (" + v->language + ") but --lang is " + lang.tag() + "; add --lang " +
-	       (table.empty() ? primary + " --generic-visemes" : table);
+	return "voice '" + voice + "' speaks " + name + " (" + v->language + ") but {{lang}} is " + lang.tag() + "; add {{lang}} " +
+	       (table.empty() ? primary + " {{generic-visemes}}" : table);
 }
 
 }  // namespace talkhead

@@ -25,7 +25,7 @@ std::string spaced(const std::vector<std::string>& v) {
 	return out;
 }
 
-// "SAMPA/X-SAMPA" → "sampa" (the --notation value).
+// "SAMPA/X-SAMPA" → "sampa" (the notation field's value).
 std::string optionName(Notation n) {
 	switch (n) {
 		case Notation::Ipa: return "ipa";
@@ -232,7 +232,7 @@ const Language& Language::get(const std::string& tag) {
 		if (auto it = genericCache().find(toLower(tag)); it != genericCache().end()) return *it->second;
 		std::string known;
 		for (const auto& a : available()) known += (known.empty() ? "" : ", ") + a;
-		throw Error("no viseme table for language '" + tag + "' (languages: " + known + "; --generic-visemes maps IPA through a generic table)");
+		throw Error("no viseme table for language '" + tag + "' (languages: " + known + "; {{generic-visemes}} maps IPA through a generic table)");
 	}
 	auto& slot = languageCache()[canon];
 	if (!slot) slot = std::make_unique<Language>(canon, dataDirFor(canon));
@@ -346,8 +346,8 @@ Notation detectNotation(const Transcript& tr, const Language& lang, std::string*
 			const auto a = lang.normalize(l, top[0]), b = lang.normalize(l, top[k]);
 			if (a && b && *a != *b)
 				throw Error(tr.path, 0, "the phone labels can be read as " + notationName(top[0]) + " or " + notationName(top[k]) + ", which differ ('" + l +
-				                            "' is [" + spaced(*a) + "] or [" + spaced(*b) + "]) in " + lang.tag() + "; is that the language (--lang)? if so, say which with --notation " + optionName(top[0]) +
-				                            " or --notation " + optionName(top[k]));
+				                            "' is [" + spaced(*a) + "] or [" + spaced(*b) + "]) in " + lang.tag() + "; is that the language ({{lang}})? if so, say which with {{notation}} " + optionName(top[0]) +
+				                            " or {{notation}} " + optionName(top[k]));
 		}
 	if (evidence) {
 		// Labels that only the chosen notation knows (up to 5).
@@ -557,17 +557,17 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 				const bool spacedLabel = trim(iv.label).find_first_of(" \t\n\r") != std::string_view::npos;
 				if (tr.level == LabelLevel::Phone && (spacedLabel || (tr.levelGuessed && codePointsOf(std::string(trim(iv.label))).size() >= 3)))
 					throw Error(tr.path, iv.line, (tr.tier.empty() ? std::string("the labels hold") : "tier '" + tr.tier + "' holds") +
-					                                  " words, not phones; use --level words ('" + shown + "' is no " + lang.tag() + " phone)");
+					                                  " words, not phones; use {{level}} words ('" + shown + "' is no " + lang.tag() + " phone)");
 				// What the error suggests never makes a wrong result (issue 29 item 4): silence only for a label
 				// with no letter in it (a marker: "#", "<…>", "+"), never for one that may be a sound.
 				const bool marker = !hasLetter(iv.label);
 				if (unknown == UnknownPhone::Nearest)
 					throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + shown + "'" + in + ": no known spelling is near it" +
 					                                  (near.empty() ? "" : " (as near: " + near + ")") +
-					                                  (marker ? "; use --unknown silence if it marks no speech, or correct the label"
-					                                          : "; correct the label, or check --lang and --notation"));
+					                                  (marker ? "; use {{unknown}} silence if it marks no speech, or correct the label"
+					                                          : "; correct the label, or check {{lang}} and {{notation}}"));
 				throw Error(tr.path, iv.line, "unknown " + lang.tag() + " phone '" + shown + "'" + in + " (known: " + lang.inventoryList() +
-				                                  (marker ? "; or use --unknown=nearest|silence)" : "; check --lang and --notation, or use --unknown nearest)"));
+				                                  (marker ? "; or use {{unknown}}=nearest|silence)" : "; check {{lang}} and {{notation}}, or use {{unknown}} nearest)"));
 			}
 		}
 		// Split the interval equally among the phones it spells (diphthongs, affricates).

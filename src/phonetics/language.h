@@ -67,7 +67,7 @@ private:
 
 // The notation of a phone-level transcript's labels, decided from the evidence in them: the notation under
 // which most labels are known wins; when two read the same labels equally well but differently (a file
-// of only "S T" is ARPAbet [s t] or SAMPA [ʃ θ]), it is an Error asking for --notation. `evidence` gets a
+// of only "S T" is ARPAbet [s t] or SAMPA [ʃ θ]), it is an Error asking for the notation field. `evidence` gets a
 // few labels that decided it. MBROLA .pho files are SAMPA/X-SAMPA or br1 (never ARPAbet).
 Notation detectNotation(const Transcript& transcript, const Language& language, std::string* evidence = nullptr);
 

@@ -81,16 +81,23 @@ private:
 		SsmlText::Event e{kind, out_.segments.size() - 1, text().size(), name, intensity, 0, line, column};
 		out_.events.push_back(e);
 	}
-	void tag(std::vector<std::string>& open) {
-		const long line = line_, column = column_;
+	struct Tag {
+		std::string name;
+		bool closing = false, selfClosing = false;
+		std::vector<std::pair<std::string, std::string>> attributes;
+		long line = 0, column = 0;
+	};
+	// One tag, read: its name, attributes and whether it closes or is empty.
+	Tag readTag() {
+		Tag t;
+		t.line = line_, t.column = column_;
 		advance();  // <
 		spaces();
-		const bool closing = i_ < s_.size() && s_[i_] == '/';
-		if (closing) advance();
+		t.closing = i_ < s_.size() && s_[i_] == '/';
+		if (t.closing) advance();
 		spaces();
-		const std::string name = toLower(word());
+		const std::string name = t.name = toLower(word());
 		if (name.empty()) fail("expected a tag name after '<' (write &lt; for a literal '<')");
-		std::vector<std::pair<std::string, std::string>> attributes;
 		for (;;) {
 			spaces();
 			if (i_ >= s_.size()) fail("unterminated <" + name + ">");
@@ -108,15 +115,22 @@ private:
 			while (i_ < s_.size() && s_[i_] != quote) value += s_[i_], advance();
 			if (i_ >= s_.size()) fail("unterminated value of " + key);
 			advance();
-			attributes.emplace_back(key, value);
+			t.attributes.emplace_back(key, value);
 		}
-		bool selfClosing = false;
 		if (s_[i_] == '/') {
-			selfClosing = true;
+			t.selfClosing = true;
 			advance();
 			if (i_ >= s_.size() || s_[i_] != '>') fail("expected '>' after '/' in <" + name + ">");
 		}
 		advance();  // >
+		return t;
+	}
+	void tag(std::vector<std::string>& open) {
+		const Tag t = readTag();
+		const std::string& name = t.name;
+		const bool closing = t.closing, selfClosing = t.selfClosing;
+		const long line = t.line, column = t.column;
+		const auto& attributes = t.attributes;
 		auto attribute = [&](const std::string& key) -> const std::string* {
 			for (const auto& [k, v] : attributes)
 				if (k == key) return &v;

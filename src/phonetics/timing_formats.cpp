@@ -129,8 +129,8 @@ Transcript deepgram(const JsonValue& v, const std::string& path, const ReadOptio
 		double d;
 		if (!o.tier.empty() && parseDouble(o.tier, d)) want = long(d);
 		if (o.tier.empty())
-			throw Error(path, 0, "words of " + std::to_string(speakers.size()) + " speakers (Deepgram diarization) in one channel; the face is one of them: choose with --tier SPEAKER (" + list + ")");
-		if (std::find(speakers.begin(), speakers.end(), want) == speakers.end()) throw Error(path, 0, "--tier " + safeQuote(o.tier) + ": no such speaker (" + list + ")");
+			throw Error(path, 0, "words of " + std::to_string(speakers.size()) + " speakers (Deepgram diarization) in one channel; the face is one of them: choose with {{tier}} SPEAKER (" + list + ")");
+		if (std::find(speakers.begin(), speakers.end(), want) == speakers.end()) throw Error(path, 0, "{{tier}} " + safeQuote(o.tier) + ": no such speaker (" + list + ")");
 		chosen.array.clear();
 		for (const JsonValue& w : words->array)
 			if (numberOf(w.find("speaker")) == std::optional<double>(double(want))) chosen.array.push_back(w);
@@ -583,13 +583,13 @@ Transcript readSmil(const std::string& text, const std::string& path, const std:
 	if (ids.intervals.empty()) throw Error(path, 0, "a SMIL file with no <par> (text and audio clip)");
 	if (textPath.empty())
 		throw Error(path, 0, "a SMIL sync map (aeneas, EPUB3 media overlays) names its text only by reference (<text src=\"…#" + safeQuote(ids.intervals.front().label) +
-		                         "\"/>), not the words: write it as aeneas JSON, SRT or VTT, which carry the text; or give the text it refers to (--timing-text FILE: the XHTML, or aeneas's plain or parsed text)");
+		                         "\"/>), not the words: write it as aeneas JSON, SRT or VTT, which carry the text; or give the text it refers to ({{timing-text}} FILE: the XHTML, or aeneas's plain or parsed text)");
 	return withFragmentText(ids, path, textPath);
 }
 
 Transcript googleTimepoints(const JsonValue& v, const std::string& path, const std::string& ssmlPath) {
 	if (ssmlPath.empty())
-		throw Error(path, 0, "Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from (--timing-text FILE), or the audio with its text (talkhead render --audio A --text T aligns it)");
+		throw Error(path, 0, "Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from ({{timing-text}} FILE), or the audio with its text (talkhead render {{audio}} A {{text}} T aligns it)");
 	std::map<std::string, double> time;
 	long k = 0;
 	for (const JsonValue& t : arrayAt(v, "timepoints")->array) {

@@ -351,10 +351,59 @@ void spokenNoise(Transcript& tr, const std::vector<TextGridTier>& all, const Tex
 	if (noise - wordsUnder > 0.5 * speech)
 		throw Error(path, chosen->line, "tier '" + tr.tier + "' has no " + what + " to show: " + std::to_string(int(std::lround(100 * noise / speech))) +
 		                                    " % of its speech is spoken noise (spn) or <unk>" + (words ? (wordsUnder > 0 ? ", and most of the words under it are <unk>" : ", and so are the words under it") : "") +
-		                                    " — the aligner could not align it (its dictionary or model does not fit this speech); give the audio and its text instead (talkhead render --audio A --text T aligns them)");
+		                                    " — the aligner could not align it (its dictionary or model does not fit this speech); give the audio and its text instead (talkhead render {{audio}} A {{text}} T aligns them)");
 	std::snprintf(b, sizeof b, "tier '%s': %.1f s of its %.1f s of speech are spoken noise (spn, <unk>), read as pauses: the mouth rests there%s", tr.tier.c_str(), noise, speech,
-	              words && wordsUnder > 0 ? " (the words tier has words there: --tier to read it instead)" : "");
+	              words && wordsUnder > 0 ? " (the words tier has words there: {{tier}} to read it instead)" : "");
 	tr.warnings.push_back(b);
+}
+
+// The tier to read when none is named: the phone tier (named like phones; else labels that are known
+// phones), else the word tier, else the first with labels; `note` names other tiers as good.
+const TextGridTier* guessTier(const std::vector<TextGridTier>& all, const ReadOptions& o, const std::string& names, const std::string& path, std::string& note) {
+	using Tier = TextGridTier;
+	const Tier* chosen = nullptr;
+	// The phone tier (named like phones; else labels that are known phones), else the word tier (named
+	// like words, or labels that are utterances or words unknown as phones; a tier whose labels mostly
+	// hold several lines — praatIO's word + part of speech — after the others), else the first with labels.
+	// --level words skips phone tiers; --level phones takes unsure tiers before word tiers.
+	auto rank = [&](const Tier& t) -> int {
+		if (t.cls != "IntervalTier") return -1;
+		const TierKind nk = tierNameKind(t.name);
+		const TierLook lk = lookAt(t.intervals, o);
+		const auto k = lk.kind();
+		if (k == TierLook::Empty) return -1;
+		const bool phoneish = nk == TierKind::Phones || (nk == TierKind::Other && k == TierLook::Phones);
+		const bool wordish = !phoneish && (nk == TierKind::Words || k == TierLook::Words);
+		const int words = nk == TierKind::Words && k == TierLook::Words ? 0 : k == TierLook::Phones ? 2 : 1;
+		int r = nk == TierKind::Phones ? (k == TierLook::Phones ? 0 : 1)
+		        : phoneish             ? 2
+		        : wordish              ? 3 + (lk.mostlyMultiline() ? 3 : 0) + words
+		                               : 9;
+		if (o.level == LabelLevel::Word && phoneish) return -1;
+		if (o.level == LabelLevel::Phone && wordish) r += 10;
+		return r;
+	};
+	int best = -1;
+	std::vector<int> ranks;
+	for (const auto& t : all) {
+		ranks.push_back(rank(t));
+		if (ranks.back() >= 0 && (best < 0 || ranks.back() < best)) best = ranks.back();
+	}
+	std::string others;  // other tiers as good (several speakers' phone tiers, EMU's Phoneme and Phonetic)
+	for (std::size_t k = 0; k < all.size(); ++k)
+		if (ranks[k] == best && best >= 0) {
+			if (!chosen) chosen = &all[k];
+			else if (best < 9) others += (others.empty() ? "'" : ", '") + all[k].name + "' (tier " + std::to_string(k + 1) + ")";
+		}
+	if (!chosen && o.level == LabelLevel::Word)
+		throw Error(path, 0, "no tier holds words (tiers: " + (names.empty() ? "none" : names) + "); {{tier}} NAME reads one as words");
+	for (const auto& t : all)  // no labels anywhere: the first interval tier with intervals (all pauses)
+		if (!chosen && t.cls == "IntervalTier" && !t.intervals.empty()) chosen = &t;
+	if (!chosen && !names.empty() && std::any_of(all.begin(), all.end(), [](const Tier& t) { return t.cls == "IntervalTier"; }))
+		throw Error(path, 0, "no tier holds an interval (tiers: " + names + ")");
+	if (!chosen) throw Error(path, 0, "no interval tier (tiers: " + (names.empty() ? "none" : names) + ")");
+	if (!others.empty()) note = "also " + others + ": choose with {{tier}}";
+	return chosen;
 }
 
 Transcript readTextGrid(const std::string& text, const std::string& path, const ReadOptions& o) {
@@ -373,49 +422,9 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 		if (!chosen && parseInt(o.tier, idx) && idx >= 1 && std::size_t(idx) <= all.size()) chosen = &all[std::size_t(idx - 1)];
 		if (!chosen) throw Error(path, 0, "no tier named '" + o.tier + "' (tiers: " + (names.empty() ? "none" : names) + ")");
 		if (chosen->cls != "IntervalTier") throw Error(path, chosen->line, "tier '" + o.tier + "' is a point tier; phones need an interval tier");
-		note = "--tier";
+		note = "{{tier}}";
 	} else {
-		// The phone tier (named like phones; else labels that are known phones), else the word tier (named
-		// like words, or labels that are utterances or words unknown as phones; a tier whose labels mostly
-		// hold several lines — praatIO's word + part of speech — after the others), else the first with labels.
-		// --level words skips phone tiers; --level phones takes unsure tiers before word tiers.
-		auto rank = [&](const Tier& t) -> int {
-			if (t.cls != "IntervalTier") return -1;
-			const TierKind nk = tierNameKind(t.name);
-			const TierLook lk = lookAt(t.intervals, o);
-			const auto k = lk.kind();
-			if (k == TierLook::Empty) return -1;
-			const bool phoneish = nk == TierKind::Phones || (nk == TierKind::Other && k == TierLook::Phones);
-			const bool wordish = !phoneish && (nk == TierKind::Words || k == TierLook::Words);
-			const int words = nk == TierKind::Words && k == TierLook::Words ? 0 : k == TierLook::Phones ? 2 : 1;
-			int r = nk == TierKind::Phones ? (k == TierLook::Phones ? 0 : 1)
-			        : phoneish             ? 2
-			        : wordish              ? 3 + (lk.mostlyMultiline() ? 3 : 0) + words
-			                               : 9;
-			if (o.level == LabelLevel::Word && phoneish) return -1;
-			if (o.level == LabelLevel::Phone && wordish) r += 10;
-			return r;
-		};
-		int best = -1;
-		std::vector<int> ranks;
-		for (const auto& t : all) {
-			ranks.push_back(rank(t));
-			if (ranks.back() >= 0 && (best < 0 || ranks.back() < best)) best = ranks.back();
-		}
-		std::string others;  // other tiers as good (several speakers' phone tiers, EMU's Phoneme and Phonetic)
-		for (std::size_t k = 0; k < all.size(); ++k)
-			if (ranks[k] == best && best >= 0) {
-				if (!chosen) chosen = &all[k];
-				else if (best < 9) others += (others.empty() ? "'" : ", '") + all[k].name + "' (tier " + std::to_string(k + 1) + ")";
-			}
-		if (!chosen && o.level == LabelLevel::Word)
-			throw Error(path, 0, "no tier holds words (tiers: " + (names.empty() ? "none" : names) + "); --tier NAME reads one as words");
-		for (const auto& t : all)  // no labels anywhere: the first interval tier with intervals (all pauses)
-			if (!chosen && t.cls == "IntervalTier" && !t.intervals.empty()) chosen = &t;
-		if (!chosen && !names.empty() && std::any_of(all.begin(), all.end(), [](const Tier& t) { return t.cls == "IntervalTier"; }))
-			throw Error(path, 0, "no tier holds an interval (tiers: " + names + ")");
-		if (!chosen) throw Error(path, 0, "no interval tier (tiers: " + (names.empty() ? "none" : names) + ")");
-		if (!others.empty()) note = "also " + others + ": choose with --tier";
+		chosen = guessTier(all, o, names, path, note);
 	}
 	// The level: --level; else utterances are words; a tier named like phones is phones, one named like words
 	// is words (unless its labels look like phones: then ask); else as its labels look, phones when unsure.
@@ -433,7 +442,7 @@ Transcript readTextGrid(const std::string& text, const std::string& path, const 
 	else if (nk == TierKind::Phones) tr.level = LabelLevel::Phone, tr.levelGuessed = k == TierLook::Words;
 	else if (nk == TierKind::Words && k == TierLook::Phones)
 		throw Error(path, chosen->line, "tier '" + chosen->name + "' holds words, not phones, by its name, but its labels (" + sample +
-		                                    ") look like phones; use --level words, or --level phones");
+		                                    ") look like phones; use {{level}} words, or {{level}} phones");
 	else if (nk == TierKind::Words || k == TierLook::Words) tr.level = LabelLevel::Word;
 	else tr.level = LabelLevel::Phone, tr.levelGuessed = k == TierLook::Unsure;
 	const std::string level = tr.level == LabelLevel::Word ? "words" : "phones";
@@ -647,7 +656,7 @@ Transcript readTsv(const std::string& text, const std::string& path, const std::
 	if (ids && !timingText.empty()) return withFragmentText(tr, path, timingText);
 	if (ids)
 		throw Error(path, tr.intervals.front().line, "the labels are aeneas fragment ids ('" + tr.intervals.front().label +
-		                                                "'), not text: write the sync map as aeneas JSON, SRT or VTT, which carry the text; or give the text they refer to (--timing-text FILE)");
+		                                                "'), not text: write the sync map as aeneas JSON, SRT or VTT, which carry the text; or give the text they refer to ({{timing-text}} FILE)");
 	return tr;
 }
 
@@ -864,7 +873,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 		if (!f && endsWith(toLower(path), ".align")) f = "grid";
 		if (!f && endsWith(toLower(path), ".lab")) f = "htk";
 		if (!f)
-			throw Error(path, 0, "cannot tell the transcript format (integer times have no unit of their own); name it with --format: timit (16-kHz samples, --sample-rate), grid (1/25000 s), htk (100 ns), or " +
+			throw Error(path, 0, "cannot tell the transcript format (integer times have no unit of their own); name it with {{format}}: timit (16-kHz samples, {{sample-rate}}), grid (1/25000 s), htk (100 ns), or " +
 			                         joinedFormats());
 		format = *f;
 		// Integer "start end word" files are HTK or GRID; the extension settles it where it can.
@@ -894,7 +903,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	tr.path = path;
 	// --level: phones or words for a transcript of either (a TextGrid has chosen its tier by it); visemes stay.
 	if (o.level && *o.level != tr.level) {
-		if (tr.level == LabelLevel::Viseme) throw Error(path, 0, "the transcript holds visemes (" + format + "); --level does not apply");
+		if (tr.level == LabelLevel::Viseme) throw Error(path, 0, "the transcript holds visemes (" + format + "); {{level}} does not apply");
 		tr.level = *o.level;
 	}
 

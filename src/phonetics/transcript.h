@@ -32,10 +32,10 @@ struct Transcript {
 	LabelLevel level = LabelLevel::Phone;
 	std::string visemeScheme;           // for Viseme level: "polly" or "rhubarb"
 	std::vector<Interval> intervals;
-	// TextGrids: the tier read, and why ("phones", "words; also 'IVR - words': choose with --tier").
+	// TextGrids: the tier read, and why ("phones", "words; also 'IVR - words': choose with {{tier}}").
 	std::string tier, tierNote;
 	// The level was a guess (phone level, tier labels neither clearly phones nor words): an unknown phone
-	// that looks like a word then says "use --level words".
+	// that looks like a word then says "use {{level}} words".
 	bool levelGuessed = false;
 	// What the reader did that a user should know (words without times left out, spoken noise read from
 	// the words tier, sentences spread over their span): one line each, for stderr.

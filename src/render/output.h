@@ -37,7 +37,7 @@ struct OutputSpec {
 
 struct OutputFormat {
 	VideoFormat format;
-	std::string name;                     // "mp4": what --format and the requests say
+	std::string name;                     // "mp4": the format field's value (the CLI's flag, a request's member)
 	std::vector<std::string> extensions;  // lower case, with the dot: an output named so is in this format
 	std::string description;              // for help texts and `talkhead formats`
 	bool alpha = false;                   // can carry the face's matte

@@ -75,7 +75,7 @@ FaceModel loadRenderModel(const std::string& path, const ComponentLevels& levels
 	std::string modelPath = path;
 	if (modelPath.empty()) {
 		auto d = findDefaultModel();
-		if (!d) throw Error("no default face model found; give --model, or let 'talkhead render', 'say' or 'inspect' make it once in " +
+		if (!d) throw Error("no default face model found; give {{model}}, or let 'talkhead render', 'say' or 'inspect' make it once in " +
 		                    (userCacheDir().empty() ? std::string("the user's cache") : userCacheDir()) + " (or build the target default_model)");
 		modelPath = *d;
 	}

@@ -71,7 +71,7 @@ std::optional<std::string> refusedHost(const AccessPolicy& p, std::string_view h
 	const std::string listen = hostOnly(p.listenHost);
 	const bool all = listen == "0.0.0.0" || listen == "::";
 	if (h == listen || (all && (isIpv4(h) || isIpv6(h)))) return std::nullopt;
-	return "Host '" + safeQuote(h, 80) + "' is not this server's (--allow-host NAME allows a name)";
+	return "Host '" + safeQuote(h, 80) + "' is not this server's ({{allow-host}} NAME allows a name)";
 }
 
 std::optional<std::string> refusedOrigin(const AccessPolicy& p, std::string_view rawOrigin, std::string_view hostHeader, bool tls) {
@@ -79,7 +79,7 @@ std::optional<std::string> refusedOrigin(const AccessPolicy& p, std::string_view
 	std::string origin = lower(rawOrigin);
 	while (!origin.empty() && origin.back() == '/') origin.pop_back();
 	if (listed(p.allowOrigins, origin)) return std::nullopt;
-	const std::string shown = "origin '" + safeQuote(origin, 80) + "' is not allowed (--allow-origin ORIGIN allows one)";
+	const std::string shown = "origin '" + safeQuote(origin, 80) + "' is not allowed ({{allow-origin}} ORIGIN allows one)";
 	if (origin == "null") return shown;
 	const auto scheme = origin.find("://");
 	if (scheme == std::string::npos) return shown;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 
 #include "base/base64.h"
 #include "base/error.h"
@@ -60,45 +61,18 @@ std::string wavHeader(int rate, int channels, std::size_t frames) {
 	return h;
 }
 
-// An error for a WebSocket client (issue 29): the command line's flags mean nothing to it. "--lang" is the
-// request's 'lang'; a clause that suggests another flag (from "; " or "(" to ";" or the ")" that closes
-// it) goes, and a parenthesis left empty with it.
-std::string forClient(std::string m) {
-	for (std::size_t p; (p = m.find("--lang")) != std::string::npos;) m.replace(p, 6, "the request's 'lang'");
-	for (int guard = 0; guard < 20; ++guard) {
-		const std::size_t p = m.find("--");
-		if (p == std::string::npos) break;
-		std::size_t left = std::string::npos;
-		int depth = 0;
-		for (std::size_t i = p; i-- > 0;) {
-			if (m[i] == ')') ++depth;
-			else if (m[i] == '(' && depth-- == 0) { left = i; break; }
-			else if (m[i] == ';' && depth == 0) { left = i; break; }
-		}
-		std::size_t right = m.size();
-		depth = 0;
-		for (std::size_t i = p; i < m.size(); ++i) {
-			if (m[i] == '(') ++depth;
-			else if (m[i] == ')' && depth-- == 0) { right = i; break; }
-			else if (m[i] == ';' && depth == 0) { right = i; break; }
-		}
-		if (left == std::string::npos) {  // the whole message is about the flag: its name, without the dashes
-			m.erase(p, 2);
-			continue;
-		}
-		if (m[left] == '(' && right < m.size() && m[right] == ')') {  // "(…)" whole: with the space before it
-			const std::size_t from = left > 0 && m[left - 1] == ' ' ? left - 1 : left;
-			m.erase(from, right + 1 - from);
-		} else {
-			m.erase(left, right - left);
-		}
-	}
-	return m;
-}
-
 const char* const kIdRule = "'id' must be a string of at most 200 bytes or a whole number from -9007199254740991 to 9007199254740991, written without a fraction or an exponent";
 
 }  // namespace
+
+std::optional<std::string> requestField(const std::string& field) {
+	static const std::set<std::string> members = {"text", "lang", "voice", "rate", "pitch", "emotion", "intensity", "ramp", "audio",
+	                                              "encoding", "sample_rate", "channels", "transcript", "visemes", "alignment", "id"};
+	if (members.count(field)) return "the request's '" + field + "'";
+	return std::nullopt;
+}
+
+std::string forRequester(const std::string& message) { return wordFields(message, requestField); }
 
 std::string requestIdJson(const std::string& member) {
 	if (!member.empty() && member[0] == '"') {
@@ -182,7 +156,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 	try {
 		language = &Language::get(r.lang.empty() ? defaultLang : r.lang);
 	} catch (const Error& e) {
-		throw Error(forClient(e.what()));
+		throw Error(e.what());
 	}
 	const Language& lang = *language;
 	Utterance u;
@@ -235,7 +209,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 			std::string m = describeException(e);
 			const std::string p = std::string(path) + ": ";
 			if (m.rfind(p, 0) == 0) m = "audio: " + m.substr(p.size());
-			throw Error(forClient(m));
+			throw Error(m);
 		}
 		::unlink(path);
 		releaseTemporary(path);

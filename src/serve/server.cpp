@@ -208,7 +208,7 @@ struct NetServer::Impl {
 		}
 		if (sessions.load() >= o.maxSessions) {
 			reason = "full";
-			std::string m = "the server has " + std::to_string(o.maxSessions) + " sessions already (--max-sessions)";
+			std::string m = "the server has " + std::to_string(o.maxSessions) + " sessions already ({{max-sessions}})";
 			if (o.idleSeconds > 0) {
 				char b[96];
 				std::snprintf(b, sizeof b, "; idle sessions close after %g s: try again later", o.idleSeconds);
@@ -469,7 +469,7 @@ private:
 			auto& c = server_.counters;
 			++(std::string(reason) == "load" ? c.refusedLoad : std::string(reason) == "shutdown" ? c.refusedShutdown : c.refusedFull);
 			server_.log("session refused: " + why);
-			refuse(why, websocket::close_code::try_again_later);
+			refuse(forRequester(why), websocket::close_code::try_again_later);
 			return;
 		}
 		++server_.sessions;
@@ -691,7 +691,7 @@ private:
 		const std::string host(req[http::field::host]);
 		if (auto why = refusedHost(server_.policy, host)) {
 			++server_.counters.refusedHost;
-			return reply(req, http::status::forbidden, "text/plain", "talkhead serve: " + *why + "\n");
+			return reply(req, http::status::forbidden, "text/plain", "talkhead serve: " + wordFields(*why, server_.o.operatorField) + "\n");
 		}
 		const auto bearer = bearerToken(std::string(req[http::field::authorization]));
 		const bool tokenOk = server_.o.token.empty() || (bearer && sameToken(server_.o.token, *bearer));
@@ -701,7 +701,7 @@ private:
 			if (auto why = refusedOrigin(server_.policy, std::string(req[http::field::origin]), host, kTls<Stream>)) {
 				++server_.counters.refusedOrigin;
 				server_.log("upgrade refused: " + *why);
-				return reply(req, http::status::forbidden, "text/plain", "talkhead serve: " + *why + "\n");
+				return reply(req, http::status::forbidden, "text/plain", "talkhead serve: " + wordFields(*why, server_.o.operatorField) + "\n");
 			}
 			if (bearer && !tokenOk) {
 				++server_.counters.refusedAuth;
@@ -717,7 +717,7 @@ private:
 		if (req.method() != http::verb::get && req.method() != http::verb::head)
 			return reply(req, http::status::method_not_allowed, "text/plain", "talkhead serve: GET only; requests go over the WebSocket at /live\n");
 		if (target == "/" || target == "/index.html") {
-			if (server_.demoPage.empty()) return reply(req, http::status::not_found, "text/plain", "talkhead serve: the demo page is off (--demo)\n");
+			if (server_.demoPage.empty()) return reply(req, http::status::not_found, "text/plain", "talkhead serve: the demo page is off (" + wordFields("{{demo}}", server_.o.operatorField) + ")\n");
 			return reply(req, http::status::ok, "text/html; charset=utf-8", server_.demoPage);
 		}
 		if (target == "/health") {
@@ -769,7 +769,7 @@ std::string NetServer::Impl::metrics() {
 	for (const auto& [w, s] : live) load += s->load.load(), queued += s->queuedRequests.load(), queuedSeconds += s->queuedSeconds.load();
 	const ServeCounters& c = counters;
 	metric("talkhead_sessions", "gauge", "Live sessions open.", one("talkhead_sessions", sessions.load()));
-	metric("talkhead_sessions_max", "gauge", "The most sessions at once (--max-sessions).", one("talkhead_sessions_max", o.maxSessions));
+	metric("talkhead_sessions_max", "gauge", "The most sessions at once (the max-sessions setting).", one("talkhead_sessions_max", o.maxSessions));
 	metric("talkhead_sessions_opened_total", "counter", "Sessions opened.", one("talkhead_sessions_opened_total", double(c.sessionsOpened)));
 	std::string refused;
 	for (const auto& [reason, v] : {std::pair<const char*, std::int64_t>{"full", c.refusedFull}, {"load", c.refusedLoad}, {"auth", c.refusedAuth},
@@ -780,7 +780,7 @@ std::string NetServer::Impl::metrics() {
 	metric("talkhead_unauthenticated_closed_total", "counter", "Connections not yet authenticated closed for newer ones (their budget was full).",
 	       one("talkhead_unauthenticated_closed_total", double(c.closedUnauthenticated)));
 	metric("talkhead_unauthenticated_connections", "gauge", "Connections not yet authenticated.", one("talkhead_unauthenticated_connections", double(unauthenticated.size())));
-	metric("talkhead_sessions_closed_idle_total", "counter", "Sessions closed for idleness (--idle-timeout).", one("talkhead_sessions_closed_idle_total", double(c.closedIdle)));
+	metric("talkhead_sessions_closed_idle_total", "counter", "Sessions closed for idleness (the idle-timeout setting).", one("talkhead_sessions_closed_idle_total", double(c.closedIdle)));
 	metric("talkhead_frames_total", "counter", "Frames drawn and sent.", one("talkhead_frames_total", double(c.frames)));
 	metric("talkhead_late_frames_total", "counter", "Frames sent more than one frame after their time.", one("talkhead_late_frames_total", double(c.lateFrames)));
 	metric("talkhead_session_load_expected_cores", "gauge", "Cores a speaking session takes, as admission counts a session whose own load is not yet known (measured at start-up).",
@@ -903,7 +903,7 @@ NetServer::NetServer(const ServeHost& host, const FaceModel& model, ServeOptions
 	}
 	beast::error_code ec;
 	const auto address = net::ip::make_address(s.o.host, ec);
-	if (ec) throw Error("--listen: '" + safeQuote(s.o.host) + "' is not an IP address");
+	if (ec) throw Error("{{listen}}: '" + safeQuote(s.o.host) + "' is not an IP address");
 	const tcp::endpoint ep{address, static_cast<unsigned short>(s.o.port)};
 	s.acceptor.open(ep.protocol(), ec);
 	if (!ec) s.acceptor.set_option(net::socket_base::reuse_address(true), ec);
@@ -913,7 +913,7 @@ NetServer::NetServer(const ServeHost& host, const FaceModel& model, ServeOptions
 	if (s.o.maxLoad > 0 && s.host.sessionLoad > 0) {
 		const double cores = machineCores();
 		char b[240];
-		std::snprintf(b, sizeof b, "a speaking session at %dx%d takes %.2f cores (measured at start-up): about %d at once within --max-load %g of %g cores",
+		std::snprintf(b, sizeof b, "a speaking session at %dx%d takes %.2f cores (measured at start-up): about %d at once within {{max-load}} %g of %g cores",
 		              s.o.live.render.synth.width, s.o.live.render.synth.height, s.host.sessionLoad,
 		              int(std::floor(s.o.maxLoad * cores / (s.host.sessionLoad * kOverhead))), s.o.maxLoad, cores);
 		s.log(b);

@@ -41,6 +41,11 @@ LiveRequest parseLiveRequest(const std::string& json);
 // most 200 bytes or an integer within ±(2^53 − 1) written as digits (so that no two ids a client tells apart
 // are echoed as one, in JavaScript too); throws Error otherwise.
 std::string requestIdJson(const std::string& member);
+// How a client reads a field a message names ({{field}}, base/error.h): a request's member as "the
+// request's 'lang'"; nullopt for the server's own settings (the clause that suggests one is left out: a
+// client cannot change them). forRequester words a whole message so.
+std::optional<std::string> requestField(const std::string& field);
+std::string forRequester(const std::string& message);
 // What a session record keeps of a request (`json` its text, `request` what was parsed from it): the members
 // the parser reads for its type, nothing else (a request may carry megabytes of members it ignores).
 std::string requestForRecord(const std::string& json, const LiveRequest& request);
@@ -87,7 +92,10 @@ struct ServeOptions {
 	std::size_t maxMessage = 32u << 20;  // bytes; larger requests get an error, the session goes on
 	std::optional<std::string> recordDir;  // per session, the requests with the frame they took effect at
 	std::uint64_t recordMaxBytes = 64u << 20;  // one session's record at most: past it, its recording stops
-	std::function<void(const std::string&)> log;  // one line per event worth a log (stderr)
+	std::function<void(const std::string&)> log;  // one line per event worth a log (stderr); fields as {{field}}
+	// How the server's operator reads a field in text the server answers over HTTP (a refused Host or
+	// Origin, the demo page off): the CLI gives its flags; by default the field's name in quotes.
+	std::function<std::optional<std::string>(const std::string&)> operatorField = [](const std::string& f) { return std::optional<std::string>("'" + f + "'"); };
 	// Running it safely (issue 28, D58).
 	std::vector<std::string> allowOrigins;  // pages allowed to open sessions besides the server's own and loopback ones
 	std::vector<std::string> allowHosts;    // Host names besides the listen address and loopback names

@@ -26,8 +26,8 @@ std::unique_ptr<SessionWorker> makeWorker(const FaceModel& model, const ServeOpt
 }  // namespace
 
 Server::Server(const FaceModel& model, ServeOptions options) : module_(&serveModule()) {
-	if (options.maxSessions < 1) throw Error("--max-sessions must be at least 1");
-	if (options.tlsCert.empty() != options.tlsKey.empty()) throw Error("--tls-cert and --tls-key go together");
+	if (options.maxSessions < 1) throw Error("{{max-sessions}} must be at least 1");
+	if (options.tlsCert.empty() != options.tlsKey.empty()) throw Error("{{tls-cert}} and {{tls-key}} go together");
 	// A session's options (emotion, size, sample rate) and the model checked before anyone connects, and
 	// what a session reads of the model in the page cache.
 	LiveSession(model, options.live);

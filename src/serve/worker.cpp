@@ -122,7 +122,7 @@ namespace {
 // {"type": "error" or "warning", "message": …, "id": …}: what a session tells its client.
 std::string messageJson(const char* type, const std::string& message, const std::string& id) {
 	JsonObject j;
-	j.add("type", type).add("message", safeLine(message));
+	j.add("type", type).add("message", safeLine(forRequester(message)));
 	if (!id.empty()) j.raw("id", id);
 	return j.str();
 }
@@ -204,7 +204,7 @@ void LiveWorker::intakeLoop() {
 			                   (preparing_ ? 1 : 0) + handed_ + stats_->queuedRequests.load();
 			if (queued >= o_.limits.queuedRequests) {
 				lock.unlock();
-				error(std::to_string(queued) + " requests are queued already, the most a session may have (--max-queued-requests): wait for utterance_ended, or stop",
+				error(std::to_string(queued) + " requests are queued already, the most a session may have ({{max-queued-requests}}): wait for utterance_ended, or stop",
 				      c.request.id);
 				continue;
 			}
@@ -237,7 +237,7 @@ void LiveWorker::speechLoop() {
 			try {
 				if (limits.maxSeconds <= 0) {
 					char b[200];
-					std::snprintf(b, sizeof b, "the session has %.0f s of speech queued already, the most it may have (--max-queued-speech): wait, or stop",
+					std::snprintf(b, sizeof b, "the session has %.0f s of speech queued already, the most it may have ({{max-queued-speech}}): wait, or stop",
 					              o_.limits.queuedSeconds);
 					throw Error(b);
 				}
@@ -348,7 +348,7 @@ void LiveWorker::record(const std::string& line, std::int64_t frame) {
 		// what came before; the session goes on.
 		record_ << JsonObject().add("type", "end").add("frame", static_cast<long long>(frame)).add("truncated", true).str() << "\n";
 		record_.close();
-		if (o_.log) o_.log("session " + std::to_string(id_) + ": its record reached " + std::to_string(o_.recordMaxBytes >> 20) + " MiB (--record-max): recording stopped at frame " + std::to_string(frame));
+		if (o_.log) o_.log("session " + std::to_string(id_) + ": its record reached " + std::to_string(o_.recordMaxBytes >> 20) + " MiB ({{record-max}}): recording stopped at frame " + std::to_string(frame));
 		return;
 	}
 	recorded_ += line.size() + 1;
@@ -427,8 +427,8 @@ bool LiveWorker::ends(bool closing, bool busy, ServeClock::time_point deadline, 
 	}
 	++counters_.closedIdle;
 	char b[120];
-	std::snprintf(b, sizeof b, "no request for %g s: the session is closed (--idle-timeout)", o_.idleSeconds);
-	send_(false, JsonObject().add("type", "closing").add("reason", "idle").add("message", b).str());
+	std::snprintf(b, sizeof b, "no request for %g s: the session is closed ({{idle-timeout}})", o_.idleSeconds);
+	send_(false, JsonObject().add("type", "closing").add("reason", "idle").add("message", forRequester(b)).str());
 	close_(End::Idle);
 	return true;
 }
@@ -445,6 +445,20 @@ std::unique_ptr<FrameSink> streamSink(const ServeOptions& o, LiveSession& sessio
 	return sink;
 }
 
+// The session's cores, smoothed over seconds: all its threads' CPU time over the wall time.
+struct LoadSampler {
+	std::int64_t cpu, wall;
+	double load = -1;
+	explicit LoadSampler(const SessionStats& s) : cpu(s.cpuNs.load()), wall(nowNs()) {}
+	void sample(SessionStats& s) {
+		const std::int64_t c = s.cpuNs.load(), w = nowNs();
+		const double now = double(c - cpu) / double(std::max<std::int64_t>(1, w - wall));
+		load = load < 0 ? now : 0.7 * load + 0.3 * now;
+		s.load = load;
+		cpu = c, wall = w;
+	}
+};
+
 RenderedFrame renderedFrame(const StreamInfo& info, std::int64_t n, const YuvImage& frame, const Points& points) {
 	RenderedFrame rf;
 	rf.index = n, rf.time = info.rate.time(n), rf.yuv = &frame, rf.points = &points;
@@ -452,6 +466,23 @@ RenderedFrame renderedFrame(const StreamInfo& info, std::int64_t n, const YuvIma
 }
 
 }  // namespace
+
+bool LiveWorker::sendEvents(const std::vector<LiveEvent>& events, std::map<std::string, ServeClock::time_point>& requestTimes, ServeClock::time_point sent) {
+	for (const LiveEvent& e : events) {
+		std::optional<double> latencyMs;  // an utterance's start: from its request to the frame that shows it
+		if (e.kind == LiveEvent::Kind::UtteranceStarted) {
+			auto it = requestTimes.find(e.id);
+			if (it != requestTimes.end()) {
+				const double latency = std::chrono::duration<double>(sent - it->second).count();
+				counters_.latency(latency);
+				latencyMs = 1000 * latency;
+				requestTimes.erase(it);
+			}
+		}
+		if (!send_(false, liveEventJson(e, latencyMs))) return false;
+	}
+	return true;
+}
 
 void LiveWorker::frames(LiveSession& session) {
 	{
@@ -473,8 +504,7 @@ void LiveWorker::frames(LiveSession& session) {
 	const ServeClock::time_point start = ServeClock::now();
 	const double frameSeconds = 1.0 / info.rate.fps();
 	CpuMeter cpu{stats_->cpuNs};
-	std::int64_t loadCpu = stats_->cpuNs.load(), loadWall = nowNs();
-	double load = -1;  // the session's cores, smoothed over seconds
+	LoadSampler load(*stats_);
 	bool told = false;  // of the shutdown
 	for (std::int64_t n = 0;; ++n) {
 		std::deque<Command> todo;
@@ -520,26 +550,8 @@ void LiveWorker::frames(LiveSession& session) {
 		// Pace: a frame out later than one frame after its time is late (the stream falls behind).
 		account(std::chrono::duration<double>(sent - t0).count(), std::chrono::duration<double>(sent - due).count(), frameSeconds);
 		cpu.add();
-		if (n % 15 == 14) {  // every half second: all its threads' CPU time over the wall time
-			const std::int64_t c = stats_->cpuNs.load(), w = nowNs();
-			const double now = double(c - loadCpu) / double(std::max<std::int64_t>(1, w - loadWall));
-			load = load < 0 ? now : 0.7 * load + 0.3 * now;
-			stats_->load = load;
-			loadCpu = c, loadWall = w;
-		}
-		for (const LiveEvent& e : events) {
-			std::optional<double> latencyMs;
-			if (e.kind == LiveEvent::Kind::UtteranceStarted) {
-				auto it = requestTimes.find(e.id);
-				if (it != requestTimes.end()) {
-					const double latency = std::chrono::duration<double>(sent - it->second).count();
-					counters_.latency(latency);
-					latencyMs = 1000 * latency;
-					requestTimes.erase(it);
-				}
-			}
-			if (!send_(false, liveEventJson(e, latencyMs))) return;
-		}
+		if (n % 15 == 14) load.sample(*stats_);  // every half second
+		if (!sendEvents(events, requestTimes, sent)) return;
 		if (!bytes.empty()) {
 			if (!send_(true, std::move(bytes))) return;
 			bytes.clear();

@@ -142,6 +142,8 @@ private:
 	// utterance_ended (interrupted) for say/speak that never joined the session; false: the client is gone.
 	bool endUnstarted(LiveSession& session, const std::vector<std::string>& ids, std::int64_t n);
 	void account(double took, double behind, double frameSeconds);
+	// A frame's events to the client (an utterance's start with its latency); false when the client is gone.
+	bool sendEvents(const std::vector<LiveEvent>& events, std::map<std::string, ServeClock::time_point>& requestTimes, ServeClock::time_point sent);
 	bool ends(bool closing, bool busy, ServeClock::time_point deadline, bool& told);
 	SpeechLimits limitsNow() const;  // under m_
 	void record(const std::string& line, std::int64_t frame);  // a line of the record, within --record-max

@@ -33,25 +33,26 @@ namespace {
 
 std::uint64_t splitmix(std::uint64_t x) { return splitmix64(x); }
 
-// Columns that become options of the row's command: column → (option, say, render). Flags are below.
+// Columns that pass to the row's command as the field of the same name: column → (passes, say, render);
+// the others are handled below.
 struct Column {
 	const char* name;
-	const char* option;  // "" = handled specially
+	bool passes;  // false: handled specially
 	bool say, render;
 };
 const std::vector<Column>& columns() {
 	static const std::vector<Column> c = {
-	    {"text", "", true, true},           {"transcript", "--transcript", false, true}, {"audio", "--audio", false, true},
-	    {"lang", "--lang", true, true},      {"voice", "--voice", true, false},           {"model", "--model", true, true},
-	    {"emotion", "", true, true},         {"intensity", "", true, true},               {"muted", "", true, true},
-	    {"fps", "--fps", true, true},        {"size", "--size", true, true},              {"trajectory", "--trajectory", true, true},
-	    {"dissolve", "--dissolve", true, true}, {"warp", "--warp", true, true},           {"pauses", "--pauses", true, true},
-	    {"blinks", "--blinks", true, true},  {"head-motion", "--head-motion", true, true}, {"speech-brows", "--speech-brows", true, true},
-	    {"emotion-source", "--emotion-source", true, true}, {"controls", "--controls", true, true}, {"seed", "--seed", true, true},
-	    {"rate", "--rate", true, false},     {"pitch", "--pitch", true, false},           {"crf", "--crf", true, true},
-	    {"lead-in", "--lead-in", true, true}, {"tail", "--tail", true, true},             {"av-offset", "--av-offset", true, true},
-	    {"components", "--components", true, true}, {"drive", "--drive", false, true}, {"drive-mouth", "", false, true},
-	    {"timing-text", "--timing-text", false, true}, {"condition", "", true, true}};
+	    {"text", false, true, true},           {"transcript", true, false, true}, {"audio", true, false, true},
+	    {"lang", true, true, true},      {"voice", true, true, false},           {"model", true, true, true},
+	    {"emotion", false, true, true},         {"intensity", false, true, true},               {"muted", false, true, true},
+	    {"fps", true, true, true},        {"size", true, true, true},              {"trajectory", true, true, true},
+	    {"dissolve", true, true, true}, {"warp", true, true, true},           {"pauses", true, true, true},
+	    {"blinks", true, true, true},  {"head-motion", true, true, true}, {"speech-brows", true, true, true},
+	    {"emotion-source", true, true, true}, {"controls", true, true, true}, {"seed", true, true, true},
+	    {"rate", true, true, false},     {"pitch", true, true, false},           {"crf", true, true, true},
+	    {"lead-in", true, true, true}, {"tail", true, true, true},             {"av-offset", true, true, true},
+	    {"components", true, true, true}, {"drive", true, false, true}, {"drive-mouth", false, false, true},
+	    {"timing-text", true, false, true}, {"condition", false, true, true}};
 	return c;
 }
 const Column* findColumn(const std::string& name) {
@@ -152,7 +153,7 @@ bool versusColumn(const std::string& c) {
 // A row's command ("say" or "render"; "" when it has neither text nor transcript) and its arguments, from
 // its fields; every problem goes to fail(column, what). Files resolve against the manifest's folder.
 template <class Fail>
-std::string rowArguments(const std::map<std::string, std::string>& fields, const fs::path& dir, std::vector<std::string>& args, std::string& canonical,
+std::string rowJob(const std::map<std::string, std::string>& fields, const fs::path& dir, std::vector<JobField>& job, std::string& canonical,
                          Fail&& fail) {
 	auto get = [&](const char* k) -> std::string {
 		auto it = fields.find(k);
@@ -181,9 +182,8 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 	if (text && transcript) fail("transcript", "text and transcript both given: one or the other");
 	if (!get("timing-text").empty() && !transcript) fail("timing-text", "the text of a timing file, but the row has no transcript");
 	const std::string command = transcript || driveMouth || drive || (text && audio) ? "render" : "say";
-	if (driveMouth) args.push_back("--drive-mouth");
-	if (command == "say" && text) args.push_back(get("text"));
-	if (command == "render" && text) args.insert(args.end(), {"--text", get("text")});
+	if (driveMouth) job.push_back({"drive-mouth", std::nullopt});
+	if (text) job.push_back({"text", get("text")});
 	// Emotion (and intensity).
 	std::string emotion = get("emotion"), intensity = get("intensity");
 	if (auto colon = emotion.find(':'); colon != std::string::npos) {
@@ -196,10 +196,10 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 	} catch (const FieldError& e) {
 		fail(e.field(), e.what());
 	}
-	args.insert(args.end(), {"--emotion", canonical + (intensity.empty() ? "" : ":" + intensity)});
+	job.push_back({"emotion", canonical + (intensity.empty() ? "" : ":" + intensity)});
 	// Muted.
 	if (auto muted = toLower(get("muted")); !muted.empty()) {
-		if (muted == "yes" || muted == "true" || muted == "1") args.push_back("--no-audio");
+		if (muted == "yes" || muted == "true" || muted == "1") job.push_back({"no-audio", std::nullopt});
 		else if (muted != "no" && muted != "false" && muted != "0") fail("muted", "'" + get("muted") + "' is not yes or no");
 	}
 	if (auto comps = get("components"); !comps.empty()) {
@@ -212,15 +212,21 @@ std::string rowArguments(const std::map<std::string, std::string>& fields, const
 	if (auto fps = get("fps"); !fps.empty() && !FrameRate::parse(fps)) fail("fps", "'" + fps + "' is not a frame rate (30, 25, 29.97, 30000/1001)");
 	for (const auto& [k, v] : fields) {
 		const Column* c = findColumn(k);
-		if (!c || !*c->option) continue;
+		if (!c || !c->passes) continue;
 		if (command == "say" && !c->say) fail(k, "only for a stimulus with a transcript (render)");
 		else if (command == "render" && !c->render) fail(k, "only for a stimulus spoken from text (say)");
-		else args.insert(args.end(), {c->option, resolved.count(k) ? resolved.at(k) : v});
+		else job.push_back({k, resolved.count(k) ? resolved.at(k) : v});
 	}
 	return (!text && !transcript && !driveMouth) ? std::string() : command;
 }
 
 }  // namespace
+
+std::optional<std::string> jobValue(const std::vector<JobField>& job, const std::string& field) {
+	for (const JobField& f : job)
+		if (f.field == field) return f.value.value_or("");
+	return std::nullopt;
+}
 
 Manifest parseManifest(const std::string& text, const std::string& path) {
 	Manifest m;
@@ -262,14 +268,14 @@ Manifest parseManifest(const std::string& text, const std::string& path) {
 			else versus[base] = v;
 		}
 		for (auto it = versus.begin(); it != versus.end();) it = startsWith(it->first, kVersus) ? versus.erase(it) : std::next(it);
-		const std::string command = rowArguments(row.fields, dir, row.args, row.emotion, fail);
+		const std::string command = rowJob(row.fields, dir, row.job, row.emotion, fail);
 		row.command = command.empty() ? "say" : command;
 		if (row.sideBySide && !command.empty()) {
 			auto failVersus = [&](const std::string& column, const std::string& what) {
 				if (overridden.count(column)) fail(kVersus + column, what);
 			};
 			std::string emotion;
-			rowArguments(versus, dir, row.versusArgs, emotion, failVersus);
+			rowJob(versus, dir, row.versusJob, emotion, failVersus);
 		}
 		m.rows.push_back(std::move(row));
 	}
@@ -286,9 +292,7 @@ void checkManifestModels(const Manifest& m) {
 	for (const BatchRow& row : m.rows) {
 		auto comps = row.fields.find("components");
 		if (comps == row.fields.end()) continue;
-		std::string model;
-		for (std::size_t i = 0; i + 1 < row.args.size(); ++i)
-			if (row.args[i] == "--model") model = row.args[i + 1];
+		const std::string model = jobValue(row.job, "model").value_or("");
 		auto it = regionsOf.find(model);
 		if (it == regionsOf.end()) {
 			std::vector<std::string> names;
@@ -450,25 +454,50 @@ std::string orderCsv(const std::vector<std::size_t>& order, const std::vector<st
 	return s;
 }
 
-std::size_t mergeShards(const std::string& outDir, const std::vector<std::string>& shardDirs) {
-	if (shardDirs.empty()) throw Error("batch --merge: no shard folders");
-	struct Key {
-		std::string header;
-		std::vector<std::vector<std::string>> rows;
-	};
-	auto readKey = [](const std::string& dir) {
-		const std::string path = (fs::path(dir) / "key.csv").string();
-		std::error_code ec;
-		if (!fs::is_regular_file(path, ec)) throw Error(path, 0, "no key.csv: not a batch output folder");
-		Key k;
-		bool first = true;
-		for (const auto& line : split(readTextFile(path), '\n')) {
-			if (line.empty()) continue;
-			if (first) k.header = line, first = false;
-			else k.rows.push_back(splitCsvRecord(line));
+namespace {
+
+// A shard's key.csv: its header line and its records.
+struct ShardKey {
+	std::string header;
+	std::vector<std::vector<std::string>> rows;
+};
+
+ShardKey readShardKey(const std::string& dir) {
+	const std::string path = (fs::path(dir) / "key.csv").string();
+	std::error_code ec;
+	if (!fs::is_regular_file(path, ec)) throw Error(path, 0, "no key.csv: not a batch output folder");
+	ShardKey k;
+	bool first = true;
+	for (const auto& line : split(readTextFile(path), '\n')) {
+		if (line.empty()) continue;
+		if (first) k.header = line, first = false;
+		else k.rows.push_back(splitCsvRecord(line));
+	}
+	return k;
+}
+
+// The orders: the same in every shard (they come from the whole manifest), written once into `outDir`.
+void mergeOrders(const std::string& outDir, const std::vector<std::string>& shardDirs) {
+	std::error_code ec;
+	for (const auto& e : fs::directory_iterator(shardDirs[0])) {
+		const std::string name = e.path().filename().string();
+		if (!startsWith(name, "order-") || !endsWith(name, ".csv")) continue;
+		const std::string text = readTextFile(e.path().string());
+		for (std::size_t s = 1; s < shardDirs.size(); ++s) {
+			const fs::path other = fs::path(shardDirs[s]) / name;
+			if (!fs::is_regular_file(other, ec) || readTextFile(other.string()) != text)
+				throw Error(other.string(), 0, "not the same order as " + e.path().string());
 		}
-		return k;
-	};
+		if (fs::absolute(e.path(), ec) != fs::absolute(fs::path(outDir) / name, ec)) writeFileAtomically((fs::path(outDir) / name).string(), text);
+	}
+}
+
+}  // namespace
+
+std::size_t mergeShards(const std::string& outDir, const std::vector<std::string>& shardDirs) {
+	if (shardDirs.empty()) throw Error("merging shards: no shard folders");
+	using Key = ShardKey;
+	const auto readKey = readShardKey;
 	const Key base = readKey(shardDirs[0]);
 	std::vector<Key> keys{base};
 	for (std::size_t s = 1; s < shardDirs.size(); ++s) {
@@ -511,18 +540,7 @@ std::size_t mergeShards(const std::string& outDir, const std::vector<std::string
 		}
 		missing += row[2] != "ok";
 	}
-	// The orders: the same in every shard (they come from the whole manifest).
-	for (const auto& e : fs::directory_iterator(shardDirs[0])) {
-		const std::string name = e.path().filename().string();
-		if (!startsWith(name, "order-") || !endsWith(name, ".csv")) continue;
-		const std::string text = readTextFile(e.path().string());
-		for (std::size_t s = 1; s < shardDirs.size(); ++s) {
-			const fs::path other = fs::path(shardDirs[s]) / name;
-			if (!fs::is_regular_file(other, ec) || readTextFile(other.string()) != text)
-				throw Error(other.string(), 0, "not the same order as " + e.path().string());
-		}
-		if (fs::absolute(e.path(), ec) != fs::absolute(fs::path(outDir) / name, ec)) writeFileAtomically((fs::path(outDir) / name).string(), text);
-	}
+	mergeOrders(outDir, shardDirs);
 	std::string out = merged.header + "\n";
 	for (const auto& row : merged.rows) {
 		for (std::size_t c = 0; c < row.size(); ++c) out += (c ? "," : "") + csvField(row[c]);

@@ -6,6 +6,7 @@
 
 #include "base/error.h"
 #include "phonetics/emotion.h"
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,17 +27,28 @@ namespace talkhead {
 //   components; "default" = the option's default) make the row a side-by-side stimulus: the row as
 //   written on one side, with those columns replaced on the other.
 // A row with a transcript (or text + audio, or a drive video) is a `render`, one with text alone a `say`.
+// One field of a row's job, in the row command's words (the field names render and say read: "emotion",
+// "transcript", "no-audio"); a switch has no value. The command line words them as its flags when it starts
+// the row's child process (cmd_batch.cpp); the library never spells a flag.
+struct JobField {
+	std::string field;
+	std::optional<std::string> value;
+	friend bool operator==(const JobField& a, const JobField& b) { return a.field == b.field && a.value == b.value; }
+};
+// The value of `field` in a job, nullopt when absent (a switch's value is "").
+std::optional<std::string> jobValue(const std::vector<JobField>& job, const std::string& field);
+
 struct BatchRow {
 	std::size_t index = 0;  // 0-based
 	long line = 0;          // CSV line / JSON item number (1-based), for messages
 	std::map<std::string, std::string> fields;  // column → value (empty values left out)
 	std::string command;                        // "say" or "render"
-	std::vector<std::string> args;              // the command's arguments, without -o
+	std::vector<JobField> job;                  // what the command is to do (without its output)
 	std::string emotion = Emotion::neutralLabel();            // canonical
 	// Side-by-side (any `versus:COLUMN`): the other side's arguments (the row's with those columns
 	// replaced), and which side it is on (assignSides).
 	bool sideBySide = false;
-	std::vector<std::string> versusArgs;
+	std::vector<JobField> versusJob;
 	bool versusLeft = false;
 };
 

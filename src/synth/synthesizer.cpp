@@ -134,6 +134,30 @@ void Synthesizer::applySkin(const Between& f, std::uint8_t* plane, std::size_t s
 	}
 }
 
+namespace {
+
+// Head motion (D42) about the face's centre, and a tracked head's (D55) about the point between the eyes.
+void moveHead(Points& points, const HeadMotion& h, const FaceRig& rig) {
+	if (h.angle != 0 || h.dx != 0 || h.dy != 0) {
+		const double c = std::cos(h.angle), s = std::sin(h.angle);
+		for (Eigen::Index i = 0; i < points.rows(); ++i) {
+			const double x = points(i, 0) - rig.centre(0), y = points(i, 1) - rig.centre(1);
+			points(i, 0) = rig.centre(0) + c * x - s * y + h.dx * rig.faceSize;
+			points(i, 1) = rig.centre(1) + s * x + c * y + h.dy * rig.faceSize;
+		}
+	}
+	if (h.roll != 0 || h.x != 0 || h.y != 0 || h.scale != 1) {
+		const double c = std::cos(h.roll) * h.scale, s = std::sin(h.roll) * h.scale;
+		for (Eigen::Index i = 0; i < points.rows(); ++i) {
+			const double x = points(i, 0) - rig.eyeMid(0), y = points(i, 1) - rig.eyeMid(1);
+			points(i, 0) = rig.eyeMid(0) + c * x - s * y + h.x * rig.eyeDistance;
+			points(i, 1) = rig.eyeMid(1) + s * x + c * y + h.y * rig.eyeDistance;
+		}
+	}
+}
+
+}  // namespace
+
 Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& keys, Points& points) const {
 	if (keys.empty()) throw std::logic_error("renderFrame: no keyposes");
 	// The bracketing keyposes; before the first and after the last the face holds.
@@ -193,23 +217,7 @@ Synthesizer::Between Synthesizer::locate(Ticks tau, const std::vector<Keypose>& 
 			}
 			applyActionUnits(points, *rig_->auTemplates, w, rig_->auFrame);
 		}
-		const HeadMotion h = o_.modulator->head(tau);
-		if (h.angle != 0 || h.dx != 0 || h.dy != 0) {
-			const double c = std::cos(h.angle), s = std::sin(h.angle);
-			for (Eigen::Index i = 0; i < points.rows(); ++i) {
-				const double x = points(i, 0) - rig_->centre(0), y = points(i, 1) - rig_->centre(1);
-				points(i, 0) = rig_->centre(0) + c * x - s * y + h.dx * rig_->faceSize;
-				points(i, 1) = rig_->centre(1) + s * x + c * y + h.dy * rig_->faceSize;
-			}
-		}
-		if (h.roll != 0 || h.x != 0 || h.y != 0 || h.scale != 1) {  // D55: a tracked head, about the point between the eyes
-			const double c = std::cos(h.roll) * h.scale, s = std::sin(h.roll) * h.scale;
-			for (Eigen::Index i = 0; i < points.rows(); ++i) {
-				const double x = points(i, 0) - rig_->eyeMid(0), y = points(i, 1) - rig_->eyeMid(1);
-				points(i, 0) = rig_->eyeMid(0) + c * x - s * y + h.x * rig_->eyeDistance;
-				points(i, 1) = rig_->eyeMid(1) + s * x + c * y + h.y * rig_->eyeDistance;
-			}
-		}
+		moveHead(points, o_.modulator->head(tau), *rig_);
 	}
 	points.col(0) *= rig_->scaleX;
 	points.col(1) *= rig_->scaleY;

@@ -46,11 +46,11 @@ MouthClassifier MouthClassifier::forModel(const FaceModel& model, const std::str
 		std::vector<CdvMouthTarget> kept;
 		for (const auto& t : loadCdvMouthTargets())
 			if (has(t.cdv)) kept.push_back(t);
-		if (kept.empty()) throw Error("--drive-mouth: the model has none of the CDVs of phonetics/cdv-mouth-targets.tsv");
+		if (kept.empty()) throw Error("{{drive-mouth}}: the model has none of the CDVs of phonetics/cdv-mouth-targets.tsv");
 		return fromTargets(kept);
 	}
 	if (model.scheme.name != "ibug-68" || model.pointCount() != kIbugPoints)
-		throw Error("--drive-mouth: models of scheme " + model.scheme.name + " have no mouth measures (faces of the ibug-68 and ch-unicamp-56 schemes do)");
+		throw Error("{{drive-mouth}}: models of scheme " + model.scheme.name + " have no mouth measures (faces of the ibug-68 and ch-unicamp-56 schemes do)");
 	// A real-face corpus: the model's own samples, each CDV's mean measures against the baseface's.
 	const MouthMeasures rest = mouthMeasures(model.alignedShapes.at(model.basefaceIndex));
 	MouthClassifier c;
@@ -72,7 +72,7 @@ MouthClassifier MouthClassifier::forModel(const FaceModel& model, const std::str
 		c.classes.push_back(s.cdv);
 		c.targets.push_back(sum);
 	}
-	if (c.classes.size() < 2) throw Error("--drive-mouth: the model has fewer than two mouth classes (CDVs)");
+	if (c.classes.size() < 2) throw Error("{{drive-mouth}}: the model has fewer than two mouth classes (CDVs)");
 	return c;
 }
 

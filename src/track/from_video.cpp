@@ -299,7 +299,7 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 	for (std::size_t i = 0; i < track.frames.size(); ++i)
 		if (track.frames[i].frame == plan.basefaceFrame) baseIndex = i;
 	if (baseIndex == track.frames.size() || !track.frames[baseIndex].found)
-		throw Error(track.source, 0, "--baseface " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
+		throw Error(track.source, 0, "{{baseface}} " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
 	plan.rest = mouthMeasures(track.frames[baseIndex].points);
 	const double baseYaw = headYaw(track.frames[baseIndex].points);
 	// D55: a yaw 0.03 eye distances (about 4°) from the baseface's costs 0.2, a fifth of a mouth measure one
@@ -350,6 +350,59 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 	return plan;
 }
 
+namespace {
+
+// The frame that shows a phone: its inflection point, the interior extremum of the opening (else of the
+// width) that departs most from the interval's mean; the midpoint frame when the signal is monotonic; −1
+// when no usable frame falls in the phone.
+long inflectionFrame(const LandmarkTrack& track, const TrackMeasures& tm, const std::vector<char>& ok, const PhoneSegment& ph) {
+	std::vector<std::size_t> in;  // frames are in time order
+	auto first = std::lower_bound(track.frames.begin(), track.frames.end(), ph.start, [](const FrameLandmarks& f, Ticks t) { return f.time < t; });
+	for (std::size_t i = std::size_t(first - track.frames.begin()); i < track.frames.size() && track.frames[i].time < ph.end; ++i)
+		if (ok[i]) in.push_back(i);
+	if (in.empty()) return -1;
+	auto extremum = [&](int measure) -> long {
+		if (in.size() < 3) return -1;
+		double mean = 0;
+		for (std::size_t i : in) mean += tm.m[i][measure];
+		mean /= double(in.size());
+		long best = -1;
+		double bestDev = -1;
+		for (std::size_t k = 1; k + 1 < in.size(); ++k) {
+			const double a = tm.m[in[k - 1]][measure], b = tm.m[in[k]][measure], c = tm.m[in[k + 1]][measure];
+			if ((b - a) * (c - b) <= 0 && std::abs(b - a) + std::abs(c - b) > 1e-4 && std::abs(b - mean) > bestDev)
+				bestDev = std::abs(b - mean), best = long(in[k]);
+		}
+		return best;
+	};
+	long pick = extremum(0);
+	if (pick < 0) pick = extremum(1);
+	if (pick < 0) {
+		const Ticks mid = ph.start + (ph.end - ph.start) / 2;
+		pick = long(in.front());
+		for (std::size_t i : in)
+			if (std::abs((track.frames[i].time - mid).count()) < std::abs((track.frames[std::size_t(pick)].time - mid).count())) pick = long(i);
+	}
+	return pick;
+}
+
+// A frame chosen for a phone: with the phone, its context of five and the word it falls in.
+ChosenFrame phoneChosen(const LandmarkTrack& track, std::size_t frame, const std::vector<PhoneSegment>& phones, std::size_t phone,
+                        const std::vector<Interval>& words, const std::string& emotion, const std::string& cdv, double d) {
+	ChosenFrame c = chosen(track, frame, emotion, cdv, d);
+	c.phone = phones[phone].phone;
+	for (int k = -2; k <= 2; ++k) {
+		const long q = long(phone) + k;
+		c.context[std::size_t(k + 2)] = q < 0 || q >= long(phones.size()) || phones[std::size_t(q)].phone.empty() ? "_" : phones[std::size_t(q)].phone;
+	}
+	const Ticks mid = phones[phone].start + (phones[phone].end - phones[phone].start) / 2;
+	for (const auto& w : words)
+		if (mid >= w.start && mid < w.end && !w.label.empty()) c.word = w.label;
+	return c;
+}
+
+}  // namespace
+
 VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<PhoneSegment>& phones, const std::vector<Interval>& words,
                                const FromVideoOptions& o) {
 	VideoCorpusPlan plan;
@@ -366,35 +419,8 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 	std::map<std::string, std::vector<Pick>> byCdv;
 	for (std::size_t p = 0; p < phones.size(); ++p) {
 		const auto& ph = phones[p];
-		std::vector<std::size_t> in;  // frames are in time order
-		auto first = std::lower_bound(track.frames.begin(), track.frames.end(), ph.start, [](const FrameLandmarks& f, Ticks t) { return f.time < t; });
-		for (std::size_t i = std::size_t(first - track.frames.begin()); i < track.frames.size() && track.frames[i].time < ph.end; ++i)
-			if (ok[i]) in.push_back(i);
-		if (in.empty()) continue;
-		// Inflection point: the interior extremum of the opening (else of the width) that departs most
-		// from the interval's mean; the midpoint frame when the signal is monotonic.
-		auto extremum = [&](int measure) -> long {
-			if (in.size() < 3) return -1;
-			double mean = 0;
-			for (std::size_t i : in) mean += tm.m[i][measure];
-			mean /= double(in.size());
-			long best = -1;
-			double bestDev = -1;
-			for (std::size_t k = 1; k + 1 < in.size(); ++k) {
-				const double a = tm.m[in[k - 1]][measure], b = tm.m[in[k]][measure], c = tm.m[in[k + 1]][measure];
-				if ((b - a) * (c - b) <= 0 && std::abs(b - a) + std::abs(c - b) > 1e-4 && std::abs(b - mean) > bestDev)
-					bestDev = std::abs(b - mean), best = long(in[k]);
-			}
-			return best;
-		};
-		long pick = extremum(0);
-		if (pick < 0) pick = extremum(1);
-		if (pick < 0) {
-			const Ticks mid = ph.start + (ph.end - ph.start) / 2;
-			pick = long(in.front());
-			for (std::size_t i : in)
-				if (std::abs((track.frames[i].time - mid).count()) < std::abs((track.frames[std::size_t(pick)].time - mid).count())) pick = long(i);
-		}
+		const long pick = inflectionFrame(track, tm, ok, ph);
+		if (pick < 0) continue;
 		byCdv[ph.cdv].push_back({std::size_t(pick), p});
 	}
 	if (byCdv.empty()) throw Error(track.source, 0, "no phone of the transcript falls on a frame with a tracked face");
@@ -423,16 +449,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 			for (std::size_t j : kept) dup = dup || j == pk.frame || nearDuplicate(track.frames[pk.frame].points, track.frames[j].points, o.duplicateFraction);
 			if (dup) continue;
 			kept.push_back(pk.frame);
-			ChosenFrame c = chosen(track, pk.frame, o.emotion, cdv, d);
-			c.phone = phones[pk.phone].phone;
-			for (int k = -2; k <= 2; ++k) {
-				const long q = long(pk.phone) + k;
-				c.context[std::size_t(k + 2)] = q < 0 || q >= long(phones.size()) || phones[std::size_t(q)].phone.empty() ? "_" : phones[std::size_t(q)].phone;
-			}
-			const Ticks mid = phones[pk.phone].start + (phones[pk.phone].end - phones[pk.phone].start) / 2;
-			for (const auto& w : words)
-				if (mid >= w.start && mid < w.end && !w.label.empty()) c.word = w.label;
-			plan.entries.push_back(c);
+			plan.entries.push_back(phoneChosen(track, pk.frame, phones, pk.phone, words, o.emotion, cdv, d));
 		}
 	}
 	for (const auto& v : visemeLabels())
@@ -442,7 +459,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 		for (std::size_t i = 0; i < track.frames.size(); ++i)
 			if (track.frames[i].frame == plan.basefaceFrame && track.frames[i].found) plan.entries.push_back(chosen(track, i, o.emotion, "sil", 0));
 		if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
-			throw Error(track.source, 0, "--baseface " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
+			throw Error(track.source, 0, "{{baseface}} " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
 	}
 	sortPlan(plan);
 	return plan;
@@ -458,17 +475,17 @@ void writeVideoCorpus(const std::string& video, const LandmarkTrack& track, cons
 
 VideoTake parseTakeSpec(const std::string& spec) {
 	VideoTake t;
-	t.where = "--take " + spec;
+	t.where = "{{take}} " + spec;
 	const auto colon = spec.rfind(':');
 	if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
-		throw Error("--take takes VIDEO:EMOTION (e.g. anger.mp4:anger), not '" + spec + "'");
+		throw Error("{{take}} takes VIDEO:EMOTION (e.g. anger.mp4:anger), not '" + spec + "'");
 	t.video = spec.substr(0, colon);
 	const std::string e = spec.substr(colon + 1);
 	const auto c = canonicalEmotion(e);
-	if (!c) throw Error(t.video, 0, "--take: unknown emotion '" + e + "'");
+	if (!c) throw Error(t.video, 0, "{{take}}: unknown emotion '" + e + "'");
 	t.emotion = *c;
 	std::error_code ec;  // not the throwing overload: a name too long for the system is no such file too
-	if (!fs::is_regular_file(t.video, ec)) throw Error(t.video, 0, "--take: no such file" + (ec ? " (" + ec.message() + ")" : std::string()));
+	if (!fs::is_regular_file(t.video, ec)) throw Error(t.video, 0, "{{take}}: no such file" + (ec ? " (" + ec.message() + ")" : std::string()));
 	return t;
 }
 
@@ -593,13 +610,16 @@ std::map<std::int64_t, Image8> decodeFrames(const std::string& video, const Vide
 
 }  // namespace
 
-std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir) {
-	if (takes.empty() || baseTake >= takes.size()) throw std::logic_error("writeTakesCorpus: no takes or no base take");
-	fs::create_directories(fs::path(dir) / "frames");
+namespace {
+
+// A chosen frame's image in the corpus folder: frames/NNNNNN.png, or per take with several.
+std::string takeImageName(bool several, std::size_t k, std::int64_t frame) {
+	return several ? "frames/take" + std::to_string(k + 1) + "_" + frameName(frame).substr(7) : frameName(frame);
+}
+
+// Decodes every take's chosen frames into `frames` and brings their colours together; returns each take's map.
+std::vector<ColourMatch> decodeAndMatchColours(const std::vector<TakePlan>& takes, std::size_t baseTake, std::vector<std::map<std::int64_t, Image8>>& frames) {
 	const bool several = takes.size() > 1;
-	auto imageName = [&](std::size_t k, std::int64_t frame) {
-		return several ? "frames/take" + std::to_string(k + 1) + "_" + frameName(frame).substr(7) : frameName(frame);
-	};
 	// Decode every take's chosen frames and bring their colours together, in two steps (D73).
 	// (1) Within a take, one gain per frame and channel brings the mean of the frame's face to the take's
 	// median: lighting drifts within a recording (franck's own: 4–6 levels in 50 s) and a face's exemplars
@@ -608,7 +628,6 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 	// strength does; one over the whole face keeps the expression's own shading (a frown's darker glabella).
 	// (2) Between takes (D61), one map per take (gain × value + offset, per channel: the mean and spread of
 	// its faces brought to the base take's) so that lighting that drifted between recordings does not flash.
-	std::vector<std::map<std::int64_t, Image8>> frames;
 	std::vector<ColourStats> takeStats(takes.size());
 	std::vector<std::map<std::int64_t, std::array<double, 3>>> frameGain(takes.size());
 	for (std::size_t k = 0; k < takes.size(); ++k) {
@@ -648,16 +667,13 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 		matches[k] = take;
 		for (int c = 0; c < 3; ++c) matches[k].low[c] = percentile(gains[c], 0), matches[k].high[c] = percentile(gains[c], 1);
 	}
-	int width = -1, height = -1;
-	for (std::size_t k = 0; k < takes.size(); ++k)
-		for (const auto& [index, img] : frames[k]) {
-			if (width < 0) width = img.width, height = img.height;
-			if (img.width != width || img.height != height)
-				throw Error(takes[k].take.video, 0, "its frames are " + std::to_string(img.width) + "x" + std::to_string(img.height) + ", the first take's " +
-				                                        std::to_string(width) + "x" + std::to_string(height) + ": the takes of one corpus must be the same size");
-			writeImage((fs::path(dir) / imageName(k, index)).string(), img, 6);
-		}
-	// corpus.csv
+	return matches;
+}
+
+// corpus.csv: a header naming the takes (and their colour maps), the baseface, then one row per chosen frame.
+std::string takesCorpusCsv(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::vector<ColourMatch>& matches) {
+	const bool several = takes.size() > 1;
+	auto imageName = [&](std::size_t k, std::int64_t frame) { return takeImageName(several, k, frame); };
 	std::ostringstream csv;
 	std::size_t count = 0;
 	for (const auto& t : takes) count += t.plan.entries.size();
@@ -685,9 +701,13 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 			row.points = e.points.topRows(kIbugPoints);
 			csv << chUnicampCsvRow(row) << "\n";
 		}
-	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), csv.str());
+	return csv.str();
+}
+
+// Contact sheet: the face of each chosen frame (CDV label, and the take's emotion with several), baseface first.
+Image8 takesContactSheet(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::vector<std::map<std::int64_t, Image8>>& frames) {
+	const bool several = takes.size() > 1;
 	char buf[64];
-	// Contact sheet: the face of each chosen frame (CDV label, and the take's emotion with several), baseface first.
 	const int cell = 160, labelH = 16, cols = 8;
 	std::vector<std::pair<std::size_t, const ChosenFrame*>> order;
 	for (std::size_t k = 0; k < takes.size(); ++k)
@@ -719,7 +739,28 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 		std::snprintf(buf, sizeof buf, "%s%s #%lld", base ? "BASE " : "", label.c_str(), (long long)e.frame);
 		cv::putText(sm, buf, cv::Point(x + 3, y + cell + 12), cv::FONT_HERSHEY_SIMPLEX, 0.38, cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
 	}
-	writeImage((fs::path(dir) / "contact.png").string(), sheet);
+	return sheet;
+}
+
+}  // namespace
+
+std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir) {
+	if (takes.empty() || baseTake >= takes.size()) throw std::logic_error("writeTakesCorpus: no takes or no base take");
+	fs::create_directories(fs::path(dir) / "frames");
+	const bool several = takes.size() > 1;
+	std::vector<std::map<std::int64_t, Image8>> frames;
+	const std::vector<ColourMatch> matches = decodeAndMatchColours(takes, baseTake, frames);
+	int width = -1, height = -1;
+	for (std::size_t k = 0; k < takes.size(); ++k)
+		for (const auto& [index, img] : frames[k]) {
+			if (width < 0) width = img.width, height = img.height;
+			if (img.width != width || img.height != height)
+				throw Error(takes[k].take.video, 0, "its frames are " + std::to_string(img.width) + "x" + std::to_string(img.height) + ", the first take's " +
+				                                        std::to_string(width) + "x" + std::to_string(height) + ": the takes of one corpus must be the same size");
+			writeImage((fs::path(dir) / takeImageName(several, k, index)).string(), img, 6);
+		}
+	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), takesCorpusCsv(takes, baseTake, matches));
+	writeImage((fs::path(dir) / "contact.png").string(), takesContactSheet(takes, baseTake, frames));
 	return matches;
 }
 

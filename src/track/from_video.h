@@ -118,7 +118,7 @@ struct VideoTake {
 	Ticks start{0}, duration{0};      // the part of the video used (duration 0: to its end)
 	std::string transcript, text, audio;  // its speech: a timed transcript, or words to align to the audio
 	                                      // (the video's own, or `audio`); neither: frames chosen by shape
-	std::string where;                // for messages: "takes.tsv:3" or "--take VIDEO:EMOTION"
+	std::string where;                // for messages: "takes.tsv:3" or "{{take}} VIDEO:EMOTION"
 };
 // "VIDEO:EMOTION" (split at the last colon; an emotion label or alias). Throws Error saying what is wrong.
 VideoTake parseTakeSpec(const std::string& spec);

@@ -316,7 +316,7 @@ LandmarkTrack trackVideo(const std::string& path, const TrackOptions& o, Progres
 		if (onFrame) onFrame(track.frames.back(), rgb);
 		if (total > 0) progress.report(std::min(1.0, toSeconds(t - o.start) / total), "tracking");
 	}
-	if (track.frames.empty()) throw Error(path, 0, "no video frames" + std::string(o.start.count() > 0 ? " after --start" : ""));
+	if (track.frames.empty()) throw Error(path, 0, "no video frames" + std::string(o.start.count() > 0 ? " after {{start}}" : ""));
 	if (track.foundCount() == 0) throw Error(path, 0, "no face found in any of " + std::to_string(track.frames.size()) + " frames");
 	return track;
 }

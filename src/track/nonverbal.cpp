@@ -412,9 +412,8 @@ struct Panel {
 	bool blinks = false;
 };
 
-}  // namespace
-
-Image8 plotNonVerbal(const NonVerbalTrack& t, int width) {
+// The plot's panels: head rotation, head position, eye opening, and the action units of each face part.
+std::vector<Panel> nonVerbalPanels(const NonVerbalTrack& t) {
 	const cv::Scalar palette[] = {{200, 60, 40}, {40, 120, 220}, {40, 160, 60}, {150, 60, 170}, {230, 140, 20}, {20, 170, 170}, {120, 120, 120},
 	                              {220, 60, 140}, {90, 90, 20}};
 	auto series = [&](auto get) {
@@ -450,6 +449,13 @@ Image8 plotNonVerbal(const NonVerbalTrack& t, int width) {
 					if (std::isfinite(v)) p.lo = std::min(p.lo, v), p.hi = std::max(p.hi, v);
 	for (auto& p : panels)
 		if (p.title.rfind("head", 0) == 0) p.hi = std::max(std::abs(p.lo), std::abs(p.hi)), p.lo = -p.hi;
+	return panels;
+}
+
+}  // namespace
+
+Image8 plotNonVerbal(const NonVerbalTrack& t, int width) {
+	const std::vector<Panel> panels = nonVerbalPanels(t);
 	const int panelH = 150, left = 70, right = 20, top = 30;
 	const int height = top + int(panels.size()) * panelH + 30;
 	cv::Mat m(height, width, CV_8UC3, cv::Scalar(255, 255, 255));

@@ -210,7 +210,7 @@ TEST(ModelFile, renderLoadReducesComponents) {
 		loadModel(path, ModelParts::Render, {{"nose", {3, 0}}});
 		ADD_FAILURE() << "unknown region accepted";
 	} catch (const Error& x) {
-		EXPECT_NE(std::string(x.what()).find(path + ": --components names region 'nose'"), std::string::npos) << x.what();
+		EXPECT_NE(std::string(x.what()).find(path + ": {{components}} names region 'nose'"), std::string::npos) << x.what();
 	}
 	EXPECT_THROW(loadModel(path, ModelParts::Render, {{region, {long(l) + 1, 0}}}), Error);
 	// The basis record is still verified though only its first columns are kept: a flipped byte in its

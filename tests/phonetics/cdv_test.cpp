@@ -147,7 +147,7 @@ TEST(Cdv, unknownPhonesAreReportedOrMapped) {
 	const Language& pt = Language::get("pt-BR");
 	const std::string e = errorOf([&] { phoneSegments(t, pt); });
 	EXPECT_EQ(e.rfind("x.TextGrid:4: unknown pt-BR phone 'tʰ' (known: ", 0), 0u) << e;
-	EXPECT_NE(e.find("check --lang and --notation, or use --unknown nearest"), std::string::npos);
+	EXPECT_NE(e.find("check {{lang}} and {{notation}}, or use {{unknown}} nearest"), std::string::npos);
 	auto near = phoneSegments(t, pt, UnknownPhone::Nearest);
 	EXPECT_EQ(near[1].phone, "t");
 	auto sil = phoneSegments(t, pt, UnknownPhone::Silence);

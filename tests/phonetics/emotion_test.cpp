@@ -4,8 +4,10 @@
 // head-motion factor; with Emotion::in a misspelt label throws where it is reached.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <stdexcept>
 
+#include "base/error.h"
 #include "phonetics/emotion.h"
 #include "synth/modulator.h"
 #include "test_support.h"
@@ -44,4 +46,26 @@ TEST(Emotion, everyEmotionGetsItsBlinkRateAndHeadFactor) {
 		EXPECT_NO_THROW(ShapeModulator::blinkRateFor(Emotion::at(i))) << Emotion::at(i).label();
 		EXPECT_NO_THROW(ShapeModulator::headFactorFor(Emotion::at(i))) << Emotion::at(i).label();
 	}
+}
+
+TEST(Expression, checkedOnceWhereItIsMade) {
+	const Expression e = Expression::parse("Happy:0.5");  // an alias, any case
+	EXPECT_EQ(e.emotion(), Emotion::of("joy"));
+	EXPECT_DOUBLE_EQ(e.intensity(), 0.5);
+	EXPECT_EQ(e.str(), "joy:0.5");
+	EXPECT_EQ(Expression::parse("anger").str(), "anger");
+	EXPECT_TRUE(Expression::parse("fear:1.5").extrapolated());
+	EXPECT_EQ(Expression(), Expression(Emotion(), 1));
+	auto field = [](const std::function<void()>& f) -> std::string {
+		try {
+			f();
+		} catch (const FieldError& e) {
+			return e.field() + ": " + e.what();
+		}
+		return "";
+	};
+	EXPECT_EQ(field([] { Expression::parse("joy:1.6"); }), "intensity: intensity '1.6' is not a number from 0 to 1.5");
+	EXPECT_EQ(field([] { Expression::parse("joy:x"); }), "intensity: intensity 'x' is not a number from 0 to 1.5");
+	EXPECT_EQ(field([] { Expression(Emotion::of("joy"), -0.1); }), "intensity: intensity '-0.1' is not a number from 0 to 1.5");
+	EXPECT_EQ(field([] { Expression::parse("glee"); }).rfind("emotion: unknown emotion 'glee' (known: neutral, joy,", 0), 0u);
 }

@@ -118,8 +118,8 @@ TEST(TimingFormats, smilTsvAndGoogleWithTheirText) {
 	// A fragment the text lacks, and no text at all: errors that say what to give.
 	const std::string missing = errorOf([&] { parseTranscript("0.0\t1.0\tf000009\n", "m.tsv", with("aeneas_parsed.txt")); });
 	EXPECT_NE(missing.find("m.tsv:1: the fragment 'f000009' is not in " + dataFile("aeneas_parsed.txt") + " (read as parsed (id|text) text)"), std::string::npos) << missing;
-	EXPECT_NE(errorOf([] { read("aeneas.smil"); }).find("or give the text it refers to (--timing-text FILE"), std::string::npos);
-	EXPECT_NE(errorOf([] { read("aeneas.tsv"); }).find("--timing-text FILE"), std::string::npos);
+	EXPECT_NE(errorOf([] { read("aeneas.smil"); }).find("or give the text it refers to ({{timing-text}} FILE"), std::string::npos);
+	EXPECT_NE(errorOf([] { read("aeneas.tsv"); }).find("{{timing-text}} FILE"), std::string::npos);
 
 	const Transcript g = read("google_timepoints.json", with("google.ssml"));
 	EXPECT_EQ(g.format, "google");
@@ -165,7 +165,7 @@ TEST(TimingFormats, subtitlesAndCtm) {
 
 TEST(TimingFormats, errorsSayWhatToGiveInstead) {
 	auto err = [](const std::string& text, const std::string& name) { return errorOf([&] { parseTranscript(text, name); }); };
-	EXPECT_NE(err(R"({"timepoints": [{"markName": "a", "timeSeconds": 0.1}]})", "g.json").find("Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from (--timing-text FILE)"),
+	EXPECT_NE(err(R"({"timepoints": [{"markName": "a", "timeSeconds": 0.1}]})", "g.json").find("Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from ({{timing-text}} FILE)"),
 	          std::string::npos);
 	const std::string unknown = err(R"({"foo": 1})", "x.json");
 	EXPECT_NE(unknown.find("JSON of no timing format talkhead reads (known: Whisper"), std::string::npos) << unknown;

@@ -247,7 +247,7 @@ TEST(TextGrid, phoneTierChosenByNameTokenAndLabelsAndNamed) {
 	Transcript t = parseTranscript(mfa, "multi.TextGrid", knowing("en-US"));
 	EXPECT_EQ(t.tier, "KY25A - phones");
 	EXPECT_EQ(t.level, LabelLevel::Phone);
-	EXPECT_EQ(t.tierNote, "phones; also 'IVR - phones' (tier 4): choose with --tier");
+	EXPECT_EQ(t.tierNote, "phones; also 'IVR - phones' (tier 4): choose with {{tier}}");
 	// spn and the noise tags are pauses.
 	EXPECT_EQ(phonesOf(phoneSegments(t, Language::get("en-US"))), (std::vector<std::string>{"j", "æ", "_", "_"}));
 	for (const char* p : {"spn", "SPN", "<unk>", "<noise>", "{LG}", "{NS}", "sil", "sp", "", "_"}) EXPECT_TRUE(isPauseLabel(p)) << p;
@@ -268,7 +268,7 @@ TEST(TextGrid, phoneTierChosenByNameTokenAndLabelsAndNamed) {
 	                                  {"Phonetic", {{0, 0.2, "V"}, {0.2, 0.4, "m"}, {0.4, 0.5, "H"}, {0.5, 1, "@:"}}}});
 	Transcript e = parseTranscript(emu, "e.TextGrid", knowing("en-US"));
 	EXPECT_EQ(e.tier, "Phoneme");
-	EXPECT_EQ(e.tierNote, "phones; also 'Phonetic' (tier 4): choose with --tier");
+	EXPECT_EQ(e.tierNote, "phones; also 'Phonetic' (tier 4): choose with {{tier}}");
 	EXPECT_EQ(parseTranscript(emu, "e.TextGrid", levelled(LabelLevel::Word)).tier, "Text");  // words, not C/F
 	// No name says it: the tier whose labels are known phones wins over a words tier before it.
 	const std::string unnamed = textGrid({{"a", {{0, 0.5, "hello"}, {0.5, 1, "world"}}}, {"b", {{0, 0.3, "h"}, {0.3, 0.6, "@"}, {0.6, 1, "l"}}}});
@@ -300,10 +300,10 @@ TEST(TextGrid, wordAndUtteranceTiersAreWordLevel) {
 	// Unsure: neither name nor labels tell (half known phones): read as phones, and a word among them says so.
 	Transcript g = parseTranscript(textGrid({{"talker", {{0, 0.25, "a"}, {0.25, 0.5, "blah"}, {0.5, 0.75, "e"}, {0.75, 1, "qq"}}}}), "g.TextGrid", knowing("en-US"));
 	EXPECT_TRUE(g.levelGuessed);
-	EXPECT_EQ(errorOf([&] { phoneSegments(g, en); }), "g.TextGrid:20: tier 'talker' holds words, not phones; use --level words ('blah' is no en-US phone)");
+	EXPECT_EQ(errorOf([&] { phoneSegments(g, en); }), "g.TextGrid:20: tier 'talker' holds words, not phones; use {{level}} words ('blah' is no en-US phone)");
 	// --level phones on an utterance tier: the same advice, the label abbreviated.
 	Transcript forced = parseTranscript(utt, "utt.TextGrid", levelled(LabelLevel::Phone));
-	EXPECT_EQ(errorOf([&] { phoneSegments(forced, en); }), "utt.TextGrid:20: tier '61' holds words, not phones; use --level words ('HELLO THERE' is no en-US phone)");
+	EXPECT_EQ(errorOf([&] { phoneSegments(forced, en); }), "utt.TextGrid:20: tier '61' holds words, not phones; use {{level}} words ('HELLO THERE' is no en-US phone)");
 }
 
 TEST(LabelFiles, xlabelAndHtsFullContextLabels) {
@@ -381,7 +381,7 @@ TEST(UnknownPhones, nearestIsTheClosestSpellingNeverAPrefixOrAPause) {
 	Transcript m = parseTranscript("0\t0.1\ta\n0.1\t0.2\t+++\n", "m.tsv");
 	EXPECT_EQ(errorOf([&] { phoneSegments(m, en, UnknownPhone::Nearest); }),
 	          "m.tsv:2: unknown en-US phone '+++': no known spelling is near it; use --unknown silence if it marks no speech, or correct the label");
-	EXPECT_EQ(errorOf([&] { phoneSegments(m, en); }).find("--unknown=nearest|silence)") != std::string::npos, true);
+	EXPECT_EQ(errorOf([&] { phoneSegments(m, en); }).find("{{unknown}}=nearest|silence)") != std::string::npos, true);
 	// An EMU/MRPA file: H# is its silence; 'ai' is a sound: no suggestion to silence it.
 	Transcript emu = parseTranscript("0\t0.2\tH#\n0.2\t0.4\tai\n", "emu.tsv");
 	const std::string e = errorOf([&] { phoneSegments(emu, en); });

@@ -216,7 +216,7 @@ i1=$!
 sleep 0.5
 "$CLIENT" "$port" "$T/i2" 1 || true
 wait $i1
-grep -q 'sessions already (--max-sessions); idle sessions close after 1 s' "$T/i2.events" || fail "refusal: $(cat "$T/i2.events")"
+grep -q 'sessions already; idle sessions close after 1 s' "$T/i2.events" || fail "refusal: $(cat "$T/i2.events")"
 grep -q '"type": "closing", "reason": "idle"' "$T/i1.events" || fail "no idle close: $(cut -c1-200 "$T/i1.events")"
 idle_at=$(awk -F'\t' '/"reason": "idle"/ {print int($1)}' "$T/i1.events")
 test "$idle_at" -ge 800 -a "$idle_at" -le 2500 || fail "idle close after $idle_at ms"

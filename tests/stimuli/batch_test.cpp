@@ -16,6 +16,13 @@
 using namespace talkhead;
 
 namespace {
+// A row's job as "field=value" words (a switch alone), in order.
+std::vector<std::string> jobWords(const std::vector<JobField>& job) {
+	std::vector<std::string> w;
+	for (const JobField& f : job) w.push_back(f.value ? f.field + "=" + *f.value : f.field);
+	return w;
+}
+
 std::vector<std::string> errorsOf(const std::string& text, const std::string& path = "m.csv") {
 	try {
 		parseManifest(text, path);
@@ -31,14 +38,14 @@ TEST(Batch, manifestRowsBecomeCommandsAndEveryErrorIsNamedAtOnce) {
 	ASSERT_EQ(m.rows.size(), 2u);
 	EXPECT_EQ(m.rows[0].line, 3);
 	EXPECT_EQ(m.rows[0].command, "say");
-	EXPECT_EQ(m.rows[0].args, (std::vector<std::string>{"Bom dia.", "--emotion", "joy:0.5", "--no-audio", "--size", "320x180"}));
+	EXPECT_EQ(jobWords(m.rows[0].job), (std::vector<std::string>{"text=Bom dia.", "emotion=joy:0.5", "no-audio", "size=320x180"}));
 	EXPECT_EQ(m.rows[1].emotion, "distress");  // an alias, canonical
-	EXPECT_EQ(m.rows[1].args[0], "Olá, tudo bem?");
+	EXPECT_EQ(jobWords(m.rows[1].job)[0], "text=Olá, tudo bem?");
 	EXPECT_EQ(m.rows[1].fields.at("condition"), "b");
 	// JSON: an array of objects (numbers and booleans welcome).
 	const Manifest j = parseManifest(R"({"stimuli": [{"text": "Oi.", "emotion": "fear", "intensity": 0.8, "muted": true, "fps": 25}]})", "m.json");
 	ASSERT_EQ(j.rows.size(), 1u);
-	EXPECT_EQ(j.rows[0].args, (std::vector<std::string>{"Oi.", "--emotion", "fear:0.8", "--no-audio", "--fps", "25"}));
+	EXPECT_EQ(jobWords(j.rows[0].job), (std::vector<std::string>{"text=Oi.", "emotion=fear:0.8", "no-audio", "fps=25"}));
 	// Every problem at once, each with its line and column.
 	const auto errors = errorsOf("text,emotion,colour,model,muted\nBom dia.,glee,red,nofile.thm,maybe\n,joy,,,\n");
 	ASSERT_EQ(errors.size(), 5u);
@@ -52,7 +59,7 @@ TEST(Batch, manifestRowsBecomeCommandsAndEveryErrorIsNamedAtOnce) {
 	const std::string timing = std::string(TALKHEAD_TEST_DATA_DIR) + "/timing/";
 	const Manifest t = parseManifest("transcript,timing-text\n" + timing + "aeneas.smil," + timing + "aeneas.xhtml\n", "m.csv");
 	ASSERT_EQ(t.rows.size(), 1u);
-	EXPECT_EQ(t.rows[0].args, (std::vector<std::string>{"--emotion", "neutral", "--timing-text", timing + "aeneas.xhtml", "--transcript", timing + "aeneas.smil"}));
+	EXPECT_EQ(jobWords(t.rows[0].job), (std::vector<std::string>{"emotion=neutral", "timing-text=" + timing + "aeneas.xhtml", "transcript=" + timing + "aeneas.smil"}));
 	EXPECT_EQ(errorsOf("text,timing-text\nOi.," + timing + "aeneas.xhtml\n")[0], "m.csv:2:timing-text: the text of a timing file, but the row has no transcript");
 	EXPECT_EQ(errorsOf("text\nOi.,extra\n")[0], "m.csv:2: 2 fields, the header has 1");
 	EXPECT_EQ(errorsOf("text,fps\nOi.,31.5x\n")[0], "m.csv:2:fps: '31.5x' is not a frame rate (30, 25, 29.97, 30000/1001)");
@@ -180,9 +187,9 @@ TEST(Batch, aRowMayNameADrivingVideo) {
 	const Manifest m = parseManifest("drive,drive-mouth,text,emotion\nclip.mp4,yes,,joy\nclip.mp4,,bin blue at f two now,\n", path);
 	ASSERT_EQ(m.rows.size(), 2u);
 	EXPECT_EQ(m.rows[0].command, "render");
-	EXPECT_EQ(m.rows[0].args, (std::vector<std::string>{"--drive-mouth", "--emotion", "joy", "--drive", (dir / "clip.mp4").string()}));
+	EXPECT_EQ(jobWords(m.rows[0].job), (std::vector<std::string>{"drive-mouth", "emotion=joy", "drive=" + (dir / "clip.mp4").string()}));
 	EXPECT_EQ(m.rows[1].command, "render");  // text aligned to the driving video's audio
-	EXPECT_EQ(m.rows[1].args, (std::vector<std::string>{"--text", "bin blue at f two now", "--emotion", "neutral", "--drive", (dir / "clip.mp4").string()}));
+	EXPECT_EQ(jobWords(m.rows[1].job), (std::vector<std::string>{"text=bin blue at f two now", "emotion=neutral", "drive=" + (dir / "clip.mp4").string()}));
 	const auto errors = errorsOf("drive,drive-mouth,text\nclip.mp4,yes,Oi.\n,yes,\nnone.mp4,maybe,Oi.\n", path);
 	ASSERT_EQ(errors.size(), 4u);
 	EXPECT_EQ(errors[0], path + ":2:drive-mouth: takes the mouth from the drive video: no text or transcript");
