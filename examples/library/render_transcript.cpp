@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Renders a timed transcript to an MP4 with talkhead's library.
-//   render_transcript MODEL.thm TRANSCRIPT OUT.mp4 [LANG] [EMOTION]
+// Renders a timed transcript to a video with talkhead's library.
+//   render_transcript MODEL.thm TRANSCRIPT OUT.mp4|OUT.webm|OUT.y4m [LANG] [EMOTION[:INTENSITY]]
 #include <cstdio>
 #include <exception>
 
 #include "phonetics/language.h"
 #include "phonetics/transcript.h"
+#include "render/output.h"
 #include "render/render.h"
 
 int main(int argc, char** argv) {
@@ -22,11 +23,14 @@ int main(int argc, char** argv) {
 		performance.rate = FrameRate{30, 1};
 		performance.keys = keyposes(phones, performance.rate.frameLength());
 		performance.duration = phones.back().end;
-		performance.emotion = Emotion::parse(argc > 5 ? argv[5] : "neutral");
-		// The model, one sink (MP4 without audio), and the render.
+		if (argc > 5) performance.expression = Expression::parse(argv[5]);  // "joy", "anger:0.6"; checked here
+		// The model, one sink (its format from the output's name, no audio), and the render.
 		const FaceModel model = loadRenderModel(argv[1]);
-		auto mp4 = makeMp4Sink(argv[3], Mp4Settings{}, nullptr);
-		const RenderStats stats = renderPerformance(model, performance, RenderOptions{}, {mp4.get()});
+		OutputSpec out;
+		out.path = argv[3];
+		out.format = videoFormatFor(out.path, "");
+		auto video = makeVideoSink(out, nullptr);
+		const RenderStats stats = renderPerformance(model, performance, RenderOptions{}, {video.get()});
 		std::printf("%s: %lld frames, %dx%d, %zu keyposes\n", argv[3], (long long)stats.frames, stats.width, stats.height, stats.keyposes);
 		return 0;
 	} catch (const std::exception& e) {

@@ -234,35 +234,24 @@ int runLive(const std::vector<std::string>& argv) {
 	// Through a frame sink, as render writes (a temporary name, renamed when complete: nothing partial). The
 	// session's sound never ends: the video's length of it.
 	const std::unique_ptr<FrameSink> sink = makeVideoSink(spec, shiftedSource(borrowedSource(session.audio()), Ticks(0), info.rate.time(total)));
-	std::optional<FaceMatte> matte;  // --background transparent: the face's matte, as render draws it (D65)
-	if (transparent) matte.emplace(model.scheme);
-	sink->begin(info);
+	sink->begin(info);  // --background transparent: the sink needs alpha, and play() draws the face's matte (D65)
 	const bool quiet = args.has("--quiet");
-	YuvImage frame;
-	Points points;
 	std::vector<LiveEvent> events;
 	std::size_t next = 0;
 	for (std::int64_t n = 0; n < total; ++n) {
 		for (; next < steps.size() && steps[next].frame <= n; ++next) {
 			const SessionScript::Step& s = steps[next];
 			try {
-				const LiveRequest r = parseLiveRequest(s.json);  // errors worded as a client reads them (serve/server.h)
-				std::optional<Utterance> u;
-				if (r.kind == LiveRequest::Kind::Say || r.kind == LiveRequest::Kind::Speak) u = prepareUtterance(r, lang, o.sampleRate);
+				const LiveRequest r = parseLiveRequest(s.json);  // errors worded as a client reads them (serve/access.h)
+				std::optional<PlannedUtterance> u;  // planned by the session when it is queued
+				if (r.kind == LiveRequest::Kind::Say || r.kind == LiveRequest::Kind::Speak) u.emplace(prepareUtterance(r, lang, o.sampleRate));
 				applyLiveRequest(session, r, std::move(u));
 			} catch (const std::exception& e) {
 				throw Error(script, s.line, forRequester(describeException(e)));
 			}
 		}
 		events.clear();
-		session.drawNext(frame, points, events);
-		RenderedFrame rf;
-		rf.index = n;
-		rf.time = info.rate.time(n);
-		rf.yuv = &frame;
-		rf.points = &points;
-		if (matte) matte->draw(points, frame.width, frame.height, frame.a);
-		sink->frame(rf);
+		session.play(*sink, events);
 		if (!quiet)
 			for (const LiveEvent& e : events) std::printf("%s\n", liveEventJson(e).c_str());
 	}

@@ -82,7 +82,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 	std::vector<Keypose> keys = keyposes(phones, rate->frameLength(), *pauses);
 	// Which TextGrid tier was read, and which notation the phones were read in (stderr, so the TSV stays
 	// clean; JSON also carries the notation).
-	if (!tr.tier.empty()) std::fprintf(stderr, "talkhead: %s: tier '%s' (%s)\n", path.c_str(), tr.tier.c_str(), tr.tierNote.c_str());
+	if (!tr.tier.empty()) std::fprintf(stderr, "%s\n", shownLine("talkhead: " + path + ": tier '" + tr.tier + "' (" + tr.tierNote + ")").c_str());
 	if (tr.level == LabelLevel::Phone && used != Notation::Auto) {
 		std::fprintf(stderr, "talkhead: %s: phones read as %s%s\n", path.c_str(), notationName(used).c_str(),
 		             notation != Notation::Auto ? " (--notation)" : evidence.empty() ? " (detected)" : (" (detected from " + evidence + ")").c_str());

@@ -165,47 +165,61 @@ void LiveSession::addPending(Ticks t, LiveEvent e) {
 	pending_.insert(it, Pending{t, std::move(e)});
 }
 
-Performance LiveSession::plan(const Utterance& u) const {
+PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression) const {
+	PlannedUtterance p(std::move(u));
+	p.planned = true;
+	p.expression = expression;
+	if (p.utterance.phones.empty()) return p;
 	PerformanceSpec spec;
-	spec.phones = u.phones;
+	spec.phones = p.utterance.phones;
 	spec.rate = o_.rate;
 	spec.pauses = o_.pauses;
 	spec.speechBrows = o_.speechBrows;
 	spec.coarticulation = o_.coarticulation;
-	return planPerformance(spec);
+	Performance perf = planPerformance(spec);
+	p.keys = std::move(perf.keys);
+	p.speechBrows = std::move(perf.modulation.browEvents);
+	p.stamped.assign(p.keys.size(), 0);
+	for (std::size_t i = 0; i < p.keys.size(); ++i) {
+		Keypose& k = p.keys[i];
+		if (!k.emotion) k.emotion = expression.emotion(), p.stamped[i] |= 1;
+		if (!k.intensity) k.intensity = expression.intensity(), p.stamped[i] |= 2;
+	}
+	chooseExemplars(p.keys);
+	return p;
+}
+
+PlannedUtterance LiveSession::plan(Utterance u, const Expression& expression) const {
+	PlannedUtterance p = planned(std::move(u), expression);
+	synth_->prepare(p.keys);  // thread-safe; what is there already is skipped
+	return p;
 }
 
 void LiveSession::chooseExemplars(std::vector<Keypose>& keys) const {
 	if (o_.coarticulation) chooseMouthExemplars(model_, expression_.emotion(), keys);  // each key by its own emotion
 }
 
-void LiveSession::warm(const Utterance& u, const Expression& expression) const {
-	if (u.phones.empty()) return;
-	std::vector<Keypose> keys = plan(u).keys;
-	for (Keypose& k : keys) {
-		k.emotion = expression.emotion();
-		k.intensity = expression.intensity();
+Ticks LiveSession::enqueue(PlannedUtterance p) {
+	if (!p.planned) {
+		p = planned(std::move(p.utterance), expression_);
+	} else if (p.expression != expression_) {  // planned in another expression: the keys that took it take the session's
+		for (std::size_t i = 0; i < p.keys.size(); ++i) {
+			Keypose& k = p.keys[i];
+			if (p.stamped[i] & 1) k.emotion = expression_.emotion();
+			if (p.stamped[i] & 2) k.intensity = expression_.intensity();
+			if (p.stamped[i] && k.mouthOpening) k.sample = -1;  // chosen again, among the emotion's exemplars
+		}
+		chooseExemplars(p.keys);
 	}
-	chooseExemplars(keys);
-	synth_->prepare(keys);  // thread-safe; what is there already is skipped
-}
-
-Ticks LiveSession::enqueue(Utterance u) {
+	Utterance& u = p.utterance;
 	// Not before the sound read already: an encoder reads its priming ahead of the first frame (a live AAC
 	// stream skips the session's first 1024 samples, D54), so the first say of a session starts at the
 	// first frame whose sound is still to be read, its mouth and its sound together (issue 45: it lost 46 ms).
 	std::int64_t f = next_;
 	while (std::llround(toSeconds(o_.rate.time(f)) * o_.sampleRate) < sound_->position()) ++f;
 	const Ticks start = std::max(o_.rate.time(f), queueEnd_);
-	Performance planned;
-	if (!u.phones.empty()) planned = plan(u);
-	std::vector<Keypose>& fresh = planned.keys;
-	for (Keypose& k : fresh) {
-		k.time += start;
-		if (!k.emotion) k.emotion = expression_.emotion();
-		if (!k.intensity) k.intensity = expression_.intensity();
-	}
-	chooseExemplars(fresh);
+	std::vector<Keypose>& fresh = p.keys;
+	for (Keypose& k : fresh) k.time += start;
 	// What frames already drawn depend on stays: the keys up to the first one after the last drawn frame.
 	const std::size_t c = committed();
 	std::vector<Keypose> kept;
@@ -236,7 +250,7 @@ Ticks LiveSession::enqueue(Utterance u) {
 	}
 	e.kind = LiveEvent::Kind::UtteranceEnded;
 	addPending(end, e);
-	for (BrowEvent b : planned.modulation.browEvents) {  // speech brows (D49)
+	for (BrowEvent b : p.speechBrows) {  // speech brows (D49)
 		b.time += start;
 		modOptions_.browEvents.push_back(b);
 	}
@@ -348,6 +362,18 @@ void LiveSession::replan() {
 	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, expression_.emotion(), horizon_, keys_);
 	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, expression_.emotion(), horizon_, keys_);
 	synth_->setModulator(modulator_);
+}
+
+void LiveSession::play(FrameSink& sink, std::vector<LiveEvent>& events) {
+	const std::int64_t n = next_;
+	drawNext(frame_, points_, events);
+	if (sink.needsAlpha()) {
+		if (!matte_) matte_ = std::make_unique<FaceMatte>(model_.scheme);
+		matte_->draw(points_, frame_.width, frame_.height, frame_.a);
+	}
+	RenderedFrame f;
+	f.index = n, f.time = o_.rate.time(n), f.yuv = &frame_, f.points = &points_;
+	sink.frame(f);
 }
 
 void LiveSession::drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>& events) {

@@ -13,6 +13,7 @@
 #include "phonetics/language.h"
 #include "perform/utterance.h"
 #include "render/frame_sink.h"
+#include "render/matte.h"
 #include "render/render.h"
 #include "synth/coarticulation.h"
 #include "synth/synthesizer.h"
@@ -54,6 +55,20 @@ const char* liveEventName(LiveEvent::Kind kind);  // "utterance_started", "utter
 // `latencyMs`: an utterance_started event's latency from its request (serve).
 std::string liveEventJson(const LiveEvent& e, std::optional<double> latencyMs = std::nullopt);
 
+// An utterance planned for a session (LiveSession::plan): its keyposes from its start, in an expression,
+// with their exemplars bound (D62), and its speech brows (D49) — planned once, on any thread.
+struct PlannedUtterance {
+	Utterance utterance;
+	bool planned = false;                // false: enqueue() plans it (an utterance given as it is)
+	std::vector<Keypose> keys;           // times from the utterance's start
+	std::vector<BrowEvent> speechBrows;  // from its start
+	Expression expression;               // what the keys without an emotion of their own were given
+	std::vector<std::uint8_t> stamped;   // per key: 1 its emotion, 2 its intensity came from `expression`
+	PlannedUtterance() = default;
+	explicit PlannedUtterance(Utterance u) : utterance(std::move(u)) {}
+	Ticks duration() const { return utterance.duration(); }
+};
+
 class LiveSession {
 public:
 	LiveSession(const FaceModel& model, const LiveOptions& options);
@@ -67,13 +82,15 @@ public:
 	Ticks nextTime() const { return o_.rate.time(next_); }
 	const Expression& expression() const { return expression_; }
 
-	// Computes ahead the keypose images `u` will need in `emotion` — the one call that may come from
-	// another thread while frames are drawn (a server's speech thread), so that enqueue() then costs a
-	// frame nothing.
-	void warm(const Utterance& u, const Expression& expression) const;
+	// Plans `u` in `expression` (the planner render uses, perform/plan.h; then the exemplars of its
+	// predicted mouths) and makes the keypose images it will need — the one call that may come from another
+	// thread while frames are drawn (a server's speech thread), so that enqueue() then costs a frame nothing.
+	PlannedUtterance plan(Utterance u, const Expression& expression) const;
 	// Queues an utterance: it starts at the next frame, or when the speech queued before it ends. Returns
-	// its start (stream time).
-	Ticks enqueue(Utterance u);
+	// its start (stream time). Not planned yet: planned here, in the session's expression; planned in
+	// another expression than the session's now: its keys take the session's (and their exemplars again).
+	Ticks enqueue(PlannedUtterance u);
+	Ticks enqueue(Utterance u) { return enqueue(PlannedUtterance(std::move(u))); }
 	// The emotion from the next frame on, reached over `ramp` when idle (at the next keypose when
 	// speaking).
 	void setEmotion(const Expression& expression, Ticks ramp);
@@ -90,6 +107,10 @@ public:
 	// Draws the next frame (YUV 4:2:0, limited range) and its feature points (output pixels); appends what
 	// happened by this frame to `events`.
 	void drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>& events);
+	// The live frame player (talkhead live, serve's stream, serve's load measurement): draws the next frame
+	// and hands it to `sink` (begun by the caller with info()), with the face's matte when the sink needs
+	// alpha (render/matte.h, as render draws it); appends what happened by this frame to `events`.
+	void play(FrameSink& sink, std::vector<LiveEvent>& events);
 
 	// The session's sound (mono, sampleRate()): the utterances where they were placed, silence between. An
 	// encoder pulls it as the frames advance; never ends. Reads must not run ahead of the frames drawn by
@@ -116,6 +137,9 @@ private:
 	bool place_ = false;
 	Synthesizer::Workspace ws_;
 	YuvImage inner_;
+	YuvImage frame_;                   // play()'s frame, its points and the matte it draws when asked
+	Points points_;
+	std::unique_ptr<FaceMatte> matte_;
 	bool drawnBefore_ = false;
 	std::int64_t next_ = 0;
 	std::vector<Keypose> keys_;
@@ -134,7 +158,7 @@ private:
 	// keys_.size().
 	std::size_t committed() const;
 	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
-	Performance plan(const Utterance& u) const;  // its keyposes and speech brows, from 0
+	PlannedUtterance planned(Utterance u, const Expression& expression) const;  // plan() without the images
 	void chooseExemplars(std::vector<Keypose>& keys) const;  // D62: the face's exemplars of predicted mouths
 	void replan();
 	void addPending(Ticks t, LiveEvent e);

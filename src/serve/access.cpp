@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <set>
 
+#include "base/error.h"
 #include "base/text.h"
 
 namespace talkhead {
@@ -56,6 +58,15 @@ std::string hostOnly(std::string_view authority) {
 	while (!a.empty() && a.back() == '.') a.pop_back();  // "localhost." is localhost
 	return a;
 }
+
+std::optional<std::string> requestField(const std::string& field) {
+	static const std::set<std::string> members = {"text", "lang", "voice", "rate", "pitch", "emotion", "intensity", "ramp", "audio",
+	                                              "encoding", "sample_rate", "channels", "transcript", "visemes", "alignment", "id"};
+	if (members.count(field)) return "the request's '" + field + "'";
+	return std::nullopt;
+}
+
+std::string forRequester(const std::string& message) { return wordFields(message, requestField); }
 
 bool isLoopbackHost(std::string_view raw) {
 	const std::string h = hostOnly(raw);

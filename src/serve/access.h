@@ -17,6 +17,13 @@ struct AccessPolicy {
 	std::string token;                     // empty: no token asked
 };
 
+// How a client reads a field a message names ({{field}}, base/error.h): a request's member as "the
+// request's 'lang'"; nullopt for the server's own settings (the clause that suggests one is left out: a
+// client cannot change them). forRequester words a whole message so. (Here, with the other pure rules,
+// because the network plugin words its refusals too.)
+std::optional<std::string> requestField(const std::string& field);
+std::string forRequester(const std::string& message);
+
 // localhost (and *.localhost), 127.0.0.0/8, ::1.
 bool isLoopbackHost(std::string_view host);
 // The host part of a Host header or an origin's authority, lower case, without the port or IPv6 brackets.

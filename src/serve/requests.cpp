@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <set>
 
 #include "base/base64.h"
 #include "base/error.h"
@@ -64,15 +63,6 @@ std::string wavHeader(int rate, int channels, std::size_t frames) {
 const char* const kIdRule = "'id' must be a string of at most 200 bytes or a whole number from -9007199254740991 to 9007199254740991, written without a fraction or an exponent";
 
 }  // namespace
-
-std::optional<std::string> requestField(const std::string& field) {
-	static const std::set<std::string> members = {"text", "lang", "voice", "rate", "pitch", "emotion", "intensity", "ramp", "audio",
-	                                              "encoding", "sample_rate", "channels", "transcript", "visemes", "alignment", "id"};
-	if (members.count(field)) return "the request's '" + field + "'";
-	return std::nullopt;
-}
-
-std::string forRequester(const std::string& message) { return wordFields(message, requestField); }
 
 std::string requestIdJson(const std::string& member) {
 	if (!member.empty() && member[0] == '"') {
@@ -268,7 +258,7 @@ SessionScript readSessionScript(const std::string& path) {
 	return out;
 }
 
-void applyLiveRequest(LiveSession& session, const LiveRequest& r, std::optional<Utterance> utterance) {
+void applyLiveRequest(LiveSession& session, const LiveRequest& r, std::optional<PlannedUtterance> utterance) {
 	switch (r.kind) {
 	case LiveRequest::Kind::Stop: session.stop(r.id); break;
 	case LiveRequest::Kind::Emotion: session.setEmotion(*r.expression, r.ramp); break;

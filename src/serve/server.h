@@ -41,11 +41,7 @@ LiveRequest parseLiveRequest(const std::string& json);
 // most 200 bytes or an integer within ±(2^53 − 1) written as digits (so that no two ids a client tells apart
 // are echoed as one, in JavaScript too); throws Error otherwise.
 std::string requestIdJson(const std::string& member);
-// How a client reads a field a message names ({{field}}, base/error.h): a request's member as "the
-// request's 'lang'"; nullopt for the server's own settings (the clause that suggests one is left out: a
-// client cannot change them). forRequester words a whole message so.
-std::optional<std::string> requestField(const std::string& field);
-std::string forRequester(const std::string& message);
+
 // What a session record keeps of a request (`json` its text, `request` what was parsed from it): the members
 // the parser reads for its type, nothing else (a request may carry megabytes of members it ignores).
 std::string requestForRecord(const std::string& json, const LiveRequest& request);
@@ -54,7 +50,7 @@ std::string requestForRecord(const std::string& json, const LiveRequest& request
 // SpeechCancelled.
 Utterance prepareUtterance(const LiveRequest& request, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits = {});
 // Applies a request to the session at its next frame (say and speak: with their prepared utterance).
-void applyLiveRequest(LiveSession& session, const LiveRequest& request, std::optional<Utterance> utterance);
+void applyLiveRequest(LiveSession& session, const LiveRequest& request, std::optional<PlannedUtterance> utterance);
 
 // A recorded session (serve --record; talkhead live): one JSON object a line — {"frame": N, "request": {…}}
 // steps (sorted by frame, the request's own text kept), an optional {"type": "end", "frame": N} (`end`, −1

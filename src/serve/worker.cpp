@@ -17,9 +17,10 @@
 #include "base/json.h"
 #include "base/text.h"
 #include "media/video_writer.h"
-#include "render/output.h"
 #include "phonetics/labels.h"
 #include "phonetics/language.h"
+#include "render/output.h"
+#include "serve/access.h"
 
 namespace talkhead {
 
@@ -241,7 +242,7 @@ void LiveWorker::speechLoop() {
 					              o_.limits.queuedSeconds);
 					throw Error(b);
 				}
-				c.utterance = prepareUtterance(c.request, o_.lang, o_.live.sampleRate, limits);
+				c.utterance = PlannedUtterance(prepareUtterance(c.request, o_.lang, o_.live.sampleRate, limits));
 				seconds = toSeconds(c.utterance->duration());
 				// Its keypose images made here, not in the frame thread (a frame would be late).
 				Expression expression;
@@ -250,8 +251,8 @@ void LiveWorker::speechLoop() {
 					expression = c.request.expression.value_or(expression_);
 				}
 				std::lock_guard<std::mutex> warming(warmMutex_);
-				if (LiveSession* s = session_.load()) s->warm(*c.utterance, expression);
-				for (const auto& w : c.utterance->warnings)
+				if (LiveSession* s = session_.load()) c.utterance = s->plan(std::move(c.utterance->utterance), expression);
+				for (const auto& w : c.utterance->utterance.warnings)
 					send_(false, messageJson("warning", w, c.request.id));
 			} catch (const SpeechCancelled&) {
 				std::lock_guard<std::mutex> lock(m_);
@@ -459,12 +460,6 @@ struct LoadSampler {
 	}
 };
 
-RenderedFrame renderedFrame(const StreamInfo& info, std::int64_t n, const YuvImage& frame, const Points& points) {
-	RenderedFrame rf;
-	rf.index = n, rf.time = info.rate.time(n), rf.yuv = &frame, rf.points = &points;
-	return rf;
-}
-
 }  // namespace
 
 bool LiveWorker::sendEvents(const std::vector<LiveEvent>& events, std::map<std::string, ServeClock::time_point>& requestTimes, ServeClock::time_point sent) {
@@ -495,8 +490,6 @@ void LiveWorker::frames(LiveSession& session) {
 	    streamSink(o_, session, [&bytes](const std::uint8_t* d, std::size_t n) { bytes.append(reinterpret_cast<const char*>(d), n); return true; });
 	if (!hello(session, stream->codecs()) || !send_(true, std::move(bytes))) return;
 	bytes.clear();
-	YuvImage frame;
-	Points points;
 	std::vector<LiveEvent> events;
 	std::deque<Command> ready;  // prepared say/speak, not yet in the session
 	std::vector<std::string> orphans;  // say/speak the shutdown dropped
@@ -543,8 +536,7 @@ void LiveWorker::frames(LiveSession& session) {
 		stats_->queuedRequests = int(ready.size()) + (session.speaking() ? 1 : 0);
 		events.clear();
 		const auto t0 = ServeClock::now();
-		session.drawNext(frame, points, events);
-		stream->frame(renderedFrame(info, n, frame, points));
+		session.play(*stream, events);
 		drawn_ = session.nextFrame();
 		const auto sent = ServeClock::now();
 		// Pace: a frame out later than one frame after its time is late (the stream falls behind).
@@ -571,17 +563,13 @@ double measureSessionLoad(const FaceModel& model, const ServeOptions& o) {
 	const std::int64_t t0 = threadCpuNs();
 	try {
 		Utterance u = speakText("Hello, how are you today? I am fine, thank you very much.", Language::get(o.lang), "", o.live.sampleRate);
-		session.warm(u, session.expression());
-		session.enqueue(std::move(u));
+		session.enqueue(session.plan(std::move(u), session.expression()));
 	} catch (const std::exception&) {  // no speech (espeak-ng missing): the idle face is measured
 	}
-	YuvImage frame;
-	Points points;
 	std::vector<LiveEvent> events;
 	const int frames = std::max(10, int(std::lround(info.rate.fps())));
 	for (int n = 0; n < frames; ++n) {
-		session.drawNext(frame, points, events);
-		stream->frame(renderedFrame(info, n, frame, points));
+		session.play(*stream, events);
 		events.clear();
 	}
 	return double(threadCpuNs() - t0) * 1e-9 / (double(frames) / info.rate.fps());

@@ -87,7 +87,7 @@ private:
 	};
 	struct Command {
 		LiveRequest request;
-		std::optional<Utterance> utterance;
+		std::optional<PlannedUtterance> utterance;  // planned on the speech thread (LiveSession::plan)
 		std::string json;  // for the record
 		std::uint64_t generation = 0;
 		ServeClock::time_point received;

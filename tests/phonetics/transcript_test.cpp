@@ -296,7 +296,7 @@ TEST(TextGrid, wordAndUtteranceTiersAreWordLevel) {
 	EXPECT_EQ(parseTranscript(both, "b.TextGrid", levelled(LabelLevel::Word)).tier, "words");
 	// Unsure: named like words, labelled like phones: the error asks for --level.
 	EXPECT_EQ(errorOf([] { parseTranscript(textGrid({{"Word", {{0, 0.5, "C"}, {0.5, 1, "F"}}}}), "cf.TextGrid"); }),
-	          "cf.TextGrid:10: tier 'Word' holds words, not phones, by its name, but its labels ('C' 'F') look like phones; use --level words, or --level phones");
+	          "cf.TextGrid:10: tier 'Word' holds words, not phones, by its name, but its labels ('C' 'F') look like phones; use {{level}} words, or {{level}} phones");
 	// Unsure: neither name nor labels tell (half known phones): read as phones, and a word among them says so.
 	Transcript g = parseTranscript(textGrid({{"talker", {{0, 0.25, "a"}, {0.25, 0.5, "blah"}, {0.5, 0.75, "e"}, {0.75, 1, "qq"}}}}), "g.TextGrid", knowing("en-US"));
 	EXPECT_TRUE(g.levelGuessed);
@@ -376,11 +376,11 @@ TEST(UnknownPhones, nearestIsTheClosestSpellingNeverAPrefixOrAPause) {
 	// phoneSegments: --unknown nearest without a near spelling is an error naming the label, not silence.
 	Transcript t = parseTranscript("0\t0.1\ta\n0.1\t0.2\tblah\n", "n.tsv");
 	EXPECT_EQ(errorOf([&] { phoneSegments(t, en, UnknownPhone::Nearest); }),
-	          "n.tsv:2: unknown en-US phone 'blah': no known spelling is near it; correct the label, or check --lang and --notation");
+	          "n.tsv:2: unknown en-US phone 'blah': no known spelling is near it; correct the label, or check {{lang}} and {{notation}}");
 	// Silence is suggested only for a label that cannot be a sound (issue 29 item 4): a vowel is never silenced.
 	Transcript m = parseTranscript("0\t0.1\ta\n0.1\t0.2\t+++\n", "m.tsv");
 	EXPECT_EQ(errorOf([&] { phoneSegments(m, en, UnknownPhone::Nearest); }),
-	          "m.tsv:2: unknown en-US phone '+++': no known spelling is near it; use --unknown silence if it marks no speech, or correct the label");
+	          "m.tsv:2: unknown en-US phone '+++': no known spelling is near it; use {{unknown}} silence if it marks no speech, or correct the label");
 	EXPECT_EQ(errorOf([&] { phoneSegments(m, en); }).find("{{unknown}}=nearest|silence)") != std::string::npos, true);
 	// An EMU/MRPA file: H# is its silence; 'ai' is a sound: no suggestion to silence it.
 	Transcript emu = parseTranscript("0\t0.2\tH#\n0.2\t0.4\tai\n", "emu.tsv");

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "base/error.h"
 #include "phonetics/language.h"
@@ -308,4 +309,51 @@ TEST(LiveSession, anEmotionChangesGraduallyWhileIdleAndBadOnesAreErrors) {
 	std::printf("emotion: mean |Δ| %.3f from the start, at most %.3f per frame\n", total, largest);
 	EXPECT_GT(total, 0.2);            // the face is joyful now
 	EXPECT_LT(largest, total / 4.0);  // over 15 frames, not in one
+}
+
+// Issue 46: an utterance is planned once (LiveSession::plan, on a server's speech thread); queued after the
+// session's emotion changed, its keys take the session's expression — the frames are those of planning it
+// at the queueing, as before.
+TEST(LiveSession, anUtterancePlannedAheadDrawsAsOnePlannedWhenQueued) {
+	NEED_DEFAULT_FACE();
+	const Utterance u = sentence("Good news, everyone.", "a");
+	const Expression joy(Emotion::of("joy")), anger(Emotion::of("anger"), 0.7);
+	auto frames = [&](std::optional<Expression> plannedIn) {
+		LiveSession s(*face, smallOptions());
+		std::optional<PlannedUtterance> ahead;
+		if (plannedIn) ahead = s.plan(u, *plannedIn);
+		s.setEmotion(anger, Ticks(0));
+		if (ahead) {
+			EXPECT_EQ(ahead->keys.at(1).emotion, plannedIn->emotion());
+			s.enqueue(std::move(*ahead));
+		} else {
+			s.enqueue(u);
+		}
+		std::vector<std::uint8_t> all;
+		YuvImage f;
+		Points p;
+		std::vector<LiveEvent> ev;
+		for (int n = 0; n < 45; ++n) {
+			s.drawNext(f, p, ev);
+			all.insert(all.end(), f.y.begin(), f.y.end());
+		}
+		return all;
+	};
+	const std::vector<std::uint8_t> atQueueing = frames(std::nullopt);
+	EXPECT_TRUE(frames(joy) == atQueueing);    // planned in another expression: restamped
+	EXPECT_TRUE(frames(anger) == atQueueing);  // planned in the session's: queued as planned
+	const std::vector<std::uint8_t> quiet = [&] {
+		LiveSession s(*face, smallOptions());
+		s.setEmotion(anger, Ticks(0));
+		std::vector<std::uint8_t> all;
+		YuvImage f;
+		Points p;
+		std::vector<LiveEvent> ev;
+		for (int n = 0; n < 45; ++n) {
+			s.drawNext(f, p, ev);
+			all.insert(all.end(), f.y.begin(), f.y.end());
+		}
+		return all;
+	}();
+	EXPECT_FALSE(quiet == atQueueing);  // the utterance is drawn at all
 }

@@ -48,7 +48,7 @@ TEST(OutputFormats, aSpecTheFormatCannotWriteNamesItsField) {
 	EXPECT_EQ(fieldOf([&] { makeVideoSink(s, nullptr); }), "output");
 	s.format = VideoFormat::Webm, s.path = "x.webm", s.crf = 63, s.alpha = true;
 	EXPECT_NE(makeVideoSink(s, nullptr), nullptr);  // VP9's scale, with alpha
-	s.format = VideoFormat::Mp4Stream;
+	s.format = VideoFormat::Mp4Stream, s.crf = -1;
 	EXPECT_EQ(fieldOf([&] { makeVideoSink(s, nullptr); }), "background");
 	s.alpha = false;
 	EXPECT_EQ(fieldOf([&] { makeVideoSink(s, nullptr); }), "output");  // a stream needs somewhere to write
