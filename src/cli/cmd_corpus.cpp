@@ -10,6 +10,7 @@
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "base/progress.h"
+#include "corpus/build.h"
 #include "corpus/corpus.h"
 #include "phonetics/labels.h"
 #include "media/image_io.h"
@@ -136,11 +137,7 @@ int runAuAppearance(const std::vector<std::string>& argv) {
 	const Corpus corpus = loadCorpus(path);
 	const Scheme scheme = loadScheme(args.get("--scheme", corpus.schemeName));
 	const auto profiles = args.get("--profiles") ? loadAuProfiles(*args.get("--profiles")) : defaultAuProfiles();
-	std::vector<AppearanceSample> samples;
-	for (const auto& e : corpus.entries) samples.push_back({e.emotion, e.cdv, e.points});
-	AuAppearance a = learnAuAppearance(
-	    scheme, samples, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, profiles, int(args.number("--grid", 256, 32, 2048)));
-	a.source = std::filesystem::path(path).filename().string() + ": " + a.source;
+	const AuAppearance a = buildAuAppearance(corpus, scheme, profiles, int(args.number("--grid", 256, 32, 2048)));
 	saveAuAppearance(a, out);
 	if (!args.has("--quiet"))
 		std::fprintf(stderr, "wrote %s: %zu action units on a %dx%d grid from %s in %.1f s\n", out.c_str(), a.names.size(), a.width, a.height, a.source.c_str(),

@@ -64,22 +64,17 @@ void ensureDefaultFace(bool quiet) {
 	std::error_code ec;
 	fs::create_directories(models, ec);
 	if (ec) throw Error(models.string() + ": cannot make the folder for the default face (" + ec.message() + ")");
-	// The same steps and sizes as CMakeLists.txt's default_model target, by the library calls `corpus synth`
-	// and `talkhead build` make (issue 46); the skin's maps, when not installed, by the command.
-	auto run = [&](const std::vector<std::string>& step) {
-		std::string error;
-		if (runCommandLine(step, error) != 0) throw Error("making the default face in " + models.string() + " failed: " + error);
-	};
-	{
-		NullProgress quiet;
-		SynthCorpusOptions synth;  // as `corpus synth --size 1280x720`
-		synth.width = 1280, synth.height = 720;
-		writeSynthCorpus(corpus.string(), synth, quiet);
-		const Corpus c = loadCorpus((corpus / "corpus.csv").string());
-		saveModel(buildFaceModel(c, corpusScheme(c), BuildOptions{}, quiet), (models / "default.thm").string());
-	}
+	// The same steps and sizes as CMakeLists.txt's default_model target, by the library calls `corpus synth`,
+	// `talkhead build` and `corpus au-appearance` make (issue 46).
+	NullProgress silent;
+	SynthCorpusOptions synth;  // as `corpus synth --size 1280x720`
+	synth.width = 1280, synth.height = 720;
+	writeSynthCorpus(corpus.string(), synth, silent);
+	const Corpus c = loadCorpus((corpus / "corpus.csv").string());
+	const Scheme scheme = corpusScheme(c);
+	saveModel(buildFaceModel(c, scheme, BuildOptions{}, silent), (models / "default.thm").string());
 	if (!findDataFile("models/au-appearance.bin"))  // a package installs the skin's maps (6 MB)
-		run({"corpus", "au-appearance", "-q", (corpus / "corpus.csv").string(), "-o", (models / "au-appearance.bin").string()});
+		saveAuAppearance(buildAuAppearance(c, scheme), (models / "au-appearance.bin").string());
 	fs::remove_all(corpus, ec);  // 200 MB of images, not needed once the model is made
 	if (!quiet)
 		std::fprintf(stderr, "talkhead: the default face is ready (%.0f s): %s\n",

@@ -37,4 +37,13 @@ FaceModel buildFaceModel(const Corpus& corpus, const Scheme& scheme, BuildOption
 	return buildFaceModel(scheme, shapes, samples, width, height, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, options, progress);
 }
 
+AuAppearance buildAuAppearance(const Corpus& corpus, const Scheme& scheme, const std::map<std::string, AuProfile>& profiles, int gridWidth) {
+	std::vector<AppearanceSample> samples;
+	for (const auto& e : corpus.entries) samples.push_back({e.emotion, e.cdv, e.points});
+	AuAppearance a = learnAuAppearance(
+	    scheme, samples, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, profiles, gridWidth);
+	a.source = std::filesystem::path(corpus.path).filename().string() + ": " + a.source;
+	return a;
+}
+
 }  // namespace talkhead
