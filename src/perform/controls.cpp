@@ -438,13 +438,14 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 			before = to, beforeIntensity = toIntensity;
 		}
 	}
-	perf.modulation.forcedBlinks.insert(perf.modulation.forcedBlinks.end(), track.blinks.begin(), track.blinks.end());
-	perf.modulation.gestures.insert(perf.modulation.gestures.end(), track.gestures.begin(), track.gestures.end());
-	perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), track.brows.begin(), track.brows.end());
-	perf.modulation.auEvents.insert(perf.modulation.auEvents.end(), track.actionUnits.begin(), track.actionUnits.end());
+	TimedEvents& e = perf.events;
+	e.blinks.insert(e.blinks.end(), track.blinks.begin(), track.blinks.end());
+	e.gestures.insert(e.gestures.end(), track.gestures.begin(), track.gestures.end());
+	e.brows.insert(e.brows.end(), track.brows.begin(), track.brows.end());
+	e.actionUnits.insert(e.actionUnits.end(), track.actionUnits.begin(), track.actionUnits.end());
 	if (!track.curves.empty()) {
 		if (track.curves.start > perf.duration) past(track.curves.start, "the curves' start");
-		perf.modulation.curves = track.curves;
+		e.curves = track.curves;
 	}
 	if (!track.drawnBlinks) perf.modulation.blinks = false;
 }

@@ -10,12 +10,7 @@ namespace talkhead {
 
 void addLeadInAndTail(Performance& p, Ticks leadIn, Ticks tail) {
 	for (Keypose& k : p.keys) k.time += leadIn;
-	ModulatorOptions& m = p.modulation;
-	for (Ticks& t : m.forcedBlinks) t += leadIn;
-	for (HeadGesture& g : m.gestures) g.time += leadIn;
-	for (BrowEvent& b : m.browEvents) b.time += leadIn;
-	for (AuEvent& a : m.auEvents) a.time += leadIn;
-	m.curves.start += leadIn;  // a tracked performance (D55) starts with the speech
+	p.events.shift(leadIn);  // a tracked performance's curves (D55) start with the speech too
 	p.duration += leadIn + tail;
 }
 

@@ -19,7 +19,8 @@ struct Performance {
 	Ticks duration{0};               // the video's length (the audio's, or the transcript's end)
 	std::vector<Keypose> keys;       // keyposes in time order (CDV, instant, phone context)
 	Expression expression;           // for every keypose without its own (default neutral; intensity: D43)
-	ModulatorOptions modulation;     // blinks and head motion (on by default; D42)
+	ModulatorOptions modulation;     // blinks and head motion drawn (on by default; D42): the knobs
+	TimedEvents events;              // what is asked for at times: blinks, gestures, brows, action units, curves
 	// (The expressive-control issue adds per-keypose emotion and control tracks here.)
 
 	std::int64_t frameCount() const { return rate.frameCount(duration); }

@@ -83,8 +83,10 @@ TimedSpeech speechFromEspeak(const Speech& speech, const Language& language) {
 }
 
 ControlTrack clippedTo(ControlTrack track, Ticks end) {
-	auto& b = track.blinks;
-	b.erase(std::remove_if(b.begin(), b.end(), [&](Ticks t) { return t > end; }), b.end());
+	TimedEvents e;
+	e.blinks = std::move(track.blinks), e.gestures = std::move(track.gestures), e.brows = std::move(track.brows), e.actionUnits = std::move(track.actionUnits);
+	e.clip(end);
+	track.blinks = std::move(e.blinks), track.gestures = std::move(e.gestures), track.brows = std::move(e.brows), track.actionUnits = std::move(e.actionUnits);
 	return track;
 }
 
@@ -107,7 +109,7 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	}
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);
-		perf.modulation.browEvents.insert(perf.modulation.browEvents.end(), brows.begin(), brows.end());
+		perf.events.brows.insert(perf.events.brows.end(), brows.begin(), brows.end());
 	}
 	if (spec.audioDuration && !spec.phones.empty()) {
 		// The speech against its audio (a driven mouth has no phones: the video's length is given).

@@ -119,7 +119,6 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	modOptions_ = o_.modulation;
 	// The face box is sized once, for the liveliest head any emotion gets (head motion's largest factor).
 	ModulatorOptions envelope = o_.modulation;
-	envelope.forcedBlinks.clear(), envelope.gestures.clear(), envelope.browEvents.clear(), envelope.auEvents.clear();
 	envelope.intensity = 1.5;  // the strongest an emotion gets (its head motion scales with the intensity)
 	double factor = 0;
 	for (std::size_t i = 0; i < Emotion::count(); ++i) factor = std::max(factor, ShapeModulator::headFactorFor(Emotion::at(i)));
@@ -169,7 +168,11 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	PlannedUtterance p(std::move(u));
 	p.planned = true;
 	p.expression = expression;
-	if (p.utterance.phones.empty()) return p;
+	p.events.blinks = p.utterance.blinks;  // the text's blinks (SSML), and below its brows after the speech brows
+	if (p.utterance.phones.empty()) {
+		p.events.brows = p.utterance.brows;
+		return p;
+	}
 	PerformanceSpec spec;
 	spec.phones = p.utterance.phones;
 	spec.rate = o_.rate;
@@ -178,7 +181,8 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	spec.coarticulation = o_.coarticulation;
 	Performance perf = planPerformance(spec);
 	p.keys = std::move(perf.keys);
-	p.speechBrows = std::move(perf.modulation.browEvents);
+	p.events.brows = std::move(perf.events.brows);  // speech brows (D49)
+	p.events.brows.insert(p.events.brows.end(), p.utterance.brows.begin(), p.utterance.brows.end());
 	p.stamped.assign(p.keys.size(), 0);
 	for (std::size_t i = 0; i < p.keys.size(); ++i) {
 		Keypose& k = p.keys[i];
@@ -250,15 +254,7 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 	}
 	e.kind = LiveEvent::Kind::UtteranceEnded;
 	addPending(end, e);
-	for (BrowEvent b : p.speechBrows) {  // speech brows (D49)
-		b.time += start;
-		modOptions_.browEvents.push_back(b);
-	}
-	for (BrowEvent b : u.brows) {
-		b.time += start;
-		modOptions_.browEvents.push_back(b);
-	}
-	for (Ticks t : u.blinks) modOptions_.forcedBlinks.push_back(t + start);
+	events_.splice(p.events, start);
 	replan();
 	return start;
 }
@@ -327,10 +323,7 @@ void LiveSession::stop(const std::string& id, const std::vector<std::string>& un
 			}
 		}
 		pending_ = std::move(left);
-		auto& brows = modOptions_.browEvents;
-		brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time >= t; }), brows.end());
-		auto& blinks = modOptions_.forcedBlinks;
-		blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b >= t; }), blinks.end());
+		events_.cut(t);
 		queueEnd_ = t;
 	}
 	for (const std::string& u : unstarted) {  // the caller's, never queued here: after the session's own
@@ -354,13 +347,10 @@ void LiveSession::replan() {
 	std::size_t drop = 0;
 	while (drop + 1 < keys_.size() && keys_[drop + 1].time <= behind) ++drop;
 	keys_.erase(keys_.begin(), keys_.begin() + std::ptrdiff_t(drop));
-	auto& brows = modOptions_.browEvents;
-	brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time + b.duration < behind; }), brows.end());
-	auto& blinks = modOptions_.forcedBlinks;
-	blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b < behind; }), blinks.end());
+	events_.dropEndedBefore(behind);
 	modOptions_.intensity = expression_.intensity();
-	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, expression_.emotion(), horizon_, keys_);
-	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, expression_.emotion(), horizon_, keys_);
+	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, expression_.emotion(), horizon_, keys_, events_);
+	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, expression_.emotion(), horizon_, keys_, events_);
 	synth_->setModulator(modulator_);
 }
 

@@ -56,12 +56,12 @@ const char* liveEventName(LiveEvent::Kind kind);  // "utterance_started", "utter
 std::string liveEventJson(const LiveEvent& e, std::optional<double> latencyMs = std::nullopt);
 
 // An utterance planned for a session (LiveSession::plan): its keyposes from its start, in an expression,
-// with their exemplars bound (D62), and its speech brows (D49) — planned once, on any thread.
+// with their exemplars bound (D62), and its timed events — planned once, on any thread.
 struct PlannedUtterance {
 	Utterance utterance;
 	bool planned = false;                // false: enqueue() plans it (an utterance given as it is)
 	std::vector<Keypose> keys;           // times from the utterance's start
-	std::vector<BrowEvent> speechBrows;  // from its start
+	TimedEvents events;                  // from its start: speech brows (D49), the text's brows and blinks (SSML)
 	Expression expression;               // what the keys without an emotion of their own were given
 	std::vector<std::uint8_t> stamped;   // per key: 1 its emotion, 2 its intensity came from `expression`
 	PlannedUtterance() = default;
@@ -147,7 +147,8 @@ private:
 	Ticks queueEnd_{0};
 	std::deque<Pending> pending_;
 	std::string lastViseme_;
-	ModulatorOptions modOptions_;
+	ModulatorOptions modOptions_;  // the knobs
+	TimedEvents events_;           // what is asked for at stream times (brows, blinks), spliced in as utterances come
 	std::shared_ptr<const ShapeModulator> modulator_;
 	Ticks horizon_{0};
 	std::unique_ptr<Sound> sound_;

@@ -400,7 +400,8 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
 	// Even sizes for 4:2:0; another aspect than the model's frame drawn at the fitted size, then cropped or padded.
 	const OutputFit fit = fitOutput(model.width, model.height, so, options.fit);
-	if (perf.modulation.any()) so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.keys);
+	if (perf.modulation.any(perf.events))
+		so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.keys, perf.events);
 	Synthesizer synth(model, so);
 	RenderStats st;
 	st.frames = frames;

@@ -76,11 +76,58 @@ double ShapeModulator::headFactorFor(Emotion emotion) {
 	return 1.0;
 }
 
-ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys)
-    : ShapeModulator(o, emotion, duration, keys, Ticks(0)) {}
+void TimedEvents::shift(Ticks by) {
+	for (Ticks& t : blinks) t += by;
+	for (HeadGesture& g : gestures) g.time += by;
+	for (BrowEvent& b : brows) b.time += by;
+	for (AuEvent& a : actionUnits) a.time += by;
+	curves.start += by;
+}
 
-ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom)
-    : o_(o) {
+namespace {
+// Removes the events of every kind whose start `gone` says goes.
+template <class Gone>
+void dropStarting(TimedEvents& e, Gone gone) {
+	e.blinks.erase(std::remove_if(e.blinks.begin(), e.blinks.end(), [&](Ticks t) { return gone(t); }), e.blinks.end());
+	e.gestures.erase(std::remove_if(e.gestures.begin(), e.gestures.end(), [&](const HeadGesture& g) { return gone(g.time); }), e.gestures.end());
+	e.brows.erase(std::remove_if(e.brows.begin(), e.brows.end(), [&](const BrowEvent& b) { return gone(b.time); }), e.brows.end());
+	e.actionUnits.erase(std::remove_if(e.actionUnits.begin(), e.actionUnits.end(), [&](const AuEvent& a) { return gone(a.time); }), e.actionUnits.end());
+}
+}  // namespace
+
+void TimedEvents::clip(Ticks end) {
+	dropStarting(*this, [&](Ticks t) { return t > end; });
+}
+
+void TimedEvents::cut(Ticks from) {
+	dropStarting(*this, [&](Ticks t) { return t >= from; });
+}
+
+void TimedEvents::dropEndedBefore(Ticks t) {
+	blinks.erase(std::remove_if(blinks.begin(), blinks.end(), [&](Ticks b) { return b < t; }), blinks.end());
+	gestures.erase(std::remove_if(gestures.begin(), gestures.end(), [&](const HeadGesture& g) { return g.time + g.duration < t; }), gestures.end());
+	brows.erase(std::remove_if(brows.begin(), brows.end(), [&](const BrowEvent& b) { return b.time + b.duration < t; }), brows.end());
+	actionUnits.erase(std::remove_if(actionUnits.begin(), actionUnits.end(), [&](const AuEvent& a) { return a.time + a.onset + a.apex + a.offset < t; }),
+	                  actionUnits.end());
+}
+
+void TimedEvents::splice(const TimedEvents& other, Ticks at) {
+	for (Ticks t : other.blinks) blinks.push_back(t + at);
+	for (HeadGesture g : other.gestures) g.time += at, gestures.push_back(g);
+	for (BrowEvent b : other.brows) b.time += at, brows.push_back(b);
+	for (AuEvent a : other.actionUnits) a.time += at, actionUnits.push_back(std::move(a));
+	if (curves.empty() && !other.curves.empty()) {
+		curves = other.curves;
+		curves.start += at;
+	}
+}
+
+ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys, const TimedEvents& events)
+    : ShapeModulator(o, events, emotion, duration, keys, Ticks(0)) {}
+
+ShapeModulator::ShapeModulator(const ModulatorOptions& o, const TimedEvents& events, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys,
+                               Ticks activityFrom)
+    : o_(o), e_(events) {
 	// Speech runs: consecutive keyposes that are phones (not silence, not the in-breath).
 	for (std::size_t i = 0; i < keys.size();) {
 		if (keys[i].cdv == "sil" || keys[i].breath) {
@@ -100,13 +147,13 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks
 		drawBlinks(rng.state, mean, 0.3 + rng.uniform() * mean, -1e9, length);
 	}
 	// Blinks a control track asks for: at their times, the drawn ones within 0.8 s of them dropped.
-	for (Ticks t : o.forcedBlinks) {
+	for (Ticks t : events.blinks) {
 		const double at = toSeconds(t);
 		blinks_.erase(std::remove_if(blinks_.begin(), blinks_.end(),
 		                             [&](const BlinkEvent& b) { return std::abs(toSeconds(b.start) - at) < 0.8; }),
 		              blinks_.end());
 	}
-	for (Ticks t : o.forcedBlinks) blinks_.push_back(blinkAt(t));
+	for (Ticks t : events.blinks) blinks_.push_back(blinkAt(t));
 	std::sort(blinks_.begin(), blinks_.end(), [](const BlinkEvent& a, const BlinkEvent& b) { return a.start < b.start; });
 	// Head motion: per channel three sinusoids of slowly rising frequency and decreasing weight, seeded
 	// phases and frequencies; the sum stays within ±1.
@@ -118,9 +165,9 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, Emotion emotion, Ticks
 		}
 	}
 	// A tracked head (curves) replaces the drawn motion.
-	factor_ = o.headMotion && !o.curves.hasHead() ? std::max(0.0, o.headAmplitude) * scaledByIntensity(headFactorFor(emotion), headFactorFor(Emotion()), o.intensity, 0) : 0.0;
+	factor_ = o.headMotion && !events.curves.hasHead() ? std::max(0.0, o.headAmplitude) * scaledByIntensity(headFactorFor(emotion), headFactorFor(Emotion()), o.intensity, 0) : 0.0;
 	double gestureAngle = 0;
-	const double gesture = gestureShift(o, gestureAngle);
+	const double gesture = gestureShift(events, gestureAngle);
 	maxAngle_ = kPeakAngle * factor_ + gestureAngle;
 	maxShift_ = std::hypot(kPeakDx, kPeakDy) * factor_ + gesture;
 	sizeCurves();
@@ -164,10 +211,10 @@ void ShapeModulator::drawBlinks(std::uint64_t& state, double mean, double t, dou
 	state = rng.state;
 }
 
-double ShapeModulator::gestureShift(const ModulatorOptions& o, double& gestureAngle) {
+double ShapeModulator::gestureShift(const TimedEvents& e, double& gestureAngle) {
 	double gesture = 0;
 	gestureAngle = 0;
-	for (const HeadGesture& g : o.gestures) {
+	for (const HeadGesture& g : e.gestures) {
 		const double shift = g.kind == HeadGesture::Kind::Nod ? kNod : (g.kind == HeadGesture::Kind::Shake ? kShake : kTurn);
 		gesture = std::max(gesture, std::abs(g.amount) * shift);
 		if (g.kind == HeadGesture::Kind::Turn) gestureAngle = std::max(gestureAngle, std::abs(g.amount) * kTurnTilt);
@@ -178,15 +225,19 @@ double ShapeModulator::gestureShift(const ModulatorOptions& o, double& gestureAn
 namespace {
 ModulatorOptions withoutBlinks(ModulatorOptions o) {
 	o.blinks = false;
-	o.forcedBlinks.clear();
 	return o;
+}
+TimedEvents withoutBlinks(TimedEvents e) {
+	e.blinks.clear();
+	return e;
 }
 }  // namespace
 
 ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& o, Emotion emotion, Ticks duration,
-                               const std::vector<Keypose>& keys)
-    : ShapeModulator(withoutBlinks(o), emotion, duration, keys, from) {
+                               const std::vector<Keypose>& keys, const TimedEvents& events)
+    : ShapeModulator(withoutBlinks(o), withoutBlinks(events), emotion, duration, keys, from) {
 	o_ = o;
+	e_ = events;
 	std::copy(&previous.freq_[0][0], &previous.freq_[0][0] + 9, &freq_[0][0]);
 	std::copy(&previous.phase_[0][0], &previous.phase_[0][0] + 9, &phase_[0][0]);
 	const double length = std::max(0.0, toSeconds(duration)), at = toSeconds(from);
@@ -203,7 +254,7 @@ ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const
 		Random rng{splitmix64(o.seed * 0x2545F4914F6CDD1Dull + std::uint64_t(from.count()))};
 		drawBlinks(rng.state, mean, std::max(at + rng.uniform() * mean, lastEnd + 0.8), lastEnd, length);
 	}
-	for (Ticks t : o.forcedBlinks) {
+	for (Ticks t : events.blinks) {
 		const double ft = toSeconds(t);
 		blinks_.erase(std::remove_if(blinks_.begin(), blinks_.end(),
 		                             [&](const BlinkEvent& b) { return b.start >= from && std::abs(toSeconds(b.start) - ft) < 0.8; }),
@@ -223,7 +274,7 @@ ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const
 	amp_ = std::move(amp);
 	activity_.clear();
 	double gestureAngle = 0;
-	const double gesture = gestureShift(o, gestureAngle);
+	const double gesture = gestureShift(events, gestureAngle);
 	double peak = 0;
 	for (float a : amp_) peak = std::max(peak, double(a));
 	maxAngle_ = kPeakAngle * peak + gestureAngle;
@@ -232,7 +283,7 @@ ShapeModulator::ShapeModulator(const ShapeModulator& previous, Ticks from, const
 }
 
 void ShapeModulator::sizeCurves() {
-	const ControlCurves& c = o_.curves;
+	const ControlCurves& c = e_.curves;
 	maxCurveShift_ = maxCurveScale_ = 0;
 	if (!c.hasHead()) return;
 	double roll = 0;
@@ -259,8 +310,8 @@ double ControlCurves::at(const std::vector<float>& c, Ticks t, double fallback) 
 
 std::vector<std::pair<std::size_t, double>> ShapeModulator::curveActionUnits(Ticks t) const {
 	std::vector<std::pair<std::size_t, double>> out;
-	for (std::size_t k = 0; k < o_.curves.aus.size(); ++k) {
-		const double w = o_.curves.at(o_.curves.aus[k].weight, t);
+	for (std::size_t k = 0; k < e_.curves.aus.size(); ++k) {
+		const double w = e_.curves.at(e_.curves.aus[k].weight, t);
 		if (w > 0) out.emplace_back(k, w);
 	}
 	return out;
@@ -306,7 +357,7 @@ double ShapeModulator::eyeClosure(Ticks t) const {
 std::pair<double, double> ShapeModulator::brows(Ticks t) const {
 	double raise = 0, frown = 0;
 	const double s = toSeconds(t);
-	for (const BrowEvent& b : o_.browEvents) {
+	for (const BrowEvent& b : e_.brows) {
 		const double a = s - toSeconds(b.time), d = toSeconds(b.duration);
 		if (a <= 0 || a >= d) continue;
 		const double envelope = std::min(smoothstep(a / std::min(0.15, d / 2)), smoothstep((d - a) / std::min(0.25, d / 2)));
@@ -319,7 +370,7 @@ std::pair<double, double> ShapeModulator::brows(Ticks t) const {
 std::vector<std::pair<const AuEvent*, double>> ShapeModulator::actionUnits(Ticks t) const {
 	std::vector<std::pair<const AuEvent*, double>> out;
 	const double s = toSeconds(t);
-	for (const AuEvent& e : o_.auEvents) {
+	for (const AuEvent& e : e_.actionUnits) {
 		const double a = s - toSeconds(e.time), on = toSeconds(e.onset), top = toSeconds(e.apex), off = toSeconds(e.offset);
 		if (a <= 0 || a >= on + top + off) continue;
 		const double envelope = a < on ? smoothstep(a / on) : (a < on + top ? 1.0 : smoothstep(1 - (a - on - top) / off));
@@ -332,7 +383,7 @@ HeadMotion ShapeModulator::head(Ticks t) const {
 	HeadMotion p;
 	const double s = toSeconds(t);
 	// Gestures from a control track: a nod goes down and back up; a shake sways twice each way.
-	for (const HeadGesture& g : o_.gestures) {
+	for (const HeadGesture& g : e_.gestures) {
 		const double u = (s - toSeconds(g.time)) / std::max(1e-6, toSeconds(g.duration));
 		if (u <= 0 || u >= 1) continue;
 		if (g.kind == HeadGesture::Kind::Nod) {
@@ -346,8 +397,8 @@ HeadMotion ShapeModulator::head(Ticks t) const {
 			p.angle += g.amount * kTurnTilt * g.directionX * e;
 		}
 	}
-	if (o_.curves.hasHead()) {  // a tracked head
-		const ControlCurves& c = o_.curves;
+	if (e_.curves.hasHead()) {  // a tracked head
+		const ControlCurves& c = e_.curves;
 		p.roll = c.at(c.roll, t);
 		p.x = c.at(c.x, t);
 		p.y = c.at(c.y, t);

@@ -75,6 +75,30 @@ struct ControlCurves {
 	double at(const std::vector<float>& channel, Ticks t, double fallback = 0) const;
 };
 
+// What the face is asked to do at given times besides speaking (issue 46): blinks, head gestures, brows and
+// action units (a control track, SSML, a driving video) and continuous curves (a tracked video). Shifted,
+// clipped and spliced as one value — a stimulus's lead-in, a video's end, an utterance spliced into a live
+// stream — and handed to the shape modulator beside its knobs.
+struct TimedEvents {
+	std::vector<Ticks> blinks;            // blinks at these times, even with drawn blinks off
+	std::vector<HeadGesture> gestures;    // nods, shakes and turns, even with head motion off
+	std::vector<BrowEvent> brows;         // brow raises and frowns
+	std::vector<AuEvent> actionUnits;     // need the scheme's AU templates
+	ControlCurves curves;                 // continuous head pose and action units
+	bool empty() const { return blinks.empty() && gestures.empty() && brows.empty() && actionUnits.empty() && curves.empty(); }
+	// Every event and the curves' start `by` later.
+	void shift(Ticks by);
+	// The events that start after `end` go (a video's end; the curves stay: they hold their last sample).
+	void clip(Ticks end);
+	// The events that start at or after `t` go (a barge-in; the curves stay).
+	void cut(Ticks t);
+	// The events over before `t` go (the curves stay).
+	void dropEndedBefore(Ticks t);
+	// `other`'s events, `at` later, after this one's of each kind (the curves: other's when this has none).
+	void splice(const TimedEvents& other, Ticks at);
+};
+
+// The modulator's knobs (what is drawn without being asked for at a time).
 struct ModulatorOptions {
 	bool blinks = true;
 	double blinkRate = 0;       // blinks per minute at rest; 0 = the emotion's default (see blinkRateFor)
@@ -82,15 +106,8 @@ struct ModulatorOptions {
 	bool headMotion = true;
 	double headAmplitude = 1;   // × the default amplitude (0 = a still head)
 	std::uint64_t seed = 1;     // the same seed, inputs and options give the same blinks and head motion
-	std::vector<Ticks> forcedBlinks;     // blinks at these times (a control track), even with blinks off
-	std::vector<HeadGesture> gestures;   // nods and shakes (a control track), even with head motion off
-	std::vector<BrowEvent> browEvents;   // brow raises and frowns (a control track or SSML)
-	std::vector<AuEvent> auEvents;       // action units (a control track); need the scheme's AU templates
-	ControlCurves curves;                // continuous head pose and action units (a tracked video)
-	bool any() const {
-		return blinks || (headMotion && headAmplitude > 0) || !forcedBlinks.empty() || !gestures.empty() || !browEvents.empty() ||
-		       !auEvents.empty() || !curves.empty();
-	}
+	// Whether anything moves, with `events` asked for besides.
+	bool any(const TimedEvents& events = {}) const { return blinks || (headMotion && headAmplitude > 0) || !events.empty(); }
 };
 
 // One blink: the lids close over `closing`, stay shut for `closed`, open over `opening` (closing faster
@@ -113,14 +130,14 @@ struct HeadMotion {
 // frames drawn in any order on any thread agree.
 class ShapeModulator {
 public:
-	ShapeModulator(const ModulatorOptions& options, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys);
+	ShapeModulator(const ModulatorOptions& options, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys, const TimedEvents& events = {});
 	// A live stream's next plan (render/live.h: its timeline changed at `from`): `previous`'s up to `from`,
 	// then a plan of the new timeline that goes on from it without a jump — the same head sinusoids, the
 	// blinks that started before `from` kept (new ones drawn after them, seeded by options.seed and
 	// `from`), and the head's amplitude (emotion × speaking activity) moved from previous's to the new one
-	// over 0.4 s. Forced blinks, gestures, brow and AU events are the options' own.
+	// over 0.4 s. Blinks, gestures, brow and AU events asked for are `events`.
 	ShapeModulator(const ShapeModulator& previous, Ticks from, const ModulatorOptions& options, Emotion emotion, Ticks duration,
-	               const std::vector<Keypose>& keys);
+	               const std::vector<Keypose>& keys, const TimedEvents& events = {});
 
 	// Lid closure at t: 0 open … 1 shut.
 	double eyeClosure(Ticks t) const;
@@ -130,7 +147,7 @@ public:
 	HeadMotion head(Ticks t) const;
 	// The action-unit events active at t and their weights (intensity × envelope), in event order.
 	std::vector<std::pair<const AuEvent*, double>> actionUnits(Ticks t) const;
-	const std::vector<AuEvent>& auEvents() const { return o_.auEvents; }
+	const std::vector<AuEvent>& auEvents() const { return e_.actionUnits; }
 	const std::vector<BlinkEvent>& blinks() const { return blinks_; }
 	// The head motion's amplitude at t (× the peak values): the emotion's factor × (0.5 + 0.5 × speaking
 	// activity).
@@ -143,7 +160,7 @@ public:
 	double maxCurveScale() const { return maxCurveScale_; }
 	// The curves' action units at t: (index into options().curves.aus, weight), those with weight > 0.
 	std::vector<std::pair<std::size_t, double>> curveActionUnits(Ticks t) const;
-	const ControlCurves& curves() const { return o_.curves; }
+	const ControlCurves& curves() const { return e_.curves; }
 	// Whether t falls in speech (between the first and last non-silent keypose of a run).
 	bool speaking(Ticks t) const;
 
@@ -153,6 +170,7 @@ public:
 
 private:
 	ModulatorOptions o_;
+	TimedEvents e_;
 	std::vector<BlinkEvent> blinks_;
 	std::vector<std::pair<Ticks, Ticks>> speech_;  // speech runs
 	std::vector<float> activity_;                  // smoothed speaking indicator, every 10 ms
@@ -164,11 +182,12 @@ private:
 	std::vector<float> amp_;
 	std::size_t ampFirst_ = 0;
 	std::size_t activityFirst_ = 0;  // activity_[0] is grid index activityFirst_
-	ShapeModulator(const ModulatorOptions& options, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys, Ticks activityFrom);
+	ShapeModulator(const ModulatorOptions& options, const TimedEvents& events, Emotion emotion, Ticks duration, const std::vector<Keypose>& keys,
+	               Ticks activityFrom);
 	// Draws blinks from `t` (seconds) to the end `length`, none within 0.8 s of `lastEnd`, moving those in
 	// speech to a nearby pause; `state` is the generator's.
 	void drawBlinks(std::uint64_t& state, double mean, double t, double lastEnd, double length);
-	static double gestureShift(const ModulatorOptions& o, double& gestureAngle);
+	static double gestureShift(const TimedEvents& e, double& gestureAngle);
 };
 
 }  // namespace talkhead

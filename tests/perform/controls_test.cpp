@@ -82,12 +82,12 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 			EXPECT_EQ(k.intensity, 0.8) << t;
 		}
 	}
-	EXPECT_EQ(p.modulation.forcedBlinks, std::vector<Ticks>{ms(3500)});
-	ASSERT_EQ(p.modulation.gestures.size(), 1u);
+	EXPECT_EQ(p.events.blinks, std::vector<Ticks>{ms(3500)});
+	ASSERT_EQ(p.events.gestures.size(), 1u);
 	// The modulator blinks there even with its own blinks off, and nods (down, then back).
 	p.modulation.blinks = false;
 	p.modulation.headMotion = false;
-	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys);
+	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys, p.events);
 	ASSERT_EQ(m.blinks().size(), 1u);
 	EXPECT_EQ(m.blinks()[0].start, ms(3500));
 	EXPECT_EQ(m.eyeClosure(ms(3500 + 85)), 1.0);
@@ -123,8 +123,8 @@ TEST(Controls, actionUnitsAndTurnsAreReadAndBadOnesNamed) {
 	// Applied: the AU events reach the modulator.
 	Performance p = fourSeconds();
 	applyControls(p, t);
-	EXPECT_EQ(p.modulation.auEvents.size(), 2u);
-	EXPECT_EQ(p.modulation.gestures.size(), 1u);
+	EXPECT_EQ(p.events.actionUnits.size(), 2u);
+	EXPECT_EQ(p.events.gestures.size(), 1u);
 }
 
 namespace {
@@ -225,7 +225,7 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	Performance p = fourSeconds();
 	applyControls(p, t);
 	EXPECT_FALSE(p.modulation.blinks);
-	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys);
+	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys, p.events);
 	EXPECT_NEAR(m.head(ms(600)).roll, c.roll[1], 1e-6);
 	EXPECT_EQ(m.head(ms(600)).angle, 0);  // no drawn sinusoids
 	EXPECT_NEAR(m.head(ms(650)).scale, 1.01, 1e-6);
@@ -237,7 +237,7 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	EXPECT_NEAR(aus[0].second, 1.0, 1e-6);
 	// A lead-in (issue 14) moves the curves with the speech.
 	addLeadInAndTail(p, ms(1000), ms(0));
-	EXPECT_EQ(p.modulation.curves.start, ms(1500));
+	EXPECT_EQ(p.events.curves.start, ms(1500));
 	// Bad curves are named.
 	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"roll": [0, 1], "x": [0]}}})"), "c.json: curves: \"head.x\" has 1 samples, the curves before it 2");
 	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"pan": [0]}}})"), "c.json: curves: unknown head channel \"pan\" (known: roll, x, y, scale, yaw, pitch)");

@@ -290,6 +290,7 @@ namespace {
 struct OneAuEvent {
 	std::vector<Keypose> keys;
 	ModulatorOptions mo;
+	TimedEvents events;
 	explicit OneAuEvent(const char* au) {
 		keys = keyposes({{ms(0), ms(2000), "", "", "sil", 0}}, Ticks(kTicksPerSecond / 30));
 		mo.blinks = false;
@@ -298,7 +299,7 @@ struct OneAuEvent {
 		e.au = au;
 		e.time = ms(500), e.onset = ms(200), e.apex = ms(500), e.offset = ms(200);
 		e.side = 1;
-		mo.auEvents = {e};
+		events.actionUnits = {e};
 	}
 };
 }  // namespace
@@ -309,7 +310,7 @@ TEST(Synthesizer, actionUnitEventsMoveThePointsOnTheirSide) {
 	const auto& keys = ev.keys;
 	const auto& mo = ev.mo;
 	SynthOptions o;
-	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys);
+	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys, ev.events);
 	Synthesizer synth(f.model, o);
 	synth.prepare(keys);
 	Synthesizer::Workspace ws;
@@ -339,7 +340,7 @@ TEST(Synthesizer, actionUnitEventsChangeTheSkinOnTheirSideOnlyWhileTheyAct) {
 	auto render = [&](bool skin, Ticks at, Points& points) {
 		SynthOptions o;
 		o.auAppearance = skin;
-		o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys);
+		o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys, ev.events);
 		Synthesizer synth(f.model, o);
 		synth.prepare(keys);
 		Synthesizer::Workspace ws;
@@ -699,11 +700,12 @@ TEST(ShapeModulator, browsRiseForARaiseAndComeDownAndTogetherForAFrown) {
 	const auto keys = speechKeys(0, 3000);
 	ModulatorOptions mo;
 	mo.blinks = mo.headMotion = false;
-	mo.browEvents = {BrowEvent{ms(500), ms(800), 1, 0}, BrowEvent{ms(2000), ms(800), 0, 1}};
+	TimedEvents events;
+	events.brows = {BrowEvent{ms(500), ms(800), 1, 0}, BrowEvent{ms(2000), ms(800), 0, 1}};
 	SynthOptions o;
 	o.expression = Expression(Emotion::of("joy"));
 	Synthesizer plain(f.model, o);
-	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("joy"), ms(3000), keys);
+	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("joy"), ms(3000), keys, events);
 	Synthesizer moved(f.model, o);
 	plain.prepare(keys);
 	moved.prepare(keys);
@@ -764,8 +766,9 @@ Ticks oneBlink(SynthOptions& o, const std::vector<Keypose>& keys) {
 	ModulatorOptions mo;
 	mo.blinks = false;
 	mo.headMotion = false;
-	mo.forcedBlinks = {ms(1000)};
-	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys);
+	TimedEvents events;
+	events.blinks = {ms(1000)};
+	o.modulator = std::make_shared<ShapeModulator>(mo, Emotion::of("neutral"), ms(2000), keys, events);
 	return o.modulator->blinks().at(0).start + o.modulator->blinks().at(0).closing + ms(10);
 }
 }  // namespace
