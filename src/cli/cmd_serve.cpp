@@ -30,7 +30,7 @@ namespace {
 
 // Options both commands share: how the face looks and moves.
 std::vector<OptionSpec> liveOptionSpecs() {
-	return {{"--model", "M.thm", "face model (default: the embedded default face)"},
+	std::vector<OptionSpec> specs = {{"--model", "M.thm", "face model (default: the embedded default face)"},
 	        {"--size", "WxH", "output size (default 1280x720)"},
 	        {"--fit", "MODE", "crop (default), pad or stretch when --size has another aspect than the model"},
 	        {"--fps", "RATE", "frame rate (default 30)"},
@@ -43,6 +43,8 @@ std::vector<OptionSpec> liveOptionSpecs() {
 	        {"--sample-rate", "HZ", "the stream's sound (default 22050, espeak-ng's own rate)"},
 	        {"--coarticulation", "F.tsv", "the mouth from its phone context (D62, 'talkhead corpus coarticulation'), as render's option"},
 	        {"--pauses", "STYLE", "natural (default), still (the default with --coarticulation) or thesis, as render's option"}};
+	for (auto& d : drawingOptionSpecs()) specs.push_back(d);
+	return specs;
 }
 
 LiveOptions liveOptions(const Args& args, const std::string& command) {
@@ -55,9 +57,8 @@ LiveOptions liveOptions(const Args& args, const std::string& command) {
 	o.speechBrows = parseSpeechBrows(args, command, "on");
 	o.sampleRate = int(args.number("--sample-rate", 22050, 8000, 96000));
 	if (auto f = args.get("--coarticulation")) o.coarticulation = std::make_shared<const CoarticulationModel>(loadCoarticulation(*f));
-	const auto pauses = parsePauseStyle(args.get("--pauses", args.has("--coarticulation") ? "still" : "natural"));
-	if (!pauses) throw UsageError(command + ": --pauses takes natural, still or thesis");
-	o.pauses = *pauses;
+	o.pauses = parsePausesOption(args, command);
+	parseDrawingOptions(args, command, o.render.synth);
 	return o;
 }
 

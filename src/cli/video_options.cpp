@@ -162,12 +162,18 @@ void checkWritableFolder(const std::string& path) {
 	if (::access(parent.c_str(), W_OK) != 0) throw Error(path, 0, "cannot write: folder '" + parent.string() + "' is not writable");
 }
 
+std::vector<OptionSpec> drawingOptionSpecs() {
+	return {{"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
+	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
+	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
+	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
+	        {"--au-appearance", "on|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default) or off (the shape alone)"}};
+}
+
 std::vector<OptionSpec> videoOptionSpecs() {
-	return {genericVisemesOption(),
+	std::vector<OptionSpec> specs = {genericVisemesOption(),
 	        {"--emotion", "LABEL[:I]", "one of the 23 emotion labels or an alias (default neutral); :I sets its intensity, 0 (neutral) to 1 (the corpus, default), up to 1.5"},
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
-	        {"--au-appearance", "on|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default) or off (the shape alone)"},
-	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
 	        {"--fit", "MODE", "when --size has another aspect than the model: crop (default: fill, cut the overflow), pad (fit inside, extend the edges) or stretch"},
@@ -180,10 +186,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--crf", "N", "quality: H.264 0–51 (default 20), VP9 0–63 (default 32); lower is better and larger"},
 	        {"--preset", "NAME", "x264 preset (default veryfast)"},
 	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (rest soon after speech and held; before the next words a slow in-breath where the pause allows; the default with --coarticulation) or thesis (one silence keypose at each pause midpoint)"},
-	        {"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
 	        {"--coarticulation", "F.tsv", "the mouth from its phone context (D62): each phone's keypose shows the face's exemplar nearest the opening this model predicts ('talkhead corpus coarticulation'); bilabials close"},
-	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
-	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
 	        {"--controls", "F", "timed events (JSON, or a TextGrid with --control-tier): emotion changes, blinks, nods, shakes, turns, brows, action units (README: Timed controls)"},
 	        {"--control-tier", "NAME", "with a TextGrid --controls: the tier whose labels are the events"},
 	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
@@ -202,6 +205,8 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--timing", "", "print the time of each stage (load, keyposes, warps, blend, encode) on stderr"},
 	        {"--quiet", "", "no progress and no summary", "-q"},
 	        {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}};
+	for (auto& d : drawingOptionSpecs()) specs.push_back(d);
+	return specs;
 }
 
 FrameRate parseFps(const Args& args, const std::string& command) {
@@ -284,6 +289,30 @@ int parseCrf(const Args& args, std::optional<VideoFormat> format) {
 	return int(args.number("--crf", f.crfDefault, 0, f.crfMax));
 }
 
+void parseDrawingOptions(const Args& args, const std::string& command, SynthOptions& synth) {
+	const std::string traj = args.get("--trajectory", "hermite"), diss = args.get("--dissolve", "linear");
+	if (traj != "hermite" && traj != "linear" && traj != "monotone") throw UsageError(command + ": --trajectory takes hermite, linear or monotone");
+	if (diss != "hermite" && diss != "linear") throw UsageError(command + ": --dissolve takes hermite or linear");
+	synth.trajectory = traj == "hermite" ? Trajectory::Hermite : traj == "linear" ? Trajectory::Linear : Trajectory::Monotone;
+	synth.dissolve = diss == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
+	const std::string warpPath = args.get("--warp", "direct");
+	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");
+	synth.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
+	const std::string source = args.get("--emotion-source", "auto");
+	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
+	synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);
+	const std::string skin = args.get("--au-appearance", "on");
+	if (skin != "on" && skin != "off") throw UsageError(command + ": --au-appearance takes on or off");
+	synth.auAppearance = skin == "on";
+}
+
+PauseStyle parsePausesOption(const Args& args, const std::string& command) {
+	if (!args.has("--pauses")) return defaultPauseStyle(args.has("--coarticulation"));
+	const auto pauses = parsePauseStyle(*args.get("--pauses"));
+	if (!pauses) throw UsageError(command + ": --pauses takes natural, still or thesis");
+	return *pauses;
+}
+
 VideoCommand parseVideoCommand(const Args& args, const std::string& command, bool outputRequired) {
 	VideoCommand c;
 	c.command = command;
@@ -311,23 +340,8 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.noAudio = args.has("--no-audio");
 	c.expression = parseEmotionOption(args, command);
 	c.modelPath = args.get("--model", "");
-	const auto pauses = parsePauseStyle(args.get("--pauses", args.has("--coarticulation") ? "still" : "natural"));
-	if (!pauses) throw UsageError(command + ": --pauses takes natural, still or thesis");
-	c.pauses = *pauses;
-	const std::string traj = args.get("--trajectory", "hermite"), diss = args.get("--dissolve", "linear");
-	if (traj != "hermite" && traj != "linear" && traj != "monotone") throw UsageError(command + ": --trajectory takes hermite, linear or monotone");
-	if (diss != "hermite" && diss != "linear") throw UsageError(command + ": --dissolve takes hermite or linear");
-	c.render.synth.trajectory = traj == "hermite" ? Trajectory::Hermite : traj == "linear" ? Trajectory::Linear : Trajectory::Monotone;
-	c.render.synth.dissolve = diss == "hermite" ? Trajectory::Hermite : Trajectory::Linear;
-	const std::string warpPath = args.get("--warp", "direct");
-	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");
-	c.render.synth.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
-	const std::string source = args.get("--emotion-source", "auto");
-	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
-	c.render.synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);
-	const std::string skin = args.get("--au-appearance", "on");
-	if (skin != "on" && skin != "off") throw UsageError(command + ": --au-appearance takes on or off");
-	c.render.synth.auAppearance = skin == "on";
+	c.pauses = parsePausesOption(args, command);
+	parseDrawingOptions(args, command, c.render.synth);
 	c.modulation = parseModulation(args, command);
 	c.speechBrows = parseSpeechBrows(args, command, "off");
 	c.leadIn = ticksFromSeconds(args.number("--lead-in", 0, 0, 600000) / 1000);

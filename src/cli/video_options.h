@@ -23,6 +23,12 @@ void checkWritableFolder(const std::string& path);
 
 // The options `render` and `say` share, with the same names, defaults and checks.
 std::vector<OptionSpec> videoOptionSpecs();
+// How the face is drawn, for render, say, live and serve alike: --trajectory, --dissolve, --warp,
+// --emotion-source, --au-appearance.
+std::vector<OptionSpec> drawingOptionSpecs();
+void parseDrawingOptions(const Args& args, const std::string& command, SynthOptions& synth);
+// --pauses, by default as the library says (defaultPauseStyle: still with --coarticulation).
+PauseStyle parsePausesOption(const Args& args, const std::string& command);
 
 struct VideoCommand {
 	std::string command;                 // "render" or "say", for messages

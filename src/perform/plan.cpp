@@ -82,6 +82,8 @@ TimedSpeech speechFromEspeak(const Speech& speech, const Language& language) {
 	return s;
 }
 
+PauseStyle defaultPauseStyle(bool withCoarticulation) { return withCoarticulation ? PauseStyle::Still : PauseStyle::Natural; }
+
 ControlTrack clippedTo(ControlTrack track, Ticks end) {
 	TimedEvents e;
 	e.blinks = std::move(track.blinks), e.gestures = std::move(track.gestures), e.brows = std::move(track.brows), e.actionUnits = std::move(track.actionUnits);

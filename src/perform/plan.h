@@ -46,6 +46,10 @@ TimedSpeech speechFromText(const std::string& text, const std::string& audioPath
 // espeak-ng's speech (say): its phones (names it has that the tables lack take the nearest known phone).
 TimedSpeech speechFromEspeak(const Speech& speech, const Language& language);
 
+// How pauses are played unless asked: Still with a coarticulation model (D70: its lips rest where the
+// speaker's do), else Natural.
+PauseStyle defaultPauseStyle(bool withCoarticulation);
+
 // What to perform.
 struct PerformanceSpec {
 	std::vector<PhoneSegment> phones;  // the speech; keyposes at their midpoints (pauses: `pauses`)

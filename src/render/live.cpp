@@ -189,7 +189,7 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 		if (!k.emotion) k.emotion = expression.emotion(), p.stamped[i] |= 1;
 		if (!k.intensity) k.intensity = expression.intensity(), p.stamped[i] |= 2;
 	}
-	chooseExemplars(p.keys);
+	chooseExemplars(p.keys, expression.emotion());  // not the session's: another thread may be changing it
 	return p;
 }
 
@@ -199,8 +199,8 @@ PlannedUtterance LiveSession::plan(Utterance u, const Expression& expression) co
 	return p;
 }
 
-void LiveSession::chooseExemplars(std::vector<Keypose>& keys) const {
-	if (o_.coarticulation) chooseMouthExemplars(model_, expression_.emotion(), keys);  // each key by its own emotion
+void LiveSession::chooseExemplars(std::vector<Keypose>& keys, Emotion fallback) const {
+	if (o_.coarticulation) chooseMouthExemplars(model_, fallback, keys);  // each key by its own emotion, else `fallback`
 }
 
 Ticks LiveSession::enqueue(PlannedUtterance p) {
@@ -213,7 +213,7 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 			if (p.stamped[i] & 2) k.intensity = expression_.intensity();
 			if (p.stamped[i] && k.mouthOpening) k.sample = -1;  // chosen again, among the emotion's exemplars
 		}
-		chooseExemplars(p.keys);
+		chooseExemplars(p.keys, expression_.emotion());
 	}
 	Utterance& u = p.utterance;
 	// Not before the sound read already: an encoder reads its priming ahead of the first frame (a live AAC
@@ -286,7 +286,7 @@ void LiveSession::setEmotion(const Expression& expression, Ticks ramp) {
 		if (k.mouthOpening) k.sample = -1;
 		keys_.push_back(k);
 	}
-	chooseExemplars(keys_);
+	chooseExemplars(keys_, expression_.emotion());
 	expression_ = expression;
 	LiveEvent ev;
 	ev.kind = LiveEvent::Kind::Emotion;

@@ -160,7 +160,7 @@ private:
 	std::size_t committed() const;
 	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
 	PlannedUtterance planned(Utterance u, const Expression& expression) const;  // plan() without the images
-	void chooseExemplars(std::vector<Keypose>& keys) const;  // D62: the face's exemplars of predicted mouths
+	void chooseExemplars(std::vector<Keypose>& keys, Emotion fallback) const;  // D62: the face's exemplars of predicted mouths
 	void replan();
 	void addPending(Ticks t, LiveEvent e);
 };

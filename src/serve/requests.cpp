@@ -179,17 +179,9 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 			u = utteranceFromAudio(path, r.timing ? std::string() : r.transcript, "transcript", lang, sampleRate, limits.maxSeconds);
 			if (r.timing) {
 				Transcript t = *r.timing;
-				// Pauses between words, and the last viseme until the sound ends.
+				// The last viseme until the sound ends, and pauses between words and to the sound's end.
 				if (t.level == LabelLevel::Viseme) t.intervals.back().end = std::max(t.intervals.back().end, std::max(u.audio.duration(), t.intervals.back().start + ticksFromSeconds(0.05)));
-				std::vector<Interval> filled;
-				Ticks at{0};
-				for (const Interval& i : t.intervals) {
-					if (i.start > at) filled.push_back({at, i.start, "", 0});
-					filled.push_back(i);
-					at = i.end;
-				}
-				if (u.audio.duration() > at) filled.push_back({at, u.audio.duration(), "", 0});
-				t.intervals = std::move(filled);
+				t.intervals = withPauses(t.intervals, Ticks(0), u.audio.duration());
 				u.phones = phoneSegments(t, lang);
 			}
 		} catch (const std::exception& e) {

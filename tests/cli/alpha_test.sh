@@ -68,5 +68,13 @@ err say "Hi" --model "$T/face.thm" --background green -o "$T/x.webm" | grep -q "
 err say "Hi" --model "$T/face.thm" --format mp4 -o "$T/x.webm" | grep -q "ambiguous"
 err say "Hi" --model "$T/face.thm" --crf 64 -o "$T/x.webm" | grep -q "crf"
 err live "$T/session.jsonl" --model "$T/face.thm" --background transparent -o "$T/x.mp4" | grep -q "has no alpha channel"
+# A --format against the output's extension is ambiguous for every pair (issue 46: one registry of formats).
+err say "Hi" --model "$T/face.thm" --format y4m -o "$T/x.mp4" | grep -q "ambiguous"
 test ! -e "$T/x.mp4" && test ! -e "$T/x.webm"
+# live (and serve) parse how the face is drawn with render's own code (issue 46): another trajectory and
+# dissolve draw other frames; a bad value is render's one-line error.
+"$TH" live "$T/session.jsonl" --model "$T/face.thm" --size 320x180 --format y4m -o "$T/l1.y4m" -q
+"$TH" live "$T/session.jsonl" --model "$T/face.thm" --size 320x180 --trajectory linear --dissolve hermite --format y4m -o "$T/l2.y4m" -q
+! cmp -s "$T/l1.y4m" "$T/l2.y4m"
+err live "$T/session.jsonl" --model "$T/face.thm" --trajectory bogus -o "$T/x.y4m" | grep -q "trajectory takes hermite, linear or monotone"
 echo "alpha: ok"
