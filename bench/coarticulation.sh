@@ -64,12 +64,13 @@ def opening(path):  # inner-lip gap per eye distance (eye centres), by point nam
     h, rows = table(path)
     t = np.array([float(r[1]) for r in rows])
     ok = np.array([len(h) < 3 or h[2] != "status" or r[2] != "lost" for r in rows])
-    if h[2] == "status":  # a landmarks.tsv of `corpus landmarks`: x y of 68 points from column 4
+    first = 4 if h[2] == "status" else 2  # the landmarks TSV (D78: status, confidence), or an older render's
+    if h[first] == "x0":  # an older landmarks.tsv of `corpus landmarks`: x y of the 68 iBUG points by number
         p = np.array([[float(x) if x else np.nan for x in r[4:]] for r in rows]).reshape(len(rows), -1, 2)
         P = lambda i: p[:, i]
         pairs, eyes = [(61, 67), (62, 66), (63, 65)], ((36, 39), (42, 45))
     else:
-        col = lambda n: np.array([float(r[h.index(n)]) for r in rows])
+        col = lambda n: np.array([float(r[h.index(n)]) if r[h.index(n)] else np.nan for r in rows])
         P = lambda n: np.stack([col(n + "_x"), col(n + "_y")], 1)
         if "IM1_x" in h: pairs, eyes = [("IM1", "IM7"), ("IM2", "IM6"), ("IM3", "IM5")], (("RE0", "RE3"), ("LE0", "LE3"))
         else: pairs, eyes = [("RM4", "RM5"), ("CIUM", "CILM"), ("LM4", "LM5")], (("REYE1", "REYE3"), ("LEYE1", "LEYE3"))

@@ -42,8 +42,9 @@ tmp, out, emotions = sys.argv[1], sys.argv[2], sys.argv[3:]
 def tile(e, src, frame):
     d = f"{tmp}/{e}.{src}"
     if not os.path.isdir(d): return None
-    rows = [l.rstrip("\n").split("\t") for l in open(d + ".tsv")][1:]
-    xy = np.array([float(v) for v in rows[frame][2:]]).reshape(-1, 2)
+    lines = [l.rstrip("\n").split("\t") for l in open(d + ".tsv")]
+    first = 4 if lines[0][2:4] == ["status", "confidence"] else 2  # the landmarks TSV (D78), or an older render's
+    xy = np.array([float(v) for v in lines[1:][frame][first:]]).reshape(-1, 2)
     x0, y0 = xy.min(0); x1, y1 = xy.max(0); m = 0.12 * (x1 - x0)
     im = Image.open(f"{d}/frame_{frame:06d}.png").convert("RGB")
     top = max(0, int(y0 - 2.2 * m)); bottom = min(im.height, int(y1 + m))

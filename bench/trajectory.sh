@@ -43,9 +43,11 @@ import glob, json, os, sys
 import numpy as np
 out, grid = sys.argv[1:3]
 
-def load(path, status):  # landmarks.tsv (frame, time, status, confidence, x y …) or --landmarks-out (frame, time, x y …)
-    rows = [l.rstrip("\n").split("\t") for l in open(path)][1:]
+def load(path, status):  # landmarks TSV (frame, time, status, confidence, x y …; an older --landmarks-out: frame, time, x y …)
+    lines = [l.rstrip("\n").split("\t") for l in open(path)]
+    rows = lines[1:]
     t = np.array([float(r[1]) for r in rows])
+    status = lines[0][2:4] == ["status", "confidence"]
     skip = 4 if status else 2
     p = np.array([[float(x) for x in r[skip:]] for r in rows]).reshape(len(rows), -1, 2)
     ok = np.array([r[2] != "lost" for r in rows]) if status else np.ones(len(rows), bool)

@@ -181,7 +181,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--background", "KIND", "opaque (default: the model's frame) or transparent (the face on a feathered matte, as alpha: --format webm, VP9 with alpha, and/or --frames, RGBA PNG)"},
 	        {"--feather", "PX", "with --background transparent: the matte's soft edge, σ in output pixels (default: 2 % of the face's width)"},
 	        {"--frames", "DIR", "also write every frame as DIR/frame_NNNNNN.png"},
-	        {"--landmarks-out", "F.tsv", "write every frame's feature points (frame, time, x y per point)"},
+	        {"--landmarks-out", "F.tsv", "write every frame's feature points: the landmarks TSV (frame, time, status 'drawn', confidence, x y per point)"},
 	        {"--no-audio", "", "no audio track (the audio's length still sets the duration)"},
 	        {"--crf", "N", "quality: H.264 0–51 (default 20), VP9 0–63 (default 32); lower is better and larger"},
 	        {"--preset", "NAME", "x264 preset (default veryfast)"},

@@ -77,8 +77,9 @@ std::unique_ptr<FrameSink> makeY4mSink(const std::string& path);
 // a previous run's frames; anything else in it is an Error before any work). A failed or interrupted
 // render leaves DIR as it was. With `alpha`: RGBA, the face's matte as alpha (render/matte.h).
 std::unique_ptr<FrameSink> makePngFramesSink(const std::string& dir, bool alpha = false);
-// Feature points per frame: TSV `frame  time  <point>_x  <point>_y …` (time in seconds, 6 decimals;
-// points in output pixels, 3 decimals), temporary name renamed on commit.
+// Feature points per frame: TSV `frame  time  status  confidence  <point>_x  <point>_y …`, the landmarks
+// TSV of corpus/landmarks_tsv.h (status "drawn", confidence 1; time in seconds, 6 decimals; points in
+// output pixels, 3 decimals), temporary name renamed on commit.
 std::unique_ptr<FrameSink> makeLandmarksSink(const std::string& path);
 // Calls `fn` for every frame, in order, on the writer thread.
 std::unique_ptr<FrameSink> makeCallbackSink(std::function<void(const StreamInfo&, const RenderedFrame&)> fn);

@@ -10,6 +10,7 @@
 #include "base/atomic_file.h"
 #include "base/interrupt.h"
 #include "base/error.h"
+#include "corpus/landmarks_tsv.h"
 #include "media/image_io.h"
 #include "media/video_writer.h"
 #include "render/frame_sink.h"
@@ -169,18 +170,14 @@ public:
 	void begin(const StreamInfo& info) override {
 		file_ = std::fopen(out_.temp.c_str(), "wb");
 		if (!file_) fail();
-		std::string header = "frame\ttime";
-		for (const auto& n : info.pointNames) header += "\t" + n + "_x\t" + n + "_y";
-		header += '\n';
+		count_ = info.pointNames.size();
+		const std::string header = landmarksTsvHeader(info.pointNames);
 		put(header.data(), header.size());
 	}
 	void frame(const RenderedFrame& f) override {
 		line_.clear();
-		char buf[64];
-		line_ += std::string(buf, std::size_t(std::snprintf(buf, sizeof buf, "%lld\t%.6f", (long long)f.index, toSeconds(f.time))));
-		const Points& p = *f.points;
-		for (Eigen::Index i = 0; i < p.rows(); ++i) line_.append(buf, std::size_t(std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", p(i, 0), p(i, 1))));
-		line_ += '\n';
+		row_.frame = f.index, row_.time = f.time, row_.points = *f.points;  // status drawn, confidence 1
+		appendLandmarksTsvRow(line_, row_, count_);
 		put(line_.data(), line_.size());
 	}
 	void finish() override {
@@ -195,6 +192,8 @@ private:
 	TempOutput out_;
 	std::FILE* file_ = nullptr;
 	std::string line_;
+	LandmarkRow row_;
+	std::size_t count_ = 0;
 	void put(const char* p, std::size_t n) {
 		errno = 0;
 		if (std::fwrite(p, 1, n, file_) != n) fail();

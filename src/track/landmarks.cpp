@@ -18,6 +18,8 @@
 #include "base/error.h"
 #include "base/plugin.h"
 #include "base/text.h"
+#include "corpus/landmarks_tsv.h"
+#include "geometry/scheme.h"
 #include "media/image_io.h"
 #include "track/from_video.h"
 
@@ -370,70 +372,55 @@ std::string ptsText(const Points& p) {
 
 void writePts(const std::string& path, const Points& p) { writeFileAtomically(path, ptsText(p)); }
 
+namespace {
+
+// The 68 iBUG points' names (models/schemes/ibug-68.scheme: JAW0 … IM7), the columns of a landmarks.tsv.
+const std::vector<std::string>& iBugNames() {
+	static const std::vector<std::string> names = [] {
+		std::vector<std::string> n = loadScheme("ibug-68").pointNames;
+		if (n.size() != std::size_t(kIbugPoints)) throw Error("the ibug-68 scheme has " + std::to_string(n.size()) + " points, not 68");
+		return n;
+	}();
+	return names;
+}
+
+}  // namespace
+
 std::string landmarksTsv(const LandmarkTrack& track) {
-	std::ostringstream o;
-	o << "frame\ttime\tstatus\tconfidence";
-	for (int i = 0; i < kIbugPoints; ++i) o << "\tx" << i << "\ty" << i;
-	o << "\n";
-	char buf[64];
+	std::string out = landmarksTsvHeader(iBugNames());
 	for (const auto& f : track.frames) {
-		std::snprintf(buf, sizeof buf, "%lld\t%.6f\t%s\t%.3f", (long long)f.frame, toSeconds(f.time), f.found ? (f.detected ? "detected" : "tracked") : "lost",
-		              f.found ? f.confidence : 0.0);
-		o << buf;
-		for (int i = 0; i < kIbugPoints; ++i) {
-			if (f.found) {
-				std::snprintf(buf, sizeof buf, "\t%.3f\t%.3f", f.points(i, 0), f.points(i, 1));
-				o << buf;
-			} else {
-				o << "\t\t";
-			}
-		}
-		o << "\n";
+		LandmarkRow r;
+		r.frame = f.frame, r.time = f.time, r.status = f.found ? (f.detected ? "detected" : "tracked") : "lost", r.confidence = f.confidence;
+		if (f.found) r.points = f.points;
+		appendLandmarksTsvRow(out, r, std::size_t(kIbugPoints));
 	}
-	return o.str();
+	return out;
 }
 
 LandmarkTrack readLandmarksTsv(const std::string& path) {
-	std::ifstream in(path);
-	if (!in) throw Error(path, 0, "cannot read");
+	const LandmarksTable t = parseLandmarksTsv(readTextFile(path), path);
+	// The 68 iBUG points, by number (the older dialect) or by their scheme names, in any column order.
+	std::vector<Eigen::Index> column(std::size_t(kIbugPoints), -1);
+	for (std::size_t i = 0; i < t.pointNames.size(); ++i) {
+		for (int k = 0; k < kIbugPoints; ++k)
+			if (t.iBugIndices ? t.pointNames[i] == std::to_string(k) : t.pointNames[i] == iBugNames()[std::size_t(k)]) column[std::size_t(k)] = Eigen::Index(i);
+	}
+	for (int k = 0; k < kIbugPoints; ++k)
+		if (column[std::size_t(k)] < 0)
+			throw Error(path, 1, "has no column for the iBUG point " + iBugNames()[std::size_t(k)] + " (" + std::to_string(t.pointNames.size()) +
+			                         " points): a face is tracked by the 68 iBUG points ('corpus landmarks', or a render of an ibug-68 face)");
 	LandmarkTrack track;
 	track.source = path;
-	std::string line;
-	long n = 0;
-	while (std::getline(in, line)) {
-		++n;
-		if (n == 1) {
-			if (line.rfind("frame\ttime\tstatus\tconfidence", 0) != 0) throw Error(path, 1, "not a talkhead landmarks.tsv (header frame, time, status, confidence, x0 y0 …)");
-			continue;
-		}
-		if (line.empty()) continue;
-		std::vector<std::string> c = split(line, '\t');
-		if (c.size() != 4 + 2 * kIbugPoints) throw Error(path, n, "expected " + std::to_string(4 + 2 * kIbugPoints) + " columns, found " + std::to_string(c.size()));
+	for (const LandmarkRow& r : t.rows) {
 		FrameLandmarks f;
-		// Whole fields, finite and in range (what landmarksTsv can write back: a coordinate of 1e100 pixels
-		// overflowed its "%.3f" buffer, and stod took "nan", "inf" and "12abc").
-		auto number = [&](const std::string& s, double lo, double hi, const char* what) {
-			double v;
-			if (!parseDouble(s, v)) throw Error(path, n, "malformed number '" + s.substr(0, 40) + "' (" + what + ")");
-			if (v < lo || v > hi) throw Error(path, n, "number out of range: " + s.substr(0, 40) + " (" + what + ")");
-			return v;
-		};
-		long long frame;
-		if (!parseInt(c[0], frame) || frame < 0) throw Error(path, n, "malformed number '" + c[0].substr(0, 40) + "' (frame index)");
-		f.frame = frame;
-		f.time = ticksFromSeconds(number(c[1], -86400, 86400, "time: seconds, at most a day"));
-		f.found = c[2] != "lost";
-		f.detected = c[2] == "detected";
-		f.confidence = number(c[3], 0, 1, "confidence: 0 to 1");
+		f.frame = r.frame, f.time = r.time, f.found = r.status != "lost", f.detected = r.status == "detected", f.confidence = r.confidence;
 		if (f.found) {
 			f.points.resize(kIbugPoints, 2);
-			for (int i = 0; i < kIbugPoints; ++i)
-				for (int d = 0; d < 2; ++d) f.points(i, d) = number(c[std::size_t(4 + 2 * i + d)], -1e6, 1e6, "a coordinate: pixels, at most 10^6");
+			for (int k = 0; k < kIbugPoints; ++k) f.points.row(k) = r.points.row(column[std::size_t(k)]);
 			f.raw = f.points;
 		}
-		track.frames.push_back(f);
+		track.frames.push_back(std::move(f));
 	}
-	if (track.frames.empty()) throw Error(path, 0, "no frames");
 	return track;
 }
 

@@ -119,8 +119,10 @@ LandmarkTrack landmarkInput(const std::string& path, const TrackOptions& options
 std::string ptsText(const Points& points);
 void writePts(const std::string& path, const Points& points);
 
-// landmarks.tsv: a header, then one row per frame: frame, time (s), status (detected|tracked|lost),
-// confidence, x0 y0 … x67 y67 (empty for lost frames).
+// landmarks.tsv (corpus/landmarks_tsv.h, the one dialect): a header, then one row per frame: frame, time
+// (s), status (detected|tracked|lost), confidence, and x y of the 68 iBUG points named as ibug-68.scheme
+// names them (JAW0_x JAW0_y … IM7_y; empty for lost frames). The reader takes that, the older x0 y0 …
+// columns, and a render's --landmarks-out of an ibug-68 face.
 std::string landmarksTsv(const LandmarkTrack& track);
 LandmarkTrack readLandmarksTsv(const std::string& path);
 

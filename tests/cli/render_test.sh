@@ -34,8 +34,9 @@ head -c 40 "$T/thirty.y4m" | grep -q " F30:1 "
 ratio() { /usr/bin/python3 - "$1" <<'PY'
 import sys
 rows = [l.rstrip('\n').split('\t') for l in open(sys.argv[1])]
-h, r = rows[0], [float(x) for x in rows[20]]
-P = lambda n: (r[h.index(n + '_x')], r[h.index(n + '_y')])
+h, r = rows[0], rows[20]
+assert h[:4] == ['frame', 'time', 'status', 'confidence'] and r[2] == 'drawn', h[:4]  # the landmarks TSV (D78)
+P = lambda n: (float(r[h.index(n + '_x')]), float(r[h.index(n + '_y')]))
 mid = lambda a, b: ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
 d = lambda a, b: ((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2) ** .5
 re, le, m = mid(P('REYE1'), P('REYE3')), mid(P('LEYE1'), P('LEYE3')), mid(P('RM2'), P('LM2'))
@@ -58,9 +59,9 @@ done
 "$TH" render --model "$T/face.thm" --transcript "$TG" --audio "$T/long.wav" --fps 5 -o "$T/long.mp4" 2>"$T/long.err"
 grep -q "warning: $T/long.wav: the transcript covers 1.3 s of 30.0 s of audio; the face holds its last keypose, silent, for the other 28.7 s" "$T/long.err"
 test "$(probe "$T/long.mp4" v:0 nb_read_frames)" = 150
-# Landmarks: a header and one row per frame with 2 + 2 × 56 columns.
+# Landmarks: a header and one row per frame with 4 + 2 × 56 columns (frame, time, status, confidence: D78).
 test "$(wc -l <"$T/a.tsv")" = 61
-awk -F'\t' 'NR > 1 && NF != 114 { print "bad landmark row " NR; exit 1 }' "$T/a.tsv"
+awk -F'\t' 'NR > 1 && (NF != 116 || $3 != "drawn") { print "bad landmark row " NR; exit 1 }' "$T/a.tsv"
 # Determinism: the same inputs give the same file.
 "$TH" render -q --model "$T/face.thm" --transcript "$TG" --audio "$T/tone.wav" --emotion joy -o "$T/b.mp4" --threads 1
 cmp "$T/a.mp4" "$T/b.mp4"

@@ -109,10 +109,10 @@ def face_luma(stem):
     while at < len(data):
         at = data.index(b'\n', at) + 1
         frames.append(np.frombuffer(data, np.uint8, w * h, at).reshape(h, w).astype(float)); at += w * h * 3 // 2
-    lm = [l.rstrip('\n').split('\t') for l in open(stem + '.tsv')][1:]
+    lm = [l.rstrip('\n').split('\t')[2:] for l in open(stem + '.tsv')][1:]  # x y from the 5th column (status, confidence before)
     out = []
     for k, f in enumerate(frames):
-        xs = [float(v) for v in lm[k][2::2]]; ys = [float(v) for v in lm[k][3::2]]
+        xs = [float(v) for v in lm[k][2::2]]; ys = [float(v) for v in lm[k][3::2]]  # lm[k] starts at status
         x0, x1, y0, y1 = int(np.percentile(xs, 20)), int(np.percentile(xs, 80)), int(np.percentile(ys, 20)), int(np.percentile(ys, 60))
         out.append(f[y0:y1, x0:x1].mean())
     return np.array(out)

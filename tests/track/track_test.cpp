@@ -14,6 +14,7 @@
 #include "test_support.h"
 #include "track/compare.h"
 #include "track/from_video.h"
+#include "geometry/scheme.h"
 #include "track/landmarks.h"
 
 using namespace talkhead;
@@ -232,6 +233,40 @@ TEST(LandmarksTsv, roundTripsAndNamesFileAndLineOfBadRows) {
 		EXPECT_TRUE(e.find(dir + "/e.tsv:2: malformed number") != std::string::npos || e.find(dir + "/e.tsv:2: number out of range") != std::string::npos)
 		    << bad << ": " << e;
 	}
+}
+
+// Issue 46: one dialect written (points named as ibug-68.scheme names them), the older ones still read: a
+// tracker's x0 y0 … and a render's --landmarks-out without status and confidence (of an ibug-68 face);
+// a render of another scheme cannot drive a tracker's reader.
+TEST(LandmarksTsv, oneDialectWrittenTheOlderOnesRead) {
+	LandmarkTrack t;
+	FrameLandmarks f;
+	f.frame = 3, f.time = ticksFromSeconds(0.12), f.found = true, f.confidence = 0.5;
+	f.points = f.raw = face(5);
+	t.frames.push_back(f);
+	const std::string text = landmarksTsv(t);
+	EXPECT_EQ(text.rfind("frame\ttime\tstatus\tconfidence\tJAW0_x\tJAW0_y\tJAW1_x", 0), 0u) << text.substr(0, 80);
+	const std::string dir = test::tempDir("lmdialects");
+	const std::string row = text.substr(text.find('\n') + 1);
+	// The older tracker dialect: the same rows under x0 y0 … x67 y67.
+	std::string old = "frame\ttime\tstatus\tconfidence";
+	for (int i = 0; i < kIbugPoints; ++i) old += "\tx" + std::to_string(i) + "\ty" + std::to_string(i);
+	std::ofstream(dir + "/old.tsv") << old << "\n" << row;
+	EXPECT_EQ(landmarksTsv(readLandmarksTsv(dir + "/old.tsv")), text);
+	// An older render's: no status or confidence, the points named, here in another column order.
+	const Scheme ibug = loadScheme("ibug-68");
+	std::string render = "frame\ttime";
+	for (int i = kIbugPoints - 1; i >= 0; --i) render += "\t" + ibug.pointNames[std::size_t(i)] + "_x\t" + ibug.pointNames[std::size_t(i)] + "_y";
+	render += "\n3\t0.120000";
+	for (int i = kIbugPoints - 1; i >= 0; --i) render += "\t" + std::to_string(f.points(i, 0)) + "\t" + std::to_string(f.points(i, 1));
+	std::ofstream(dir + "/render.tsv") << render << "\n";
+	const LandmarkTrack r = readLandmarksTsv(dir + "/render.tsv");
+	ASSERT_EQ(r.frames.size(), 1u);
+	EXPECT_TRUE(r.frames[0].found);
+	EXPECT_NEAR(r.frames[0].points(30, 0), f.points(30, 0), 1e-3);
+	EXPECT_NEAR(r.frames[0].points(67, 1), f.points(67, 1), 1e-3);
+	std::ofstream(dir + "/other.tsv") << "frame\ttime\tCIUM_x\tCIUM_y\n0\t0\t1\t2\n";
+	EXPECT_NE(test::errorOf([&] { readLandmarksTsv(dir + "/other.tsv"); }).find(dir + "/other.tsv:1: has no column for the iBUG point JAW0"), std::string::npos);
 }
 
 TEST(FromVideo, framesWithTheEyesHalfShutAreNeverChosen) {
