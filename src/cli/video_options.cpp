@@ -384,36 +384,10 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 	if (cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
 	const FaceModel model = loadRenderModel(cmd.modelPath, cmd.components);
 	const double loadSeconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
-	// --audio-out: the track read once into memory, written as WAV once the video is complete and muxed from there.
-	AudioClip track;
-	if (cmd.audioOut) {
-		if (!audio) throw Error(*cmd.audioOut, 0, "--audio-out: this " + cmd.command + " has no sound track (give --audio)");
-		track.sampleRate = audio->sampleRate();
-		track.channels = audio->channels();
-		std::vector<float> block(std::size_t(4096) * std::size_t(track.channels));
-		for (std::size_t n; (n = audio->read(block.data(), 4096)) > 0;)
-			track.samples.insert(track.samples.end(), block.begin(), block.begin() + std::ptrdiff_t(n * std::size_t(track.channels)));
-		audio = clipSource(track);
-		side.push_back({*cmd.audioOut, [&track](const std::string& p) { writeWav(p, track); }});
-	}
-	// The side outputs written now (a full disk fails before the render), put in place after it.
-	std::vector<std::unique_ptr<StagedFile>> staged;
-	for (const auto& s : side) {
-		staged.push_back(std::make_unique<StagedFile>(s.path));
-		staged.back()->write(s.write);
-	}
 	const bool withAudio = audio && !cmd.noAudio;
-	std::vector<std::unique_ptr<FrameSink>> owned;
-	if (cmd.format) owned.push_back(makeVideoSink(cmd.videoSpec(), withAudio ? std::move(audio) : nullptr));
-	if (cmd.landmarksOut) owned.push_back(makeLandmarksSink(*cmd.landmarksOut));
-	if (cmd.framesDir) owned.push_back(makePngFramesSink(*cmd.framesDir, cmd.transparent));
-	std::vector<FrameSink*> sinks;
-	for (auto& s : owned) sinks.push_back(s.get());
-	if (FrameSink* extra = extraFrameSink()) sinks.push_back(extra);  // an in-process caller's (cli/run.h)
 	CliProgress progress(cmd);
 	const double beforeRender = std::chrono::duration<double>(Clock::now() - started).count();
-	const RenderStats st = renderPerformance(model, perf, cmd.render, sinks, &progress);
-	for (auto& s : staged) s->commit();
+	const RenderStats st = renderVideoJob(cmd, model, perf, std::move(audio), std::move(side), &progress, extraFrameSink());  // and an in-process caller's sink (cli/run.h)
 	if (cmd.timing)
 		std::fprintf(stderr,
 		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s CPU); "
@@ -425,13 +399,6 @@ void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::uniq
 		std::fprintf(stderr, "rendered %s: %lld frames %dx%d at %s fps (%.3f s of %s), %zu keyposes, emotion %s; %.1f s (%.1f frames/s, %.1fx real time)\n",
 		             cmd.output.c_str(), (long long)st.frames, st.width, st.height, perf.rate.str().c_str(), toSeconds(perf.duration),
 		             withAudio ? "audio" : "transcript", st.keyposes, perf.expression.emotion().label().c_str(), secs, double(st.frames) / secs, toSeconds(perf.duration) / secs);
-}
-
-std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio) {
-	if (cmd.leadIn == Ticks(0) && cmd.tail == Ticks(0) && cmd.avOffset == Ticks(0)) return audio;
-	addLeadInAndTail(perf, cmd.leadIn, cmd.tail);
-	if (!audio) return audio;
-	return shiftedSource(std::move(audio), cmd.leadIn + cmd.avOffset, perf.duration);
 }
 
 std::vector<SideOutput> timelineOutput(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones,

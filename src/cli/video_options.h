@@ -15,6 +15,7 @@
 #include "perform/utterance.h"
 #include "render/output.h"
 #include "render/render.h"
+#include "render/video_job.h"
 
 namespace talkhead::cli {
 
@@ -30,14 +31,10 @@ void parseDrawingOptions(const Args& args, const std::string& command, SynthOpti
 // --pauses, by default as the library says (defaultPauseStyle: still with --coarticulation).
 PauseStyle parsePausesOption(const Args& args, const std::string& command);
 
-struct VideoCommand {
+// A render or say: the job's output half (render/video_job.h) and what the command line adds — the
+// performance's settings, the model, and how it talks to the terminal.
+struct VideoCommand : VideoJob {
 	std::string command;                 // "render" or "say", for messages
-	std::string output;                  // -o (- = standard output, y4m only)
-	std::optional<VideoFormat> format = VideoFormat::Mp4;  // --format (nullopt: none, no video)
-	int crf = -1;                        // --crf, the format's scale
-	std::string preset = "veryfast";     // --preset (x264)
-	bool transparent = false;            // --background transparent: the face's matte as alpha (webm, PNG frames)
-	std::optional<std::string> framesDir, landmarksOut;
 	std::string modelPath;               // empty = the default face
 	Expression expression;               // --emotion LABEL:INTENSITY
 	FrameRate rate;
@@ -46,18 +43,9 @@ struct VideoCommand {
 	double speechBrows = 0;  // --speech-brows: 0 off, else the raise amount (D49)
 	std::optional<ControlTrack> controls;  // --controls F (read and checked with the options)
 	std::shared_ptr<const CoarticulationModel> coarticulation;  // --coarticulation F (D62)
-	RenderOptions render;
-	bool noAudio = false, quiet = false, jsonProgress = false, timing = false;
-	Ticks leadIn{0}, tail{0}, avOffset{0};     // --lead-in, --tail, --av-offset (issue 14)
+	bool quiet = false, jsonProgress = false, timing = false;
 	std::optional<std::string> timelineOut;    // --timeline-out F.json
 	ComponentLevels components;                // --components REGION=N,… (Appendix C reductions)
-	std::optional<std::string> audioOut;       // --audio-out F.wav: the sound track as muxed
-	// The video output (format set): what makeVideoSink writes.
-	OutputSpec videoSpec() const {
-		OutputSpec s;
-		s.format = format.value_or(VideoFormat::Mp4), s.path = output, s.crf = crf, s.preset = preset, s.alpha = transparent;
-		return s;
-	}
 };
 
 // How a timed transcript is read (visemes, render): the format option (`formatOption`: "--format" or
@@ -80,16 +68,7 @@ void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& ma
 // The spec of a performance with the command's frame rate, pauses, emotion, modulation and speech brows.
 PerformanceSpec performanceSpec(const VideoCommand& cmd);
 
-// --lead-in / --tail / --av-offset on a performance whose duration is set: keyposes and events later by
-// the lead-in, the video longer by lead-in + tail, the audio (when there is one) shifted by lead-in +
-// offset inside silence.
-std::unique_ptr<AudioSource> applyStimulusTiming(const VideoCommand& cmd, Performance& perf, std::unique_ptr<AudioSource> audio);
-// A file written with the video (speech, sidecar): written to a temporary name before the render and
-// put in place only once the video is complete, so a failed or interrupted command leaves none of them.
-struct SideOutput {
-	std::string path;
-	std::function<void(const std::string& temporaryPath)> write;
-};
+// (--lead-in / --tail / --av-offset: applyStimulusTiming(cmd, …), render/video_job.h; SideOutput there too.)
 // --timeline-out: the sidecar JSON (perform/performance.h timelineJson), or nothing.
 std::vector<SideOutput> timelineOutput(const VideoCommand& cmd, const Performance& perf, const std::vector<PhoneSegment>& phones,
                                        const std::vector<Interval>& words = {});
