@@ -19,6 +19,13 @@ std::string wordFields(std::string m, const std::function<std::optional<std::str
 		const std::size_t q = m.find("}}", p + 2);
 		if (q == std::string::npos) return m;
 		const std::string field = m.substr(p + 2, q - p - 2);
+		// A field's name is lower-case letters, digits, '-' and '_' (a quoted label with braces is not one).
+		bool name = !field.empty() && field[0] >= 'a' && field[0] <= 'z';
+		for (char c : field) name = name && ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_');
+		if (!name) {
+			from = p + 2;
+			continue;
+		}
 		if (const std::optional<std::string> w = word(field)) {
 			m.replace(p, q + 2 - p, *w);
 			from = p + w->size();

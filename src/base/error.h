@@ -33,7 +33,7 @@ private:
 // each front end words it (wordFields) — the command line as its flag (--tier), serve as the request's
 // member where the request has one, leaving out the clause that suggests it where it has none.
 inline std::string fieldRef(const std::string& field) { return "{{" + field + "}}"; }
-// `message` with every {{field}} worded by `word`: its wording, or nullopt for a field this front end does not
+// `message` with every {{field}} (a name of lower-case letters, digits, '-', '_') worded by `word`: its wording, or nullopt for a field this front end does not
 // have — then the clause around it goes (from the '(' or ';' before it to the ')' or ';' after it; a
 // message that is only about the field keeps the field's bare name).
 std::string wordFields(std::string message, const std::function<std::optional<std::string>(const std::string& field)>& word);

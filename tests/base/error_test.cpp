@@ -21,6 +21,7 @@ TEST(WordFields, theCommandLineNamesItsFlagsAndAClientOnlyWhatItCanSet) {
 	EXPECT_EQ(wordFields("{{max-sessions}} must be at least 1", onlyLang), "max-sessions must be at least 1");
 	EXPECT_EQ(wordFields(R"(send {"type": "auth"} first)", asFlag), R"(send {"type": "auth"} first)");
 	EXPECT_EQ(wordFields("half {{open", asFlag), "half {{open");
+	EXPECT_EQ(wordFields("unknown emotion '{{Joy Ful}}' ({{lang}})", onlyLang), "unknown emotion '{{Joy Ful}}' (the request's 'lang')");
 	EXPECT_EQ(fieldRef("tier"), "{{tier}}");
 }
 
