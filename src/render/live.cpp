@@ -168,11 +168,9 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	PlannedUtterance p(std::move(u));
 	p.planned = true;
 	p.expression = expression;
-	p.events.blinks = p.utterance.blinks;  // the text's blinks (SSML), and below its brows after the speech brows
-	if (p.utterance.phones.empty()) {
-		p.events.brows = p.utterance.brows;
-		return p;
-	}
+	p.events.blinks = p.utterance.blinks;  // the text's blinks and brows (SSML); speech brows go before its brows
+	p.events.brows = p.utterance.brows;
+	if (p.utterance.phones.empty()) return p;
 	PerformanceSpec spec;
 	spec.phones = p.utterance.phones;
 	spec.rate = o_.rate;
@@ -181,8 +179,7 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	spec.coarticulation = o_.coarticulation;
 	Performance perf = planPerformance(spec);
 	p.keys = std::move(perf.keys);
-	p.events.brows = std::move(perf.events.brows);  // speech brows (D49)
-	p.events.brows.insert(p.events.brows.end(), p.utterance.brows.begin(), p.utterance.brows.end());
+	p.events.brows.insert(p.events.brows.begin(), perf.events.brows.begin(), perf.events.brows.end());  // speech brows (D49)
 	p.stamped.assign(p.keys.size(), 0);
 	for (std::size_t i = 0; i < p.keys.size(); ++i) {
 		Keypose& k = p.keys[i];
