@@ -3,7 +3,8 @@
 # sidecars), visemes as JSON and Rhubarb JSON, `say` (text, SSML, saved speech and transcript, dry run), two
 # batches with their players, live session scripts (`talkhead live`, the serve path frame for frame; y4m and
 # mp4), and with the research data beside the project a GRID clip with its audio, its text aligned, a
-# sentence cue aligned, a driving video, a driven mouth, a forced alignment and a tracked control track — rendered by two talkhead binaries; every output is compared byte for byte (frames, MP4
+# sentence cue aligned, a driving video, a driven mouth, a forced alignment, a tracked control track and
+# the learned mouth (D62: render, say and live with a coarticulation model learned from two GRID clips) — rendered by two talkhead binaries; every output is compared byte for byte (frames, MP4
 # and WAV bytes, keys, orders, sidecars, stdout). One line per case; exit 1 on any difference.
 #   bench/identical.sh BASE_TALKHEAD [NEW_TALKHEAD]   two built binaries (NEW: build/talkhead)
 #   bench/identical.sh GIT_REF [NEW_TALKHEAD]         first builds GIT_REF's CLI in a scratch worktree (a full
@@ -61,8 +62,20 @@ if [ -f "$grid/swwp2s.align" ] && [ -f "$grid/id2_vcd_swwp2s.mpg" ]; then
 		"align-text|@TH@ align $grid/id2_vcd_swwp2s.mpg --text 'set white with p two soon' --lang en-US -o @OUT@/a.TextGrid -q"
 		"track-controls|@TH@ track $grid/id2_vcd_swwp2s.mpg --parts head,brows,eyes,mouth -o @OUT@/c.json -q"
 		"render-drive-mouth|@TH@ render --drive $grid/id2_vcd_swwp2s.mpg --drive-mouth --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+		"render-coarticulation|@TH@ render --transcript $grid/swwp2s.align --audio $grid/id2_vcd_swwp2s.mpg --coarticulation $tmp/coart.tsv --emotion joy --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+		"say-coarticulation|@TH@ say 'Hello there, how are you today?' --lang en-US --coarticulation $tmp/coart.tsv --emotion anger:0.7 --size 160x90 --format y4m -o @OUT@/a.y4m -q"
+		"live-coarticulation|@TH@ live $tmp/session.jsonl --coarticulation $tmp/coart.tsv --size 160x90 --format y4m -o @OUT@/a.y4m -q"
 	)
 	printf '1\n00:00:00,500 --> 00:00:02,800\nset white with p two soon\n' >"$tmp/cue.srt"
+	# A coarticulation model (D62) from two GRID clips, learned once by the new binary: both sides use it.
+	printf 'landmarks\ttranscript\tspeaker\n' >"$tmp/coart-clips.tsv"
+	source "$root/examples/real-face/grid-words.sh"
+	for b in bbaf2n lbax4n; do
+		"$new" align "$grid/$b.mpg" --text "$(grid_words $b)" --lang en-US -o "$tmp/$b.TextGrid" -q
+		"$new" corpus landmarks "$grid/$b.mpg" -o "$tmp/$b.real" --no-pts -q
+		printf '%s\t%s\t%s\n' "$tmp/$b.real/landmarks.tsv" "$tmp/$b.TextGrid" "$b" >>"$tmp/coart-clips.tsv"
+	done
+	"$new" corpus coarticulation --clips "$tmp/coart-clips.tsv" --lang en-US -o "$tmp/coart.tsv" -q
 fi
 cat >"$tmp/manifest.csv" <<CSV
 text,transcript,emotion,size,versus:emotion,condition

@@ -82,11 +82,11 @@ int runRender(const std::vector<std::string>& argv) {
 		speech = speechFromTranscript(*transcriptPath, to.read, lang, to.unknown, to.notation, audioPath, bool(cmd.timelineOut),
 		                              [&](const Transcript& t) { noteWordLanguage(args, t, lang, *transcriptPath); });
 	reportSpeech(cmd, speech);
-	PerformanceSpec spec = performanceSpec(cmd);
+	const VideoFace face = loadVideoFace(cmd);
+	PerformanceSpec spec = performanceSpec(cmd, face);
 	spec.phones = speech.phones;
 	spec.source = speech.name;
-	if (drive.mouth && cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
-	if (drive.mouth) drive.mouthKeys(spec, loadRenderModel(cmd.modelPath, cmd.components), cmd.expression.emotion());
+	if (drive.mouth) drive.mouthKeys(spec, face.model, cmd.expression.emotion());
 	// The sound (decoded once without keeping it, unless aligned; at the file's own sample rate).
 	std::unique_ptr<AudioSource> sound;
 	if (audioPath) {
@@ -104,7 +104,7 @@ int runRender(const std::vector<std::string>& argv) {
 	if (!speech.read.tier.empty() && !cmd.quiet)
 		std::fprintf(stderr, "%s\n", shownLine("talkhead: " + speech.name + ": tier '" + speech.read.tier + "' (" + speech.read.tierNote + ")").c_str());
 	sound = applyStimulusTiming(cmd, perf, std::move(sound));
-	runVideoCommand(cmd, perf, std::move(sound), t0, "", timelineOutput(cmd, perf, speech.phones, speech.words));
+	runVideoCommand(cmd, face, perf, std::move(sound), t0, "", timelineOutput(cmd, perf, speech.phones, speech.words));
 	return 0;
 }
 

@@ -69,7 +69,8 @@ int runSay(const std::vector<std::string>& argv) {
 		return 0;
 	}
 	const AudioClip audio = audioOf(spoken.speech);
-	PerformanceSpec spec = performanceSpec(cmd);
+	const VideoFace face = loadVideoFace(cmd);
+	PerformanceSpec spec = performanceSpec(cmd, face);
 	spec.phones = phones;
 	spec.duration = audio.duration();
 	if (spoken.ssml) {  // marks reported; blinks, brows and emotions performed
@@ -90,7 +91,7 @@ int runSay(const std::vector<std::string>& argv) {
 		std::string tg = formatVisemes(phones, keys, "textgrid", lang.tag(), "espeak-ng");
 		side.push_back({*saveTranscript, [tg](const std::string& p) { writeFileAtomically(p, tg); }});
 	}
-	runVideoCommand(cmd, perf, std::move(sound), t0, prefix, std::move(side));
+	runVideoCommand(cmd, face, perf, std::move(sound), t0, prefix, std::move(side));
 	return 0;
 }
 

@@ -143,8 +143,9 @@ void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& ma
 	}
 }
 
-PerformanceSpec performanceSpec(const VideoCommand& cmd) {
+PerformanceSpec performanceSpec(const VideoCommand& cmd, const VideoFace& face) {
 	PerformanceSpec spec;
+	spec.face = &face.model;
 	spec.rate = cmd.rate;
 	spec.coarticulation = cmd.coarticulation;
 	spec.pauses = cmd.pauses;
@@ -377,13 +378,20 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	return c;
 }
 
-void runVideoCommand(const VideoCommand& cmd, const Performance& perf, std::unique_ptr<AudioSource> audio, std::chrono::steady_clock::time_point started,
-                     const std::string& timingPrefix, std::vector<SideOutput> side) {
+VideoFace loadVideoFace(const VideoCommand& cmd) {
 	using Clock = std::chrono::steady_clock;
 	const auto tLoad = Clock::now();
 	if (cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
-	const FaceModel model = loadRenderModel(cmd.modelPath, cmd.components);
-	const double loadSeconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
+	VideoFace f{loadRenderModel(cmd.modelPath, cmd.components)};
+	f.seconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
+	return f;
+}
+
+void runVideoCommand(const VideoCommand& cmd, const VideoFace& face, const Performance& perf, std::unique_ptr<AudioSource> audio,
+                     std::chrono::steady_clock::time_point started, const std::string& timingPrefix, std::vector<SideOutput> side) {
+	using Clock = std::chrono::steady_clock;
+	const FaceModel& model = face.model;
+	const double loadSeconds = face.seconds;
 	const bool withAudio = audio && !cmd.noAudio;
 	CliProgress progress(cmd);
 	const double beforeRender = std::chrono::duration<double>(Clock::now() - started).count();

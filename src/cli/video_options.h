@@ -65,8 +65,17 @@ void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech);
 // SSML marks on stderr, as JSON progress lines with --json-progress, else one line each unless -q.
 void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& marks);
 
-// The spec of a performance with the command's frame rate, pauses, emotion, modulation and speech brows.
-PerformanceSpec performanceSpec(const VideoCommand& cmd);
+// The face a video command draws (--model, else the default face, made on first use), loaded before its
+// performance is planned against it (PerformanceSpec::face); `seconds` is how long that took (--timing).
+struct VideoFace {
+	FaceModel model;
+	double seconds = 0;
+};
+VideoFace loadVideoFace(const VideoCommand& cmd);
+
+// The spec of a performance with the command's frame rate, pauses, emotion, modulation and speech brows,
+// planned against `face`.
+PerformanceSpec performanceSpec(const VideoCommand& cmd, const VideoFace& face);
 
 // (--lead-in / --tail / --av-offset: applyStimulusTiming(cmd, …), render/video_job.h; SideOutput there too.)
 // --timeline-out: the sidecar JSON (perform/performance.h timelineJson), or nothing.
@@ -106,12 +115,12 @@ ModulatorOptions parseModulation(const Args& args, const std::string& command);
 // --speech-brows on|off|X (default `fallback`): 0 off, else the raise amount.
 double parseSpeechBrows(const Args& args, const std::string& command, const std::string& fallback);
 
-// Loads the model, renders the performance to the command's outputs and prints the summary (and, with
-// --timing, the stages; `timingPrefix` names the stages before rendering, e.g. "speech 0.020 s; ").
+// Renders the performance of `face` to the command's outputs and prints the summary (and, with --timing,
+// the stages; `timingPrefix` names the stages before rendering, e.g. "speech 0.020 s; ").
 // `started`: when the command began, for the first-frame time.
 // `audio` (optional) becomes the MP4's sound track, pulled as the video advances.
 // `side`: files written with the video (SideOutput); --audio-out is one too.
-void runVideoCommand(const VideoCommand& cmd, const Performance& performance, std::unique_ptr<AudioSource> audio, std::chrono::steady_clock::time_point started,
+void runVideoCommand(const VideoCommand& cmd, const VideoFace& face, const Performance& performance, std::unique_ptr<AudioSource> audio, std::chrono::steady_clock::time_point started,
                      const std::string& timingPrefix = "", std::vector<SideOutput> side = {});
 
 }  // namespace talkhead::cli

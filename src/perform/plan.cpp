@@ -133,6 +133,7 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	}
 	perf.duration = spec.videoDuration();
 	for (const ControlTrack& c : spec.controls) applyControls(perf, c);
+	if (spec.face) chooseMouthExemplars(*spec.face, perf.expression.emotion(), perf.keys);  // D62: each key by its own emotion
 	return perf;
 }
 

@@ -67,11 +67,15 @@ struct PerformanceSpec {
 	std::vector<ControlTrack> controls;
 	// D62: predicts each phone keypose's mouth opening from its context (the face shows its nearest exemplar).
 	std::shared_ptr<const CoarticulationModel> coarticulation;
+	// The face the keyposes are planned against: with `coarticulation`, planning's last step binds each
+	// predicted mouth to the face's exemplar nearest it (chooseMouthExemplars), once, after the controls.
+	// Null: left to the caller (renderPerformance refuses keyposes left unbound).
+	const FaceModel* face = nullptr;
 	// The video's length as planPerformance sets it.
 	Ticks videoDuration() const;
 };
 
-// Keyposes, duration, brows with speech, controls. Throws Error when the speech is longer than the audio
+// Keyposes, duration, brows with speech, controls, exemplars (with `face`). Throws Error when the speech is longer than the audio
 // by more than 0.1 s; `warnings` gets one line for a speech covering a small part of a long audio.
 Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string>* warnings = nullptr);
 

@@ -109,12 +109,8 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	if (o_.sampleRate < 8000 || o_.sampleRate > 192000 || kTicksPerSecond % o_.sampleRate != 0)
 		throw Error("live: sample rate " + std::to_string(o_.sampleRate) + " Hz is not one of the rates a sample lasts a whole number of ticks at (8000, 11025, 16000, 22050, 24000, 32000, 44100, 48000, 96000, …)");
 	expression_ = o_.expression;
-	SynthOptions so = o_.render.synth;
-	so.expression = expression_;
-	so.yuvRange = YuvRange::Limited;
-	const OutputFit fit = fitOutput(model.width, model.height, so, o_.render.fit);
-	box_ = fit.box;
-	const int outWidth = fit.outWidth, outHeight = fit.outHeight;
+	RenderOptions ro = o_.render;
+	ro.synth.expression = expression_;
 	keys_.push_back(rest(Ticks(0)));
 	modOptions_ = o_.modulation;
 	// The face box is sized once, for the liveliest head any emotion gets (head motion's largest factor).
@@ -122,12 +118,11 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	envelope.intensity = 1.5;  // the strongest an emotion gets (its head motion scales with the intensity)
 	double factor = 0;
 	for (std::size_t i = 0; i < Emotion::count(); ++i) factor = std::max(factor, ShapeModulator::headFactorFor(Emotion::at(i)));
-	so.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), keys_);
+	ro.synth.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), keys_);
 	if (ShapeModulator::headFactorFor(Emotion::of("joy")) < factor) throw std::logic_error("LiveSession: the envelope's emotion is not the liveliest");
-	synth_ = std::make_unique<Synthesizer>(model, so);
-	place_ = fit.place;
-	info_.width = place_ ? outWidth : synth_->width();
-	info_.height = place_ ? outHeight : synth_->height();
+	player_ = std::make_unique<FramePlayer>(model, ro);
+	info_.width = player_->width();
+	info_.height = player_->height();
 	info_.rate = o_.rate;
 	info_.frames = 0;
 	info_.range = YuvRange::Limited;
@@ -177,6 +172,8 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	spec.pauses = o_.pauses;
 	spec.speechBrows = o_.speechBrows;
 	spec.coarticulation = o_.coarticulation;
+	spec.expression = expression;
+	if (o_.coarticulation) spec.face = &model_;  // D62: bound to the face's exemplars in `expression`
 	Performance perf = planPerformance(spec);
 	p.keys = std::move(perf.keys);
 	p.events.brows.insert(p.events.brows.begin(), perf.events.brows.begin(), perf.events.brows.end());  // speech brows (D49)
@@ -186,13 +183,12 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 		if (!k.emotion) k.emotion = expression.emotion(), p.stamped[i] |= 1;
 		if (!k.intensity) k.intensity = expression.intensity(), p.stamped[i] |= 2;
 	}
-	chooseExemplars(p.keys, expression.emotion());  // not the session's: another thread may be changing it
 	return p;
 }
 
 PlannedUtterance LiveSession::plan(Utterance u, const Expression& expression) const {
 	PlannedUtterance p = planned(std::move(u), expression);
-	synth_->prepare(p.keys);  // thread-safe; what is there already is skipped
+	player_->synthesizer().prepare(p.keys);  // thread-safe; what is there already is skipped
 	return p;
 }
 
@@ -348,22 +344,24 @@ void LiveSession::replan() {
 	modOptions_.intensity = expression_.intensity();
 	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, expression_.emotion(), horizon_, keys_, events_);
 	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, expression_.emotion(), horizon_, keys_, events_);
-	synth_->setModulator(modulator_);
+	player_->synthesizer().setModulator(modulator_);
 }
 
 void LiveSession::play(FrameSink& sink, std::vector<LiveEvent>& events) {
 	const std::int64_t n = next_;
-	drawNext(frame_, points_, events);
-	if (sink.needsAlpha()) {
-		if (!matte_) matte_ = std::make_unique<FaceMatte>(model_.scheme);
-		matte_->draw(points_, frame_.width, frame_.height, frame_.a);
-	}
+	const FrameSlot& slot = drawNext(events, sink.needsAlpha());
 	RenderedFrame f;
-	f.index = n, f.time = o_.rate.time(n), f.yuv = &frame_, f.points = &points_;
+	f.index = n, f.time = o_.rate.time(n), f.yuv = &slot.yuv, f.points = &slot.points;
 	sink.frame(f);
 }
 
 void LiveSession::drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>& events) {
+	const FrameSlot& slot = drawNext(events);
+	out = slot.yuv;
+	points = slot.points;
+}
+
+const FrameSlot& LiveSession::drawNext(std::vector<LiveEvent>& events, bool alpha) {
 	const Ticks t = nextTime();
 	if (t + ticksFromSeconds(kReplanMargin) > horizon_) replan();
 	while (!pending_.empty() && pending_.front().time <= t) {
@@ -383,17 +381,10 @@ void LiveSession::drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>
 		e.name = lastViseme_;
 		events.push_back(std::move(e));
 	}
-	synth_->prepare(Synthesizer::keyposesBetween(keys_, t, t, synth_->margin()));
-	synth_->renderFrameYuv(t, keys_, ws_, inner_, points, drawnBefore_);
-	drawnBefore_ = true;
-	if (place_) {
-		placeFitted(inner_, out, info_.width, info_.height, box_.x, box_.y);
-		points.col(0).array() += box_.x;
-		points.col(1).array() += box_.y;
-	} else {
-		out = inner_;
-	}
+	player_->prepare(keys_, t, t);
+	player_->draw(t, keys_, ws_, slot_, false, alpha);
 	++next_;
+	return slot_;
 }
 
 }  // namespace talkhead

@@ -13,7 +13,7 @@
 #include "phonetics/language.h"
 #include "perform/utterance.h"
 #include "render/frame_sink.h"
-#include "render/matte.h"
+#include "render/player.h"
 #include "render/render.h"
 #include "synth/coarticulation.h"
 #include "synth/synthesizer.h"
@@ -105,7 +105,9 @@ public:
 	Ticks queueEnd() const { return queueEnd_; }
 
 	// Draws the next frame (YUV 4:2:0, limited range) and its feature points (output pixels); appends what
-	// happened by this frame to `events`.
+	// happened by this frame to `events`. `alpha`: the face's matte into frame().yuv.a.
+	const FrameSlot& drawNext(std::vector<LiveEvent>& events, bool alpha = false);
+	// The same, copied out (tests).
 	void drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>& events);
 	// The live frame player (talkhead live, serve's stream, serve's load measurement): draws the next frame
 	// and hands it to `sink` (begun by the caller with info()), with the face's matte when the sink needs
@@ -131,16 +133,10 @@ private:
 	};
 	const FaceModel& model_;
 	LiveOptions o_;
-	std::unique_ptr<Synthesizer> synth_;
+	std::unique_ptr<FramePlayer> player_;  // the frame player render uses too
 	StreamInfo info_;
-	FitBox box_{};
-	bool place_ = false;
 	Synthesizer::Workspace ws_;
-	YuvImage inner_;
-	YuvImage frame_;                   // play()'s frame, its points and the matte it draws when asked
-	Points points_;
-	std::unique_ptr<FaceMatte> matte_;
-	bool drawnBefore_ = false;
+	FrameSlot slot_;                   // the frame drawn last
 	std::int64_t next_ = 0;
 	std::vector<Keypose> keys_;
 	Expression expression_;
@@ -160,7 +156,7 @@ private:
 	std::size_t committed() const;
 	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
 	PlannedUtterance planned(Utterance u, const Expression& expression) const;  // plan() without the images
-	void chooseExemplars(std::vector<Keypose>& keys, Emotion fallback) const;  // D62: the face's exemplars of predicted mouths
+	void chooseExemplars(std::vector<Keypose>& keys, Emotion fallback) const;  // D62: again, for keys whose emotion changed
 	void replan();
 	void addPending(Ticks t, LiveEvent e);
 };

@@ -21,8 +21,7 @@
 #include "base/progress.h"
 #include "base/text.h"
 #include "model/model_file.h"
-#include "render/matte.h"
-#include "render/overlay.h"
+#include "render/player.h"
 #include "synth/coarticulation.h"
 
 namespace talkhead {
@@ -116,49 +115,9 @@ FitBox fitBox(int mw, int mh, int w, int h, Fit fit) {
 
 namespace {
 
-// Copies one plane of `inner` (iw × ih) into `out` (w × h) at (x, y), cropping what overflows and filling
-// what is left by repeating the nearest edge pixel.
-void placePlane(const std::uint8_t* inner, int iw, int ih, std::uint8_t* out, int w, int h, int x, int y) {
-	for (int r = 0; r < h; ++r) {
-		const int sr = std::clamp(r - y, 0, ih - 1);
-		const std::uint8_t* src = inner + std::size_t(sr) * std::size_t(iw);
-		std::uint8_t* dst = out + std::size_t(r) * std::size_t(w);
-		const int c0 = std::clamp(x, 0, w), c1 = std::clamp(x + iw, 0, w);  // output columns that come from the inner frame
-		if (c0 > 0) std::fill(dst, dst + c0, src[0]);
-		if (c1 > c0) std::copy(src + (c0 - x), src + (c1 - x), dst + c0);
-		if (c1 < w) std::fill(dst + std::max(c1, 0), dst + w, src[iw - 1]);
-	}
-}
-
-void placeRgb(const Image8& inner, Image8& out, int w, int h, int x, int y) {
-	if (out.width != w || out.height != h || out.channels != 3) out = Image8(w, h, 3);
-	for (int r = 0; r < h; ++r) {
-		const std::uint8_t* src = inner.row(std::clamp(r - y, 0, inner.height - 1));
-		std::uint8_t* dst = out.row(r);
-		for (int c = 0; c < w; ++c) {
-			const int sc = std::clamp(c - x, 0, inner.width - 1);
-			dst[3 * c] = src[3 * sc], dst[3 * c + 1] = src[3 * sc + 1], dst[3 * c + 2] = src[3 * sc + 2];
-		}
-	}
-}
-
-}  // namespace
-
-void placeFitted(const YuvImage& inner, YuvImage& out, int w, int h, int x, int y) {
-	out.resize(w, h);
-	placePlane(inner.y.data(), inner.width, inner.height, out.y.data(), w, h, x, y);
-	placePlane(inner.u.data(), inner.chromaWidth(), inner.chromaHeight(), out.u.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
-	placePlane(inner.v.data(), inner.chromaWidth(), inner.chromaHeight(), out.v.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
-}
-
-namespace {
-
 // Frames drawn together: their buffers, reused batch after batch.
 struct Batch {
-	std::vector<Image8> rgb, innerRgb;
-	std::vector<YuvImage> yuv, innerYuv;
-	std::vector<Points> pts;
-	std::vector<char> drawn;  // the slot's buffer holds an earlier frame of this render, untouched since
+	std::vector<FrameSlot> slots;
 	std::int64_t first = 0;
 	std::size_t count = 0;
 };
@@ -168,10 +127,7 @@ std::vector<Batch> makeBatches(const RenderStats& st, bool rgbFrames, bool place
 	const double frameBytes = double(st.width) * st.height * (1.5 + (rgbFrames ? 3 : 0)) * (place ? 2 : 1);
 	const std::size_t slots = std::clamp<std::size_t>(std::size_t(96.0 * 1024 * 1024 / (frameBytes * double(batch))), 2, 4);
 	std::vector<Batch> batches(slots);
-	for (auto& b : batches) {
-		b.rgb.resize(batch), b.yuv.resize(batch), b.pts.resize(batch), b.drawn.assign(batch, 0);
-		if (place) b.innerRgb.resize(batch), b.innerYuv.resize(batch);
-	}
+	for (auto& b : batches) b.slots.resize(batch);
 	return batches;
 }
 
@@ -236,85 +192,28 @@ private:
 	std::exception_ptr error_;
 };
 
-// Draws one frame of a performance into a batch slot (any thread): the synthesizer's frame, the debug
-// overlay, the fit into the output frame, the any-thread sinks.
+// Draws one frame of a performance into a batch slot (any thread) with the frame player, then hands it to
+// the any-thread sinks.
 struct FramePainter {
 	const Performance& perf;
-	const Synthesizer& synth;
-	const SynthOptions& so;
-	const RenderOptions& options;
-	const OutputFit& fit;
-	const RenderStats& st;
-	bool rgbFrames;
-	const FaceMatte* matte;  // video with alpha: the face's matte drawn into each frame's yuv.a
+	const FramePlayer& player;
+	bool rgbFrames, alpha;
 	const std::vector<FrameSink*>& anyThread;
 
 	RenderedFrame frameOf(const Batch& bt, std::size_t k) const {
 		RenderedFrame f;
 		f.index = bt.first + std::int64_t(k);
 		f.time = perf.frameTime(f.index);
-		f.yuv = &bt.yuv[k];
-		f.rgb = rgbFrames ? &bt.rgb[k] : nullptr;
-		f.points = &bt.pts[k];
+		f.yuv = &bt.slots[k].yuv;
+		f.rgb = rgbFrames ? &bt.slots[k].rgb : nullptr;
+		f.points = &bt.slots[k].points;
 		return f;
 	}
 
 	void draw(Batch& bt, std::size_t k, Synthesizer::Workspace& ws) const {
-		const Ticks tau = perf.frameTime(bt.first + std::int64_t(k));
-		const bool place = fit.place;
-		Image8& rgb = place ? bt.innerRgb[k] : bt.rgb[k];
-		YuvImage& yuv = place ? bt.innerYuv[k] : bt.yuv[k];
-		if (rgbFrames) {
-			synth.renderFrame(tau, perf.keys, ws, rgb, bt.pts[k], bt.drawn[k]);
-			if (options.debugOverlay) drawDebugOverlay(rgb, bt.pts[k], overlayLines(tau));
-			rgbToYuv420(rgb, yuv, so.yuvRange);
-		} else {
-			synth.renderFrameYuv(tau, perf.keys, ws, yuv, bt.pts[k], bt.drawn[k]);
-			if (options.debugOverlay) drawDebugOverlay(yuv, bt.pts[k], overlayLines(tau));
-		}
-		bt.drawn[k] = !options.debugOverlay;  // the overlay writes over the static background
-		if (place) {  // into the output frame: crop or pad, points moved with it
-			placeFitted(yuv, bt.yuv[k], st.width, st.height, fit.box.x, fit.box.y);
-			if (rgbFrames) placeRgb(rgb, bt.rgb[k], st.width, st.height, fit.box.x, fit.box.y);
-			bt.pts[k].col(0).array() += fit.box.x;
-			bt.pts[k].col(1).array() += fit.box.y;
-		}
-		if (matte) matte->draw(bt.pts[k], st.width, st.height, bt.yuv[k].a);
+		player.draw(perf.frameTime(bt.first + std::int64_t(k)), perf.keys, ws, bt.slots[k], rgbFrames, alpha);
 		const RenderedFrame f = frameOf(bt, k);
 		for (FrameSink* s : anyThread) s->frame(f);
-	}
-
-	// --debug-overlay: the time, the keyposes around it (viseme, emotion, intensity, position between
-	// them), the lids and the head.
-	std::vector<std::string> overlayLines(Ticks tau) const {
-		const std::vector<Keypose>& keys = perf.keys;
-		std::vector<std::string> lines;
-		char b[160];
-		std::snprintf(b, sizeof b, "t %.3f s", toSeconds(tau));
-		lines.emplace_back(b);
-		std::size_t i = 0;
-		while (i + 1 < keys.size() && keys[i + 1].time <= tau) ++i;
-		auto label = [&](const Keypose& k) {
-			const std::string& e = k.emotion.value_or(perf.expression.emotion()).label();
-			const double in = k.intensity.value_or(perf.expression.intensity());
-			char l[96];
-			std::snprintf(l, sizeof l, "%s %s:%.2g @%.3f", k.cdv.c_str(), e.c_str(), in, toSeconds(k.time));
-			return std::string(l);
-		};
-		if (i + 1 < keys.size() && tau > keys[i].time) {
-			const double u = toSeconds(tau - keys[i].time) / toSeconds(keys[i + 1].time - keys[i].time);
-			lines.push_back(label(keys[i]) + " -> " + label(keys[i + 1]));
-			std::snprintf(b, sizeof b, "u %.2f", u);
-			lines.emplace_back(b);
-		} else {
-			lines.push_back(label(keys[i]) + " (held)");
-		}
-		if (so.modulator) {
-			const HeadMotion h = so.modulator->head(tau);
-			std::snprintf(b, sizeof b, "lids %.2f  head %+.2f deg %+.3f %+.3f", so.modulator->eyeClosure(tau), (h.angle + h.roll) * 57.29578, h.dx, h.dy);
-			lines.emplace_back(b);
-		}
-		return lines;
 	}
 };
 
@@ -324,11 +223,10 @@ struct FramePainter {
 // bottleneck, so drawing takes the moments it leaves a core idle instead of slowing it down. The
 // keyposes a batch needs are made just before it, and the first batch is one frame per thread, so a
 // stream starts at once.
-void drawInOrder(const Performance& perf, Synthesizer& synth, const FramePainter& painter, std::vector<Batch>& batches,
+void drawInOrder(const Performance& perf, FramePlayer& player, const FramePainter& painter, std::vector<Batch>& batches,
                  std::vector<Synthesizer::Workspace>& workspaces, unsigned nThreads, const std::vector<FrameSink*>& ordered, RenderProgress& prog,
                  RenderStats& st, Clock::time_point t0) {
 	const std::size_t batch = workspaces.size();
-	const std::vector<Keypose>& keys = perf.keys;
 	const std::int64_t frames = perf.frameCount();
 	BatchQueue queue(batches);
 	std::thread drawer([&] {
@@ -343,7 +241,7 @@ void drawInOrder(const Performance& perf, Synthesizer& synth, const FramePainter
 				bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(first == 0 ? nThreads : batch), frames - first));
 				first += std::int64_t(bt.count);
 				const auto tPrep = Clock::now();
-				synth.prepare(Synthesizer::keyposesBetween(keys, perf.frameTime(bt.first), perf.frameTime(first - 1), synth.margin()));
+				player.prepare(perf.keys, perf.frameTime(bt.first), perf.frameTime(first - 1));
 				st.keyposeSeconds += since(tPrep);
 				const auto tDraw = Clock::now();
 				pool.run(bt.count, [&](std::size_t k) { painter.draw(bt, k, workspaces[k]); });
@@ -384,33 +282,27 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 	const auto t0 = Clock::now();
 	RenderProgress none;
 	RenderProgress& prog = progress ? *progress : none;
-	// D62: keyposes with a predicted mouth show the face's exemplar nearest it.
-	std::optional<Performance> withExemplars;
-	if (std::any_of(performance.keys.begin(), performance.keys.end(), [](const Keypose& k) { return k.mouthOpening && k.sample < 0; })) {
-		withExemplars = performance;
-		chooseMouthExemplars(model, performance.expression.emotion(), withExemplars->keys);
-	}
-	const Performance& perf = withExemplars ? *withExemplars : performance;
+	const Performance& perf = performance;
+	// D62: a predicted mouth shows the face's exemplar nearest it, chosen when the performance was planned.
+	if (std::any_of(perf.keys.begin(), perf.keys.end(), [](const Keypose& k) { return k.mouthOpening && k.sample < 0; }))
+		throw std::logic_error("renderPerformance: keyposes with a predicted mouth and no exemplar (plan them against the face: PerformanceSpec::face)");
 	if (perf.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
 	if (perf.rate.num < 1 || perf.rate.den < 1) throw Error("invalid frame rate " + perf.rate.str());
-	const std::vector<Keypose>& keys = perf.keys;
 	const std::int64_t frames = perf.frameCount();
-	SynthOptions so = options.synth;
-	so.expression = perf.expression;
-	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
-	// Even sizes for 4:2:0; another aspect than the model's frame drawn at the fitted size, then cropped or padded.
-	const OutputFit fit = fitOutput(model.width, model.height, so, options.fit);
+	RenderOptions ro = options;
+	ro.synth.expression = perf.expression;
 	if (perf.modulation.any(perf.events))
-		so.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.keys, perf.events);
-	Synthesizer synth(model, so);
+		ro.synth.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.keys, perf.events);
+	FramePlayer player(model, ro);
+	const Synthesizer& synth = player.synthesizer();
 	RenderStats st;
 	st.frames = frames;
-	st.width = fit.place ? fit.outWidth : synth.width();
-	st.height = fit.place ? fit.outHeight : synth.height();
-	st.keyposes = keys.size();
-	st.substitutions = synth.substitutionsFor(keys);
+	st.width = player.width();
+	st.height = player.height();
+	st.keyposes = perf.keys.size();
+	st.substitutions = synth.substitutionsFor(perf.keys);
 	StreamInfo info;
-	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = so.yuvRange;
+	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = synth.options().yuvRange;
 	info.pointNames = model.scheme.pointNames;
 	bool rgbFrames = false;
 	std::vector<FrameSink*> ordered, anyThread;
@@ -419,17 +311,15 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 		info.alpha = info.alpha || s->needsAlpha();
 		(s->anyThread() ? anyThread : ordered).push_back(s);
 	}
-	std::optional<FaceMatte> matte;
-	if (info.alpha) matte.emplace(model.scheme, options.matte);
 	for (FrameSink* s : sinks) s->begin(info);
 	prog.started(info, st.substitutions);
 
 	const unsigned nThreads = resolveThreads(options.threads);
 	const std::size_t batch = std::max<std::size_t>(8, 4 * nThreads);
-	std::vector<Batch> batches = makeBatches(st, rgbFrames, fit.place, batch);
+	std::vector<Batch> batches = makeBatches(st, rgbFrames, player.places(), batch);
 	std::vector<Synthesizer::Workspace> workspaces(batch);
-	const FramePainter painter{perf, synth, so, options, fit, st, rgbFrames, matte ? &*matte : nullptr, anyThread};
-	drawInOrder(perf, synth, painter, batches, workspaces, nThreads, ordered, prog, st, t0);
+	const FramePainter painter{perf, player, rgbFrames, info.alpha, anyThread};
+	drawInOrder(perf, player, painter, batches, workspaces, nThreads, ordered, prog, st, t0);
 	const auto tFinish = Clock::now();
 	for (FrameSink* s : sinks) s->finish();
 	st.writeSeconds += since(tFinish);
