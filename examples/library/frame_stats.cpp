@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
 		const std::vector<PhoneSegment> phones = phoneSegments(readTranscript(argv[2]), lang);
 		Performance performance;
 		performance.rate = FrameRate{25, 1};
-		performance.keys = keyposes(phones, performance.rate.frameLength());
+		performance.timeline.keys = keyposes(phones, performance.rate.frameLength());
 		performance.duration = phones.back().end;
 		long long frames = 0, outOfOrder = 0;
 		double lumaSum = 0;

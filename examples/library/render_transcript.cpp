@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
 		const std::vector<PhoneSegment> phones = phoneSegments(readTranscript(argv[2]), lang);
 		Performance performance;
 		performance.rate = FrameRate{30, 1};
-		performance.keys = keyposes(phones, performance.rate.frameLength());
+		performance.timeline.keys = keyposes(phones, performance.rate.frameLength());
 		performance.duration = phones.back().end;
 		if (argc > 5) performance.expression = Expression::parse(argv[5]);  // "joy", "anger:0.6"; checked here
 		// The model, one sink (its format from the output's name, no audio), and the render.

@@ -82,7 +82,7 @@ int runSay(const std::vector<std::string>& argv) {
 	Performance perf = planPerformance(spec);
 	char prefix[64];
 	std::snprintf(prefix, sizeof prefix, "speech synthesis %.3f s; ", speechSeconds);
-	const std::vector<Keypose> keys = perf.keys;  // the speech's own times, for --save-transcript
+	const std::vector<Keypose> keys = perf.timeline.keys;  // the speech's own times, for --save-transcript
 	auto sound = applyStimulusTiming(cmd, perf, clipSource(audio));
 	// The speech, its timeline and the sidecar appear only with the video (a failed render leaves none).
 	std::vector<SideOutput> side = timelineOutput(cmd, perf, phones, timed.words);

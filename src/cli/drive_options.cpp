@@ -88,7 +88,7 @@ void Driving::report(const Performance& perf, bool quiet) const {
 	if (!quiet)
 		std::fprintf(stderr, "talkhead: %s drives the face: %zu frames, %zu blink(s)%s%s\n", video->c_str(), nv.frames.size(), nv.blinks.size(),
 		             nv.bridged.empty() ? "" : ", some frames bridged",
-		             mouth ? (", the mouth: " + std::to_string(perf.keys.size()) + " keyposes (" + std::to_string(exemplarChoices) + " exemplars chosen by shape)").c_str()
+		             mouth ? (", the mouth: " + std::to_string(perf.timeline.keys.size()) + " keyposes (" + std::to_string(exemplarChoices) + " exemplars chosen by shape)").c_str()
 		                   : "");
 }
 

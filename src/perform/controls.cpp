@@ -420,7 +420,7 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 	for (const auto& b : track.brows) past(b.time, "a brows event");
 	for (const auto& a : track.actionUnits) past(a.time, "the action unit " + a.au);
 	// Each keypose takes the emotion in effect at its time.
-	for (Keypose& k : perf.keys) {
+	for (Keypose& k : perf.timeline.keys) {
 		Emotion before = perf.expression.emotion();
 		double beforeIntensity = perf.expression.intensity();
 		for (const auto& c : track.emotions) {
@@ -438,7 +438,7 @@ void applyControls(Performance& perf, const ControlTrack& track) {
 			before = to, beforeIntensity = toIntensity;
 		}
 	}
-	TimedEvents& e = perf.events;
+	TimedEvents& e = perf.timeline.events;
 	e.blinks.insert(e.blinks.end(), track.blinks.begin(), track.blinks.end());
 	e.gestures.insert(e.gestures.end(), track.gestures.begin(), track.gestures.end());
 	e.brows.insert(e.brows.end(), track.brows.begin(), track.brows.end());

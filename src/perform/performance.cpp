@@ -9,8 +9,7 @@
 namespace talkhead {
 
 void addLeadInAndTail(Performance& p, Ticks leadIn, Ticks tail) {
-	for (Keypose& k : p.keys) k.time += leadIn;
-	p.events.shift(leadIn);  // a tracked performance's curves (D55) start with the speech too
+	p.timeline.shift(leadIn);  // a tracked performance's curves (D55) start with the speech too
 	p.duration += leadIn + tail;
 }
 
@@ -36,7 +35,7 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 	}
 	for (const auto& ph : phones)
 		phoneItems.raw(JsonObject().raw("start", sec(ph.start + leadIn)).raw("end", sec(ph.end + leadIn)).add("phone", ph.phone).add("cdv", ph.cdv).str());
-	for (const auto& k : p.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv).add("emotion", k.emotion.value_or(p.expression.emotion()).label()).str());
+	for (const auto& k : p.timeline.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv).add("emotion", k.emotion.value_or(p.expression.emotion()).label()).str());
 	JsonObject o;
 	o.add("fps", p.rate.str()).add("frames", p.frameCount()).raw("duration", sec(p.duration)).raw("lead_in", sec(leadIn)).raw("tail", sec(tail));
 	o.raw("av_offset", sec(avOffset)).raw("speech_onset", onset < Ticks(0) ? "null" : sec(onset + leadIn));

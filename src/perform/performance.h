@@ -7,21 +7,22 @@
 #include "base/frame_rate.h"
 #include "base/ticks.h"
 #include "phonetics/language.h"
+#include "perform/timeline.h"
 #include "synth/modulator.h"
 
 namespace talkhead {
 
-// What to render: a timeline of keyposes at a frame rate over a duration. Build one from phones with
-// `keyposes()` (phonetics/language.h), or by hand. Frames are 0 … frameCount() − 1, frame n at
+// What to render: a timeline (perform/timeline.h) at a frame rate over a duration, in an expression. Build
+// one with planPerformance (perform/plan.h), or its keyposes from phones with `keyposes()`
+// (phonetics/language.h), or by hand. Frames are 0 … frameCount() − 1, frame n at
 // rate.time(n); before the first keypose and after the last the face holds.
 struct Performance {
 	FrameRate rate;                  // output frames per second (exact fraction)
 	Ticks duration{0};               // the video's length (the audio's, or the transcript's end)
-	std::vector<Keypose> keys;       // keyposes in time order (CDV, instant, phone context)
+	Timeline timeline;               // keyposes in time order (CDV, instant, phone context, emotion), and what
+	                                 // is asked for at times: blinks, gestures, brows, action units, curves
 	Expression expression;           // for every keypose without its own (default neutral; intensity: D43)
 	ModulatorOptions modulation;     // blinks and head motion drawn (on by default; D42): the knobs
-	TimedEvents events;              // what is asked for at times: blinks, gestures, brows, action units, curves
-	// (The expressive-control issue adds per-keypose emotion and control tracks here.)
 
 	std::int64_t frameCount() const { return rate.frameCount(duration); }
 	Ticks frameTime(std::int64_t n) const { return rate.time(n); }

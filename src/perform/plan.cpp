@@ -104,14 +104,14 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	perf.expression = spec.expression;
 	perf.modulation = spec.modulation;
 	perf.modulation.intensity = spec.expression.intensity();
-	perf.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses);
+	perf.timeline.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses);
 	if (spec.coarticulation && !spec.phones.empty()) {
-		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.keys);
-		applyBilabialLead(*spec.coarticulation, spec.phones, perf.keys, spec.rate.frameLength());
+		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.timeline.keys);
+		applyBilabialLead(*spec.coarticulation, spec.phones, perf.timeline.keys, spec.rate.frameLength());
 	}
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);
-		perf.events.brows.insert(perf.events.brows.end(), brows.begin(), brows.end());
+		perf.timeline.events.brows.insert(perf.timeline.events.brows.end(), brows.begin(), brows.end());
 	}
 	if (spec.audioDuration && !spec.phones.empty()) {
 		// The speech against its audio (a driven mouth has no phones: the video's length is given).
@@ -133,7 +133,7 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	}
 	perf.duration = spec.videoDuration();
 	for (const ControlTrack& c : spec.controls) applyControls(perf, c);
-	if (spec.face) chooseMouthExemplars(*spec.face, perf.expression.emotion(), perf.keys);  // D62: each key by its own emotion
+	if (spec.face) chooseMouthExemplars(*spec.face, perf.expression.emotion(), perf.timeline.keys);  // D62: each key by its own emotion
 	return perf;
 }
 

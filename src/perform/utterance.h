@@ -7,6 +7,7 @@
 #include "base/ticks.h"
 #include "media/audio.h"
 #include "perform/controls.h"
+#include "perform/timeline.h"
 #include "phonetics/espeak.h"
 #include "phonetics/language.h"
 #include "phonetics/ssml.h"
@@ -18,10 +19,7 @@ struct Utterance {
 	std::string id;                     // the client's, as JSON text (serve: a quoted string or a number), echoed as is
 	AudioClip audio;                    // mono at the session's sample rate (empty: a silent utterance)
 	std::vector<PhoneSegment> phones;   // with CDVs (phoneSegments), from 0
-	struct Mark {
-		std::string name;
-		Ticks time{0};
-	};
+	using Mark = TimelineMark;
 	std::vector<Mark> marks;            // reported when reached
 	std::vector<BrowEvent> brows;       // SSML brow events (relative)
 	std::vector<Ticks> blinks;          // SSML blinks (relative)

@@ -111,14 +111,14 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	expression_ = o_.expression;
 	RenderOptions ro = o_.render;
 	ro.synth.expression = expression_;
-	keys_.push_back(rest(Ticks(0)));
+	timeline_.keys.push_back(rest(Ticks(0)));
 	modOptions_ = o_.modulation;
 	// The face box is sized once, for the liveliest head any emotion gets (head motion's largest factor).
 	ModulatorOptions envelope = o_.modulation;
 	envelope.intensity = 1.5;  // the strongest an emotion gets (its head motion scales with the intensity)
 	double factor = 0;
 	for (std::size_t i = 0; i < Emotion::count(); ++i) factor = std::max(factor, ShapeModulator::headFactorFor(Emotion::at(i)));
-	ro.synth.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), keys_);
+	ro.synth.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), timeline_.keys);
 	if (ShapeModulator::headFactorFor(Emotion::of("joy")) < factor) throw std::logic_error("LiveSession: the envelope's emotion is not the liveliest");
 	player_ = std::make_unique<FramePlayer>(model, ro);
 	info_.width = player_->width();
@@ -136,13 +136,6 @@ LiveSession::~LiveSession() = default;
 AudioSource& LiveSession::audio() { return *sound_; }
 
 Ticks LiveSession::lastDrawn() const { return next_ > 0 ? o_.rate.time(next_ - 1) : Ticks(-1); }
-
-std::size_t LiveSession::committed() const {
-	const Ticks t = lastDrawn();
-	std::size_t c = 0;
-	while (c < keys_.size() && keys_[c].time <= t) ++c;
-	return c;
-}
 
 Keypose LiveSession::rest(Ticks t) const {
 	Keypose k;
@@ -163,8 +156,9 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	PlannedUtterance p(std::move(u));
 	p.planned = true;
 	p.expression = expression;
-	p.events.blinks = p.utterance.blinks;  // the text's blinks and brows (SSML); speech brows go before its brows
-	p.events.brows = p.utterance.brows;
+	p.timeline.events.blinks = p.utterance.blinks;  // the text's blinks, brows and marks (SSML); speech brows go before its brows
+	p.timeline.events.brows = p.utterance.brows;
+	p.timeline.marks = p.utterance.marks;
 	if (p.utterance.phones.empty()) return p;
 	PerformanceSpec spec;
 	spec.phones = p.utterance.phones;
@@ -175,11 +169,13 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	spec.expression = expression;
 	if (o_.coarticulation) spec.face = &model_;  // D62: bound to the face's exemplars in `expression`
 	Performance perf = planPerformance(spec);
-	p.keys = std::move(perf.keys);
-	p.events.brows.insert(p.events.brows.begin(), perf.events.brows.begin(), perf.events.brows.end());  // speech brows (D49)
-	p.stamped.assign(p.keys.size(), 0);
-	for (std::size_t i = 0; i < p.keys.size(); ++i) {
-		Keypose& k = p.keys[i];
+	std::vector<Keypose>& keys = p.timeline.keys;
+	keys = std::move(perf.timeline.keys);
+	std::vector<BrowEvent>& brows = p.timeline.events.brows;
+	brows.insert(brows.begin(), perf.timeline.events.brows.begin(), perf.timeline.events.brows.end());  // speech brows (D49)
+	p.stamped.assign(keys.size(), 0);
+	for (std::size_t i = 0; i < keys.size(); ++i) {
+		Keypose& k = keys[i];
 		if (!k.emotion) k.emotion = expression.emotion(), p.stamped[i] |= 1;
 		if (!k.intensity) k.intensity = expression.intensity(), p.stamped[i] |= 2;
 	}
@@ -188,7 +184,7 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 
 PlannedUtterance LiveSession::plan(Utterance u, const Expression& expression) const {
 	PlannedUtterance p = planned(std::move(u), expression);
-	player_->synthesizer().prepare(p.keys);  // thread-safe; what is there already is skipped
+	player_->synthesizer().prepare(p.timeline.keys);  // thread-safe; what is there already is skipped
 	return p;
 }
 
@@ -200,13 +196,13 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 	if (!p.planned) {
 		p = planned(std::move(p.utterance), expression_);
 	} else if (p.expression != expression_) {  // planned in another expression: the keys that took it take the session's
-		for (std::size_t i = 0; i < p.keys.size(); ++i) {
-			Keypose& k = p.keys[i];
+		for (std::size_t i = 0; i < p.timeline.keys.size(); ++i) {
+			Keypose& k = p.timeline.keys[i];
 			if (p.stamped[i] & 1) k.emotion = expression_.emotion();
 			if (p.stamped[i] & 2) k.intensity = expression_.intensity();
 			if (p.stamped[i] && k.mouthOpening) k.sample = -1;  // chosen again, among the emotion's exemplars
 		}
-		chooseExemplars(p.keys, expression_.emotion());
+		chooseExemplars(p.timeline.keys, expression_.emotion());
 	}
 	Utterance& u = p.utterance;
 	// Not before the sound read already: an encoder reads its priming ahead of the first frame (a live AAC
@@ -215,23 +211,8 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 	std::int64_t f = next_;
 	while (std::llround(toSeconds(o_.rate.time(f)) * o_.sampleRate) < sound_->position()) ++f;
 	const Ticks start = std::max(o_.rate.time(f), queueEnd_);
-	std::vector<Keypose>& fresh = p.keys;
-	for (Keypose& k : fresh) k.time += start;
-	// What frames already drawn depend on stays: the keys up to the first one after the last drawn frame.
-	const std::size_t c = committed();
-	std::vector<Keypose> kept;
-	for (std::size_t i = 0; i < keys_.size(); ++i)
-		if (keys_[i].time < start || i == c) kept.push_back(keys_[i]);
-	// Holding (no key after the last drawn frame): the pose held stays until the utterance starts.
-	if (c >= keys_.size() && kept.back().time < start) {
-		Keypose hold = kept.back();
-		hold.time = start;
-		hold.breath = false;
-		kept.push_back(hold);
-	}
-	for (const Keypose& k : fresh)
-		if (k.time > kept.back().time) kept.push_back(k);
-	keys_ = std::move(kept);
+	// One splice: what frames already drawn depend on stays, the pose held fills the gap before it.
+	timeline_.splice(p.timeline, start, lastDrawn());
 	const Ticks end = start + u.duration();
 	queueEnd_ = std::max(queueEnd_, end);
 	sound_->add(std::llround(toSeconds(start) * o_.sampleRate), std::move(u.audio.samples));
@@ -239,7 +220,7 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 	e.id = u.id;
 	e.kind = LiveEvent::Kind::UtteranceStarted;
 	addPending(start, e);
-	for (const auto& m : u.marks) {
+	for (const auto& m : p.timeline.marks) {
 		LiveEvent me = e;
 		me.kind = LiveEvent::Kind::Mark;
 		me.name = m.name;
@@ -247,7 +228,6 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 	}
 	e.kind = LiveEvent::Kind::UtteranceEnded;
 	addPending(end, e);
-	events_.splice(p.events, start);
 	replan();
 	return start;
 }
@@ -256,30 +236,30 @@ void LiveSession::setEmotion(const Expression& expression, Ticks ramp) {
 	const Emotion e = expression.emotion();
 	const double intensity = expression.intensity();
 	const Ticks t = nextTime(), frame = o_.rate.frameLength();
-	const std::size_t c = committed();
-	if (c + 1 < keys_.size()) {
+	const std::size_t c = timeline_.firstAfter(lastDrawn());
+	if (c + 1 < timeline_.keys.size()) {
 		// Speaking: from the key after the one the face is moving to.
-		for (std::size_t i = c + 1; i < keys_.size(); ++i) {
-			keys_[i].emotion = e, keys_[i].intensity = intensity;
-			if (keys_[i].mouthOpening) keys_[i].sample = -1;  // its exemplar is chosen again, among the new emotion's
+		for (std::size_t i = c + 1; i < timeline_.keys.size(); ++i) {
+			timeline_.keys[i].emotion = e, timeline_.keys[i].intensity = intensity;
+			if (timeline_.keys[i].mouthOpening) timeline_.keys[i].sample = -1;  // its exemplar is chosen again, among the new emotion's
 		}
 	} else {
 		// Holding, or moving to the last key: the last pose again in the new emotion, `ramp` later.
-		if (c >= keys_.size() && keys_.back().time < t) {
-			Keypose hold = keys_.back();
+		if (c >= timeline_.keys.size() && timeline_.keys.back().time < t) {
+			Keypose hold = timeline_.keys.back();
 			hold.time = t;
 			hold.breath = false;
-			keys_.push_back(hold);
+			timeline_.keys.push_back(hold);
 		}
-		Keypose k = keys_.back();
+		Keypose k = timeline_.keys.back();
 		k.time = std::max(k.time + frame, t + std::max(ramp, frame));
 		k.emotion = e;
 		k.intensity = intensity;
 		k.breath = false;
 		if (k.mouthOpening) k.sample = -1;
-		keys_.push_back(k);
+		timeline_.keys.push_back(k);
 	}
-	chooseExemplars(keys_, expression_.emotion());
+	chooseExemplars(timeline_.keys, expression_.emotion());
 	expression_ = expression;
 	LiveEvent ev;
 	ev.kind = LiveEvent::Kind::Emotion;
@@ -292,15 +272,15 @@ void LiveSession::stop(const std::string& id, const std::vector<std::string>& un
 	const Ticks t = nextTime(), frame = o_.rate.frameLength();
 	if (queueEnd_ > t) {
 		const Ticks closeAt = t + ticksFromSeconds(kStopClose);
-		const std::size_t c = committed();
-		std::vector<Keypose> kept(keys_.begin(), keys_.begin() + std::ptrdiff_t(c));
+		const std::size_t c = timeline_.firstAfter(lastDrawn());
+		std::vector<Keypose> kept(timeline_.keys.begin(), timeline_.keys.begin() + std::ptrdiff_t(c));
 		Ticks silAt = closeAt;
-		if (c < keys_.size() && keys_[c].time < closeAt) {
-			kept.push_back(keys_[c]);
-			silAt = std::max(closeAt, keys_[c].time + frame);
+		if (c < timeline_.keys.size() && timeline_.keys[c].time < closeAt) {
+			kept.push_back(timeline_.keys[c]);
+			silAt = std::max(closeAt, timeline_.keys[c].time + frame);
 		}
 		if (kept.empty() || kept.back().time < silAt) kept.push_back(rest(silAt));
-		keys_ = std::move(kept);
+		timeline_.keys = std::move(kept);
 		sound_->cut(std::llround(toSeconds(t) * o_.sampleRate), std::llround(kStopFade * o_.sampleRate));
 		// Utterances cut or never started end now; their marks and starts still to come are dropped.
 		std::deque<Pending> left;
@@ -316,7 +296,7 @@ void LiveSession::stop(const std::string& id, const std::vector<std::string>& un
 			}
 		}
 		pending_ = std::move(left);
-		events_.cut(t);
+		timeline_.cut(t);
 		queueEnd_ = t;
 	}
 	for (const std::string& u : unstarted) {  // the caller's, never queued here: after the session's own
@@ -337,13 +317,10 @@ void LiveSession::replan() {
 	const Ticks t = nextTime(), behind = lastDrawn() - ticksFromSeconds(kKeepBehind);
 	horizon_ = std::max(queueEnd_, t) + ticksFromSeconds(kPlanAhead);
 	// Old keys go (all but the last before `behind`), and old timed events with them.
-	std::size_t drop = 0;
-	while (drop + 1 < keys_.size() && keys_[drop + 1].time <= behind) ++drop;
-	keys_.erase(keys_.begin(), keys_.begin() + std::ptrdiff_t(drop));
-	events_.dropEndedBefore(behind);
+	timeline_.dropBefore(behind);
 	modOptions_.intensity = expression_.intensity();
-	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, expression_.emotion(), horizon_, keys_, events_);
-	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, expression_.emotion(), horizon_, keys_, events_);
+	if (modulator_) modulator_ = std::make_shared<ShapeModulator>(*modulator_, t, modOptions_, expression_.emotion(), horizon_, timeline_.keys, timeline_.events);
+	else modulator_ = std::make_shared<ShapeModulator>(modOptions_, expression_.emotion(), horizon_, timeline_.keys, timeline_.events);
 	player_->synthesizer().setModulator(modulator_);
 }
 
@@ -371,18 +348,18 @@ const FrameSlot& LiveSession::drawNext(std::vector<LiveEvent>& events, bool alph
 		events.push_back(std::move(e));
 	}
 	std::size_t i = 0;
-	while (i + 1 < keys_.size() && keys_[i + 1].time <= t) ++i;
-	if (keys_[i].cdv != lastViseme_) {
-		lastViseme_ = keys_[i].cdv;
+	while (i + 1 < timeline_.keys.size() && timeline_.keys[i + 1].time <= t) ++i;
+	if (timeline_.keys[i].cdv != lastViseme_) {
+		lastViseme_ = timeline_.keys[i].cdv;
 		LiveEvent e;
 		e.kind = LiveEvent::Kind::Viseme;
 		e.frame = next_;
-		e.time = keys_[i].time;
+		e.time = timeline_.keys[i].time;
 		e.name = lastViseme_;
 		events.push_back(std::move(e));
 	}
-	player_->prepare(keys_, t, t);
-	player_->draw(t, keys_, ws_, slot_, false, alpha);
+	player_->prepare(timeline_.keys, t, t);
+	player_->draw(t, timeline_.keys, ws_, slot_, false, alpha);
 	++next_;
 	return slot_;
 }

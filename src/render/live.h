@@ -60,8 +60,8 @@ std::string liveEventJson(const LiveEvent& e, std::optional<double> latencyMs = 
 struct PlannedUtterance {
 	Utterance utterance;
 	bool planned = false;                // false: enqueue() plans it (an utterance given as it is)
-	std::vector<Keypose> keys;           // times from the utterance's start
-	TimedEvents events;                  // from its start: speech brows (D49), the text's brows and blinks (SSML)
+	// From its start: its keys, speech brows (D49), the text's brows, blinks and marks (SSML).
+	Timeline timeline;
 	Expression expression;               // what the keys without an emotion of their own were given
 	std::vector<std::uint8_t> stamped;   // per key: 1 its emotion, 2 its intensity came from `expression`
 	PlannedUtterance() = default;
@@ -121,7 +121,7 @@ public:
 	AudioSource& audio();
 
 	// The keyposes from the last drawn frame on (for tests and the debug view).
-	const std::vector<Keypose>& keyposes() const { return keys_; }
+	const std::vector<Keypose>& keyposes() const { return timeline_.keys; }
 	// The current plan of blinks and head motion.
 	const ShapeModulator* modulator() const { return modulator_.get(); }
 
@@ -138,22 +138,17 @@ private:
 	Synthesizer::Workspace ws_;
 	FrameSlot slot_;                   // the frame drawn last
 	std::int64_t next_ = 0;
-	std::vector<Keypose> keys_;
 	Expression expression_;
 	Ticks queueEnd_{0};
 	std::deque<Pending> pending_;
 	std::string lastViseme_;
 	ModulatorOptions modOptions_;  // the knobs
-	TimedEvents events_;           // what is asked for at stream times (brows, blinks), spliced in as utterances come
+	Timeline timeline_;            // keys and what is asked for at stream times (brows, blinks, marks), spliced in as utterances come
 	std::shared_ptr<const ShapeModulator> modulator_;
 	Ticks horizon_{0};
 	std::unique_ptr<Sound> sound_;
 
 	Ticks lastDrawn() const;  // the time of the last drawn frame (−1 tick when none)
-	// Keeps what frames already drawn depend on (the keys up to the first one after the last drawn frame)
-	// and drops the rest from `from` on; returns the index of the first key after the last drawn frame, or
-	// keys_.size().
-	std::size_t committed() const;
 	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
 	PlannedUtterance planned(Utterance u, const Expression& expression) const;  // plan() without the images
 	void chooseExemplars(std::vector<Keypose>& keys, Emotion fallback) const;  // D62: again, for keys whose emotion changed

@@ -211,7 +211,7 @@ struct FramePainter {
 	}
 
 	void draw(Batch& bt, std::size_t k, Synthesizer::Workspace& ws) const {
-		player.draw(perf.frameTime(bt.first + std::int64_t(k)), perf.keys, ws, bt.slots[k], rgbFrames, alpha);
+		player.draw(perf.frameTime(bt.first + std::int64_t(k)), perf.timeline.keys, ws, bt.slots[k], rgbFrames, alpha);
 		const RenderedFrame f = frameOf(bt, k);
 		for (FrameSink* s : anyThread) s->frame(f);
 	}
@@ -241,7 +241,7 @@ void drawInOrder(const Performance& perf, FramePlayer& player, const FramePainte
 				bt.count = std::size_t(std::min<std::int64_t>(std::int64_t(first == 0 ? nThreads : batch), frames - first));
 				first += std::int64_t(bt.count);
 				const auto tPrep = Clock::now();
-				player.prepare(perf.keys, perf.frameTime(bt.first), perf.frameTime(first - 1));
+				player.prepare(perf.timeline.keys, perf.frameTime(bt.first), perf.frameTime(first - 1));
 				st.keyposeSeconds += since(tPrep);
 				const auto tDraw = Clock::now();
 				pool.run(bt.count, [&](std::size_t k) { painter.draw(bt, k, workspaces[k]); });
@@ -284,23 +284,23 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 	RenderProgress& prog = progress ? *progress : none;
 	const Performance& perf = performance;
 	// D62: a predicted mouth shows the face's exemplar nearest it, chosen when the performance was planned.
-	if (std::any_of(perf.keys.begin(), perf.keys.end(), [](const Keypose& k) { return k.mouthOpening && k.sample < 0; }))
+	if (std::any_of(perf.timeline.keys.begin(), perf.timeline.keys.end(), [](const Keypose& k) { return k.mouthOpening && k.sample < 0; }))
 		throw std::logic_error("renderPerformance: keyposes with a predicted mouth and no exemplar (plan them against the face: PerformanceSpec::face)");
-	if (perf.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
+	if (perf.timeline.keys.empty()) throw Error("nothing to render: the timeline has no keyposes");
 	if (perf.rate.num < 1 || perf.rate.den < 1) throw Error("invalid frame rate " + perf.rate.str());
 	const std::int64_t frames = perf.frameCount();
 	RenderOptions ro = options;
 	ro.synth.expression = perf.expression;
-	if (perf.modulation.any(perf.events))
-		ro.synth.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.keys, perf.events);
+	if (perf.modulation.any(perf.timeline.events))
+		ro.synth.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.timeline.keys, perf.timeline.events);
 	FramePlayer player(model, ro);
 	const Synthesizer& synth = player.synthesizer();
 	RenderStats st;
 	st.frames = frames;
 	st.width = player.width();
 	st.height = player.height();
-	st.keyposes = perf.keys.size();
-	st.substitutions = synth.substitutionsFor(perf.keys);
+	st.keyposes = perf.timeline.keys.size();
+	st.substitutions = synth.substitutionsFor(perf.timeline.keys);
 	StreamInfo info;
 	info.width = st.width, info.height = st.height, info.rate = perf.rate, info.frames = frames, info.range = synth.options().yuvRange;
 	info.pointNames = model.scheme.pointNames;

@@ -15,9 +15,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 		Performance p;
 		p.rate = FrameRate{30, 1};
 		p.duration = Ticks(5 * kTicksPerSecond);
-		for (int i = 0; i < 10; ++i) p.keys.push_back(Keypose{Ticks(i * kTicksPerSecond / 2), "a", 0, 0});
+		for (int i = 0; i < 10; ++i) p.timeline.keys.push_back(Keypose{Ticks(i * kTicksPerSecond / 2), "a", 0, 0});
 		applyControls(p, t);
-		for (const auto& k : p.keys) TALKHEAD_FUZZ_CHECK(k.intensity <= 1.5, "intensity above 1.5");
+		for (const auto& k : p.timeline.keys) TALKHEAD_FUZZ_CHECK(k.intensity <= 1.5, "intensity above 1.5");
 	});
 	fuzz::expectOnlyErrors([&] {
 		const ControlTrack t = parseControlTier(text, "fuzz.TextGrid", "controls");

@@ -23,7 +23,7 @@ Performance fourSeconds() {
 	p.rate = FrameRate{30, 1};
 	p.duration = ms(4000);
 	p.expression = Expression(Emotion::of("joy"));
-	for (long t = 100; t < 4000; t += 200) p.keys.push_back(Keypose{ms(t), "a", 0, 0});
+	for (long t = 100; t < 4000; t += 200) p.timeline.keys.push_back(Keypose{ms(t), "a", 0, 0});
 	return p;
 }
 }  // namespace
@@ -67,7 +67,7 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 	applyControls(p, parseControls(R"([{"type": "emotion", "time": 1.5, "emotion": "anger", "intensity": 0.8, "ramp": 1.0},
 	                                    {"type": "blink", "time": 3.5}, {"type": "nod", "time": 0.2}])",
 	                               "c.json"));
-	for (const Keypose& k : p.keys) {
+	for (const Keypose& k : p.timeline.keys) {
 		const double t = toSeconds(k.time);
 		if (t < 1.5) {  // before the change: the performance's own (or unset, which means the same)
 			EXPECT_TRUE(!k.emotion || (k.emotion == Emotion::of("joy") && k.intensity == 1.0)) << t;
@@ -82,12 +82,12 @@ TEST(Controls, anEmotionChangeRampsThroughNeutralBetweenTheTwoEmotions) {
 			EXPECT_EQ(k.intensity, 0.8) << t;
 		}
 	}
-	EXPECT_EQ(p.events.blinks, std::vector<Ticks>{ms(3500)});
-	ASSERT_EQ(p.events.gestures.size(), 1u);
+	EXPECT_EQ(p.timeline.events.blinks, std::vector<Ticks>{ms(3500)});
+	ASSERT_EQ(p.timeline.events.gestures.size(), 1u);
 	// The modulator blinks there even with its own blinks off, and nods (down, then back).
 	p.modulation.blinks = false;
 	p.modulation.headMotion = false;
-	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys, p.events);
+	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.timeline.keys, p.timeline.events);
 	ASSERT_EQ(m.blinks().size(), 1u);
 	EXPECT_EQ(m.blinks()[0].start, ms(3500));
 	EXPECT_EQ(m.eyeClosure(ms(3500 + 85)), 1.0);
@@ -123,8 +123,8 @@ TEST(Controls, actionUnitsAndTurnsAreReadAndBadOnesNamed) {
 	// Applied: the AU events reach the modulator.
 	Performance p = fourSeconds();
 	applyControls(p, t);
-	EXPECT_EQ(p.events.actionUnits.size(), 2u);
-	EXPECT_EQ(p.events.gestures.size(), 1u);
+	EXPECT_EQ(p.timeline.events.actionUnits.size(), 2u);
+	EXPECT_EQ(p.timeline.events.gestures.size(), 1u);
 }
 
 namespace {
@@ -225,7 +225,7 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	Performance p = fourSeconds();
 	applyControls(p, t);
 	EXPECT_FALSE(p.modulation.blinks);
-	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.keys, p.events);
+	const ShapeModulator m(p.modulation, p.expression.emotion(), p.duration, p.timeline.keys, p.timeline.events);
 	EXPECT_NEAR(m.head(ms(600)).roll, c.roll[1], 1e-6);
 	EXPECT_EQ(m.head(ms(600)).angle, 0);  // no drawn sinusoids
 	EXPECT_NEAR(m.head(ms(650)).scale, 1.01, 1e-6);
@@ -237,7 +237,7 @@ TEST(Controls, curvesAreReadWrittenAndDriveTheHead) {
 	EXPECT_NEAR(aus[0].second, 1.0, 1e-6);
 	// A lead-in (issue 14) moves the curves with the speech.
 	addLeadInAndTail(p, ms(1000), ms(0));
-	EXPECT_EQ(p.events.curves.start, ms(1500));
+	EXPECT_EQ(p.timeline.events.curves.start, ms(1500));
 	// Bad curves are named.
 	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"roll": [0, 1], "x": [0]}}})"), "c.json: curves: \"head.x\" has 1 samples, the curves before it 2");
 	EXPECT_EQ(failure(R"({"curves": {"rate": 10, "head": {"pan": [0]}}})"), "c.json: curves: unknown head channel \"pan\" (known: roll, x, y, scale, yaw, pitch)");

@@ -326,7 +326,7 @@ TEST(LiveSession, anUtterancePlannedAheadDrawsAsOnePlannedWhenQueued) {
 		if (plannedIn) ahead = s.plan(u, *plannedIn);
 		s.setEmotion(anger, Ticks(0));
 		if (ahead) {
-			EXPECT_EQ(ahead->keys.at(1).emotion, plannedIn->emotion());
+			EXPECT_EQ(ahead->timeline.keys.at(1).emotion, plannedIn->emotion());
 			s.enqueue(std::move(*ahead));
 		} else if (speak) {
 			s.enqueue(u);

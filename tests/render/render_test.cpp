@@ -72,7 +72,7 @@ Performance threeSyllables() {
 	     {ms(400), ms(500), "", "_", "sil", 4}};
 	Performance perf;
 	perf.rate = FrameRate{25, 1};
-	perf.keys = keyposes(p, perf.rate.frameLength());
+	perf.timeline.keys = keyposes(p, perf.rate.frameLength());
 	perf.duration = ms(500);
 	perf.expression = Expression(Emotion::of("joy"));
 	return perf;
@@ -142,7 +142,7 @@ TEST(Render, monotoneTrajectoryKeepsTheKeyposesAndIsTheSameOnAnyThreadCount) {
 	for (std::size_t i = 0; i < two.second.size(); ++i) {
 		const Ticks tau = perf.rate.time(std::int64_t(i));
 		const double d = (two.second[i] - hermite.second[i]).cwiseAbs().maxCoeff();
-		const bool onKey = std::any_of(perf.keys.begin(), perf.keys.end(), [&](const Keypose& k) { return k.time == tau; }) || tau <= perf.keys.front().time;
+		const bool onKey = std::any_of(perf.timeline.keys.begin(), perf.timeline.keys.end(), [&](const Keypose& k) { return k.time == tau; }) || tau <= perf.timeline.keys.front().time;
 		if (onKey) EXPECT_LT(d, 1e-9) << "frame " << i;
 		most = std::max(most, d);
 	}

@@ -389,16 +389,16 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	spec.pauses = o.pauses;
 	spec.coarticulation = m;
 	Performance rendered = planPerformance(spec);
-	chooseMouthExemplars(model, Emotion::of("neutral"), rendered.keys);
+	chooseMouthExemplars(model, Emotion::of("neutral"), rendered.timeline.keys);
 	auto predicted = [](const std::vector<Keypose>& keys) {
 		std::vector<std::pair<std::string, long>> out;
 		for (const Keypose& k : keys)
 			if (k.mouthOpening) out.emplace_back(k.cdv, k.sample);
 		return out;
 	};
-	const auto rendered8 = predicted(rendered.keys);
+	const auto rendered8 = predicted(rendered.timeline.keys);
 	ASSERT_EQ(rendered8.size(), 8u);  // the six phones and, before them, the lips held still (D70): two keyposes
-	EXPECT_TRUE(rendered.keys[0].hold && rendered.keys[1].hold);
+	EXPECT_TRUE(rendered.timeline.keys[0].hold && rendered.timeline.keys[1].hold);
 	// A live session holds the pose it shows until the utterance starts (its own keypose there, not the
 	// utterance's first), then goes to the held lips as the render does.
 	const std::vector<std::pair<std::string, long>> want(rendered8.begin() + 1, rendered8.end());
