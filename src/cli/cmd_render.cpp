@@ -86,7 +86,7 @@ int runRender(const std::vector<std::string>& argv) {
 	PerformanceSpec spec = performanceSpec(cmd, face);
 	spec.phones = speech.phones;
 	spec.source = speech.name;
-	if (drive.mouth) drive.mouthKeys(spec, face.model, cmd.expression.emotion());
+	if (drive.mouth) drive.mouthKeys(spec, *face.model, cmd.expression.emotion());
 	// The sound (decoded once without keeping it, unless aligned; at the file's own sample rate).
 	std::unique_ptr<AudioSource> sound;
 	if (audioPath) {

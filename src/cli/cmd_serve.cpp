@@ -56,7 +56,6 @@ LiveOptions liveOptions(const Args& args, const std::string& command) {
 	o.modulation = parseModulation(args, command);
 	o.speechBrows = parseSpeechBrows(args, command, "on");
 	o.sampleRate = int(args.number("--sample-rate", 22050, 8000, 96000));
-	if (auto f = args.get("--coarticulation")) o.coarticulation = std::make_shared<const CoarticulationModel>(loadCoarticulation(*f));
 	o.pauses = parsePausesOption(args, command);
 	parseDrawingOptions(args, command, o.render.synth);
 	return o;
@@ -159,6 +158,7 @@ int runServe(const std::vector<std::string>& argv) {
 	if (!args.positionals().empty()) throw UsageError("serve: no positional arguments");
 	ServeOptions o;
 	o.live = liveOptions(args, "serve");
+	const auto coarticulation = parseCoarticulation(args);
 	listenOption(args, o);
 	o.maxSessions = int(args.number("--max-sessions", 4, 1, 64));
 	o.crf = parseCrf(args, VideoFormat::Mp4Stream);
@@ -185,7 +185,8 @@ int runServe(const std::vector<std::string>& argv) {
 	o.handleSignals = true;
 	if (!args.get("--model")) ensureDefaultFace(false);
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
-	Server server(model, o);
+	const Face face(model, coarticulation);
+	Server server(face, o);
 	// The port line is the contract with scripts and tests (port 0 picks a free one).
 	const bool tls = !o.tlsCert.empty();
 	const std::string shown = o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host;
@@ -218,6 +219,7 @@ int runLive(const std::vector<std::string>& argv) {
 	const VideoFormat format = *parseVideoFormat(args, "live", out, false);
 	const bool transparent = parseTransparent(args, "live", format);
 	LiveOptions o = liveOptions(args, "live");
+	const auto coarticulation = parseCoarticulation(args);
 	const std::string lang = args.get("--lang", "en-US");
 	Language::get(lang);
 	// The script: requests by frame, and its end.
@@ -228,7 +230,8 @@ int runLive(const std::vector<std::string>& argv) {
 	if (total < 0) throw Error(script, 0, "no end line ({\"type\": \"end\", \"frame\": N}): give --frames-total N");
 	if (!args.get("--model")) ensureDefaultFace(false);
 	const FaceModel model = loadRenderModel(args.get("--model", ""));
-	LiveSession session(model, o);
+	const Face face(model, coarticulation);
+	LiveSession session(face, o);
 	const StreamInfo& info = session.info();
 	OutputSpec spec;
 	spec.format = format, spec.path = out, spec.crf = parseCrf(args, format), spec.alpha = transparent;

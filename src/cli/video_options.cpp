@@ -145,9 +145,9 @@ void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& ma
 
 PerformanceSpec performanceSpec(const VideoCommand& cmd, const VideoFace& face) {
 	PerformanceSpec spec;
-	spec.face = &face.model;
+	spec.face = face.model.get();
 	spec.rate = cmd.rate;
-	spec.coarticulation = cmd.coarticulation;
+	spec.coarticulation = face.face->coarticulation();
 	spec.pauses = cmd.pauses;
 	spec.expression = cmd.expression;
 	spec.modulation = cmd.modulation;
@@ -357,7 +357,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 		checkWritableFolder(*a);
 	}
 	if (args.has("--control-tier") && !args.has("--controls")) throw UsageError(command + ": --control-tier needs --controls F.TextGrid");
-	if (auto f = args.get("--coarticulation")) c.coarticulation = std::make_shared<const CoarticulationModel>(loadCoarticulation(*f));
+	c.coarticulation = parseCoarticulation(args);
 	if (auto f = args.get("--controls")) c.controls = args.has("--control-tier") ? loadControlTier(*f, *args.get("--control-tier")) : loadControls(*f);
 	if (auto comps = args.get("--components")) {
 		try {
@@ -378,11 +378,18 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	return c;
 }
 
+std::shared_ptr<const CoarticulationModel> parseCoarticulation(const Args& args) {
+	if (auto f = args.get("--coarticulation")) return std::make_shared<const CoarticulationModel>(loadCoarticulation(*f));
+	return nullptr;
+}
+
 VideoFace loadVideoFace(const VideoCommand& cmd) {
 	using Clock = std::chrono::steady_clock;
 	const auto tLoad = Clock::now();
 	if (cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
-	VideoFace f{loadRenderModel(cmd.modelPath, cmd.components)};
+	VideoFace f;
+	f.model = std::make_unique<FaceModel>(loadRenderModel(cmd.modelPath, cmd.components));
+	f.face = std::make_unique<Face>(*f.model, cmd.coarticulation);
 	f.seconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
 	return f;
 }
@@ -390,12 +397,11 @@ VideoFace loadVideoFace(const VideoCommand& cmd) {
 void runVideoCommand(const VideoCommand& cmd, const VideoFace& face, const Performance& perf, std::unique_ptr<AudioSource> audio,
                      std::chrono::steady_clock::time_point started, const std::string& timingPrefix, std::vector<SideOutput> side) {
 	using Clock = std::chrono::steady_clock;
-	const FaceModel& model = face.model;
 	const double loadSeconds = face.seconds;
 	const bool withAudio = audio && !cmd.noAudio;
 	CliProgress progress(cmd);
 	const double beforeRender = std::chrono::duration<double>(Clock::now() - started).count();
-	const RenderStats st = renderVideoJob(cmd, model, perf, std::move(audio), std::move(side), &progress, extraFrameSink());  // and an in-process caller's sink (cli/run.h)
+	const RenderStats st = renderVideoJob(cmd, *face.face, perf, std::move(audio), std::move(side), &progress, extraFrameSink());  // and an in-process caller's sink (cli/run.h)
 	if (cmd.timing)
 		std::fprintf(stderr,
 		             "timing: %smodel load %.3f s; keyposes %.3f s (%zu); frames drawn %.3f s wall (warp+dissolve %.3f s CPU); "

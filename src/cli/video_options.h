@@ -65,10 +65,15 @@ void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech);
 // SSML marks on stderr, as JSON progress lines with --json-progress, else one line each unless -q.
 void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& marks);
 
-// The face a video command draws (--model, else the default face, made on first use), loaded before its
-// performance is planned against it (PerformanceSpec::face); `seconds` is how long that took (--timing).
+// --coarticulation F (D62): the model read, or null.
+std::shared_ptr<const CoarticulationModel> parseCoarticulation(const Args& args);
+
+// The face a video command draws (--model, else the default face, made on first use; with the
+// --coarticulation model), loaded before its performance is planned against it (PerformanceSpec::face);
+// `seconds` is how long that took (--timing).
 struct VideoFace {
-	FaceModel model;
+	std::unique_ptr<FaceModel> model;
+	std::unique_ptr<Face> face;  // of *model
 	double seconds = 0;
 };
 VideoFace loadVideoFace(const VideoCommand& cmd);

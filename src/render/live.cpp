@@ -104,7 +104,12 @@ private:
 	std::deque<Segment> segments_;
 };
 
-LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : model_(model), o_(options) {
+LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : LiveSession(std::make_unique<Face>(model), nullptr, options) {}
+LiveSession::LiveSession(const Face& face, const LiveOptions& options) : LiveSession(nullptr, &face, options) {}
+
+LiveSession::LiveSession(std::unique_ptr<Face> own, const Face* face, const LiveOptions& options)
+    : ownFace_(std::move(own)), face_(face ? *face : *ownFace_), o_(options) {
+	const FaceModel& model = face_.model();
 	if (o_.rate.num < 1 || o_.rate.den < 1) throw Error("invalid frame rate " + o_.rate.str());
 	if (o_.sampleRate < 8000 || o_.sampleRate > 192000 || kTicksPerSecond % o_.sampleRate != 0)
 		throw Error("live: sample rate " + std::to_string(o_.sampleRate) + " Hz is not one of the rates a sample lasts a whole number of ticks at (8000, 11025, 16000, 22050, 24000, 32000, 44100, 48000, 96000, …)");
@@ -120,7 +125,7 @@ LiveSession::LiveSession(const FaceModel& model, const LiveOptions& options) : m
 	for (std::size_t i = 0; i < Emotion::count(); ++i) factor = std::max(factor, ShapeModulator::headFactorFor(Emotion::at(i)));
 	ro.synth.modulator = std::make_shared<ShapeModulator>(envelope, Emotion::of("joy"), ticksFromSeconds(kPlanAhead), timeline_.keys);
 	if (ShapeModulator::headFactorFor(Emotion::of("joy")) < factor) throw std::logic_error("LiveSession: the envelope's emotion is not the liveliest");
-	player_ = std::make_unique<FramePlayer>(model, ro);
+	player_ = std::make_unique<FramePlayer>(face_, ro);
 	info_.width = player_->width();
 	info_.height = player_->height();
 	info_.rate = o_.rate;
@@ -165,9 +170,9 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	spec.rate = o_.rate;
 	spec.pauses = o_.pauses;
 	spec.speechBrows = o_.speechBrows;
-	spec.coarticulation = o_.coarticulation;
+	spec.coarticulation = face_.coarticulation();
 	spec.expression = expression;
-	if (o_.coarticulation) spec.face = &model_;  // D62: bound to the face's exemplars in `expression`
+	if (spec.coarticulation) spec.face = &face_.model();  // D62: bound to the face's exemplars in `expression`
 	Performance perf = planPerformance(spec);
 	std::vector<Keypose>& keys = p.timeline.keys;
 	keys = std::move(perf.timeline.keys);
@@ -189,7 +194,7 @@ PlannedUtterance LiveSession::plan(Utterance u, const Expression& expression) co
 }
 
 void LiveSession::chooseExemplars(std::vector<Keypose>& keys, Emotion fallback) const {
-	if (o_.coarticulation) chooseMouthExemplars(model_, fallback, keys);  // each key by its own emotion, else `fallback`
+	if (face_.coarticulation()) chooseMouthExemplars(face_.model(), fallback, keys);  // each key by its own emotion, else `fallback`
 }
 
 Ticks LiveSession::enqueue(PlannedUtterance p) {

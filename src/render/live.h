@@ -35,9 +35,6 @@ struct LiveOptions {
 	int sampleRate = 22050;            // of the session's sound (espeak-ng's own rate: no resampling for say)
 	double speechBrows = 1;            // brow raises with speech (D49), 0 = none
 	PauseStyle pauses = PauseStyle::Natural;
-	// D62: each phone keypose shows the face's exemplar nearest the opening this model predicts from its
-	// context (as render --coarticulation does); none: the thesis's one sample per CDV.
-	std::shared_ptr<const CoarticulationModel> coarticulation;
 };
 
 // What happened at a frame, for the client.
@@ -71,6 +68,10 @@ struct PlannedUtterance {
 
 class LiveSession {
 public:
+	// A session of `face` (its coarticulation model, D62: each phone keypose shows the face's exemplar
+	// nearest the opening it predicts; none: the thesis's one sample per CDV).
+	LiveSession(const Face& face, const LiveOptions& options);
+	// A session of `model`, with a face of its own (no coarticulation model).
 	LiveSession(const FaceModel& model, const LiveOptions& options);
 	~LiveSession();
 	LiveSession(const LiveSession&) = delete;
@@ -131,7 +132,9 @@ private:
 		Ticks time{0};
 		LiveEvent event;
 	};
-	const FaceModel& model_;
+	LiveSession(std::unique_ptr<Face> own, const Face* face, const LiveOptions& options);
+	std::unique_ptr<Face> ownFace_;    // made from a model alone (the first constructor)
+	const Face& face_;
 	LiveOptions o_;
 	std::unique_ptr<FramePlayer> player_;  // the frame player render uses too
 	StreamInfo info_;

@@ -47,12 +47,12 @@ void placeFitted(const YuvImage& inner, YuvImage& out, int w, int h, int x, int 
 	placePlane(inner.v.data(), inner.chromaWidth(), inner.chromaHeight(), out.v.data(), out.chromaWidth(), out.chromaHeight(), x / 2, y / 2);
 }
 
-FramePlayer::FramePlayer(const FaceModel& model, const RenderOptions& options)
-    : overlay_(options.debugOverlay), matte_(model.scheme, options.matte) {
+FramePlayer::FramePlayer(const Face& face, const RenderOptions& options)
+    : overlay_(options.debugOverlay), matte_(face.model().scheme, options.matte) {
 	SynthOptions so = options.synth;
 	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
-	fit_ = fitOutput(model.width, model.height, so, options.fit);
-	synth_ = std::make_unique<Synthesizer>(model, so);
+	fit_ = fitOutput(face.model().width, face.model().height, so, options.fit);
+	synth_ = std::make_unique<Synthesizer>(face, so);
 	width_ = fit_.place ? fit_.outWidth : synth_->width();
 	height_ = fit_.place ? fit_.outHeight : synth_->height();
 }

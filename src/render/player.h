@@ -34,7 +34,7 @@ public:
 	// `options.synth` holds the expression and the shape modulator the face box is sized for (a later
 	// plan: synthesizer().setModulator); its size is the output's (0: the model's), fitted as `options.fit`
 	// says. Frames are YUV 4:2:0 in limited range (what H.264 and y4m readers assume).
-	FramePlayer(const FaceModel& model, const RenderOptions& options);
+	FramePlayer(const Face& face, const RenderOptions& options);
 	int width() const { return width_; }  // of the output frame
 	int height() const { return height_; }
 	bool places() const { return fit_.place; }  // the drawn frame is placed into an output of another size

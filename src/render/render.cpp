@@ -279,6 +279,13 @@ void drawInOrder(const Performance& perf, FramePlayer& player, const FramePainte
 
 RenderStats renderPerformance(const FaceModel& model, const Performance& performance, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
                               RenderProgress* progress) {
+	const Face face(model);
+	return renderPerformance(face, performance, options, sinks, progress);
+}
+
+RenderStats renderPerformance(const Face& face, const Performance& performance, const RenderOptions& options, const std::vector<FrameSink*>& sinks,
+                              RenderProgress* progress) {
+	const FaceModel& model = face.model();
 	const auto t0 = Clock::now();
 	RenderProgress none;
 	RenderProgress& prog = progress ? *progress : none;
@@ -293,7 +300,7 @@ RenderStats renderPerformance(const FaceModel& model, const Performance& perform
 	ro.synth.expression = perf.expression;
 	if (perf.modulation.any(perf.timeline.events))
 		ro.synth.modulator = std::make_shared<ShapeModulator>(perf.modulation, perf.expression.emotion(), perf.duration, perf.timeline.keys, perf.timeline.events);
-	FramePlayer player(model, ro);
+	FramePlayer player(face, ro);
 	const Synthesizer& synth = player.synthesizer();
 	RenderStats st;
 	st.frames = frames;

@@ -90,6 +90,9 @@ FaceModel loadRenderModel(const std::string& path, const ComponentLevels& levels
 // parallel straight into YUV (and RGB only when a sink needs it), an in-order writer thread feeding the
 // sinks, then finish() and commit() on every sink. On any error nothing is committed (the sinks remove
 // their temporaries) and the error propagates. The same inputs give byte-identical frames.
+RenderStats renderPerformance(const Face& face, const Performance& performance, const RenderOptions& options,
+                              const std::vector<FrameSink*>& sinks, RenderProgress* progress = nullptr);
+// The same for a model alone (a face of its own: its parts loaded for this render).
 RenderStats renderPerformance(const FaceModel& model, const Performance& performance, const RenderOptions& options,
                               const std::vector<FrameSink*>& sinks, RenderProgress* progress = nullptr);
 

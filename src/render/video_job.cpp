@@ -15,7 +15,7 @@ std::unique_ptr<AudioSource> applyStimulusTiming(const VideoJob& job, Performanc
 	return shiftedSource(std::move(audio), job.leadIn + job.avOffset, perf.duration);
 }
 
-RenderStats renderVideoJob(const VideoJob& job, const FaceModel& model, const Performance& perf, std::unique_ptr<AudioSource> audio,
+RenderStats renderVideoJob(const VideoJob& job, const Face& face, const Performance& perf, std::unique_ptr<AudioSource> audio,
                            std::vector<SideOutput> side, RenderProgress* progress, FrameSink* extra) {
 	// The sound as muxed, as WAV: the track read once into memory, written once the video is complete and
 	// muxed from there.
@@ -44,7 +44,7 @@ RenderStats renderVideoJob(const VideoJob& job, const FaceModel& model, const Pe
 	std::vector<FrameSink*> sinks;
 	for (auto& s : owned) sinks.push_back(s.get());
 	if (extra) sinks.push_back(extra);
-	const RenderStats st = renderPerformance(model, perf, job.render, sinks, progress);
+	const RenderStats st = renderPerformance(face, perf, job.render, sinks, progress);
 	for (auto& s : staged) s->commit();
 	return st;
 }

@@ -52,7 +52,7 @@ std::unique_ptr<AudioSource> applyStimulusTiming(const VideoJob& job, Performanc
 // PNG frames, the landmarks TSV, the WAV of the sound as muxed, the `side` files and `extra` (a caller's
 // sink, may be null) — all or nothing. Throws Error naming the output when `audioOut` is asked without a
 // sound.
-RenderStats renderVideoJob(const VideoJob& job, const FaceModel& model, const Performance& perf, std::unique_ptr<AudioSource> audio,
+RenderStats renderVideoJob(const VideoJob& job, const Face& face, const Performance& perf, std::unique_ptr<AudioSource> audio,
                            std::vector<SideOutput> side, RenderProgress* progress, FrameSink* extra = nullptr);
 
 }  // namespace talkhead

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "model/face_model.h"
+#include "synth/face.h"
 #include "serve/server.h"
 #include "serve/worker.h"
 
@@ -19,7 +19,7 @@ constexpr int kServeModuleAbi = 2;
 // module (errors, JSON, text) and the access rules, no second copy of the library (checked by
 // layout.plugins).
 struct ServeHost {
-	std::unique_ptr<SessionWorker> (*makeWorker)(const FaceModel& model, const ServeOptions& options, int id, SessionWorker::Send send,
+	std::unique_ptr<SessionWorker> (*makeWorker)(const Face& face, const ServeOptions& options, int id, SessionWorker::Send send,
 	                                             SessionWorker::Close close, std::shared_ptr<SessionStats> stats, ServeCounters& counters);
 	bool (*lateRecently)(const SessionStats& stats);
 	double sessionLoad = 0;  // cores one speaking session takes (measureSessionLoad; 0: not measured, --max-load 0)
@@ -29,7 +29,7 @@ struct ServeModule {
 	int abi;  // kServeModuleAbi
 	// A listening server (opaque), or nullptr with `error` set. The facade has checked the session's
 	// options against the model and loaded the encoder's plugin.
-	void* (*create)(const ServeHost& host, const FaceModel& model, const ServeOptions& options, std::string& error);
+	void* (*create)(const ServeHost& host, const Face& face, const ServeOptions& options, std::string& error);
 	int (*port)(void* server);
 	// Serves until stopped; false with `error` set when it failed.
 	bool (*run)(void* server, std::string& error);

@@ -52,7 +52,7 @@ using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 // The server behind the Server facade of server.h (same interface), created by the plugin's entry points.
 class NetServer {
 public:
-	NetServer(const ServeHost& host, const FaceModel& model, ServeOptions options);
+	NetServer(const ServeHost& host, const Face& face, ServeOptions options);
 	~NetServer();
 	NetServer(const NetServer&) = delete;
 	NetServer& operator=(const NetServer&) = delete;
@@ -117,7 +117,7 @@ struct Unauthenticated {
 
 struct NetServer::Impl {
 	const ServeHost host;
-	const FaceModel& model;
+	const Face& face;
 	ServeOptions o;
 	AccessPolicy policy;
 	ServeCounters counters;
@@ -160,7 +160,7 @@ struct NetServer::Impl {
 	net::steady_timer drainTimer{ioc};
 	net::steady_timer loadTimer{ioc};
 
-	Impl(const ServeHost& h, const FaceModel& m, ServeOptions opts) : host(h), model(m), o(std::move(opts)) {
+	Impl(const ServeHost& h, const Face& m, ServeOptions opts) : host(h), face(m), o(std::move(opts)) {
 		reaper = std::thread([this] {
 			std::unique_lock<std::mutex> lock(reapMutex);
 			for (;;) {
@@ -484,7 +484,7 @@ private:
 		std::weak_ptr<WsSession> weak = this->shared_from_this();
 		auto executor = ws_.get_executor();
 		worker_ = server_.host.makeWorker(
-		    server_.model, server_.o, id_,
+		    server_.face, server_.o, id_,
 		    [weak, executor](bool binary, std::string data) {
 			    auto self = weak.lock();
 			    if (!self || self->gone_) return false;
@@ -878,7 +878,7 @@ void NetServer::Impl::drainCheck() {
 	});
 }
 
-NetServer::NetServer(const ServeHost& host, const FaceModel& model, ServeOptions options) : impl_(std::make_unique<Impl>(host, model, std::move(options))) {
+NetServer::NetServer(const ServeHost& host, const Face& face, ServeOptions options) : impl_(std::make_unique<Impl>(host, face, std::move(options))) {
 	Impl& s = *impl_;  // the options' own checks are the facade's (server_plugin.cpp), before the model's
 	s.policy.listenHost = s.o.host;
 	s.policy.allowOrigins = s.o.allowOrigins;
@@ -966,9 +966,9 @@ void NetServer::shutdown() {
 namespace {
 
 // The plugin's entry points: no exception crosses the boundary (guarded), errors come back as their message.
-void* createServer(const ServeHost& host, const FaceModel& model, const ServeOptions& options, std::string& error) {
+void* createServer(const ServeHost& host, const Face& face, const ServeOptions& options, std::string& error) {
 	NetServer* server = nullptr;
-	guarded(error, [&] { server = new NetServer(host, model, options); });
+	guarded(error, [&] { server = new NetServer(host, face, options); });
 	return server;
 }
 int serverPort(void* server) { return static_cast<NetServer*>(server)->port(); }

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "base/ticks.h"
-#include "model/face_model.h"
+#include "synth/face.h"
 #include "phonetics/espeak.h"
 #include "phonetics/transcript.h"
 #include "render/live.h"
@@ -110,7 +110,7 @@ struct ServeOptions {
 // by the first Server (D68): the constructor throws Error when it cannot be loaded, as for the other plugins.
 class Server {
 public:
-	Server(const FaceModel& model, ServeOptions options);
+	Server(const Face& face, ServeOptions options);
 	~Server();
 	Server(const Server&) = delete;
 	Server& operator=(const Server&) = delete;

@@ -17,27 +17,27 @@ const ServeModule& serveModule() {
 	return *m;
 }
 
-std::unique_ptr<SessionWorker> makeWorker(const FaceModel& model, const ServeOptions& options, int id, SessionWorker::Send send, SessionWorker::Close close,
+std::unique_ptr<SessionWorker> makeWorker(const Face& face, const ServeOptions& options, int id, SessionWorker::Send send, SessionWorker::Close close,
                                           std::shared_ptr<SessionStats> stats, ServeCounters& counters) {
-	return std::make_unique<LiveWorker>(model, options, id, std::move(send), std::move(close), std::move(stats), counters);
+	return std::make_unique<LiveWorker>(face, options, id, std::move(send), std::move(close), std::move(stats), counters);
 }
 
 
 }  // namespace
 
-Server::Server(const FaceModel& model, ServeOptions options) : module_(&serveModule()) {
+Server::Server(const Face& face, ServeOptions options) : module_(&serveModule()) {
 	if (options.maxSessions < 1) throw Error("{{max-sessions}} must be at least 1");
 	if (options.tlsCert.empty() != options.tlsKey.empty()) throw Error("{{tls-cert}} and {{tls-key}} go together");
 	// A session's options (emotion, size, sample rate) and the model checked before anyone connects, and
 	// what a session reads of the model in the page cache.
-	LiveSession(model, options.live);
+	LiveSession(face, options.live);
 	// The encoder's plugin loaded now: loaded later, it could meet a process out of file descriptors, and
 	// one of libav's libraries (libgcrypt, through libssh) aborts the process in its initialiser then.
 	loadVideoPlugin();
 	ServeHost host{makeWorker, lateRecently};
-	if (options.maxLoad > 0) host.sessionLoad = measureSessionLoad(model, options);
+	if (options.maxLoad > 0) host.sessionLoad = measureSessionLoad(face, options);
 	std::string error;
-	server_ = module_->create(host, model, options, error);
+	server_ = module_->create(host, face, options, error);
 	if (!server_) throw Error(error);
 }
 

@@ -58,9 +58,9 @@ void ServeCounters::latency(double seconds) {
 	latencySum += seconds;
 }
 
-LiveWorker::LiveWorker(const FaceModel& model, const ServeOptions& o, int id, Send send, Close close, std::shared_ptr<SessionStats> stats,
+LiveWorker::LiveWorker(const Face& face, const ServeOptions& o, int id, Send send, Close close, std::shared_ptr<SessionStats> stats,
                        ServeCounters& counters)
-    : model_(model), o_(o), id_(id), send_(std::move(send)), close_(std::move(close)), stats_(std::move(stats)), counters_(counters), lastRequestNs_(nowNs()) {
+    : face_(face), o_(o), id_(id), send_(std::move(send)), close_(std::move(close)), stats_(std::move(stats)), counters_(counters), lastRequestNs_(nowNs()) {
 	if (o_.recordDir) {
 		record_.open(*o_.recordDir + "/session-" + std::to_string(id_) + ".jsonl");
 		if (!record_) throw Error(*o_.recordDir, 0, "cannot write the session record");
@@ -289,7 +289,7 @@ void LiveWorker::frameLoop() {
 		if (quit_) return;
 	}
 	try {
-		LiveSession session(model_, o_.live);
+		LiveSession session(face_, o_.live);
 		session_ = &session;
 		struct Forget {  // before the session goes, and never while the speech thread warms it
 			std::atomic<LiveSession*>& p;
@@ -554,8 +554,8 @@ void LiveWorker::frames(LiveSession& session) {
 	}
 }
 
-double measureSessionLoad(const FaceModel& model, const ServeOptions& o) {
-	LiveSession session(model, o.live);
+double measureSessionLoad(const Face& face, const ServeOptions& o) {
+	LiveSession session(face, o.live);
 	const StreamInfo& info = session.info();
 	const std::unique_ptr<FrameSink> stream = streamSink(o, session, [](const std::uint8_t*, std::size_t) { return true; });
 	// Speaking (the dearer case): a sentence long enough for the whole measurement; its synthesis and keypose

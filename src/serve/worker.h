@@ -48,7 +48,7 @@ bool lateRecently(const SessionStats& s);
 // The cores one speaking session takes at these options (drawing, encoding, its speech), measured by doing
 // it for a second of stream on this thread: what admission counts a session at before its own load is
 // known (issue 45 item 3).
-double measureSessionLoad(const FaceModel& model, const ServeOptions& options);
+double measureSessionLoad(const Face& face, const ServeOptions& options);
 
 // A session's worker as the network side (server.cpp, the plugin libtalkhead-serve.so, D68) sees it: called
 // through its vtable, so the plugin holds no second copy of the library (one espeak-ng lock, one plugin
@@ -70,7 +70,7 @@ public:
 
 class LiveWorker final : public SessionWorker {
 public:
-	LiveWorker(const FaceModel& model, const ServeOptions& o, int id, Send send, Close close, std::shared_ptr<SessionStats> stats, ServeCounters& counters);
+	LiveWorker(const Face& face, const ServeOptions& o, int id, Send send, Close close, std::shared_ptr<SessionStats> stats, ServeCounters& counters);
 	~LiveWorker() override;
 	LiveWorker(const LiveWorker&) = delete;
 	LiveWorker& operator=(const LiveWorker&) = delete;
@@ -93,7 +93,7 @@ private:
 		ServeClock::time_point received;
 		std::vector<std::string> dropped;  // a stop: the ids of the say/speak it dropped before they were prepared
 	};
-	const FaceModel& model_;
+	const Face& face_;
 	const ServeOptions& o_;
 	int id_;
 	Send send_;

@@ -168,12 +168,12 @@ ClosedLidPatch closedLid(const FaceModel& m, const Image8& b, const EyeSpec& e, 
 }
 }  // namespace
 
-FaceRig::FaceRig(const FaceModel& model, const SynthOptions& o) : model_(model) {
-	placeFace(model, o);
-	placeAnchors(model, o);
-	loadActionUnits(model, o);
-	makeMeshes(model, o);
-	makeClosedLids(model, o);
+FaceRig::FaceRig(const Face& face, const SynthOptions& o) : model_(face.model()) {
+	placeFace(model_, o);
+	placeAnchors(model_, o);
+	loadActionUnits(face, o);
+	makeMeshes(model_, o);
+	makeClosedLids(face, o);
 }
 
 // The output size, the face box, the mean shape's size and centre, the eyes and brows, a tracked head's pivot.
@@ -265,14 +265,14 @@ void FaceRig::placeAnchors(const FaceModel& model, const SynthOptions& o) {
 }
 
 // D48: the action-unit templates and the modulator's events and curves in them.
-void FaceRig::loadActionUnits(const FaceModel& model, const SynthOptions& o) {
+void FaceRig::loadActionUnits(const Face& face, const SynthOptions& o) {
 	{
 		// D48: the scheme's action-unit templates, when an emotion or an event needs them.
 		const bool auEvents = o.modulator && (!o.modulator->auEvents().empty() || !o.modulator->curves().aus.empty());
 		if (o.emotionSource != EmotionSource::Corpus || auEvents) {
-			Scheme scheme = model.scheme;
-			scheme.eyes = eyes;
-			auTemplates = findAuTemplates(scheme);
+			const FaceModel& model = face.model();
+			const Scheme& scheme = model.scheme;
+			auTemplates = face.auTemplates();
 			if (!auTemplates && (auEvents || o.emotionSource == EmotionSource::ActionUnits))
 				throw Error("no action-unit templates for scheme " + scheme.name + " (models/au-templates/" + scheme.name +
 				            ".tsv; make them from a corpus with the emotions with 'talkhead corpus au-templates')");
@@ -289,25 +289,22 @@ void FaceRig::loadActionUnits(const FaceModel& model, const SynthOptions& o) {
 					if (a < 0) throw Error("the action-unit templates of scheme " + scheme.name + " have no " + c.au);
 					auCurveIndex.push_back(a);
 				}
-			if (auEvents && o.auAppearance) loadAuSkin(model, o);
+			if (auEvents && o.auAppearance) loadAuSkin(face, o);
 		}
 	}
 }
 
 // D61: the skin's maps of the AUs the events and curves name, mapped once into the face box.
-void FaceRig::loadAuSkin(const FaceModel& model, const SynthOptions& o) {
-	Scheme scheme = model.scheme;
-	scheme.eyes = eyes, scheme.brows = brows;
-	if (scheme.eyes.size() != 2 || scheme.brows.size() != 2) return;
+void FaceRig::loadAuSkin(const Face& face, const SynthOptions& o) {
 	std::vector<std::string> aus;
 	auto add = [&](const std::string& au) {
 		if (std::find(aus.begin(), aus.end(), au) == aus.end()) aus.push_back(au);
 	};
 	for (const AuEvent& e : o.modulator->auEvents()) add(e.au);
 	for (const ControlCurves::Au& c : o.modulator->curves().aus) add(c.au);
-	const std::optional<AuAppearance> a = installedAuAppearance(aus);
-	if (!a || a->names.empty()) return;
-	auSkin = std::make_unique<MappedAuAppearance>(mapAuAppearance(*a, scheme, model.meanShape, roiX0, roiY0, roiX1 - roiX0, roiY1 - roiY0));
+	std::optional<MappedAuAppearance> skin = face.auSkin(aus, roiX0, roiY0, roiX1 - roiX0, roiY1 - roiY0);
+	if (!skin) return;
+	auSkin = std::make_unique<MappedAuAppearance>(std::move(*skin));
 	for (const AuEvent& e : o.modulator->auEvents()) auEventSkin.push_back(auSkin->find(e.au));
 	for (const ControlCurves::Au& c : o.modulator->curves().aus) auCurveSkin.push_back(auSkin->find(c.au));
 }
@@ -349,26 +346,11 @@ void FaceRig::makeMeshes(const FaceModel& model, const SynthOptions& o) {
 }
 
 // D42, D50: the closed lids, when the modulator blinks.
-void FaceRig::makeClosedLids(const FaceModel& model, const SynthOptions& o) {
+void FaceRig::makeClosedLids(const Face& face, const SynthOptions& o) {
+	const FaceModel& model = face.model();
 	if (o.modulator && !o.modulator->blinks().empty() && !model.baseface.empty()) {
 		// D50: the corpus's closed-eyes image, in the mean frame, gives the shut lid where the model has one.
-		Image8 closed;
-		if (model.closedEyesIndex >= 0 && std::size_t(model.closedEyesIndex) < model.sampleCount()) {
-			std::vector<Eigen::VectorXf> a(model.regions.size());
-			for (std::size_t r = 0; r < model.regions.size(); ++r) {
-				const RegionModel& reg = model.regions[r];
-				if (reg.hasAppearanceCache()) {
-					std::vector<std::uint8_t> bytes(std::size_t(reg.appearanceSize()));
-					reg.readCachedAppearance(std::size_t(model.closedEyesIndex), bytes.data());
-					a[r] = Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(bytes.data(), Eigen::Index(bytes.size())).cast<float>();
-				} else {
-					Eigen::MatrixXf c(reg.pca.components(), 1);
-					c.col(0) = sampleCoefficients(reg, std::size_t(model.closedEyesIndex));
-					a[r] = synthesizeAppearances(reg, c).col(0);
-				}
-			}
-			closed = toU8(compositeRegions(model, a));
-		}
+		const Image8& closed = face.closedEyes();
 		for (const EyeSpec& e : eyes) {
 			eyePatches.push_back(closedLid(model, closed.empty() ? model.baseface : closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
 			if (!closed.empty()) eyePatches.push_back(closedLidFrom(model, closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));

@@ -30,7 +30,7 @@ struct ClosedLidPatch {
 // action-unit templates and their indices (D48), the closed lids (D42, D50), and what the head's motion
 // was sized for (Synthesizer::setModulator's limits).
 struct FaceRig {
-	FaceRig(const FaceModel& model, const SynthOptions& options);
+	FaceRig(const Face& face, const SynthOptions& options);
 	FaceRig(const FaceRig&) = delete;
 	FaceRig& operator=(const FaceRig&) = delete;
 
@@ -49,7 +49,7 @@ struct FaceRig {
 	std::vector<EyeSpec> eyes;
 	std::vector<BrowSpec> brows;
 	double eyeDistance = 0;  // between the eyes' centres on the mean shape, model pixels (brow motion's unit)
-	std::optional<AuTemplates> auTemplates;  // the scheme's, loaded when action units are asked for
+	const AuTemplates* auTemplates = nullptr;  // the face's (D48), when action units are asked for
 	EyeFrame auFrame;                        // the mean shape's eye frame
 	std::vector<int> auEventIndex;           // per modulator AU event: its template
 	std::vector<int> auCurveIndex;           // per modulator AU curve: its template
@@ -74,10 +74,10 @@ private:
 	mutable std::once_flag backgroundRgbOnce_;
 	void placeFace(const FaceModel& model, const SynthOptions& o);
 	void placeAnchors(const FaceModel& model, const SynthOptions& o);
-	void loadAuSkin(const FaceModel& model, const SynthOptions& o);
-	void loadActionUnits(const FaceModel& model, const SynthOptions& o);
+	void loadAuSkin(const Face& face, const SynthOptions& o);
+	void loadActionUnits(const Face& face, const SynthOptions& o);
 	void makeMeshes(const FaceModel& model, const SynthOptions& o);
-	void makeClosedLids(const FaceModel& model, const SynthOptions& o);
+	void makeClosedLids(const Face& face, const SynthOptions& o);
 	mutable Image8 backgroundRgb_;
 };
 

@@ -14,7 +14,8 @@
 
 namespace talkhead {
 
-KeyposeCache::KeyposeCache(const FaceModel& model, const SynthOptions& options, const FaceRig& rig) : model_(model), o_(options), rig_(rig) {}
+KeyposeCache::KeyposeCache(const Face& face, const SynthOptions& options, const FaceRig& rig)
+    : face_(face), model_(face.model()), o_(options), rig_(rig) {}
 KeyposeCache::~KeyposeCache() = default;
 
 // D71: the neutral samples' mouths, for the skin of keyposes made from action units.
@@ -364,18 +365,14 @@ long KeyposeCache::mouthLook(long sample, const Points& shape) const {
 
 void KeyposeCache::prepareAuAppearance(const std::vector<std::string>& emotions) {
 	if (!o_.auAppearance) return;
-	Scheme scheme = model_.scheme;  // a model file holds no eyes and brows: the rig has them from the scheme
-	scheme.eyes = rig_.eyes, scheme.brows = rig_.brows;
-	if (scheme.eyes.size() != 2 || scheme.brows.size() != 2) return;
 	std::vector<std::string> missing;
 	for (const std::string& e : emotions)
 		for (const auto& [au, w] : defaultAuProfiles().at(e))
 			if (w != 0 && (!auAppearance_ || auAppearance_->find(au) < 0) && std::find(missing.begin(), missing.end(), au) == missing.end())
 				missing.push_back(au);
-	if (missing.empty()) return;
-	const std::optional<AuAppearance> a = installedAuAppearance(missing);
-	if (!a || a->names.empty()) return;
-	MappedAuAppearance m = mapAuAppearance(*a, scheme, model_.meanShape, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0);
+	std::optional<MappedAuAppearance> mapped = face_.auSkin(missing, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0);
+	if (!mapped) return;
+	MappedAuAppearance& m = *mapped;
 	if (!auAppearance_) {
 		auAppearance_ = std::make_unique<MappedAuAppearance>(std::move(m));
 		return;

@@ -24,7 +24,7 @@ struct FaceRig;
 // by the intensity (D43) or moved by the emotion's action units (D48). Thread-safe.
 class KeyposeCache {
 public:
-	KeyposeCache(const FaceModel& model, const SynthOptions& options, const FaceRig& rig);
+	KeyposeCache(const Face& face, const SynthOptions& options, const FaceRig& rig);
 	~KeyposeCache();
 	// The keypose of a CDV in the options' emotion (see Synthesizer::keypose).
 	const KeyposeImage& keypose(const std::string& cdv);
@@ -36,6 +36,7 @@ public:
 	std::vector<std::string> substitutionsFor(const std::vector<Keypose>& keys) const;
 
 private:
+	const Face& face_;
 	const FaceModel& model_;
 	SynthOptions o_;
 	const FaceRig& rig_;

@@ -38,8 +38,15 @@ inline void blendRow(const std::uint8_t* a, const std::uint8_t* b, int wb, std::
 }
 }  // namespace
 
-Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o)
-    : model_(model), o_(o), rig_(std::make_unique<FaceRig>(model, o)), cache_(std::make_unique<KeyposeCache>(model, o, *rig_)) {}
+Synthesizer::Synthesizer(const Face& face, const SynthOptions& o) : Synthesizer(nullptr, &face, o) {}
+Synthesizer::Synthesizer(const FaceModel& model, const SynthOptions& o) : Synthesizer(std::make_unique<Face>(model), nullptr, o) {}
+Synthesizer::Synthesizer(std::unique_ptr<Face> own, const Face* face, const SynthOptions& o)
+    : ownFace_(std::move(own)),
+      face_(face ? *face : *ownFace_),
+      model_(face_.model()),
+      o_(o),
+      rig_(std::make_unique<FaceRig>(face_, o)),
+      cache_(std::make_unique<KeyposeCache>(face_, o, *rig_)) {}
 
 Synthesizer::~Synthesizer() = default;
 Synthesizer::Workspace::Workspace() = default;

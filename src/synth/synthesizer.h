@@ -7,6 +7,7 @@
 
 #include "image/yuv.h"
 #include "model/face_model.h"
+#include "synth/face.h"
 #include "phonetics/language.h"
 #include "synth/action_units.h"
 #include "synth/modulator.h"
@@ -73,6 +74,9 @@ class PiecewiseAffineWarp;
 
 class Synthesizer {
 public:
+	// Draws `face` (its parts loaded once, shared with other synthesizers: synth/face.h).
+	Synthesizer(const Face& face, const SynthOptions& options);
+	// Draws `model` with a face of its own (no coarticulation model).
 	Synthesizer(const FaceModel& model, const SynthOptions& options);
 	~Synthesizer();
 	Synthesizer(const Synthesizer&) = delete;
@@ -131,6 +135,9 @@ public:
 	static Points monotoneTrajectory(const std::array<const Points*, 4>& shapes, const std::array<double, 4>& times, double u);
 
 private:
+	Synthesizer(std::unique_ptr<Face> own, const Face* face, const SynthOptions& options);
+	std::unique_ptr<Face> ownFace_;        // made from a model alone (the first constructor)
+	const Face& face_;
 	const FaceModel& model_;
 	SynthOptions o_;
 	std::unique_ptr<FaceRig> rig_;         // what frames are drawn on (synth/face_rig.h)

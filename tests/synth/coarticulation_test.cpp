@@ -378,7 +378,6 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	LiveOptions o;
 	o.render.synth.width = 160;
 	o.render.synth.height = 90;
-	o.coarticulation = m;
 	o.pauses = PauseStyle::Still;
 	Utterance u;
 	u.id = "u";
@@ -388,8 +387,8 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	spec.rate = o.rate;
 	spec.pauses = o.pauses;
 	spec.coarticulation = m;
+	spec.face = &model;  // planning's last step: each predicted mouth bound to the face's exemplar
 	Performance rendered = planPerformance(spec);
-	chooseMouthExemplars(model, Emotion::of("neutral"), rendered.timeline.keys);
 	auto predicted = [](const std::vector<Keypose>& keys) {
 		std::vector<std::pair<std::string, long>> out;
 		for (const Keypose& k : keys)
@@ -403,7 +402,8 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	// utterance's first), then goes to the held lips as the render does.
 	const std::vector<std::pair<std::string, long>> want(rendered8.begin() + 1, rendered8.end());
 
-	LiveSession live(model, o);
+	const Face face(model, m);  // the face with its coarticulation model
+	LiveSession live(face, o);
 	live.enqueue(u);
 	EXPECT_EQ(predicted(live.keyposes()), want);
 	for (const auto& [cdv, sample] : predicted(live.keyposes())) {
@@ -429,7 +429,6 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	EXPECT_EQ(predicted(live.keyposes()), want);
 
 	// Without the model: the thesis's keyposes, no predicted mouth.
-	o.coarticulation = nullptr;
 	LiveSession plain(model, o);
 	plain.enqueue(u);
 	EXPECT_TRUE(predicted(plain.keyposes()).empty());
