@@ -149,6 +149,17 @@ TEST(Render, monotoneTrajectoryKeepsTheKeyposesAndIsTheSameOnAnyThreadCount) {
 	EXPECT_GT(most, 0.05);  // pixels
 }
 
+TEST(Render, aPredictedMouthNotBoundToTheFaceIsRefused) {
+	// D62, issue 46: a predicted mouth is bound to the face's exemplar when the performance is planned
+	// against it (PerformanceSpec::face); the renderer does not choose exemplars.
+	Performance perf = threeSyllables();
+	perf.timeline.keys[1].mouthOpening = 0.5;
+	auto sink = makeCallbackSink([](const StreamInfo&, const RenderedFrame&) {});
+	EXPECT_THROW(renderPerformance(tinyModel(), perf, RenderOptions{}, {sink.get()}), std::logic_error);
+	perf.timeline.keys[1].sample = 0;  // bound
+	EXPECT_NO_THROW(renderPerformance(tinyModel(), perf, RenderOptions{}, {sink.get()}));
+}
+
 TEST(Render, aFailingSinkLeavesNoOutputBehind) {
 	const Performance perf = threeSyllables();
 	const std::string dir = test::tempDir("render-fail");

@@ -834,6 +834,54 @@ TEST(Synthesizer, blinksTakeTheShutLidFromTheCorpusClosedEyeImage) {
 	std::fprintf(stderr, "shut eye against the closed-eyes image: %.1f dB (corpus lid), %.1f dB (drawn lid)\n", corpusLid, drawnLid);
 }
 
+TEST(Face, itsPartsAreMadeOnceAndSharedBySynthesizersThatDrawTheSameFrames) {
+	// Issue 46: the model's parts (the closed-eye composite, the AU templates) belong to a Face made once;
+	// synthesizers drawing it share them and draw what a synthesizer of the model alone draws.
+	SynthCorpusOptions o;
+	o.width = 320;
+	o.height = 180;
+	o.emotions = {"neutral"};
+	o.visemes = {"sil", "a"};
+	std::vector<SynthItem> items = synthCorpusItems(o);
+	items.push_back(closedEyesItem(o));
+	FaceRenderer r(o.width, o.height);
+	std::vector<SynthFace> faces;
+	std::vector<Points> shapes;
+	std::vector<SampleInfo> samples;
+	for (const auto& it : items) {
+		faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
+		shapes.push_back(faces.back().points);
+		samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
+	}
+	NullProgress quiet;
+	BuildOptions with;
+	with.closedEyes = long(items.size() - 1);
+	const FaceModel model = buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return faces[i].image; }, with, quiet);
+	const Face face(model);
+	const Image8& closed = face.closedEyes();
+	ASSERT_EQ(closed.width, model.width);
+	EXPECT_EQ(&face.closedEyes(), &closed);  // made once
+	EXPECT_TRUE(Face(smallFace().model).closedEyes().empty());  // no closed-eyes sample: none
+	const AuTemplates* templates = face.auTemplates();
+	ASSERT_NE(templates, nullptr);  // models/au-templates/ch-unicamp-56.tsv
+	EXPECT_EQ(face.auTemplates(), templates);
+	EXPECT_EQ(face.coarticulation(), nullptr);
+	const std::vector<Keypose> keys = restingKeys();
+	SynthOptions so;
+	so.expression = Expression(Emotion::of("joy"));  // not in the model: its action units (the templates)
+	const Ticks shut = oneBlink(so, keys);
+	Synthesizer a(face, so), b(face, so), alone(model, so);
+	for (Synthesizer* s : {&a, &b, &alone}) s->prepare(keys);
+	Synthesizer::Workspace wa, wb, wc;
+	Image8 fa, fb, fc;
+	Points pa, pb, pc;
+	a.renderFrame(shut, keys, wa, fa, pa);
+	b.renderFrame(shut, keys, wb, fb, pb);
+	alone.renderFrame(shut, keys, wc, fc, pc);
+	EXPECT_EQ(fa.data, fb.data);
+	EXPECT_EQ(fa.data, fc.data);
+}
+
 TEST(Synthesizer, theThesisWarpOrderDrawsTheShutLidsToo) {
 	// --warp keypose never builds the mean frame the lids are drawn in: blink frames go back to it and
 	// forward again, and agree with the direct order's.
