@@ -760,6 +760,30 @@ TEST(ShapeModulator, speechBrowsRiseOnEachPhrasesLongestVowel) {
 }
 
 namespace {
+// A small synthetic corpus (neutral sil and a) with a closed-eyes image last (D50).
+struct EyesShutCorpus {
+	SynthCorpusOptions o;
+	std::vector<SynthItem> items;
+	std::vector<SynthFace> faces;
+	std::vector<Points> shapes;
+	std::vector<SampleInfo> samples;
+};
+EyesShutCorpus eyesShutCorpus() {
+	EyesShutCorpus c;
+	c.o.width = 320;
+	c.o.height = 180;
+	c.o.emotions = {"neutral"};
+	c.o.visemes = {"sil", "a"};
+	c.items = synthCorpusItems(c.o);
+	c.items.push_back(closedEyesItem(c.o));
+	FaceRenderer r(c.o.width, c.o.height);
+	for (const auto& it : c.items) {
+		c.faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
+		c.shapes.push_back(c.faces.back().points);
+		c.samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
+	}
+	return c;
+}
 // Two seconds at rest, and a modulator with one blink at 1 s and nothing else; returns when the lids are shut.
 std::vector<Keypose> restingKeys() { return keyposes({{ms(0), ms(2000), "", "", "sil", 0}}, Ticks(kTicksPerSecond / 30)); }
 Ticks oneBlink(SynthOptions& o, const std::vector<Keypose>& keys) {
@@ -775,22 +799,12 @@ Ticks oneBlink(SynthOptions& o, const std::vector<Keypose>& keys) {
 
 TEST(Synthesizer, blinksTakeTheShutLidFromTheCorpusClosedEyeImage) {
 	// D50: a model whose corpus has a closed-eyes image draws the shut lid's skin from it.
-	SynthCorpusOptions o;
-	o.width = 320;
-	o.height = 180;
-	o.emotions = {"neutral"};
-	o.visemes = {"sil", "a"};
-	std::vector<SynthItem> items = synthCorpusItems(o);
-	items.push_back(closedEyesItem(o));
-	FaceRenderer r(o.width, o.height);
-	std::vector<SynthFace> faces;
-	std::vector<Points> shapes;
-	std::vector<SampleInfo> samples;
-	for (const auto& it : items) {
-		faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
-		shapes.push_back(faces.back().points);
-		samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
-	}
+	const EyesShutCorpus c = eyesShutCorpus();
+	const std::vector<SynthItem>& items = c.items;
+	const std::vector<SynthFace>& faces = c.faces;
+	const std::vector<Points>& shapes = c.shapes;
+	const std::vector<SampleInfo>& samples = c.samples;
+	const SynthCorpusOptions& o = c.o;
 	const int reye2 = loadScheme("ch-unicamp-56").indexOf("REYE2"), reye4 = loadScheme("ch-unicamp-56").indexOf("REYE4");
 	EXPECT_LT(std::abs(shapes.back()(reye2, 1) - shapes.back()(reye4, 1)), 0.5);  // the image's lids meet
 	NullProgress quiet;
@@ -837,26 +851,11 @@ TEST(Synthesizer, blinksTakeTheShutLidFromTheCorpusClosedEyeImage) {
 TEST(Face, itsPartsAreMadeOnceAndSharedBySynthesizersThatDrawTheSameFrames) {
 	// Issue 46: the model's parts (the closed-eye composite, the AU templates) belong to a Face made once;
 	// synthesizers drawing it share them and draw what a synthesizer of the model alone draws.
-	SynthCorpusOptions o;
-	o.width = 320;
-	o.height = 180;
-	o.emotions = {"neutral"};
-	o.visemes = {"sil", "a"};
-	std::vector<SynthItem> items = synthCorpusItems(o);
-	items.push_back(closedEyesItem(o));
-	FaceRenderer r(o.width, o.height);
-	std::vector<SynthFace> faces;
-	std::vector<Points> shapes;
-	std::vector<SampleInfo> samples;
-	for (const auto& it : items) {
-		faces.push_back(r.render(it.articulation, it.actionUnits, it.pose));
-		shapes.push_back(faces.back().points);
-		samples.push_back(SampleInfo{it.fileName, it.emotion, it.viseme, it.word, it.context});
-	}
+	const EyesShutCorpus c = eyesShutCorpus();
 	NullProgress quiet;
 	BuildOptions with;
-	with.closedEyes = long(items.size() - 1);
-	const FaceModel model = buildFaceModel(loadScheme("ch-unicamp-56"), shapes, samples, o.width, o.height, [&](std::size_t i) { return faces[i].image; }, with, quiet);
+	with.closedEyes = long(c.items.size() - 1);
+	const FaceModel model = buildFaceModel(loadScheme("ch-unicamp-56"), c.shapes, c.samples, c.o.width, c.o.height, [&](std::size_t i) { return c.faces[i].image; }, with, quiet);
 	const Face face(model);
 	const Image8& closed = face.closedEyes();
 	ASSERT_EQ(closed.width, model.width);
