@@ -32,7 +32,7 @@ namespace {
 std::vector<OptionSpec> liveOptionSpecs() {
 	std::vector<OptionSpec> specs = {{"--model", "M.thm", "face model (default: the embedded default face)"},
 	        {"--size", "WxH", "output size (default 1280x720)"},
-	        {"--fit", "MODE", "crop (default), pad or stretch when --size has another aspect than the model"},
+	        {"--fit", "MODE", "face (default: the whole face kept), crop, pad or stretch when --size has another aspect than the model, as render's option"},
 	        {"--fps", "RATE", "frame rate (default 30)"},
 	        {"--emotion", "LABEL[:I]", "the emotion at the start (default neutral)"},
 	        {"--lang", "LANG", "language of say requests without one (default en-US)"},

@@ -177,7 +177,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--model", "M.thm", "face model (default: the embedded default face)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
-	        {"--fit", "MODE", "when --size has another aspect than the model: crop (default: fill, cut the overflow), pad (fit inside, extend the edges) or stretch"},
+	        {"--fit", "MODE", "when --size has another aspect than the model: face (default: fill as far as the whole face still fits, cut around it, pad the rest), crop (fill, cut the overflow evenly), pad (fit inside, extend the edges) or stretch"},
 	        {"--format", "FORMAT", "mp4 (H.264 + AAC; the default), webm (VP9 + Vorbis; the default for -o F.webm), y4m (raw frames, e.g. -o - | ffplay -; the default for -o F.y4m) or none (no video: only --frames, --landmarks-out, …)"},
 	        {"--background", "KIND", "opaque (default: the model's frame) or transparent (the face on a feathered matte, as alpha: --format webm, VP9 with alpha, and/or --frames, RGBA PNG)"},
 	        {"--feather", "PX", "with --background transparent: the matte's soft edge, σ in output pixels (default: 2 % of the face's width)"},
@@ -217,9 +217,9 @@ FrameRate parseFps(const Args& args, const std::string& command) {
 }
 
 Fit parseFit(const Args& args, const std::string& command) {
-	const std::string fit = args.get("--fit", "crop");
-	if (fit != "crop" && fit != "pad" && fit != "stretch") throw UsageError(command + ": --fit takes crop, pad or stretch");
-	return fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
+	const std::string fit = args.get("--fit", "face");
+	if (fit != "face" && fit != "crop" && fit != "pad" && fit != "stretch") throw UsageError(command + ": --fit takes face, crop, pad or stretch");
+	return fit == "face" ? Fit::Face : fit == "crop" ? Fit::Crop : fit == "pad" ? Fit::Pad : Fit::Stretch;
 }
 
 Expression parseEmotionOption(const Args& args, const std::string& command) {

@@ -51,7 +51,7 @@ FramePlayer::FramePlayer(const Face& face, const RenderOptions& options)
     : overlay_(options.debugOverlay), matte_(face.model().scheme, options.matte) {
 	SynthOptions so = options.synth;
 	so.yuvRange = YuvRange::Limited;  // what H.264 and y4m readers assume
-	fit_ = fitOutput(face.model().width, face.model().height, so, options.fit);
+	fit_ = fitOutput(face.model(), so, options.fit);
 	synth_ = std::make_unique<Synthesizer>(face, so);
 	width_ = fit_.place ? fit_.outWidth : synth_->width();
 	height_ = fit_.place ? fit_.outHeight : synth_->height();

@@ -11,6 +11,8 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <limits>
+#include <cmath>
 
 #include <sys/resource.h>
 
@@ -84,7 +86,8 @@ FaceModel loadRenderModel(const std::string& path, const ComponentLevels& levels
 	return model;
 }
 
-OutputFit fitOutput(int modelWidth, int modelHeight, SynthOptions& so, Fit fit) {
+OutputFit fitOutput(const FaceModel& model, SynthOptions& so, Fit fit) {
+	const int modelWidth = model.width, modelHeight = model.height;
 	OutputFit f;
 	if (so.width <= 0 && so.height <= 0 && (modelWidth % 2 || modelHeight % 2)) {
 		so.width = std::max(2, modelWidth & ~1);
@@ -92,24 +95,68 @@ OutputFit fitOutput(int modelWidth, int modelHeight, SynthOptions& so, Fit fit) 
 	}
 	f.outWidth = so.width, f.outHeight = so.height;
 	if (so.width > 0 && so.height > 0) {
-		f.box = fitBox(modelWidth, modelHeight, so.width, so.height, fit);
+		f.box = fitBox(modelWidth, modelHeight, so.width, so.height, fit, fit == Fit::Face ? faceArea(model) : FaceArea{});
 		so.width = f.box.innerWidth, so.height = f.box.innerHeight;
 	}
 	f.place = f.box.innerWidth > 0 && (f.box.innerWidth != f.outWidth || f.box.innerHeight != f.outHeight);
 	return f;
 }
 
-FitBox fitBox(int mw, int mh, int w, int h, Fit fit) {
+FaceArea faceArea(const FaceModel& model) {
+	FaceArea a;
+	if (model.meanShape.rows() == 0) return a;
+	a.x0 = a.y0 = std::numeric_limits<double>::max();
+	a.x1 = a.y1 = std::numeric_limits<double>::lowest();
+	auto add = [&](const Points& p) {
+		if (p.rows() == 0) return;
+		a.x0 = std::min(a.x0, p.col(0).minCoeff()), a.x1 = std::max(a.x1, p.col(0).maxCoeff());
+		a.y0 = std::min(a.y0, p.col(1).minCoeff()), a.y1 = std::max(a.y1, p.col(1).maxCoeff());
+	};
+	add(model.meanShape);
+	for (const Points& p : model.alignedShapes) add(p);
+	// A forehead where the scheme has brows and nothing well above them (dlib's 68 points), as FaceMatte.
+	std::vector<int> brows;
+	for (const BrowSpec& b : model.scheme.brows) brows.insert(brows.end(), b.points.begin(), b.points.end());
+	if (!brows.empty()) {
+		double browY = 0;
+		for (int b : brows) browY += model.meanShape(b, 1) / double(brows.size());
+		const double browToChin = model.meanShape.col(1).maxCoeff() - browY;
+		if (browToChin > 0 && model.meanShape.col(1).minCoeff() > browY - 0.25 * browToChin) a.y0 = std::min(a.y0, browY - 0.5 * browToChin);
+	}
+	const double margin = 0.1 * std::max(a.x1 - a.x0, a.y1 - a.y0);
+	a.x0 -= margin, a.y0 -= margin, a.x1 += margin, a.y1 += margin;
+	return a;
+}
+
+FitBox fitBox(int mw, int mh, int w, int h, Fit fit, const FaceArea& face) {
 	FitBox b{w, h, 0, 0};
 	// The same aspect (within a pixel), stretch, or no model size: draw straight at the output size.
 	if (fit == Fit::Stretch || mw <= 0 || mh <= 0 || std::abs(std::int64_t(w) * mh - std::int64_t(h) * mw) < std::max(mw, mh)) return b;
-	const double s = fit == Fit::Crop ? std::max(double(w) / mw, double(h) / mh) : std::min(double(w) / mw, double(h) / mh);
+	if (fit == Fit::Face && face.empty()) fit = Fit::Crop;
+	const double cover = std::max(double(w) / mw, double(h) / mh), inside = std::min(double(w) / mw, double(h) / mh);
+	double s = fit == Fit::Crop ? cover : inside;
+	if (fit == Fit::Face) {  // as large as the face's area still fits the output, between inside and cover
+		const double faceW = std::min(face.x1, double(mw)) - std::max(face.x0, 0.0), faceH = std::min(face.y1, double(mh)) - std::max(face.y0, 0.0);
+		s = std::clamp(std::min(double(w) / faceW, double(h) / faceH), inside, cover);
+	}
 	auto even = [](double v) { return std::max(2, int(std::lround(v / 2)) * 2); };
 	b.innerWidth = even(mw * s), b.innerHeight = even(mh * s);
 	if (fit == Fit::Crop) b.innerWidth = std::max(b.innerWidth, w), b.innerHeight = std::max(b.innerHeight, h);
-	else b.innerWidth = std::min(b.innerWidth, w), b.innerHeight = std::min(b.innerHeight, h);
+	else if (fit == Fit::Pad) b.innerWidth = std::min(b.innerWidth, w), b.innerHeight = std::min(b.innerHeight, h);
 	b.x = (w - b.innerWidth) / 2 / 2 * 2;
 	b.y = (h - b.innerHeight) / 2 / 2 * 2;
+	if (fit == Fit::Face) {
+		// A side the frame overflows is cut around the face's centre (as far as the frame reaches); a side
+		// it does not fill is padded evenly.
+		auto place = [](int out, int inner, double centre) {
+			if (inner <= out) return (out - inner) / 2 / 2 * 2;
+			const double x = std::clamp(out / 2.0 - centre, double(out - inner), 0.0);
+			return int(std::floor(x / 2)) * 2;
+		};
+		const double sx = double(b.innerWidth) / mw, sy = double(b.innerHeight) / mh;
+		b.x = place(w, b.innerWidth, 0.5 * (face.x0 + face.x1) * sx);
+		b.y = place(h, b.innerHeight, 0.5 * (face.y0 + face.y1) * sy);
+	}
 	return b;
 }
 

@@ -15,16 +15,20 @@
 namespace talkhead {
 
 // An output size whose aspect differs from the model's frame: the face keeps its proportions.
-//  Crop: scaled to cover the output, the overflow cut evenly (the face is larger).
+//  Face (default, issue 47): the whole face kept — scaled to cover the output as far as the face's area
+//    (faceArea: every sample's points, a forehead, a margin) still fits inside it, cut around the face,
+//    and where the face does not let the frame cover the output, the rest padded as Pad pads.
+//  Crop: scaled to cover the output, the overflow cut evenly (the face is larger; a 4:3 face in 16:9
+//    loses its chin and forehead).
 //  Pad: scaled to fit inside, the rest filled by extending the frame's edge pixels outward.
 //  Stretch: scaled separately in x and y (distorts the face).
-enum class Fit { Crop, Pad, Stretch };
+enum class Fit { Face, Crop, Pad, Stretch };
 
 // How to draw (everything but what: that is the Performance).
 struct RenderOptions {
 	SynthOptions synth;    // output size (0 = the model's), trajectory, dissolve, warp path; the emotion
 	                       // comes from the Performance
-	Fit fit = Fit::Crop;   // when synth.width × height has another aspect than the model's frame
+	Fit fit = Fit::Face;   // when synth.width × height has another aspect than the model's frame
 	unsigned threads = 0;  // drawing threads (0 = all cores)
 	bool debugOverlay = false;  // draw the points, keyposes and active controls on every frame (overlay.h)
 	MatteOptions matte;         // the face's matte, when a sink needs alpha (video with alpha)
@@ -35,7 +39,17 @@ struct RenderOptions {
 struct FitBox {
 	int innerWidth = 0, innerHeight = 0, x = 0, y = 0;
 };
-FitBox fitBox(int modelWidth, int modelHeight, int width, int height, Fit fit);
+// The part of the model's frame (model pixels) a face takes while it talks: the box around the mean shape
+// and every sample's shape, a forehead above the brows where the scheme has no point there (half the
+// brow-to-chin height, as the matte draws it), and a margin of a tenth of the box's larger side for the
+// head's motion. Empty (x1 <= x0) for a model without points.
+struct FaceArea {
+	double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+	bool empty() const { return !(x1 > x0 && y1 > y0); }
+};
+FaceArea faceArea(const FaceModel& model);
+// Fit::Face without a face area fits as Crop.
+FitBox fitBox(int modelWidth, int modelHeight, int width, int height, Fit fit, const FaceArea& face = {});
 // The synthesizer's drawing size for the output `so` asks for (render and live sessions alike): even sizes
 // for 4:2:0 (a model with an odd side renders one pixel smaller), and another aspect than the model's frame
 // drawn at the fitted size (`so` is set to it), then cropped or padded into the output when `place`.
@@ -44,7 +58,7 @@ struct OutputFit {
 	int outWidth = 0, outHeight = 0;  // what was asked for (0: the model's size)
 	bool place = false;               // the drawn frame is placed into an output of another size
 };
-OutputFit fitOutput(int modelWidth, int modelHeight, SynthOptions& so, Fit fit);
+OutputFit fitOutput(const FaceModel& model, SynthOptions& so, Fit fit);
 // `inner` placed into `out` (resized to width × height) with its corner at (x, y): what overflows is cut,
 // what is left is filled by repeating the nearest edge pixel.
 void placeFitted(const YuvImage& inner, YuvImage& out, int width, int height, int x, int y);

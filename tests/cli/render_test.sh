@@ -45,7 +45,7 @@ PY
 }
 "$TH" render -q --model "$T/face.thm" --transcript "$TG" --size 640x360 -o "$T/wide.mp4" --landmarks-out "$T/wide.tsv"
 wide=$(ratio "$T/wide.tsv")
-for case in 480x480:crop 480x480:pad 360x640:crop 360x640:pad 360x640:stretch; do
+for case in 480x480:face 480x480:crop 480x480:pad 360x640:face 360x640:crop 360x640:pad 360x640:stretch; do
 	size=${case%:*}; fit=${case#*:}
 	"$TH" render -q --model "$T/face.thm" --transcript "$TG" --size "$size" --fit "$fit" -o "$T/$fit.mp4" --landmarks-out "$T/$fit.tsv"
 	test "$(probe "$T/$fit.mp4" v:0 width,height | tr , x)" = "$size"
@@ -54,6 +54,16 @@ for case in 480x480:crop 480x480:pad 360x640:crop 360x640:pad 360x640:stretch; d
 	awk -v a="$r" -v b="$wide" -v w="$want" -v c="$case" 'BEGIN { e = a / b - 1; if (e < 0) e = -e
 		if ((w == "near" && e > 0.01) || (w == "far" && e < 0.1)) { print c ": ratio " a " vs 16:9 " b; exit 1 } }'
 done
+# The default fit keeps the whole face in a portrait frame (issue 47; the even crop cutting a face is a
+# unit test's: Render.theDefaultFitKeepsTheWholeFaceForEverySourceAspect).
+/usr/bin/python3 - "$T/face.tsv" <<'PY'
+import sys
+rows = [l.rstrip('\n').split('\t') for l in open(sys.argv[1])]
+h = rows[0]
+for axis, size in (('_x', 360), ('_y', 640)):
+    v = [float(r[i]) for r in rows[1:] for i, n in enumerate(h) if n.endswith(axis)]
+    assert min(v) >= 0 and max(v) <= size, (axis, min(v), max(v))
+PY
 # A transcript covering a small part of a long audio renders the whole audio and says how much is silent face.
 /usr/bin/python3 -c "import wave; w = wave.open('$T/long.wav', 'wb'); w.setnchannels(1); w.setsampwidth(2); w.setframerate(16000); w.writeframes(bytes(2 * 16000 * 30)); w.close()"
 "$TH" render --model "$T/face.thm" --transcript "$TG" --audio "$T/long.wav" --fps 5 -o "$T/long.mp4" 2>"$T/long.err"

@@ -149,6 +149,50 @@ TEST(Render, monotoneTrajectoryKeepsTheKeyposesAndIsTheSameOnAnyThreadCount) {
 	EXPECT_GT(most, 0.05);  // pixels
 }
 
+TEST(Render, theDefaultFitKeepsTheWholeFaceForEverySourceAspect) {
+	// Issue 47: a 4:3, 1:1 or 9:16 face in a 16:9 frame (and the 16:9 face in a portrait one) keeps every
+	// feature point inside the frame; the even crop cuts the 9:16 face through its forehead and chin.
+	struct Case {
+		int mw, mh, w, h;
+	};
+	for (const Case c : {Case{320, 240, 320, 180}, Case{240, 240, 320, 180}, Case{180, 320, 320, 180}, Case{320, 180, 180, 320}}) {
+		SynthCorpusOptions o;
+		o.width = c.mw, o.height = c.mh;
+		o.emotions = {"neutral"};
+		o.visemes = {"sil", "a", "p1"};
+		const FaceModel model = test::synthModel(o);
+		const FaceArea area = faceArea(model);
+		ASSERT_FALSE(area.empty());
+		auto extent = [&](Fit fit) {  // the points' box over every frame, in output pixels
+			RenderOptions ro;
+			ro.synth.width = c.w, ro.synth.height = c.h, ro.fit = fit;
+			Eigen::RowVector2d lo(1e9, 1e9), hi(-1e9, -1e9);
+			auto sink = makeCallbackSink([&](const StreamInfo& info, const RenderedFrame& f) {
+				EXPECT_EQ(info.width, c.w);
+				EXPECT_EQ(info.height, c.h);
+				lo = lo.cwiseMin(f.points->colwise().minCoeff()), hi = hi.cwiseMax(f.points->colwise().maxCoeff());
+			});
+			renderPerformance(model, threeSyllables(), ro, {sink.get()});
+			return std::make_pair(lo, hi);
+		};
+		const auto [lo, hi] = extent(Fit::Face);
+		const std::string name = std::to_string(c.mw) + "x" + std::to_string(c.mh) + " in " + std::to_string(c.w) + "x" + std::to_string(c.h);
+		EXPECT_GE(lo.minCoeff(), 0) << name;
+		EXPECT_LE(hi(0), c.w) << name;
+		EXPECT_LE(hi(1), c.h) << name;
+		// As large as it can be: the face's area fills the output's width or its height (to within 2 pixels).
+		const FitBox b = fitBox(c.mw, c.mh, c.w, c.h, Fit::Face, area);
+		const double s = double(b.innerWidth) / c.mw;
+		EXPECT_TRUE(std::min(area.x1, double(c.mw)) * s - std::max(area.x0, 0.0) * s >= c.w - 2 ||
+		            std::min(area.y1, double(c.mh)) * s - std::max(area.y0, 0.0) * s >= c.h - 2 || b.innerWidth >= c.w && b.innerHeight >= c.h)
+		    << name;
+		if (c.mw == 180) {
+			const auto [clo, chi] = extent(Fit::Crop);
+			EXPECT_TRUE(clo(1) < 0 || chi(1) > c.h) << "the even crop keeps the 9:16 face whole: the test shows nothing";
+		}
+	}
+}
+
 TEST(Render, aPredictedMouthNotBoundToTheFaceIsRefused) {
 	// D62, issue 46: a predicted mouth is bound to the face's exemplar when the performance is planned
 	// against it (PerformanceSpec::face); the renderer does not choose exemplars.
