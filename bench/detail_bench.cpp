@@ -8,6 +8,7 @@
 //   lanczos-3
 //   two warps  the source warped to the mean shape (as the model stores it) and from there to the same
 //              points (two bilinear resamplings, no appearance model); "two lanczos" the same with Lanczos-3;
+//              "lanczos+bil" Lanczos-3 into the mean shape (the build's warp), bilinear out (the render's);
 //   rendered   the synthesizer's frame on the keypose (the 8-bit cache of the region models' reconstruction,
 //              composited in the mean frame, then warped out);
 // all at the model's frame size, the mouth box of each image's own points (grown by a quarter). Prints the
@@ -169,7 +170,7 @@ int main(int argc, char** argv) {
 		Synthesizer synth(model, so);
 		Synthesizer::Workspace ws;
 		const int W = synth.width(), H = synth.height();
-		double sum[7] = {0, 0, 0, 0, 0, 0, 0};
+		double sum[8] = {0, 0, 0, 0, 0, 0, 0, 0};
 		std::size_t n = 0;
 		// Corpus entries and model samples are in the same order (the baseface and closed eyes aside).
 		for (std::size_t i = 0; i < model.sampleCount() && n < most; i += std::max<std::size_t>(1, model.sampleCount() / most)) {
@@ -195,17 +196,19 @@ int main(int argc, char** argv) {
 			const Image8 bicubic = resampled(source, coords, 2, cubic), lanczos = resampled(source, coords, 3, lanczos3);
 			const Image8 meanL = resampled(source, sourceCoordinates(source, e->points, model.meanShape, model.frameMesh, model.width, model.height), 3, lanczos3);
 			const Image8 twoL = resampled(meanL, sourceCoordinates(meanL, model.meanShape, at, model.frameMesh, W, H), 3, lanczos3);
-			const double d[7] = {mouthDetail(source, e->points, mouth), mouthDetail(one, at, mouth), mouthDetail(bicubic, at, mouth),
-			                     mouthDetail(lanczos, at, mouth), mouthDetail(two, at, mouth), mouthDetail(twoL, at, mouth), mouthDetail(rendered, at, mouth)};
-			for (int j = 0; j < 7; ++j) sum[j] += d[j];
+			const Image8 lanczosThenBilinear = warped(meanL, model.meanShape, at, model.frameMesh, W, H);
+			const double d[8] = {mouthDetail(source, e->points, mouth), mouthDetail(one, at, mouth), mouthDetail(bicubic, at, mouth),
+			                     mouthDetail(lanczos, at, mouth), mouthDetail(two, at, mouth), mouthDetail(twoL, at, mouth),
+			                     mouthDetail(lanczosThenBilinear, at, mouth), mouthDetail(rendered, at, mouth)};
+			for (int j = 0; j < 8; ++j) sum[j] += d[j];
 			if (n == 0 && argc > 4)
 				writeImage(argv[4], sheet({&source, &one, &bicubic, &lanczos, &rendered}, {&e->points, &at, &at, &at, &at}, mouth));
 			++n;
 		}
 		if (n == 0) throw Error("no exemplar of the model found in the corpus");
-		const char* names[7] = {"source", "one warp", "bicubic", "lanczos-3", "two warps", "two lanczos", "rendered"};
+		const char* names[8] = {"source", "one warp", "bicubic", "lanczos-3", "two warps", "two lanczos", "lanczos+bil", "rendered"};
 		std::printf("mouth detail (variance of the Laplacian, luma), mean of %zu exemplars, %dx%d\n", n, W, H);
-		for (int j = 0; j < 7; ++j) std::printf("  %-10s %8.2f  %5.2fx source\n", names[j], sum[j] / double(n), sum[j] / sum[0]);
+		for (int j = 0; j < 8; ++j) std::printf("  %-10s %8.2f  %5.2fx source\n", names[j], sum[j] / double(n), sum[j] / sum[0]);
 	} catch (const std::exception& e) {
 		std::fprintf(stderr, "bench_detail: %s\n", e.what());
 		return 1;
