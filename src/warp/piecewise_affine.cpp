@@ -554,4 +554,79 @@ template void PiecewiseAffineWarp::apply(const ImageT<std::uint8_t>&, ImageT<flo
 template void PiecewiseAffineWarp::apply(const ImageT<float>&, ImageT<float>&) const;
 template void PiecewiseAffineWarp::apply(const ImageT<float>&, ImageT<std::uint8_t>&) const;
 
+namespace {
+
+// sin(x) by a Taylor series after reduction to [−π/2, π/2]: the same doubles on every machine (libm's sin
+// may take another code path on another CPU).
+double plainSin(double x) {
+	const double pi = 3.14159265358979323846, twoPi = 2 * pi;
+	x -= twoPi * double(std::llround(x / twoPi));
+	if (x > pi / 2) x = pi - x;
+	if (x < -pi / 2) x = -pi - x;
+	const double x2 = x * x;
+	double term = x, sum = x;
+	for (int n = 1; n < 12; ++n) {
+		term = -term * x2 / double((2 * n) * (2 * n + 1));
+		sum += term;
+	}
+	return sum;
+}
+
+constexpr int kLanczosPhases = 1024;
+
+// Per phase (a 1/1024 of a pixel): the six normalised weights of taps −2 … 3.
+const std::vector<float>& lanczos3Table() {
+	static const std::vector<float> table = [] {
+		const double pi = 3.14159265358979323846;
+		std::vector<float> t(std::size_t(kLanczosPhases) * 6);
+		for (int p = 0; p < kLanczosPhases; ++p) {
+			const double f = double(p) / kLanczosPhases;
+			double w[6], sum = 0;
+			for (int k = 0; k < 6; ++k) {
+				const double d = f - double(k - 2);
+				w[k] = std::abs(d) < 1e-12 ? 1.0 : (std::abs(d) >= 3 ? 0.0 : 3 * plainSin(pi * d) * plainSin(pi * d / 3) / (pi * pi * d * d));
+				sum += w[k];
+			}
+			for (int k = 0; k < 6; ++k) t[std::size_t(p) * 6 + std::size_t(k)] = float(w[k] / sum);
+		}
+		return t;
+	}();
+	return table;
+}
+
+}  // namespace
+
+void PiecewiseAffineWarp::applyLanczos3(const Image8& src, ImageT<float>& dst) const {
+	if (dst.width != width_ || dst.height != height_ || dst.channels != 3 || src.channels != 3)
+		throw std::logic_error("PiecewiseAffineWarp::applyLanczos3: RGB images of the warp's size");
+	if (src.width < 1 || src.height < 1) throw std::logic_error("PiecewiseAffineWarp::applyLanczos3: empty source");
+	const std::vector<float>& table = lanczos3Table();
+	const int sw = src.width, sh = src.height;
+	for (const Span& s : spans_) {
+		const float* a = &affine_[std::size_t(s.tri) * 6];
+		const float rx = a[1] * float(s.y) + a[2], ry = a[4] * float(s.y) + a[5];
+		float* o = dst.data.data() + (std::size_t(s.y) * std::size_t(width_) + std::size_t(s.x0)) * 3;
+		for (int x = s.x0; x < s.x1; ++x, o += 3) {
+			const float fxs = a[0] * float(x) + rx, fys = a[3] * float(x) + ry;
+			const float cx = std::clamp(fxs, 0.f, float(sw - 1)), cy = std::clamp(fys, 0.f, float(sh - 1));
+			const int ix = int(cx), iy = int(cy);
+			const int px = std::min(kLanczosPhases - 1, int((cx - float(ix)) * kLanczosPhases + 0.5f));
+			const int py = std::min(kLanczosPhases - 1, int((cy - float(iy)) * kLanczosPhases + 0.5f));
+			const float* wx = &table[std::size_t(px) * 6];
+			const float* wy = &table[std::size_t(py) * 6];
+			float acc[3] = {0, 0, 0};
+			for (int j = 0; j < 6; ++j) {
+				const std::uint8_t* row = src.row(std::clamp(iy + j - 2, 0, sh - 1));
+				float r = 0, g = 0, b = 0;
+				for (int k = 0; k < 6; ++k) {
+					const std::uint8_t* p = row + 3 * std::clamp(ix + k - 2, 0, sw - 1);
+					r += wx[k] * float(p[0]), g += wx[k] * float(p[1]), b += wx[k] * float(p[2]);
+				}
+				acc[0] += wy[j] * r, acc[1] += wy[j] * g, acc[2] += wy[j] * b;
+			}
+			for (int c = 0; c < 3; ++c) o[c] = std::clamp(acc[c], 0.f, 255.f);
+		}
+	}
+}
+
 }  // namespace talkhead

@@ -42,6 +42,11 @@ public:
 	// dst must be width × height with src's channel count; src may have any size.
 	template <class In, class Out>
 	void apply(const ImageT<In>& src, ImageT<Out>& dst) const;
+	// The same warp of an 8-bit RGB image through a Lanczos-3 kernel (6 × 6 taps at 1/1024 of a pixel,
+	// weights summing to one, the source's edge repeated), clamped to [0, 255]: it keeps 0.95 of a face's
+	// fine detail where bilinear keeps 0.65 (issue 47, D80). Scalar and deterministic (the kernel's table is
+	// made with plain arithmetic, no libm); about 9× the bilinear warp's time: for a model's build, not frames.
+	void applyLanczos3(const Image8& src, ImageT<float>& dst) const;
 
 	const std::vector<Span>& spans() const { return spans_; }
 	int width() const { return width_; }
