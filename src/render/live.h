@@ -106,7 +106,7 @@ public:
 	Ticks queueEnd() const { return queueEnd_; }
 
 	// Draws the next frame (YUV 4:2:0, limited range) and its feature points (output pixels); appends what
-	// happened by this frame to `events`. `alpha`: the face's matte into frame().yuv.a.
+	// happened by this frame to `events`. `alpha`: the face's matte too, into the slot's yuv.a.
 	const FrameSlot& drawNext(std::vector<LiveEvent>& events, bool alpha = false);
 	// The same, copied out (tests).
 	void drawNext(YuvImage& out, Points& points, std::vector<LiveEvent>& events);
@@ -133,7 +133,7 @@ private:
 		LiveEvent event;
 	};
 	LiveSession(std::unique_ptr<Face> own, const Face* face, const LiveOptions& options);
-	std::unique_ptr<Face> ownFace_;    // made from a model alone (the first constructor)
+	std::unique_ptr<Face> ownFace_;    // made for a model alone (the FaceModel constructor)
 	const Face& face_;
 	LiveOptions o_;
 	std::unique_ptr<FramePlayer> player_;  // the frame player render uses too

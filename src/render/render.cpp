@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <deque>
 #include <mutex>
-#include <optional>
 #include <thread>
 #include <limits>
 #include <cmath>
@@ -24,7 +23,6 @@
 #include "base/text.h"
 #include "model/model_file.h"
 #include "render/player.h"
-#include "synth/coarticulation.h"
 
 namespace talkhead {
 

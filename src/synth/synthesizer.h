@@ -136,7 +136,7 @@ public:
 
 private:
 	Synthesizer(std::unique_ptr<Face> own, const Face* face, const SynthOptions& options);
-	std::unique_ptr<Face> ownFace_;        // made from a model alone (the first constructor)
+	std::unique_ptr<Face> ownFace_;        // made for a model alone (the FaceModel constructor)
 	const Face& face_;
 	const FaceModel& model_;
 	SynthOptions o_;
