@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <new>
 
+#include "base/atomic_file.h"
 #include "base/data_dirs.h"
 #include "base/error.h"
 #include "base/text.h"
@@ -16,6 +17,10 @@
 #include "synth_corpus.h"
 
 namespace talkhead::cli {
+
+// How the default face in a user's cache was made: a face in the cache whose stamp differs is made again.
+// Change it whenever the default face's corpus or build changes (D80: Lanczos-3 warps to the mean shape).
+const char* const kDefaultFaceRecipe = "synthetic corpus 1280x720; Lanczos-3 warps to the mean shape (D80)\n";
 
 namespace {
 thread_local FrameSink* extraSink = nullptr;
@@ -52,16 +57,32 @@ int runCommandLine(const std::vector<std::string>& args, std::string& error) {
 }
 
 void ensureDefaultFace(bool quiet) {
-	if (findDefaultModel()) return;
-	const std::string cache = userCacheDir();
-	if (cache.empty()) return;
 	namespace fs = std::filesystem;
-	const fs::path models = fs::path(cache) / "models", corpus = models / "default-corpus";
+	const std::string cache = userCacheDir();
+	const fs::path models = cache.empty() ? fs::path() : fs::path(cache) / "models", corpus = models / "default-corpus";
+	const fs::path made = models / "default.thm", recipe = models / "default.recipe";
+	std::error_code ec;
+	const auto found = findDefaultModel();
+	// A default face made in the cache by an earlier talkhead, another way (D80: the build's warp), is made
+	// again; one installed with talkhead is the installation's.
+	bool stale = false;
+	if (found && !cache.empty() && fs::equivalent(*found, made, ec)) {
+		std::string stamp;
+		try {
+			stamp = readTextFile(recipe.string());
+		} catch (const std::exception&) {  // none: made before the stamp
+		}
+		stale = stamp != kDefaultFaceRecipe;
+	}
+	if ((found && !stale) || cache.empty()) return;
 	const auto t0 = std::chrono::steady_clock::now();
 	if (!quiet)
-		std::fprintf(stderr, "talkhead: no default face installed: making it once in %s (the synthetic corpus and its model, about a minute on 2 cores)\n",
-		             models.string().c_str());
-	std::error_code ec;
+		std::fprintf(stderr, "talkhead: %s: making it once in %s (the synthetic corpus and its model, about a minute on 2 cores)\n",
+		             stale ? "the default face in the cache was made by an earlier talkhead" : "no default face installed", models.string().c_str());
+	if (stale) {  // its 1.6 GB go before the new one is written
+		fs::remove(made, ec);
+		fs::remove(recipe, ec);
+	}
 	fs::create_directories(models, ec);
 	if (ec) throw Error(models.string() + ": cannot make the folder for the default face (" + ec.message() + ")");
 	// The same steps and sizes as CMakeLists.txt's default_model target, by the library calls `corpus synth`,
@@ -72,7 +93,8 @@ void ensureDefaultFace(bool quiet) {
 	writeSynthCorpus(corpus.string(), synth, silent);
 	const Corpus c = loadCorpus((corpus / "corpus.csv").string());
 	const Scheme scheme = corpusScheme(c);
-	saveModel(buildFaceModel(c, scheme, BuildOptions{}, silent), (models / "default.thm").string());
+	saveModel(buildFaceModel(c, scheme, BuildOptions{}, silent), made.string());
+	writeFileAtomically(recipe.string(), kDefaultFaceRecipe);
 	if (!findDataFile("models/au-appearance.bin"))  // a package installs the skin's maps (6 MB)
 		saveAuAppearance(buildAuAppearance(c, scheme), (models / "au-appearance.bin").string());
 	fs::remove_all(corpus, ec);  // 200 MB of images, not needed once the model is made
