@@ -100,7 +100,7 @@ void ensureDefaultFace(bool quiet) {
 	fs::remove_all(corpus, ec);  // 200 MB of images, not needed once the model is made
 	if (!quiet)
 		std::fprintf(stderr, "talkhead: the default face is ready (%.0f s): %s\n",
-		             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), (models / "default.thm").string().c_str());
+		             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), made.string().c_str());
 }
 
 }  // namespace talkhead::cli

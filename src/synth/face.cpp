@@ -29,9 +29,7 @@ const Image8& Face::closedEyes() const {
 		for (std::size_t r = 0; r < model.regions.size(); ++r) {
 			const RegionModel& reg = model.regions[r];
 			if (reg.hasAppearanceCache()) {
-				std::vector<std::uint8_t> bytes(std::size_t(reg.appearanceSize()));
-				reg.readCachedAppearance(std::size_t(model.closedEyesIndex), bytes.data());
-				a[r] = Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(bytes.data(), Eigen::Index(bytes.size())).cast<float>();
+				a[r] = reg.cachedAppearance(std::size_t(model.closedEyesIndex));
 			} else {
 				Eigen::MatrixXf c(reg.pca.components(), 1);
 				c.col(0) = sampleCoefficients(reg, std::size_t(model.closedEyesIndex));
