@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <map>
 
 #include "base/atomic_file.h"
@@ -33,12 +34,25 @@ namespace talkhead::cli {
 
 namespace {
 
-// Runs `talkhead ARGS…` as a child process (this executable) and waits: each stimulus in a fresh process,
+// Runs a job as a child process (this executable: `talkhead job FILE`, the job written as JSON to a
+// temporary file beside `near`, removed after) and waits: each stimulus in a fresh process,
 // because libespeak-ng's timings depend on what it synthesised before in the same process (the same
 // sentence comes out a few milliseconds apart after another one), which would make a stimulus depend on
 // the rows before it — and a shard on which rows it holds. Returns the exit code; *message gets the last
 // line the child wrote on stderr.
-int runChild(const std::vector<std::string>& args, std::string* message) {
+int runChild(const Job& job, const std::string& near, std::string* message) {
+	const std::string jobPath = temporaryNameFor(near + ".job.json");
+	registerTemporary(jobPath);
+	struct Remove {
+		std::string path;
+		~Remove() {
+			std::error_code e;
+			fs::remove(path, e);
+			releaseTemporary(path);
+		}
+	} remove{jobPath};
+	writeFileAtomically(jobPath, jobJson(job) + "\n");
+	const std::vector<std::string> args{"job", jobPath};
 	int pipefd[2];
 	if (::pipe(pipefd) != 0) throw Error("batch: cannot create a pipe");
 	posix_spawn_file_actions_t actions;
@@ -83,19 +97,11 @@ int runChild(const std::vector<std::string>& args, std::string* message) {
 	return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
-// A row's child command line: its job's fields as this command line's flags (D51: each row in its own
-// process); say's text is its positional argument.
-std::vector<std::string> jobArguments(const std::string& command, const std::vector<JobField>& job) {
-	std::vector<std::string> a{command};
-	for (const JobField& f : job) {
-		if (command == "say" && f.field == "text") {
-			a.push_back(f.value.value_or(""));
-			continue;
-		}
-		a.push_back(cliField(f.field));
-		if (f.value) a.push_back(*f.value);
-	}
-	return a;
+// A row's job with what the batch adds: its output and how the child runs.
+Job rowJob(const std::string& command, const std::vector<JobField>& fields, std::initializer_list<JobField> extra) {
+	Job j{command, fields};
+	j.fields.insert(j.fields.end(), extra);
+	return j;
 }
 
 // A side-by-side stimulus: both sides rendered as y4m (lossless) in a temporary folder beside the output —
@@ -124,14 +130,12 @@ void renderSideBySide(const BatchRow& row, const std::string& path, const std::s
 	} release{{own, other, wav, json}};
 	// A sound track: speech from text (say), or a render's audio, unless muted.
 	const bool muted = jobValue(row.job, "no-audio") || (row.command == "render" && !jobValue(row.job, "audio"));
-	std::vector<std::string> a = jobArguments(row.command, row.job);
-	a.insert(a.end(), {"--format", "y4m", "-o", own, "-q", "--threads", threads, "--timeline-out", json});
-	if (!muted) a.insert(a.end(), {"--audio-out", wav});
-	run(a);
-	std::vector<std::string> b = jobArguments(row.command, row.versusJob);
-	b.insert(b.end(), {"--format", "y4m", "-o", other, "-q", "--threads", threads});
-	if (!muted) b.push_back("--no-audio");
-	run(b);
+	Job a = rowJob(row.command, row.job, {{"format", "y4m"}, {"output", own}, {"quiet", std::nullopt}, {"threads", threads}, {"timeline-out", json}});
+	if (!muted) a.fields.push_back({"audio-out", wav});
+	run(a, own);
+	Job b = rowJob(row.command, row.versusJob, {{"format", "y4m"}, {"output", other}, {"quiet", std::nullopt}, {"threads", threads}});
+	if (!muted) b.fields.push_back({"no-audio", std::nullopt});
+	run(b, other);
 	SideBySideOptions o;
 	if (auto crf = row.fields.find("crf"); crf != row.fields.end()) o.mp4.crf = std::stoi(crf->second);
 	writeSideBySide(row.versusLeft ? other : own, row.versusLeft ? own : other, muted ? "" : wav, path, o);
@@ -241,14 +245,12 @@ struct BatchRun {
 		const std::string timeline = (fs::path(out) / (ids[row.index] + ".json")).string();
 		try {
 			std::string message;
-			auto run = [&](std::vector<std::string> a) {
-				const int rc = runChild(a, &message);
+			auto run = [&](const Job& job, const std::string& near) {
+				const int rc = runChild(job, near, &message);
 				if (rc != 0) throw Error(message.empty() ? "exit code " + std::to_string(rc) : message);
 			};
 			if (!row.sideBySide) {
-				std::vector<std::string> a = jobArguments(row.command, row.job);
-				a.insert(a.end(), {"-o", path, "-q", "--threads", threads, "--timeline-out", timeline});
-				run(a);
+				run(rowJob(row.command, row.job, {{"output", path}, {"quiet", std::nullopt}, {"threads", threads}, {"timeline-out", timeline}}), path);
 			} else {
 				renderSideBySide(row, path, timeline, threads, run);
 			}

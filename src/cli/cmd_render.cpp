@@ -12,6 +12,7 @@
 #include "cli/video_options.h"
 #include "media/audio.h"
 #include "perform/plan.h"
+#include "perform/speech_source.h"
 #include "phonetics/language.h"
 
 namespace talkhead::cli {
@@ -42,6 +43,25 @@ std::vector<OptionSpec> renderOptionSpecs() {
 	return options;
 }
 
+// The speech the flags name (perform/speech_source.h): --transcript, or --text / --text-file with the
+// sound (--audio, else with --drive the driving video's own); none with --drive-mouth alone. The text of
+// --text-file is read once every option is checked.
+SpeechSource parseSpeechSource(const Args& args, const Driving& drive) {
+	SpeechSource s;
+	s.audio = args.get("--audio");
+	if (!s.audio && drive.hasAudio()) s.audio = *drive.video;
+	const auto transcript = args.get("--transcript"), text = args.get("--text"), textFile = args.get("--text-file");
+	if (text && textFile) throw UsageError("render: give --text or --text-file, not both");
+	if (transcript && (text || textFile)) throw UsageError("render: give --transcript or --text, not both");
+	if (!transcript && !text && !textFile && !drive.mouth) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
+	if ((text || textFile) && !s.audio)
+		throw UsageError(drive.video ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
+		                             : "render: --text needs --audio (the speech to align the text to)");
+	if (transcript) s.kind = SpeechSource::Kind::Transcript, s.transcript = *transcript;
+	else if (text || textFile) s.kind = SpeechSource::Kind::AlignedText, s.text = text.value_or(""), s.textName = textFile.value_or("text");
+	return s;
+}
+
 }  // namespace
 
 int runRender(const std::vector<std::string>& argv) {
@@ -56,31 +76,20 @@ int runRender(const std::vector<std::string>& argv) {
 	const auto t0 = std::chrono::steady_clock::now();
 	if (!args.positionals().empty()) throw UsageError("render: unexpected argument '" + args.positionals()[0] + "'");
 	// Every option is checked before any file is read.
-	auto transcriptPath = args.get("--transcript");
 	Driving drive = parseDriving(args, "render");
-	// The sound: --audio, else (with --drive) the driving video's own.
-	std::optional<std::string> audioPath = args.get("--audio");
-	if (!audioPath && drive.hasAudio()) audioPath = *drive.video;
-	std::optional<std::string> text = args.get("--text");
-	if (text && args.get("--text-file")) throw UsageError("render: give --text or --text-file, not both");
-	if (transcriptPath && (text || args.get("--text-file"))) throw UsageError("render: give --transcript or --text, not both");
-	if (!transcriptPath && !text && !args.get("--text-file") && !drive.mouth) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
-	if ((text || args.get("--text-file")) && !audioPath)
-		throw UsageError(drive.video ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
-		                       : "render: --text needs --audio (the speech to align the text to)");
+	SpeechSource source = parseSpeechSource(args, drive);
 	TranscriptOptions to = parseTranscriptOptions(args, "render", "--transcript-format");
 	const VideoCommand cmd = parseVideoCommand(args, "render");
 	if (drive.video && cmd.controls && !cmd.controls->curves.empty())
 		throw UsageError("render: --controls " + cmd.controls->path + " has curves and --drive gives them too: give one");
-	const Language& lang = languageOption(args, defaultLanguageFor(transcriptPath.value_or(""), args.get("--transcript-format", "")));
-	if (auto f = args.get("--text-file")) text = readTextFile(*f);
+	const Language& lang = languageOption(args, defaultLanguageFor(source.transcript, args.get("--transcript-format", "")));
+	if (auto f = args.get("--text-file")) source.text = readTextFile(*f);
 	to.read.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
+	source.read = to.read, source.unknown = to.unknown, source.notation = to.notation, source.wantWords = bool(cmd.timelineOut);
 	drive.track(cmd.quiet);  // D55: first (its mouth may make the keyposes)
-	TimedSpeech speech;  // none with --drive-mouth: the keyposes come from the driver's mouth
-	if (text) speech = speechFromText(*text, *audioPath, lang, to.unknown);
-	else if (transcriptPath)
-		speech = speechFromTranscript(*transcriptPath, to.read, lang, to.unknown, to.notation, audioPath, bool(cmd.timelineOut),
-		                              [&](const Transcript& t) { noteWordLanguage(args, t, lang, *transcriptPath); });
+	// None with --drive-mouth: the keyposes come from the driver's mouth.
+	const TimedSpeech speech = loadSpeech(source, lang, [&](const Transcript& t) { noteWordLanguage(args, t, lang, source.transcript); });
+	const std::optional<std::string>& audioPath = source.audio;
 	reportSpeech(cmd, speech);
 	const VideoFace face = loadVideoFace(cmd);
 	PerformanceSpec spec = performanceSpec(cmd, face);

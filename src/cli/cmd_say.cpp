@@ -14,6 +14,7 @@
 #include "cli/video_options.h"
 #include "media/audio.h"
 #include "perform/plan.h"
+#include "perform/speech_source.h"
 #include "perform/utterance.h"
 #include "phonetics/espeak.h"
 #include "phonetics/writers.h"
@@ -51,30 +52,32 @@ int runSay(const std::vector<std::string>& argv) {
 	if (saveAudio) checkWritableFolder(*saveAudio);
 	if (saveTranscript) checkWritableFolder(*saveTranscript);
 
-	std::string text;
-	if (auto f = args.get("--text-file")) text = readTextFile(*f);
-	else if (args.positionals().size() == 1 && args.positionals()[0] == "-") text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+	SpeechSource source;
+	source.kind = SpeechSource::Kind::SpokenText;
+	if (auto f = args.get("--text-file")) source.text = readTextFile(*f);
+	else if (args.positionals().size() == 1 && args.positionals()[0] == "-") source.text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
 	else
-		for (const auto& p : args.positionals()) text += (text.empty() ? "" : " ") + p;
+		for (const auto& p : args.positionals()) source.text += (source.text.empty() ? "" : " ") + p;
 	// SSML (D45): breaks, marks, blinks and emotions placed at the words where they occur.
-	const std::string textName = args.get("--text-file", "text");
+	source.textName = args.get("--text-file", "text");
+	source.voice = voice, source.rateWpm = rate, source.pitch = pitch;
+	const std::string& textName = source.textName;
 	const auto tSpeech = std::chrono::steady_clock::now();
-	const SpokenText spoken = speakWithEvents(text, textName, voice, rate, pitch);
+	const TimedSpeech timed = loadSpeech(source, lang);
 	const double speechSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tSpeech).count();
-	const TimedSpeech timed = speechFromEspeak(spoken.speech, lang);
 	for (const auto& w : timed.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
 	const std::vector<PhoneSegment>& phones = timed.phones;
 	if (dryRun) {
 		std::cout << formatVisemes(phones, keyposes(phones, cmd.rate.frameLength(), cmd.pauses), "tsv", lang.tag(), "espeak-ng");
 		return 0;
 	}
-	const AudioClip audio = audioOf(spoken.speech);
+	const AudioClip& audio = timed.audio;
 	const VideoFace face = loadVideoFace(cmd);
 	PerformanceSpec spec = performanceSpec(cmd, face);
 	spec.phones = phones;
 	spec.duration = audio.duration();
-	if (spoken.ssml) {  // marks reported; blinks, brows and emotions performed
-		SpeechEvents events = ssmlEvents(*spoken.ssml, spoken.eventTimes, *spec.duration, cmd.expression);
+	if (timed.ssml) {  // marks reported; blinks, brows and emotions performed
+		SpeechEvents events = ssmlEvents(*timed.ssml, timed.eventTimes, *spec.duration, cmd.expression);
 		reportMarks(cmd, events.marks);
 		spec.controls.push_back(controlTrackOf(std::move(events), textName));
 	}

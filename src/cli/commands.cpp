@@ -16,7 +16,8 @@ const std::vector<Command>& commands() {
 	    {"visemes", "map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …) to visemes and keyposes", runVisemes},
 	    {"batch", "perceptual-test stimuli from a manifest: blind IDs, key, balanced orders, resumable, shards", runBatch},
 	    {"serve", "live streams for chatbots and voice assistants: WebSocket in, fragmented MP4 + JSON events out", runServe},
-	    {"live", "render a live session's script (serve --record) offline, frame for frame", runLive}};
+	    {"live", "render a live session's script (serve --record) offline, frame for frame", runLive},
+	    {"job", "run a job written as JSON (a command and its fields): what batch hands each stimulus, what any program can write", runJob}};
 	return c;
 }
 

@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "perform/job.h"
+
 namespace talkhead::cli {
 
 // Each returns the process exit code; errors are thrown (Error → 1, UsageError → 2).
@@ -20,6 +22,15 @@ int runCorpusFromVideo(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);
 int runServe(const std::vector<std::string>& args);
 int runLive(const std::vector<std::string>& args);
+int runJob(const std::vector<std::string>& args);
+
+// A job's command line (cmd_job.cpp): its command, each field as that command's long option (a switch
+// alone), then the field the command takes as its positional argument (say's text, visemes' transcript,
+// build's corpus, batch's manifest) after "--".
+std::vector<std::string> jobArguments(const Job& job);
+// The command line of a job written as JSON (perform/job.h parseJob), named `name` in errors; throws Error
+// for a malformed job or one whose command talkhead does not have.
+std::vector<std::string> jobCommandLine(const std::string& json, const std::string& name);
 
 // The one command table: name, one-line summary (talkhead --help), entry point, in the order of the help.
 struct Command {

@@ -13,6 +13,7 @@
 #include "perform/performance.h"
 #include "phonetics/espeak.h"
 #include "phonetics/language.h"
+#include "phonetics/ssml.h"
 #include "phonetics/transcript.h"
 #include "synth/coarticulation.h"
 
@@ -31,6 +32,8 @@ struct TimedSpeech {
 	std::vector<std::string> notes;   // one line each, for stderr: "aligned: …", "N cues aligned to …"
 	std::vector<std::string> warnings;  // the reader's, each "name: what"
 	Transcript read;                  // the transcript as read (its level, format, tier and why)
+	std::optional<SsmlText> ssml;     // espeak-ng's SSML text (its events: say's blinks, brows, emotions, marks)
+	std::vector<Ticks> eventTimes;    // per SSML event (espeakSpeakSsml)
 };
 
 // A timed transcript in any format talkhead reads. Words are phonemised in `language`; sentence-level

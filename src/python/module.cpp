@@ -15,6 +15,7 @@
 
 #include "base/cpu_floor.h"
 #include "base/error.h"
+#include "cli/commands.h"
 #include "cli/run.h"
 #include "render/frame_sink.h"
 
@@ -77,6 +78,17 @@ void run(const std::vector<std::string>& args, const py::object& progress) {
 	if (sink && sink->error_) throw std::move(*sink->error_);
 	if (status != 0) raise(status, error);
 }
+
+// A job written as JSON (Python's keywords as the command's fields, perform/job.h) as its command line.
+std::vector<std::string> jobArgs(const std::string& json) {
+	try {
+		return cli::jobCommandLine(json, "the job");
+	} catch (const std::exception& e) {
+		raise(1, e.what());
+	}
+}
+
+void runJob(const std::string& json, const py::object& progress) { run(jobArgs(json), progress); }
 
 // A render's frames, produced by a thread running the command, consumed in order by the iterator.
 class FrameStream {
@@ -198,8 +210,11 @@ PYBIND11_MODULE(_talkhead, m) {
 	usageErrorType = usage.ptr();
 	m.def("run", &run, py::arg("args"), py::arg("progress") = py::none(),
 	      "Runs one talkhead command (args as on the command line, the command first); raises Error (UsageError for a usage error) with its message.");
+	m.def("run_job", &runJob, py::arg("job"), py::arg("progress") = py::none(),
+	      "Runs a job written as JSON ({\"command\": …, \"fields\": {…}}: the command's options by name, as `talkhead job` reads it).");
 	py::class_<FrameStream>(m, "FrameStream")
 	    .def(py::init<std::vector<std::string>>(), py::arg("args"))
+	    .def_static("of_job", [](const std::string& json) { return std::make_unique<FrameStream>(jobArgs(json)); }, py::arg("job"))
 	    .def("__iter__", [](FrameStream& s) -> FrameStream& { return s; })
 	    .def("__next__", &FrameStream::next)
 	    .def("close", &FrameStream::close);

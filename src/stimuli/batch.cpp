@@ -222,12 +222,6 @@ std::string rowJob(const std::map<std::string, std::string>& fields, const fs::p
 
 }  // namespace
 
-std::optional<std::string> jobValue(const std::vector<JobField>& job, const std::string& field) {
-	for (const JobField& f : job)
-		if (f.field == field) return f.value.value_or("");
-	return std::nullopt;
-}
-
 Manifest parseManifest(const std::string& text, const std::string& path) {
 	Manifest m;
 	m.path = path;

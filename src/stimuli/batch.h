@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "base/error.h"
+#include "perform/job.h"
 #include "phonetics/emotion.h"
 #include <optional>
 #include <string>
@@ -27,17 +28,8 @@ namespace talkhead {
 //   components; "default" = the option's default) make the row a side-by-side stimulus: the row as
 //   written on one side, with those columns replaced on the other.
 // A row with a transcript (or text + audio, or a drive video) is a `render`, one with text alone a `say`.
-// One field of a row's job, in the row command's words (the field names render and say read: "emotion",
-// "transcript", "no-audio"); a switch has no value. The command line words them as its flags when it starts
-// the row's child process (cmd_batch.cpp); the library never spells a flag.
-struct JobField {
-	std::string field;
-	std::optional<std::string> value;
-	friend bool operator==(const JobField& a, const JobField& b) { return a.field == b.field && a.value == b.value; }
-};
-// The value of `field` in a job, nullopt when absent (a switch's value is "").
-std::optional<std::string> jobValue(const std::vector<JobField>& job, const std::string& field);
-
+// A row's job is its fields in the row command's words (perform/job.h): the command line hands it to the
+// row's child process as JSON (cmd_batch.cpp); the library never spells a flag.
 struct BatchRow {
 	std::size_t index = 0;  // 0-based
 	long line = 0;          // CSV line / JSON item number (1-based), for messages

@@ -11,16 +11,18 @@ same files, frames and messages), with the GIL released while it works::
     talkhead.say("Hello there.", "hello.mp4", lang="en-US")
     talkhead.visemes("s.TextGrid", lang="en-US")   # [{'start': 0.0, 'end': 0.12, 'phone': '_', 'cdv': 'sil', ...}, ...]
 
-Keyword options are the command's long options: ``head_motion="off"`` is ``--head-motion off``, ``True``
-gives a flag alone, ``None`` and ``False`` leave it out, a list repeats it. Errors raise ``talkhead.Error``
-(``talkhead.UsageError`` for options the command refuses) with the command line's message.
+Keyword options are the command's fields — its long options by name: ``head_motion="off"`` is the field
+``head-motion`` (``--head-motion off``); ``True`` is a switch, ``None`` and ``False`` leave it out, a list
+repeats it. The keywords become a job (``talkhead job``'s JSON, which batch hands its children too) and the
+command runs it. Errors raise ``talkhead.Error`` (``talkhead.UsageError`` for options the command refuses)
+with the command line's message.
 """
 import json
 import os
 import tempfile
 from pathlib import Path
 
-from ._talkhead import Error, FrameStream, UsageError, run as _run
+from ._talkhead import Error, FrameStream, UsageError, run as _run, run_job as _run_job
 
 __all__ = ["Error", "UsageError", "run", "render", "frames", "say", "visemes", "build", "batch", "Model"]
 
@@ -43,21 +45,19 @@ def _installed_data():
 _installed_data()
 
 
-def _flags(options):
-    args = []
-    for key, value in options.items():
+def _job(command, *named, **options):
+    """A job (JSON: the command and its fields, as `talkhead job` reads it) from keyword pairs in order."""
+    fields = {}
+    for key, value in [*named, *options.items()]:
+        if isinstance(value, Model):
+            value = value.path
         if value is None or value is False:
             continue
-        flag = "--" + key.replace("_", "-")
-        for v in value if isinstance(value, (list, tuple)) else [value]:
-            args.append(flag)
-            if v is not True:
-                args.append(str(v))
-    return args
-
-
-def _path(value):
-    return None if value is None else os.fspath(value.path if isinstance(value, Model) else value)
+        values = [v for v in (value if isinstance(value, (list, tuple)) else [value]) if v is not None and v is not False]
+        values = [True if v is True else os.fspath(v) if isinstance(v, os.PathLike) else str(v) for v in values]
+        if values:
+            fields[key.replace("_", "-")] = values if isinstance(value, (list, tuple)) else values[0]
+    return json.dumps({"command": command, "fields": fields})
 
 
 def run(*args, progress=None):
@@ -80,28 +80,14 @@ class Model:
         return f"talkhead.Model({self.path!r})"
 
 
-def _video_args(transcript, audio, text, emotion, controls, model, lang, options):
-    args = []
-    if transcript is not None:
-        args += ["--transcript", _path(transcript)]
-    if text is not None:
-        args += ["--text", text]
-    if audio is not None:
-        args += ["--audio", _path(audio)]
-    if emotion is not None:
-        args += ["--emotion", str(emotion)]
-    if controls is not None:
-        args += ["--controls", _path(controls)]
-    if model is not None and _path(model) is not None:
-        args += ["--model", _path(model)]
-    if lang is not None:
-        args += ["--lang", lang]
-    return args + _flags(options)
+def _video_job(transcript, audio, text, emotion, controls, model, lang, options, *extra):
+    return _job("render", ("transcript", transcript), ("text", text), ("audio", audio), ("emotion", emotion), ("controls", controls),
+                ("model", model), ("lang", lang), *options.items(), *extra)
 
 
 def render(output, *, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, lang=None, progress=None, **options):
     """Renders a video (``talkhead render``): MP4 by default, y4m with ``format="y4m"``."""
-    run("render", *_video_args(transcript, audio, text, emotion, controls, model, lang, options), "-o", _path(output), progress=progress)
+    _run_job(_video_job(transcript, audio, text, emotion, controls, model, lang, options, ("output", output)), progress)
 
 
 def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, lang=None, **options):
@@ -109,8 +95,7 @@ def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=Non
     shape (height, width, 3), uint8 RGB, equal byte for byte to the PNGs of ``render --frames``; with
     ``background="transparent"``, (height, width, 4) RGBA, the face's matte as alpha. Frames are drawn a few
     ahead on another thread; leaving the loop stops the render."""
-    args = ["render", *_video_args(transcript, audio, text, emotion, controls, model, lang, options), "--format", "none", "-q"]
-    stream = FrameStream(args)
+    stream = FrameStream.of_job(_video_job(transcript, audio, text, emotion, controls, model, lang, options, ("format", "none"), ("quiet", True)))
     try:
         for _, seconds, image in stream:
             yield seconds, image
@@ -120,18 +105,8 @@ def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=Non
 
 def say(text, output=None, *, lang=None, emotion=None, voice=None, model=None, progress=None, **options):
     """Speaks text with espeak-ng and renders the face saying it (``talkhead say``)."""
-    args = ["say", text]
-    if lang is not None:
-        args += ["--lang", lang]
-    if emotion is not None:
-        args += ["--emotion", str(emotion)]
-    if voice is not None:
-        args += ["--voice", voice]
-    if model is not None and _path(model) is not None:
-        args += ["--model", _path(model)]
-    if output is not None:
-        args += ["-o", _path(output)]
-    run(*args, *_flags(options), progress=progress)
+    _run_job(_job("say", ("text", text), ("lang", lang), ("emotion", emotion), ("voice", voice), ("model", model), ("output", output), *options.items()),
+             progress)
 
 
 def visemes(transcript, *, lang=None, **options):
@@ -139,10 +114,7 @@ def visemes(transcript, *, lang=None, **options):
     (``talkhead visemes --out-format json``): start, end, phone, cdv, keypose (seconds)."""
     with tempfile.TemporaryDirectory(prefix="talkhead-") as d:
         out = os.path.join(d, "visemes.json")
-        args = ["visemes", _path(transcript), "--out-format", "json", "-o", out]
-        if lang is not None:
-            args += ["--lang", lang]
-        run(*args, *_flags(options))
+        _run_job(_job("visemes", ("transcript", transcript), ("out-format", "json"), ("output", out), ("lang", lang), *options.items()))
         with open(out, encoding="utf-8") as f:
             data = json.load(f)
     return data["phones"] if isinstance(data, dict) and "phones" in data else data
@@ -150,10 +122,10 @@ def visemes(transcript, *, lang=None, **options):
 
 def build(corpus, output, **options):
     """Builds a face model from a corpus (``talkhead build``); returns it as a Model."""
-    run("build", _path(corpus), "-o", _path(output), *_flags(options))
+    _run_job(_job("build", ("corpus", corpus), ("output", output), *options.items()))
     return Model(output)
 
 
 def batch(manifest, output, **options):
     """Renders a stimulus batch from a manifest (``talkhead batch``) into the folder ``output``."""
-    run("batch", _path(manifest), "-o", _path(output), *_flags(options))
+    _run_job(_job("batch", ("manifest", manifest), ("output", output), *options.items()))
