@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
 			if (!e) continue;
 			const Image8 source = readImage(e->imagePath);
 			Keypose k;
-			k.cdv = s.cdv;
+			k.cdv = Cdv::parse(s.cdv);
 			k.emotion = Emotion::of(s.emotion == "-" ? Emotion::neutralLabel() : s.emotion);
 			k.sample = long(i);
 			const std::vector<Keypose> keys{k};

@@ -17,7 +17,7 @@ int main() {
 		for (int i = 0; i < 40; ++i) {
 			Keypose k;
 			k.time = ticksFromSeconds(at - 2 + 0.08 * i);
-			k.cdv = i % 5 ? "a" : "sil";
+			k.cdv = i % 5 ? Cdv("a") : Cdv("sil");
 			keys.push_back(k);
 		}
 		const Ticks from = ticksFromSeconds(at), horizon = ticksFromSeconds(at + 60);

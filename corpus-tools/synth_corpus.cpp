@@ -181,7 +181,8 @@ void writeSynthCorpus(const std::string& dir, const SynthCorpusOptions& o, Progr
 		SynthFace face = renderer.render(items[i].articulation, items[i].actionUnits, items[i].pose);
 		staged.writeFile(items[i].fileName, [&](const std::string& p) { writeImage(p, face.image, o.pngCompression); });
 		CorpusEntry row;
-		row.imagePath = items[i].fileName, row.emotion = items[i].emotion, row.context = items[i].context, row.cdv = items[i].viseme;
+		row.imagePath = items[i].fileName, row.context = items[i].context;
+		row.setLabels(items[i].emotion, items[i].viseme);
 		row.word = items[i].word, row.points = face.points;
 		rows[i] = chUnicampCsvRow(row);
 		std::size_t d = ++done;

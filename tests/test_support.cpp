@@ -79,7 +79,7 @@ const FaceModel& immModel(std::size_t count) {
 		// The first `count` IMM faces, unlabelled (emotion "-"), through the library's corpus → model step.
 		Corpus c = immCorpus();
 		c.entries.resize(count);
-		for (CorpusEntry& e : c.entries) e.emotion = "-", e.word.clear(), e.context = {};
+		for (CorpusEntry& e : c.entries) e.emotion.reset(), e.word.clear(), e.context = {};
 		NullProgress quiet;
 		slot = std::make_unique<FaceModel>(buildFaceModel(c, corpusScheme(c), BuildOptions{}, quiet));
 	}

@@ -98,7 +98,7 @@ int runAuTemplates(const std::vector<std::string>& argv) {
 	const Scheme scheme = loadScheme(args.get("--scheme", corpus.schemeName));
 	const auto profiles = args.get("--profiles") ? loadAuProfiles(*args.get("--profiles")) : defaultAuProfiles();
 	std::vector<LabelledShape> shapes;
-	for (const auto& e : corpus.entries) shapes.push_back({e.emotion, e.cdv, e.points});
+	for (const auto& e : corpus.entries) shapes.push_back({e.emotionLabel(), e.cdvLabel(), e.points});
 	const AuFit fit = learnAuTemplates(scheme, shapes, profiles);
 	char summary[256];
 	std::snprintf(summary, sizeof summary, "%zu (emotion, CDV) shapes; displacement rms %.4f, residual rms %.4f (inter-ocular distances)", fit.pairs,

@@ -32,14 +32,14 @@ FaceModel buildFaceModel(const Corpus& corpus, const Scheme& scheme, BuildOption
 		if (!corpus.baseface.empty() && e.imagePath == corpus.baseface && options.baseface < 0) options.baseface = long(shapes.size());
 		if (!corpus.closedEyes.empty() && e.imagePath == corpus.closedEyes) options.closedEyes = long(shapes.size());
 		shapes.push_back(e.points);
-		samples.push_back(SampleInfo{std::filesystem::path(e.imagePath).filename().string(), e.emotion, e.cdv, e.word, e.context});
+		samples.push_back(SampleInfo{std::filesystem::path(e.imagePath).filename().string(), e.emotionLabel(), e.cdvLabel(), e.word, e.context});
 	}
 	return buildFaceModel(scheme, shapes, samples, width, height, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, options, progress);
 }
 
 AuAppearance buildAuAppearance(const Corpus& corpus, const Scheme& scheme, const std::map<std::string, AuProfile>& profiles, int gridWidth) {
 	std::vector<AppearanceSample> samples;
-	for (const auto& e : corpus.entries) samples.push_back({e.emotion, e.cdv, e.points});
+	for (const auto& e : corpus.entries) samples.push_back({e.emotionLabel(), e.cdvLabel(), e.points});
 	AuAppearance a = learnAuAppearance(
 	    scheme, samples, [&](std::size_t i) { return readImage(corpus.entries[i].imagePath); }, profiles, gridWidth);
 	a.source = std::filesystem::path(corpus.path).filename().string() + ": " + a.source;

@@ -37,25 +37,27 @@ std::string resolveImage(const fs::path& shapeFile, const std::string& name) {
 // D36: a row labelled with an emotion gets canonical emotion and CDV labels (phonetics/emotions.tsv,
 // visemes.tsv: aliases, "<p1>" for p1), or an error naming the row; emotion "-" marks an unlabelled row,
 // whose CDV (an image stem, D11) is kept as written.
-void canonicaliseLabels(CorpusEntry& e, const std::string& path, long lineNo) {
-	if (e.emotion == "-") return;
-	auto emotion = canonicalEmotion(e.emotion);
-	if (!emotion) {
-		std::string known;
-		for (const auto& l : emotionLabels()) known += (known.empty() ? "" : ", ") + l.label;
-		throw Error(path, lineNo, "unknown emotion '" + e.emotion + "' (known: " + known + "; '-' for an unlabelled row)");
+void readLabels(CorpusEntry& e, const std::string& emotion, const std::string& cdv, const std::string& path, long lineNo) {
+	e.emotion.reset(), e.cdv.reset(), e.name.clear();
+	if (emotion == "-") {
+		e.name = cdv;
+		return;
 	}
-	auto cdv = canonicalViseme(e.cdv);
-	if (!cdv) {
+	e.emotion = Emotion::find(emotion);
+	if (!e.emotion) throw Error(path, lineNo, "unknown emotion '" + emotion + "' (known: " + emotionList() + "; '-' for an unlabelled row)");
+	e.cdv = Cdv::find(cdv);
+	if (!e.cdv) {
 		std::string known;
 		for (const auto& l : visemeLabels()) known += (known.empty() ? "" : " ") + l.label;
-		throw Error(path, lineNo, "unknown viseme '" + e.cdv + "' (known: " + known + ", their ASCII aliases, with or without <>)");
+		throw Error(path, lineNo, "unknown viseme '" + cdv + "' (known: " + known + ", their ASCII aliases, with or without <>)");
 	}
-	e.emotion = *emotion;
-	e.cdv = *cdv;
 }
 
 }  // namespace
+
+void CorpusEntry::setLabels(const std::string& emotionColumn, const std::string& cdvColumn) {
+	readLabels(*this, emotionColumn, cdvColumn, source.empty() ? imagePath : source, 0);
+}
 
 Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 	const std::string text = readTextFile(path);
@@ -97,13 +99,12 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 		std::string image(trim(f[0]));
 		if (image.empty()) throw Error(path, lineNo, "empty image name");
 		e.imagePath = (fs::path(image).is_absolute() ? fs::path(image) : dir / image).string();
-		e.emotion = std::string(trim(f[1]));
+		const std::string emotion(trim(f[1])), cdv(trim(f[7]));
 		for (int k = 0; k < 5; ++k) e.context[k] = std::string(trim(f[2 + k]));
-		e.cdv = std::string(trim(f[7]));
 		e.word = std::string(trim(f[8]));
-		if (e.emotion.empty()) throw Error(path, lineNo, "empty emotion label");
-		if (e.cdv.empty()) throw Error(path, lineNo, "empty CDV label");
-		canonicaliseLabels(e, path, lineNo);
+		if (emotion.empty()) throw Error(path, lineNo, "empty emotion label");
+		if (cdv.empty()) throw Error(path, lineNo, "empty CDV label");
+		readLabels(e, emotion, cdv, path, lineNo);
 		e.points.resize(pointCount, 2);
 		for (int k = 0; k < pointCount; ++k) {
 			std::string_view cell = trim(f[9 + k]);
@@ -128,7 +129,7 @@ Corpus readChUnicampCsv(const std::string& path, int pointCount) {
 	if (!corpus.closedEyes.empty()) {
 		auto e = std::find_if(corpus.entries.begin(), corpus.entries.end(), [&](const CorpusEntry& x) { return x.imagePath == corpus.closedEyes; });
 		if (e == corpus.entries.end()) throw Error(path, 0, "the closed-eyes image '" + corpus.closedEyes + "' is not one of the corpus's images");
-		if (e->emotion != "-") throw Error(e->source + ": the closed-eyes image must be an unlabelled row (emotion '-'), so no keypose uses it");
+		if (e->labelled()) throw Error(e->source + ": the closed-eyes image must be an unlabelled row (emotion '-'), so no keypose uses it");
 	}
 	return corpus;
 }
@@ -165,8 +166,7 @@ CorpusEntry readAsf(const std::string& path) {
 	// Relative coordinates: 0..1 across the image; pixel centres at integer positions.
 	e.points.col(0) *= w;
 	e.points.col(1) *= h;
-	e.emotion = "-";
-	e.cdv = fs::path(e.imagePath).stem().string();
+	e.name = fs::path(e.imagePath).stem().string();  // unlabelled
 	return e;
 }
 
@@ -217,8 +217,7 @@ CorpusEntry readPts(const std::string& path) {
 	}
 	if (found.empty()) throw Error(path, 0, "no image with the same name beside it (.png, .jpg, .jpeg, .bmp, .tif, .tiff, .ppm)");
 	e.imagePath = found;
-	e.emotion = "-";
-	e.cdv = p.stem().string();
+	e.name = p.stem().string();  // unlabelled
 	return e;
 }
 
@@ -264,9 +263,9 @@ std::string csvField(const std::string& s) {
 }  // namespace
 
 std::string chUnicampCsvRow(const CorpusEntry& e) {
-	std::string row = csvField(e.imagePath) + "," + csvField(e.emotion);
+	std::string row = csvField(e.imagePath) + "," + csvField(e.emotionLabel());
 	for (const auto& c : e.context) row += "," + csvField(c);
-	row += "," + csvField(e.cdv) + "," + csvField(e.word);
+	row += "," + csvField(e.cdvLabel()) + "," + csvField(e.word);
 	char buf[64];
 	for (Eigen::Index i = 0; i < e.points.rows(); ++i) {
 		std::snprintf(buf, sizeof buf, ",(%.3f;%.3f)", e.points(i, 0), e.points(i, 1));

@@ -1,22 +1,37 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "geometry/shape.h"
+#include "phonetics/cdv.h"
+#include "phonetics/emotion.h"
 
 namespace talkhead {
 
 // One annotated training image: (image, emotion, CDV, phone context, points).
 struct CorpusEntry {
 	std::string imagePath;              // resolved path
-	std::string emotion;                // canonical label (phonetics/emotions.tsv); "-" where the corpus has none
+	// A labelled row's emotion and CDV, typed from the reader up (issue 46). An unlabelled row ("-" in the
+	// emotion column: an IMM face, the closed-eye sample, an image with its .pts) has neither; its CDV
+	// column as written (an image stem, D11) is its `name`.
+	std::optional<Emotion> emotion;
+	std::optional<Cdv> cdv;
+	std::string name;
 	std::array<std::string, 5> context; // 2nd left, 1st left, centre, 1st right, 2nd right phone
-	std::string cdv;                    // canonical CDV (phonetics/visemes.tsv); the image stem where there is none
 	std::string word;
 	Points points;                      // #points × 2, pixels, in the scheme's order
 	std::string source;                 // "file:line" the entry came from, for error messages
+
+	bool labelled() const { return emotion.has_value(); }
+	// The labels as a corpus CSV and a model's samples write them: canonical, or "-" and the name.
+	std::string emotionLabel() const { return emotion ? emotion->label() : "-"; }
+	std::string cdvLabel() const { return cdv ? cdv->label() : name; }
+	// Sets the labels from a corpus row's emotion and CDV columns ("-": unlabelled, the CDV column its
+	// name); throws Error for an unknown emotion or viseme.
+	void setLabels(const std::string& emotionColumn, const std::string& cdvColumn);
 };
 
 struct Corpus {

@@ -34,8 +34,8 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 		wordItems.raw(JsonObject().raw("start", sec(w.start + leadIn)).raw("end", sec(w.end + leadIn)).add("word", w.label).str());
 	}
 	for (const auto& ph : phones)
-		phoneItems.raw(JsonObject().raw("start", sec(ph.start + leadIn)).raw("end", sec(ph.end + leadIn)).add("phone", ph.phone).add("cdv", ph.cdv).str());
-	for (const auto& k : p.timeline.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv).add("emotion", k.emotion.value_or(p.expression.emotion()).label()).str());
+		phoneItems.raw(JsonObject().raw("start", sec(ph.start + leadIn)).raw("end", sec(ph.end + leadIn)).add("phone", ph.phone).add("cdv", ph.cdv.label()).str());
+	for (const auto& k : p.timeline.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv.label()).add("emotion", k.emotion.value_or(p.expression.emotion()).label()).str());
 	JsonObject o;
 	o.add("fps", p.rate.str()).add("frames", p.frameCount()).raw("duration", sec(p.duration)).raw("lead_in", sec(leadIn)).raw("tail", sec(tail));
 	o.raw("av_offset", sec(avOffset)).raw("speech_onset", onset < Ticks(0) ? "null" : sec(onset + leadIn));

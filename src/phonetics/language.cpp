@@ -169,9 +169,11 @@ Language::Language(const std::string& tag, const std::string& dir) : tag_(tag) {
 			if (vc != "i" && vc != "a" && vc != "u") throw Error(inv.path, r.line, "vclass must be i, a, u or -");
 			p.vclass = vc[0];
 		}
-		p.cdv = r.fields[cc] == "-" ? "" : r.fields[cc];
-		if (!p.cdv.empty() && !canonicalViseme(p.cdv)) throw Error(inv.path, r.line, "unknown CDV '" + p.cdv + "'");
-		if (p.cdv.empty() && p.group.empty()) throw Error(inv.path, r.line, "a phone needs a CDV or a consonant group");
+		if (r.fields[cc] != "-") {
+			p.cdv = Cdv::find(r.fields[cc]);
+			if (!p.cdv) throw Error(inv.path, r.line, "unknown CDV '" + r.fields[cc] + "'");
+		}
+		if (!p.cdv && p.group.empty()) throw Error(inv.path, r.line, "a phone needs a CDV or a consonant group");
 		if (inventory_.count(p.phone)) throw Error(inv.path, r.line, "phone '" + p.phone + "' listed twice");
 		order_.push_back(p.phone);
 		inventory_[p.phone] = p;
@@ -422,32 +424,32 @@ std::string Language::inventoryList() const {
 namespace {
 
 // (group key, context) → CDV, from phonetics/visemes.tsv.
-const std::map<std::pair<std::string, std::string>, std::string>& contextTable() {
+const std::map<std::pair<std::string, std::string>, Cdv>& contextTable() {
 	static const auto table = [] {
-		std::map<std::pair<std::string, std::string>, std::string> t;
+		std::map<std::pair<std::string, std::string>, Cdv> t;
 		for (const auto& v : visemeLabels())
 			if (v.kind == "consonant" && !v.group.empty())
-				for (const auto& c : v.contexts) t[{v.group.front(), c}] = v.label;
+				for (const auto& c : v.contexts) t[{v.group.front(), c}] = Cdv::of(v.label);
 		return t;
 	}();
 	return table;
 }
 
-std::string firstCdvOfGroup(const std::string& group) {
+Cdv firstCdvOfGroup(const std::string& group) {
 	for (const auto& v : visemeLabels())
-		if (v.kind == "consonant" && !v.group.empty() && v.group.front() == group) return v.label;
-	return "sil";
+		if (v.kind == "consonant" && !v.group.empty() && v.group.front() == group) return Cdv::of(v.label);
+	return Cdv();
 }
 
-const std::map<std::pair<std::string, std::string>, std::string>& visemeInput() {
+const std::map<std::pair<std::string, std::string>, Cdv>& visemeInput() {
 	static const auto table = [] {
-		std::map<std::pair<std::string, std::string>, std::string> t;
+		std::map<std::pair<std::string, std::string>, Cdv> t;
 		auto path = findDataFile("phonetics/viseme-input.tsv");
 		if (!path) throw Error("data file 'phonetics/viseme-input.tsv' not found");
 		TsvTable tab = readTsv(*path);
 		const auto cs = tab.column("scheme"), cy = tab.column("symbol"), cc = tab.column("cdv");
 		for (const auto& r : tab.rows) {
-			auto c = canonicalViseme(r.fields[cc]);
+			auto c = Cdv::find(r.fields[cc]);
 			if (!c) throw Error(tab.path, r.line, "unknown CDV '" + r.fields[cc] + "'");
 			t[{r.fields[cs], r.fields[cy]}] = *c;
 		}
@@ -465,16 +467,16 @@ void assignCdvs(std::vector<PhoneSegment>& ph, const Language& lang) {
 	for (std::size_t i = 0; i < n; ++i) {
 		const PhoneInfo& p = info(i);
 		if (p.kind == "pause") {
-			ph[i].cdv = "sil";
+			ph[i].cdv = Cdv();
 			continue;
 		}
-		if (!p.cdv.empty()) {
-			ph[i].cdv = p.cdv;
+		if (p.cdv) {
+			ph[i].cdv = *p.cdv;
 			// <i2>: [i] between two [t d n] or two [ʃ ʒ] consonants (visemes.tsv: tit ʃiʃ).
-			if (p.cdv == "i1" && i > 0 && i + 1 < n) {
+			if (*p.cdv == Cdv::of("i1") && i > 0 && i + 1 < n) {
 				const std::string& gl = info(i - 1).group;
 				const std::string& gr = info(i + 1).group;
-				if (gl == gr && (gl == "t" || gl == "ʃ")) ph[i].cdv = "i2";
+				if (gl == gr && (gl == "t" || gl == "ʃ")) ph[i].cdv = Cdv::of("i2");
 			}
 			continue;
 		}
@@ -514,7 +516,7 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 	std::vector<PhoneSegment> out;
 	if (tr.level == LabelLevel::Viseme) {
 		for (const auto& iv : tr.intervals) {
-			std::string cdv = "sil";
+			Cdv cdv;  // silence
 			if (!iv.label.empty()) {
 				auto it = visemeInput().find({tr.visemeScheme, iv.label});
 				if (it == visemeInput().end()) {
@@ -574,7 +576,7 @@ std::vector<PhoneSegment> phoneSegments(const Transcript& tr, const Language& la
 		const std::int64_t total = (iv.end - iv.start).count(), k = std::int64_t(phones->size());
 		for (std::int64_t j = 0; j < k; ++j) {
 			const Ticks a = iv.start + Ticks(total * j / k), b = iv.start + Ticks(total * (j + 1) / k);
-			out.push_back({a, b, iv.label, (*phones)[std::size_t(j)], "", iv.line});
+			out.push_back({a, b, iv.label, (*phones)[std::size_t(j)], Cdv(), iv.line});
 		}
 	}
 	assignCdvs(out, lang);
@@ -609,7 +611,7 @@ std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, 
 		while (j + 1 < ph.size() && ph[j + 1].cdv == ph[i].cdv) ++j;
 		Keypose k{Ticks((ph[i].start.count() + ph[j].end.count()) / 2), ph[i].cdv, i, j};
 		k.context = {phoneAt(long(i) - 2), phoneAt(long(i) - 1), phoneAt(long(i)), phoneAt(long(j) + 1), phoneAt(long(j) + 2)};
-		auto at = [&](Ticks t, const std::string& cdv, bool breath = false) {
+		auto at = [&](Ticks t, Cdv cdv, bool breath = false) {
 			Keypose x = k;
 			x.time = t, x.cdv = cdv, x.breath = breath;
 			return x;
@@ -630,12 +632,12 @@ std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, 
 				if (pauses == PauseStyle::Still && b - restFrom >= kBreathPause) {
 					// The breath rises slowly: over up to twice Natural's rise, as far as the pause allows.
 					add(at(std::max(restFrom, b - kBreathLead - 2 * kBreathRise), k.cdv), false);
-					add(at(b - kBreathLead, kBreathCdv, true), false);
+					add(at(b - kBreathLead, Cdv::of(kBreathCdv), true), false);
 				} else if (pauses == PauseStyle::Still) {
 					add(at(b - kStillLead, k.cdv), false);
 				} else if (b - restFrom >= kBreathPause) {
 					add(at(b - kBreathPause, k.cdv), false);
-					add(at(b - kBreathLead, kBreathCdv, true), false);
+					add(at(b - kBreathLead, Cdv::of(kBreathCdv), true), false);
 				} else {
 					add(at(b - kRestBefore, k.cdv), false);
 				}

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "phonetics/cdv.h"
 #include "phonetics/emotion.h"
 #include "phonetics/transcript.h"
 
@@ -17,7 +18,7 @@ struct PhoneInfo {
 	std::string kind;   // vowel | consonant | liquid | glide | pause
 	std::string group;  // consonants: the CDV group key (first phone of the homorganic group), else "-"
 	char vclass = 0;    // vowels and glides: context class 'i', 'a' or 'u'; 0 otherwise
-	std::string cdv;    // fixed CDV (vowels, glides, pauses, fixed consonants), or "" (decided by context)
+	std::optional<Cdv> cdv;  // fixed CDV (vowels, glides, pauses, fixed consonants), or none (decided by context)
 };
 
 // How a transcript spells its phones (the `notation` column of phonetics/<lang>/symbols.tsv). Auto: decided
@@ -78,7 +79,7 @@ struct PhoneSegment {
 	Ticks start{0}, end{0};
 	std::string label;  // as in the transcript
 	std::string phone;  // canonical IPA ("_" = pause)
-	std::string cdv;    // keypose class (phonetics/visemes.tsv)
+	Cdv cdv;            // keypose class (phonetics/visemes.tsv)
 	long line = 0;
 };
 
@@ -97,7 +98,7 @@ void assignCdvs(std::vector<PhoneSegment>& phones, const Language& language);
 // A keypose: a CDV at an instant (the midpoint of its phone, thesis Eq. 5.1).
 struct Keypose {
 	Ticks time{0};
-	std::string cdv;
+	Cdv cdv;
 	std::size_t first = 0, last = 0;  // the phone segments it stands for
 	bool breath = false;              // the in-breath before speech (PauseStyle::Natural), not a phone's viseme
 	// The lips held before the first words (PauseStyle::Still, D70): the rest mouth, or with a

@@ -62,7 +62,7 @@ struct Cue {
 std::vector<Cue> rhubarbCues(const std::vector<PhoneSegment>& ph) {
 	std::vector<Cue> cues;
 	for (const auto& p : ph) {
-		const std::string s = rhubarbShape(p.cdv);
+		const std::string s = rhubarbShape(p.cdv.label());
 		if (!cues.empty() && cues.back().shape == s && cues.back().end == p.start) cues.back().end = p.end;
 		else cues.push_back({p.start, p.end, s});
 	}
@@ -83,15 +83,15 @@ std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector
 	if (format == "tsv") {
 		o << "start\tend\tphone\tcdv\tkeypose\n";
 		for (std::size_t i = 0; i < ph.size(); ++i)
-			o << sec(ph[i].start) << '\t' << sec(ph[i].end) << '\t' << ph[i].phone << '\t' << ph[i].cdv << '\t' << (kt[i].empty() ? "-" : kt[i]) << '\n';
+			o << sec(ph[i].start) << '\t' << sec(ph[i].end) << '\t' << ph[i].phone << '\t' << ph[i].cdv.label() << '\t' << (kt[i].empty() ? "-" : kt[i]) << '\n';
 	} else if (format == "json") {
 		JsonArray phones, keyposes;
 		for (std::size_t i = 0; i < ph.size(); ++i)
 			phones.raw(JsonObject().raw("start", sec(ph[i].start)).raw("end", sec(ph[i].end)).add("label", ph[i].label).add("phone", ph[i].phone)
-			               .add("cdv", ph[i].cdv).raw("keypose", kt[i].empty() ? "null" : kt[i]).str());
+			               .add("cdv", ph[i].cdv.label()).raw("keypose", kt[i].empty() ? "null" : kt[i]).str());
 		for (const Keypose& k : keys) {
 			JsonObject key;
-			key.raw("time", sec(k.time)).add("cdv", k.cdv);
+			key.raw("time", sec(k.time)).add("cdv", k.cdv.label());
 			if (k.breath) key.add("breath", true);
 			keyposes.raw(key.str());
 		}
@@ -110,11 +110,11 @@ std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector
 				  << "\n            text = " << textGridString(labelOf(ph[i])) << "\n";
 		};
 		tier(1, "phones", [](const PhoneSegment& p) { return p.phone == "_" ? std::string() : p.phone; });
-		tier(2, "cdv", [](const PhoneSegment& p) { return p.cdv; });
+		tier(2, "cdv", [](const PhoneSegment& p) { return p.cdv.label(); });
 		o << "    item [3]:\n        class = \"TextTier\"\n        name = \"keyposes\"\n        xmin = 0\n        xmax = " << sec(end)
 		  << "\n        points: size = " << keys.size() << "\n";
 		for (std::size_t i = 0; i < keys.size(); ++i)
-			o << "        points [" << i + 1 << "]:\n            number = " << sec(keys[i].time) << "\n            mark = " << textGridString(keys[i].cdv)
+			o << "        points [" << i + 1 << "]:\n            number = " << sec(keys[i].time) << "\n            mark = " << textGridString(keys[i].cdv.label())
 			  << "\n";
 	} else if (format == "rhubarb-tsv") {
 		auto cues = rhubarbCues(ph);

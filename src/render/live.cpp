@@ -145,7 +145,7 @@ Ticks LiveSession::lastDrawn() const { return next_ > 0 ? o_.rate.time(next_ - 1
 Keypose LiveSession::rest(Ticks t) const {
 	Keypose k;
 	k.time = t;
-	k.cdv = "sil";
+	k.cdv = Cdv();  // silence
 	k.emotion = expression_.emotion();
 	k.intensity = expression_.intensity();
 	return k;
@@ -354,8 +354,8 @@ const FrameSlot& LiveSession::drawNext(std::vector<LiveEvent>& events, bool alph
 	}
 	std::size_t i = 0;
 	while (i + 1 < timeline_.keys.size() && timeline_.keys[i + 1].time <= t) ++i;
-	if (timeline_.keys[i].cdv != lastViseme_) {
-		lastViseme_ = timeline_.keys[i].cdv;
+	if (timeline_.keys[i].cdv.label() != lastViseme_) {
+		lastViseme_ = timeline_.keys[i].cdv.label();
 		LiveEvent e;
 		e.kind = LiveEvent::Kind::Viseme;
 		e.frame = next_;

@@ -95,7 +95,7 @@ std::vector<std::string> FramePlayer::overlayLines(Ticks tau, const std::vector<
 		const std::string& e = k.emotion.value_or(so.expression.emotion()).label();
 		const double in = k.intensity.value_or(so.expression.intensity());
 		char l[96];
-		std::snprintf(l, sizeof l, "%s %s:%.2g @%.3f", k.cdv.c_str(), e.c_str(), in, toSeconds(k.time));
+		std::snprintf(l, sizeof l, "%s %s:%.2g @%.3f", k.cdv.label().c_str(), e.c_str(), in, toSeconds(k.time));
 		return std::string(l);
 	};
 	if (i + 1 < keys.size() && tau > keys[i].time) {

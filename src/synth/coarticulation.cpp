@@ -56,7 +56,7 @@ const CdvTargets& cdvTargets() {
 }
 
 bool labiodental(const std::string& cdv) { return cdv == "f1" || cdv == "f2"; }
-bool pause(const PhoneSegment& p) { return p.cdv == "sil" || p.phone == "_"; }
+bool pause(const PhoneSegment& p) { return p.cdv.isSilence() || p.phone == "_"; }
 
 constexpr int kSide = 2;        // phone runs each side
 constexpr int kPerRun = 6;      // features per run
@@ -109,7 +109,7 @@ Eigen::MatrixXd coarticulationFeatures(const std::vector<PhoneSegment>& phones, 
 			const auto run = runAt(off);
 			const PhoneSegment* p = run ? &phones[run->first] : nullptr;
 			const bool isPause = !p || pause(*p);
-			const std::string cdv = isPause ? std::string("sil") : p->cdv;
+			const std::string cdv = isPause ? Cdv().label() : p->cdv.label();
 			const auto it = t.value.find(cdv);
 			const auto v = it == t.value.end() ? std::pair<double, double>{0, 0} : it->second;
 			const double seconds = run ? toSeconds(phones[run->last].end - phones[run->first].start) : 0.5;
@@ -122,7 +122,7 @@ Eigen::MatrixXd coarticulationFeatures(const std::vector<PhoneSegment>& phones, 
 		}
 		for (int off = -kOneHotSide; off <= kOneHotSide; ++off, col += Eigen::Index(t.cdvs.size())) {
 			const auto run = runAt(off);
-			const std::string cdv = !run || pause(phones[run->first]) ? std::string("sil") : phones[run->first].cdv;
+			const std::string cdv = !run || pause(phones[run->first]) ? Cdv().label() : phones[run->first].cdv.label();
 			const auto it = std::find(t.cdvs.begin(), t.cdvs.end(), cdv);
 			if (it != t.cdvs.end()) X(Eigen::Index(r), col + (it - t.cdvs.begin())) = 1;
 		}
@@ -238,7 +238,7 @@ std::vector<double> bilabialClosureOffsets(const CoarticulationClip& c, Ticks fr
 	const ClipFrames f = clipFrames(c);
 	std::vector<double> out;
 	for (const Keypose& k : keyposes(c.phones, frame)) {
-		if (!bilabial(k.cdv) || !isPhoneKeypose(c.phones, k) || k.last >= c.phones.size()) continue;
+		if (!bilabial(k.cdv.label()) || !isPhoneKeypose(c.phones, k) || k.last >= c.phones.size()) continue;
 		const double from = toSeconds(c.phones[k.first].start) - 0.04, to = toSeconds(c.phones[k.last].end) + 0.04;
 		double least = std::numeric_limits<double>::max(), at = 0;
 		for (std::size_t i = 0; i < f.t.size(); ++i)
@@ -264,7 +264,7 @@ void applyBilabialLead(const CoarticulationModel& m, const std::vector<PhoneSegm
 	const Ticks lead = ticksFromSeconds(*m.bilabialLead);
 	for (std::size_t i = 0; i < keys.size(); ++i) {
 		Keypose& k = keys[i];
-		if (!bilabial(k.cdv) || !isPhoneKeypose(phones, k)) continue;
+		if (!bilabial(k.cdv.label()) || !isPhoneKeypose(phones, k)) continue;
 		Ticks t = k.time + lead;
 		if (i > 0) t = std::max(t, keys[i - 1].time + frame);
 		if (i + 1 < keys.size()) t = std::min(t, keys[i + 1].time - frame);
@@ -473,11 +473,11 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 		if (poolOf(e).samples.empty() || !(poolOf(e).scale > 0)) e = Emotion::neutralLabel();
 		const MouthPool& pool = poolOf(e);
 		if (pool.samples.empty() || !(pool.scale > 0)) continue;
-		long own = model.findSample(e, k.cdv, &k.context);
+		long own = model.findSample(e, k.cdv.label(), &k.context);
 		if (own < 0) continue;  // the CDV's fallbacks stay the synthesizer's
 		const MouthSize& o = size[std::size_t(own)];
 		long best = own;
-		if (bilabial(k.cdv)) {
+		if (bilabial(k.cdv.label())) {
 			if (o.opening > pool.closedLimit) {
 				double least = std::numeric_limits<double>::max();
 				for (int pass = 0; pass < 2 && best == own; ++pass)  // a bilabial exemplar first, then any

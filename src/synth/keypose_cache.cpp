@@ -59,7 +59,7 @@ std::pair<long, long> KeyposeCache::resolvePair(const Keypose& key) const {
 Emotion KeyposeCache::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.expression.emotion()); }
 double KeyposeCache::intensityOf(const Keypose& key) const { return key.intensity.value_or(o_.expression.intensity()); }
 std::string KeyposeCache::indexKey(const Keypose& key) const {
-	return key.cdv + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
+	return key.cdv.label() + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
 }
 
 long KeyposeCache::resolve(const Keypose& key) const { return resolve(key, emotionOf(key).label()); }
@@ -67,7 +67,7 @@ long KeyposeCache::resolve(const Keypose& key) const { return resolve(key, emoti
 long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const {
 	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs;
 	// among several samples of one entry, the best phone context (FaceModel::findSample).
-	const std::string& cdv = key.cdv;
+	const std::string& cdv = key.cdv.label();
 	const auto* context = &key.context;
 	if (key.sample >= 0 && std::size_t(key.sample) < model_.sampleCount() && model_.samples[std::size_t(key.sample)].emotion == emotion) return key.sample;
 	long sample = model_.findSample(emotion, cdv, context);
@@ -88,7 +88,7 @@ long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const
 	return sample;
 }
 
-const KeyposeImage& KeyposeCache::keypose(const std::string& cdv) {
+const KeyposeImage& KeyposeCache::keypose(Cdv cdv) {
 	Keypose k{Ticks(0), cdv, 0, 0};
 	k.context = {"", "", "", "", ""};  // no context: the corpus's first sample of the CDV
 	prepare({k});
@@ -102,7 +102,7 @@ const KeyposeImage& KeyposeCache::cached(const Keypose& key) const {
 		auto jt = it->second.find(key.context);
 		if (jt != it->second.end()) return *jt->second;
 	}
-	throw std::logic_error("Synthesizer: keypose not prepared: " + key.cdv);
+	throw std::logic_error("Synthesizer: keypose not prepared: " + key.cdv.label());
 }
 
 std::vector<std::string> KeyposeCache::substitutions() const {
@@ -130,8 +130,8 @@ std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypos
 		}
 		if (k.mouthOpening && k.sample >= 0) continue;  // D62: an exemplar chosen for its mouth, not a substitute
 		const SampleInfo& s = model_.samples[std::size_t(resolve(k))];
-		const std::string line = emotion + " " + k.cdv + " -> " + s.emotion + " " + s.cdv;
-		if ((s.emotion != emotion || s.cdv != k.cdv) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
+		const std::string line = emotion + " " + k.cdv.label() + " -> " + s.emotion + " " + s.cdv;
+		if ((s.emotion != emotion || s.cdv != k.cdv.label()) && std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 	}
 	return out;
 }
@@ -402,7 +402,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 			ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
 			if (au) {
 				if (!mouths_) measureNeutralMouths();
-				key.lipsShut = bilabial(k.cdv);
+				key.lipsShut = bilabial(k.cdv.label());
 				// Lips parted (AU25) or the jaw dropped (AU26) open the mouth as speech does, so a speech sample
 				// shows it; AU10's bared upper teeth behind lips still together are not a speech mouth.
 				const AuProfile& profile = defaultAuProfiles().at(key.auEmotion);
@@ -449,8 +449,8 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 		if (image->usedEmotion == emotion + " (action units)") {
 			if (o_.emotionSource == EmotionSource::ActionUnits) continue;  // asked for
 			line = actionUnitLine(emotion);
-		} else if ((image->usedEmotion != emotion || image->usedCdv != k->cdv) && !(k->mouthOpening && k->sample >= 0)) {
-			line = emotion + " " + k->cdv + " -> " + image->usedEmotion + " " + image->usedCdv;
+		} else if ((image->usedEmotion != emotion || image->usedCdv != k->cdv.label()) && !(k->mouthOpening && k->sample >= 0)) {
+			line = emotion + " " + k->cdv.label() + " -> " + image->usedEmotion + " " + image->usedCdv;
 		} else {
 			continue;
 		}

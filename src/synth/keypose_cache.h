@@ -27,7 +27,7 @@ public:
 	KeyposeCache(const Face& face, const SynthOptions& options, const FaceRig& rig);
 	~KeyposeCache();
 	// The keypose of a CDV in the options' emotion (see Synthesizer::keypose).
-	const KeyposeImage& keypose(const std::string& cdv);
+	const KeyposeImage& keypose(Cdv cdv);
 	// Computes every keypose of a timeline that is not there yet.
 	void prepare(const std::vector<Keypose>& keys);
 	// A prepared keypose's image.

@@ -130,12 +130,12 @@ ShapeModulator::ShapeModulator(const ModulatorOptions& o, const TimedEvents& eve
     : o_(o), e_(events) {
 	// Speech runs: consecutive keyposes that are phones (not silence, not the in-breath).
 	for (std::size_t i = 0; i < keys.size();) {
-		if (keys[i].cdv == "sil" || keys[i].breath) {
+		if (keys[i].cdv.isSilence() || keys[i].breath) {
 			++i;
 			continue;
 		}
 		std::size_t j = i;
-		while (j + 1 < keys.size() && keys[j + 1].cdv != "sil" && !keys[j + 1].breath) ++j;
+		while (j + 1 < keys.size() && !keys[j + 1].cdv.isSilence() && !keys[j + 1].breath) ++j;
 		speech_.emplace_back(keys[i].time, keys[j].time);
 		i = j + 1;
 	}
@@ -423,9 +423,7 @@ std::vector<BrowEvent> speechBrows(const std::vector<PhoneSegment>& phones, doub
 	std::vector<BrowEvent> out;
 	if (!(amount > 0)) return out;
 	auto isVowel = [](const PhoneSegment& p) {
-		for (const auto& v : visemeLabels())
-			if (v.label == p.cdv) return v.kind == "vowel";
-		return false;
+		return p.cdv.info().kind == "vowel";
 	};
 	auto isPause = [](const PhoneSegment& p) { return p.phone == "_" || p.phone.empty(); };
 	const Ticks minPause = ticksFromSeconds(0.15), minGap = ticksFromSeconds(1.2);

@@ -56,7 +56,7 @@ Synthesizer::Workspace& Synthesizer::Workspace::operator=(Workspace&&) noexcept 
 
 int Synthesizer::width() const { return rig_->width; }
 int Synthesizer::height() const { return rig_->height; }
-const KeyposeImage& Synthesizer::keypose(const std::string& cdv) { return cache_->keypose(cdv); }
+const KeyposeImage& Synthesizer::keypose(Cdv cdv) { return cache_->keypose(cdv); }
 std::vector<std::string> Synthesizer::substitutions() const { return cache_->substitutions(); }
 void Synthesizer::prepare(const std::vector<Keypose>& keys) { cache_->prepare(keys); }
 std::vector<std::string> Synthesizer::substitutionsFor(const std::vector<Keypose>& keys) const { return cache_->substitutionsFor(keys); }

@@ -89,7 +89,7 @@ public:
 	// to neutral for that CDV, then to the other CDVs of the same homorganic group. On the Direct path it
 	// holds the face box's appearance in the mean-shape frame (no `image`): renderFrame at the keypose's
 	// time draws it.
-	const KeyposeImage& keypose(const std::string& cdv);
+	const KeyposeImage& keypose(Cdv cdv);
 	// Substitutions made so far: "emotion cdv → emotion' cdv'".
 	std::vector<std::string> substitutions() const;
 	// Computes every keypose of a timeline up front (so frames can then be drawn in parallel).

@@ -168,13 +168,13 @@ DrivenMouth driveMouth(const LandmarkTrack& driver, const FaceModel& model, cons
 		const std::size_t mid = (i + j - 1) / 2;
 		Keypose k;
 		k.time = driver.frames[mid].time;
-		k.cdv = classifier.classes[std::size_t(cls[i])];
+		k.cdv = Cdv::parse(classifier.classes[std::size_t(cls[i])]);
 		k.first = k.last = mid;
 		if (ibug) {
-			const std::string& e = model.findSample(emotion, k.cdv) >= 0 ? emotion : Emotion::neutralLabel();
+			const std::string& e = model.findSample(emotion, k.cdv.label()) >= 0 ? emotion : Emotion::neutralLabel();
 			std::vector<std::size_t> exemplars;
 			for (std::size_t s = 0; s < model.sampleCount(); ++s)
-				if (model.samples[s].cdv == k.cdv && model.samples[s].emotion == e) exemplars.push_back(s);
+				if (model.samples[s].cdv == k.cdv.label() && model.samples[s].emotion == e) exemplars.push_back(s);
 			if (exemplars.size() > 1) {
 				const Points moved = actorRest + (normalisedMouth(unsmoothedPoints(driver.frames[mid])) - driverRest);
 				double best = std::numeric_limits<double>::max();

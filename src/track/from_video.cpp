@@ -421,7 +421,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 		const auto& ph = phones[p];
 		const long pick = inflectionFrame(track, tm, ok, ph);
 		if (pick < 0) continue;
-		byCdv[ph.cdv].push_back({std::size_t(pick), p});
+		byCdv[ph.cdv.label()].push_back({std::size_t(pick), p});
 	}
 	if (byCdv.empty()) throw Error(track.source, 0, "no phone of the transcript falls on a frame with a tracked face");
 	const UsualLift usual = tm.usualLift(cand);
@@ -697,7 +697,8 @@ std::string takesCorpusCsv(const std::vector<TakePlan>& takes, std::size_t baseT
 	for (std::size_t k = 0; k < takes.size(); ++k)
 		for (const auto& e : takes[k].plan.entries) {
 			CorpusEntry row;
-			row.imagePath = imageName(k, e.frame), row.emotion = e.emotion, row.context = e.context, row.cdv = e.cdv, row.word = e.word;
+			row.imagePath = imageName(k, e.frame), row.context = e.context, row.word = e.word;
+			row.setLabels(e.emotion, e.cdv);
 			row.points = e.points.topRows(kIbugPoints);
 			csv << chUnicampCsvRow(row) << "\n";
 		}

@@ -87,7 +87,7 @@ std::string labelledCorpus(const std::string& name, const std::vector<std::pair<
 
 std::vector<std::string> labelsOf(const Corpus& c) {
 	std::vector<std::string> out;
-	for (const auto& e : c.entries) out.push_back(e.emotion + " " + e.cdv);
+	for (const auto& e : c.entries) out.push_back(e.emotionLabel() + " " + e.cdvLabel());
 	return out;
 }
 }  // namespace

@@ -113,7 +113,7 @@ TEST(FaceModel, componentOptionsTruncatePerRegion) {
 	std::vector<SampleInfo> samples;
 	for (std::size_t i = 0; i < 12; ++i) {
 		shapes.push_back(c.entries[i].points);
-		samples.push_back(SampleInfo{c.entries[i].cdv, "-", c.entries[i].cdv, "", {}});
+		samples.push_back(SampleInfo{c.entries[i].cdvLabel(), "-", c.entries[i].cdvLabel(), "", {}});
 	}
 	BuildOptions opts;
 	opts.pca.maxComponents = 4;

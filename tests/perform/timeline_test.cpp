@@ -8,7 +8,7 @@ using namespace talkhead;
 namespace {
 Ticks ms(long v) { return Ticks(v * (kTicksPerSecond / 1000)); }
 
-Timeline keysAt(std::initializer_list<long> times, const std::string& cdv) {
+Timeline keysAt(std::initializer_list<long> times, Cdv cdv) {
 	Timeline t;
 	for (long v : times) t.keys.push_back(Keypose{ms(v), cdv, 0, 0});
 	return t;

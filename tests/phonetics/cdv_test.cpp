@@ -18,7 +18,7 @@ const std::string kDir = std::string(TALKHEAD_TEST_DATA_DIR) + "/transcripts/";
 
 std::vector<std::string> cdvs(const std::vector<PhoneSegment>& p) {
 	std::vector<std::string> c;
-	for (const auto& s : p) c.push_back(s.cdv);
+	for (const auto& s : p) c.push_back(s.cdv.label());
 	return c;
 }
 
@@ -96,12 +96,12 @@ TEST(Cdv, englishMapsOntoTheSameClasses) {
 	const Language& en = Language::get("en-US");
 	std::vector<PhoneSegment> p = phoneSegments(readTranscript(kDir + "hello_arpabet.lab"), en);
 	ASSERT_EQ(p.size(), 11u);  // OW1 is a diphthong: o + ʊ
-	for (const auto& s : p) EXPECT_TRUE(canonicalViseme(s.cdv).has_value()) << s.label << " → " << s.cdv;
+	for (const auto& s : p) EXPECT_TRUE(canonicalViseme(s.cdv.label()).has_value()) << s.label << " → " << s.cdv.label();
 	EXPECT_EQ(p.front().cdv, "sil");
 	EXPECT_EQ(p[3].phone, "l");
-	EXPECT_EQ(p[3].cdv.substr(0, 1), "l");
+	EXPECT_EQ(p[3].cdv.label().substr(0, 1), "l");
 	EXPECT_EQ(p[4].phone, "o");
-	EXPECT_EQ(p[9].cdv.substr(0, 1), "t");  // D: alveolar
+	EXPECT_EQ(p[9].cdv.label().substr(0, 1), "t");  // D: alveolar
 	// ARPAbet diphthongs expand into two phones, each half the interval.
 	Transcript t;
 	t.path = "d";
@@ -199,7 +199,7 @@ TEST(Keyposes, naturalPausesRestSoonAndBreatheInBeforeSpeech) {
 
 	auto k = keyposes(p, frame);  // natural (D34)
 	std::vector<std::pair<long, std::string>> got;
-	for (const auto& x : k) got.push_back({long(x.time / ms(1)), x.cdv + (x.breath ? "*" : "")});
+	for (const auto& x : k) got.push_back({long(x.time / ms(1)), x.cdv.label() + (x.breath ? "*" : "")});
 	const std::vector<std::pair<long, std::string>> want = {
 	    {150, "sil"}, {300, "ɐ*"},                // leading: rest until 450 ms before speech, in-breath 300 ms before
 	    {650, "a"},   {850, "sil"},  {1050, "a"},  // a 300-ms pause is short: one keypose at its midpoint (thesis)
@@ -220,7 +220,7 @@ TEST(Keyposes, naturalPausesRestSoonAndBreatheInBeforeSpeech) {
 	// Natural's) where the pause allows; the rest as Natural.
 	auto still = keyposes(p, frame, PauseStyle::Still);
 	got.clear();
-	for (const auto& x : still) got.push_back({long(x.time / ms(1)), x.cdv + (x.breath ? "*" : "") + (x.hold ? "#" : "")});
+	for (const auto& x : still) got.push_back({long(x.time / ms(1)), x.cdv.label() + (x.breath ? "*" : "") + (x.hold ? "#" : "")});
 	const std::vector<std::pair<long, std::string>> wantStill = {
 	    {0, "sil#"},   {450, "sil#"}, {650, "a"},    {850, "sil"},  {1050, "a"},  {1150, "p1"},
 	    {1320, "sil"}, {1600, "sil"}, {1900, "ɐ*"}, {2250, "u"},  {2420, "sil"}};
@@ -303,4 +303,24 @@ TEST(Cdv, nearestIsBoundedForHugeLabels) {
 	EXPECT_NE(e.find("huge.tsv:1: unknown pt-BR phone 'xxxx"), std::string::npos) << e.substr(0, 200);
 	EXPECT_NE(e.find("no known spelling is near it"), std::string::npos);
 	EXPECT_LT(e.size(), 400u);  // the label is abbreviated in the message
+}
+
+TEST(Cdv, aLabelIsTypedWhereItIsReadAndEveryOtherSpellingIsRefused) {
+	EXPECT_EQ(Cdv::parse("ʃ1"), Cdv::parse("<sh1>"));  // its ASCII alias, with or without <>
+	EXPECT_EQ(Cdv::parse(" p1 ").label(), "p1");
+	EXPECT_EQ(Cdv::parse("sh1").ascii(), "sh1");
+	EXPECT_TRUE(Cdv().isSilence());
+	EXPECT_EQ(Cdv().label(), "sil");
+	EXPECT_FALSE(Cdv("p1").isSilence());
+	EXPECT_TRUE(Cdv("a").in({"a", "e"}));
+	EXPECT_EQ(Cdv("e").info().kind, "vowel");
+	EXPECT_FALSE(Cdv::find("p9"));
+	EXPECT_NE(errorOf([] { Cdv::parse("p9"); }).find("unknown viseme 'p9' (known: "), std::string::npos);
+	EXPECT_THROW(Cdv::of("sh1"), std::logic_error);  // in code, the canonical label only
+	EXPECT_THROW(Cdv("P1"), std::logic_error);
+	// Ordered as their labels, as the strings were.
+	EXPECT_LT(Cdv("a"), Cdv("p1"));
+	EXPECT_LT(Cdv("p1"), Cdv("sil"));
+	EXPECT_EQ(Cdv::count(), visemeLabels().size());
+	for (std::size_t i = 0; i < Cdv::count(); ++i) EXPECT_EQ(Cdv::at(i).index(), i);
 }

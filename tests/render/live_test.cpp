@@ -72,7 +72,7 @@ TEST(ShapeModulator, aContinuedPlanGoesOnWithoutAJump) {
 	for (int i = 0; i < 20; ++i) {
 		Keypose k;
 		k.time = ticksFromSeconds(2.05 + 0.08 * i);
-		k.cdv = i % 2 ? "a" : "p1";
+		k.cdv = i % 2 ? Cdv("a") : Cdv("p1");
 		keys.push_back(k);
 	}
 	Keypose rest;

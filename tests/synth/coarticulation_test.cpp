@@ -41,7 +41,7 @@ CoarticulationClip clip(const std::vector<Phone>& sequence, int seed) {
 	std::vector<std::pair<double, double>> mouth;
 	for (std::size_t i = 0; i < all.size(); ++i) {
 		const long len = all[i].phone == std::string("_") ? 400 : 80 + 10 * ((seed + long(i)) % 5);
-		c.phones.push_back({ms(t), ms(t + len), all[i].phone, all[i].phone, all[i].cdv, 0});
+		c.phones.push_back({ms(t), ms(t + len), all[i].phone, all[i].phone, Cdv::of(all[i].cdv), 0});
 		const std::string cdv = all[i].cdv, next = i + 1 < all.size() ? all[i + 1].cdv : "sil", before = i > 0 ? all[i - 1].cdv : "sil";
 		double open = cdv == "a" ? 1.0 : cdv == "u" ? 0.45 : cdv == "i1" ? 0.55 : cdv == "t1" ? 0.25 : 0.0;
 		double width = cdv == "u" ? 0.7 : cdv == "i1" ? 1.15 : 1.0;

@@ -138,7 +138,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 		Synthesizer synth(f.model, o);
 		// A timeline through every viseme of the model: 200 ms phones, keyposes at their midpoints.
 		std::vector<PhoneSegment> phones;
-		const std::vector<std::string> order = {"sil", "a", "p1", "u", "f1", "i1", "sil"};
+		const std::vector<Cdv> order = {"sil", "a", "p1", "u", "f1", "i1", "sil"};
 		for (std::size_t i = 0; i < order.size(); ++i) phones.push_back({ms(200 * long(i)), ms(200 * long(i) + 200), "", "", order[i], 0});
 		auto keys = keyposes(phones, Ticks(kTicksPerSecond / 30));
 		ASSERT_EQ(keys.size(), order.size());
@@ -149,7 +149,7 @@ TEST(Synthesizer, framesAtKeyposeTimesMatchTheCorpusImages) {
 			Image8 frame;
 			Points pts;
 			synth.renderFrame(k.time, keys, ws, frame, pts);
-			const long sample = f.model.findSample(emotion, k.cdv);
+			const long sample = f.model.findSample(emotion, k.cdv.label());
 			ASSERT_GE(sample, 0);
 			// The corpus image, its head jitter removed (warped to its aligned shape, where the keypose is drawn).
 			const SynthFace& face = f.faces[std::size_t(sample)];
@@ -527,7 +527,7 @@ TEST(Synthesizer, theBackgroundBeyondTheAnchorsNeverMovesAndReusedBuffersDrawThe
 namespace {
 std::vector<Keypose> speechKeys(long ms0, long ms1) {
 	std::vector<PhoneSegment> phones;
-	const std::vector<std::string> order = {"a", "p1", "u", "f1", "i1"};
+	const std::vector<Cdv> order = {"a", "p1", "u", "f1", "i1"};
 	long t = ms0;
 	for (std::size_t i = 0; t < ms1; ++i, t += 150) phones.push_back({ms(t), ms(t + 150), "", "", order[i % order.size()], 0});
 	return keyposes(phones, Ticks(kTicksPerSecond / 30));
@@ -687,7 +687,7 @@ TEST(Synthesizer, keyposesTakeTheirOwnEmotionWhenATrackSetsIt) {
 	Points p;
 	for (std::size_t i = 0; i < keys.size(); ++i) {
 		synth.renderFrameYuv(keys[i].time, keys, ws, frame, p);
-		const long sample = f.model.findSample(i < 2 ? "joy" : "anger", keys[i].cdv);
+		const long sample = f.model.findSample(i < 2 ? "joy" : "anger", keys[i].cdv.label());
 		ASSERT_GE(sample, 0);
 		EXPECT_LT((p - f.model.alignedShapes[std::size_t(sample)]).cwiseAbs().maxCoeff(), 1e-9) << i;
 	}
@@ -733,7 +733,7 @@ TEST(ShapeModulator, browsRiseForARaiseAndComeDownAndTogetherForAFrown) {
 
 TEST(ShapeModulator, speechBrowsRiseOnEachPhrasesLongestVowel) {
 	// D49. Phones (start, end in ms, phone, CDV): a short phrase, a 300-ms pause, a long phrase.
-	auto seg = [](long a, long b, const char* phone, const char* cdv) { return PhoneSegment{ms(a), ms(b), phone, phone, cdv, 0}; };
+	auto seg = [](long a, long b, const char* phone, const char* cdv) { return PhoneSegment{ms(a), ms(b), phone, phone, Cdv::of(cdv), 0}; };
 	std::vector<PhoneSegment> phones = {seg(0, 100, "p", "p1"), seg(100, 180, "a", "a"), seg(180, 260, "t", "t1"), seg(260, 420, "u", "u"),
 	                                    seg(420, 1500, "_", "sil")};  // the longest vowel: [u]; then a pause
 	const std::vector<PhoneSegment> second = {
