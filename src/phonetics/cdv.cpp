@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "phonetics/cdv.h"
 
+#include <ostream>
 #include <stdexcept>
 
 #include "base/error.h"
@@ -67,6 +68,8 @@ Cdv Cdv::at(std::size_t index) {
 	if (index >= count()) throw std::out_of_range("Cdv::at");
 	return Cdv(int(index));
 }
+
+std::ostream& operator<<(std::ostream& out, const Cdv& cdv) { return out << cdv.label(); }
 
 std::string cdvList() {
 	std::string s;

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 #include <initializer_list>
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -48,6 +49,9 @@ private:
 	explicit Cdv(int index) : index_(index) {}
 	int index_;
 };
+
+// Its label (test messages, logs).
+std::ostream& operator<<(std::ostream& out, const Cdv& cdv);
 
 // The known labels, comma-separated, for messages.
 std::string cdvList();

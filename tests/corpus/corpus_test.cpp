@@ -39,16 +39,16 @@ TEST(ChUnicampCsv, readsRowsExactly) {
 	ASSERT_EQ(c.entries.size(), 2u);
 	const CorpusEntry& a = c.entries[0];
 	EXPECT_EQ(a.imagePath, kData + "/corpus/img_0001.png");
-	EXPECT_EQ(a.emotion, "joy");
+	EXPECT_EQ(a.emotionLabel(), "joy");
 	EXPECT_EQ(a.context[0], "\\ep");
 	EXPECT_EQ(a.context[2], "i");
-	EXPECT_EQ(a.cdv, "i1");  // written <i1>: labels come out canonical (D36)
+	EXPECT_EQ(a.cdv, Cdv("i1"));  // written <i1>: labels come out canonical (D36)
 	EXPECT_EQ(a.word, "que");
 	ASSERT_EQ(a.points.rows(), 56);
 	EXPECT_DOUBLE_EQ(a.points(0, 0), 100.0);
 	EXPECT_DOUBLE_EQ(a.points(55, 0), 100 + 55 * 3.5);
 	EXPECT_DOUBLE_EQ(a.points(55, 1), 200 + 55 * 1.25);
-	EXPECT_EQ(c.entries[1].cdv, "o");
+	EXPECT_EQ(c.entries[1].cdv, Cdv("o"));
 	EXPECT_EQ(c.entries[1].word, "notícia, não");
 	EXPECT_DOUBLE_EQ(c.entries[1].points(0, 1), 202.0);
 	EXPECT_EQ(c.entries[1].source, kData + "/corpus/mini.csv:2");
@@ -154,7 +154,8 @@ TEST(Asf, immShapesAreInPixels) {
 	// First point of 01_01.asf: 0.31251052, 0.37090045 of an 800×600 image.
 	EXPECT_NEAR(e.points(0, 0), 0.31251052 * 800, 1e-9);
 	EXPECT_NEAR(e.points(0, 1), 0.37090045 * 600, 1e-9);
-	EXPECT_EQ(e.cdv, "01_01");
+	EXPECT_FALSE(e.cdv);
+	EXPECT_EQ(e.name, "01_01");
 }
 
 // Issue 46: the corpus → model step is a library call (talkhead build and the first run's default face

@@ -36,13 +36,13 @@ TEST(Timeline, shiftMovesKeysEventsMarksAndCurvesTogether) {
 TEST(Timeline, spliceKeepsWhatDrawnFramesDependOnAndHoldsTheGap) {
 	// Speaking: keys at 0, 100, 200, 300; frames drawn up to 150; the next utterance at 250.
 	Timeline live = keysAt({0, 100, 200, 300}, "a");
-	Timeline next = keysAt({0, 80}, "b");
+	Timeline next = keysAt({0, 80}, "p1");
 	next.events.blinks = {ms(40)};
 	next.marks.push_back({"m", ms(10)});
 	live.splice(next, ms(250), ms(150));
 	// 0 and 100 (before 250), 200 (the first after the last drawn frame); 300 went; then b at 250, 330.
 	EXPECT_EQ(timesOf(live), (std::vector<long>{0, 100, 200, 250, 330}));
-	EXPECT_EQ(live.keys[3].cdv, "b");
+	EXPECT_EQ(live.keys[3].cdv, "p1");
 	EXPECT_EQ(live.events.blinks, std::vector<Ticks>{ms(290)});
 	ASSERT_EQ(live.marks.size(), 1u);
 	EXPECT_EQ(live.marks[0].time, ms(260));
@@ -50,12 +50,12 @@ TEST(Timeline, spliceKeepsWhatDrawnFramesDependOnAndHoldsTheGap) {
 	// Holding (no key after the last drawn frame): the pose held fills the gap until the utterance starts.
 	Timeline idle = keysAt({0}, "sil");
 	idle.keys[0].breath = true;
-	idle.splice(keysAt({0, 50}, "b"), ms(400), ms(200));
+	idle.splice(keysAt({0, 50}, "p1"), ms(400), ms(200));
 	EXPECT_EQ(timesOf(idle), (std::vector<long>{0, 400, 450}));
 	EXPECT_EQ(idle.keys[1].cdv, "sil");  // the held pose
 	EXPECT_FALSE(idle.keys[1].breath);
 	// A key of the utterance at or before the last kept one is left out (never two keys at one time).
-	EXPECT_EQ(idle.keys[2].cdv, "b");
+	EXPECT_EQ(idle.keys[2].cdv, "p1");
 }
 
 TEST(Timeline, cutAndDropBefore) {

@@ -392,7 +392,7 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 	auto predicted = [](const std::vector<Keypose>& keys) {
 		std::vector<std::pair<std::string, long>> out;
 		for (const Keypose& k : keys)
-			if (k.mouthOpening) out.emplace_back(k.cdv, k.sample);
+			if (k.mouthOpening) out.emplace_back(k.cdv.label(), k.sample);
 		return out;
 	};
 	const auto rendered8 = predicted(rendered.timeline.keys);
