@@ -72,6 +72,7 @@ Args fromVideoArgs() {
 	             {"--duration", "T", "use T seconds of the video"},
 	             {"--min-confidence", "C", "tracked frames less consistent than this are never chosen (default 0.6)"},
 	             {"--min-eye-opening", "F", "nor frames whose eyes are less open than F × the video's median (a blink; default 0.7, 0: any)"},
+	             {"--max-shut-eyes", "F", "keep the person's own shut eyes for blinks: the most shut frame whose eyes are open at most F × the median, head frontal, mouth at rest (default 0.4; 0: none, blinks draw the lid)"},
 	             {"--quiet", "", "no progress and no summary", "-q"}},
 	            "Turns a video of a face into a viseme corpus for 'talkhead build': tracks the 68 points (dlib), then\n"
 	            "picks for each phone the frame at the articulators' inflection point (the extremum of the lip opening\n"
@@ -167,6 +168,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 	fo.baseface = std::int64_t(args.number("--baseface", -1, 0, 1e9));
 	fo.minConfidence = args.number("--min-confidence", fo.minConfidence, 0, 1);
 	fo.minEyeOpening = args.number("--min-eye-opening", fo.minEyeOpening, 0, 1);
+	fo.maxShutEyes = args.number("--max-shut-eyes", fo.maxShutEyes, 0, 1);
 	const Language& lang = Language::get(args.get("--lang", "pt-BR"));
 	const bool quiet = args.has("--quiet");
 	const auto t0 = std::chrono::steady_clock::now();
@@ -205,6 +207,8 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 			             plans[k].take.emotion.c_str(), plan.entries.size(), plan.method == "shape" ? "mouth shape" : "phones",
 			             std::size_t(visemeLabels().size() - plan.missing.size()), track.foundCount(), track.frames.size(), matches[k].gain[0], matches[k].gain[1],
 			             matches[k].gain[2], k == base ? " (the baseface's take)" : "");
+		if (plan.closedEyes) std::fprintf(stderr, "blinks: the person's own shut eyes, frame %lld\n", (long long)plan.closedEyes->frame);
+		else if (plans.size() == 1) std::fprintf(stderr, "blinks: no frame with the eyes shut, the head frontal and the mouth at rest: blinks draw the lid\n");
 		if (!plan.missing.empty() && plans.size() == 1) {
 			std::string m;
 			for (const auto& c : plan.missing) m += (m.empty() ? "" : " ") + c;

@@ -282,6 +282,41 @@ std::int64_t mostNeutralFrame(const LandmarkTrack& track, const TrackMeasures& t
 
 std::int64_t mostNeutralFrame(const LandmarkTrack& track, const FromVideoOptions& o) { return mostNeutralFrame(track, TrackMeasures(track), o); }
 
+std::optional<ChosenFrame> closedEyesFrame(const LandmarkTrack& track, std::int64_t basefaceFrame, const FromVideoOptions& o) {
+	if (!(o.maxShutEyes > 0)) return std::nullopt;
+	const double maxRoll = o.maxRollDegrees * M_PI / 180;
+	std::vector<double> eyes(track.frames.size(), NAN), open, opening;
+	const FrameLandmarks* base = nullptr;
+	for (std::size_t i = 0; i < track.frames.size(); ++i) {
+		const auto& f = track.frames[i];
+		if (f.frame == basefaceFrame && f.found) base = &f;
+		if (!f.found || f.confidence < o.minConfidence) continue;
+		eyes[i] = eyeAspect(f.points);
+		if (std::isfinite(eyes[i])) open.push_back(eyes[i]), opening.push_back(mouthMeasures(f.points).opening);
+	}
+	if (open.size() < 10 || !base) return std::nullopt;
+	const double median = percentile(open, 0.5), shut = o.maxShutEyes * median;
+	// The mouth at rest: no more open than most of this person's frames (the lips of a blink in a pause).
+	const double restOpening = percentile(opening, 0.05), openingSpread = std::max(1e-4, percentile(opening, 0.95) - restOpening);
+	const double baseRoll = headRoll(base->points), baseYaw = headYaw(base->points);
+	double best = 1e300;
+	std::optional<std::size_t> pick;
+	for (std::size_t i = 0; i < track.frames.size(); ++i) {
+		const auto& f = track.frames[i];
+		if (!(eyes[i] <= shut)) continue;  // NaN and open eyes out
+		const double roll = headRoll(f.points), yaw = headYaw(f.points);
+		if (std::abs(roll) > maxRoll || std::abs(yaw) > o.maxYaw) continue;
+		const double open = (mouthMeasures(f.points).opening - restOpening) / openingSpread;
+		if (open > 0.25) continue;  // speaking: the lids' composite would carry another mouth's shading
+		// The most shut, posed as the baseface (the lids are composited in the mean frame), mouth at rest.
+		double cost = 4 * eyes[i] / median + open * open;
+		cost += std::pow((roll - baseRoll) / (5 * M_PI / 180), 2) + std::pow((yaw - baseYaw) / 0.04, 2) + 4 * (1 - f.confidence);
+		if (cost < best) best = cost, pick = i;
+	}
+	if (!pick) return std::nullopt;
+	return chosen(track, *pick, "-", "closed-eyes", best);
+}
+
 VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvMouthTarget>& targets, const FromVideoOptions& o) {
 	VideoCorpusPlan plan;
 	plan.method = "shape";
@@ -346,6 +381,7 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 	}
 	if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
 		plan.entries.push_back(chosen(track, baseIndex, o.emotion, "sil", 0));
+	plan.closedEyes = closedEyesFrame(track, plan.basefaceFrame, o);
 	sortPlan(plan);
 	return plan;
 }
@@ -461,6 +497,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 		if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
 			throw Error(track.source, 0, "{{baseface}} " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
 	}
+	plan.closedEyes = closedEyesFrame(track, plan.basefaceFrame, o);
 	sortPlan(plan);
 	return plan;
 }
@@ -595,6 +632,7 @@ void applyMatch(Image8& img, const ColourMatch& m) {
 std::map<std::int64_t, Image8> decodeFrames(const std::string& video, const VideoCorpusPlan& plan) {
 	std::set<std::int64_t> wanted;
 	for (const auto& e : plan.entries) wanted.insert(e.frame);
+	if (plan.closedEyes) wanted.insert(plan.closedEyes->frame);
 	std::map<std::int64_t, Image8> frames;
 	VideoReader reader(video);
 	Image8 rgb;
@@ -643,6 +681,11 @@ std::vector<ColourMatch> decodeAndMatchColours(const std::vector<TakePlan>& take
 				if (st.n > 0) v.push_back(st.mean(c));
 			median[c] = percentile(v, 0.5);
 		}
+		// The shut eyes' frame takes the same gain to the median, the median left as the chosen frames make it.
+		if (const auto& shut = takes[k].plan.closedEyes; shut && !points.count(shut->frame)) {
+			points.emplace(shut->frame, &shut->points);
+			stats[shut->frame].add(frames[k].at(shut->frame), shut->points);
+		}
 		for (const auto& [f, p] : points) {
 			ColourMatch m;
 			for (int c = 0; c < 3; ++c) {
@@ -670,6 +713,14 @@ std::vector<ColourMatch> decodeAndMatchColours(const std::vector<TakePlan>& take
 	return matches;
 }
 
+// The take whose shut eyes the corpus keeps: the base take's (lit as the baseface), else the first that has them.
+std::optional<std::size_t> closedEyesTake(const std::vector<TakePlan>& takes, std::size_t baseTake) {
+	if (takes[baseTake].plan.closedEyes) return baseTake;
+	for (std::size_t k = 0; k < takes.size(); ++k)
+		if (takes[k].plan.closedEyes) return k;
+	return std::nullopt;
+}
+
 // corpus.csv: a header naming the takes (and their colour maps), the baseface, then one row per chosen frame.
 std::string takesCorpusCsv(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::vector<ColourMatch>& matches) {
 	const bool several = takes.size() > 1;
@@ -694,14 +745,18 @@ std::string takesCorpusCsv(const std::vector<TakePlan>& takes, std::size_t baseT
 		}
 	}
 	csv << "# baseface: " << imageName(baseTake, takes[baseTake].plan.basefaceFrame) << "\n";
+	const auto shut = closedEyesTake(takes, baseTake);
+	if (shut) csv << "# closed-eyes: " << imageName(*shut, takes[*shut].plan.closedEyes->frame) << "\n";
+	auto row = [&](std::size_t k, const ChosenFrame& e) {
+		CorpusEntry r;
+		r.imagePath = imageName(k, e.frame), r.context = e.context, r.word = e.word;
+		r.setLabels(e.emotion, e.cdv);
+		r.points = e.points.topRows(kIbugPoints);
+		csv << chUnicampCsvRow(r) << "\n";
+	};
 	for (std::size_t k = 0; k < takes.size(); ++k)
-		for (const auto& e : takes[k].plan.entries) {
-			CorpusEntry row;
-			row.imagePath = imageName(k, e.frame), row.context = e.context, row.word = e.word;
-			row.setLabels(e.emotion, e.cdv);
-			row.points = e.points.topRows(kIbugPoints);
-			csv << chUnicampCsvRow(row) << "\n";
-		}
+		for (const auto& e : takes[k].plan.entries) row(k, e);
+	if (shut) row(*shut, *takes[*shut].plan.closedEyes);  // unlabelled: no keypose uses it, blinks do (D50)
 	return csv.str();
 }
 
@@ -715,6 +770,7 @@ Image8 takesContactSheet(const std::vector<TakePlan>& takes, std::size_t baseTak
 		for (const auto& e : takes[k].plan.entries)
 			if (k == baseTake && e.frame == takes[k].plan.basefaceFrame) order.insert(order.begin(), {k, &e});
 			else order.emplace_back(k, &e);
+	if (const auto shut = closedEyesTake(takes, baseTake)) order.emplace_back(*shut, &*takes[*shut].plan.closedEyes);
 	const int rows = (int(order.size()) + cols - 1) / cols;
 	Image8 sheet(cols * cell, rows * (cell + labelH), 3, 30);
 	cv::Mat sm(sheet.height, sheet.width, CV_8UC3, sheet.data.data());

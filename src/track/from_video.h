@@ -3,6 +3,7 @@
 // A viseme corpus from a video (issue 10 §3): for each phone, or for each CDV by mouth shape, the frame
 // that represents it, with its tracked 68 points, written in the project's CSV format (ibug-68).
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -69,6 +70,9 @@ struct FromVideoOptions {
 	// D71: nor frames whose eyes are less open than this × the track's median (a blink or a lid on its
 	// way down: a still mouth in a pause is where people blink, so a still-frame preference chose them).
 	double minEyeOpening = 0.7;
+	// Issue 47: the person's own shut eyes for blinks — a frame whose eyes are open at most this × the
+	// track's median (closedEyesFrame); 0: none kept (blinks draw the lid, D42).
+	double maxShutEyes = 0.4;
 };
 
 // A chosen frame and its labels.
@@ -88,7 +92,16 @@ struct VideoCorpusPlan {
 	std::string method;                   // "shape" or "phones"
 	std::vector<std::string> missing;     // CDVs with no frame (phones: CDVs the speech never used)
 	MouthMeasures rest, scale;            // select by shape: the speaker's rest measures and target scale
+	// Issue 47: a frame with the person's eyes shut (closedEyesFrame), written as the corpus's unlabelled
+	// `# closed-eyes:` row, so that blinks take the person's own lids (D50); none when the video has none.
+	std::optional<ChosenFrame> closedEyes;
 };
+
+// The frame a blink of this person is drawn from (issue 47): the eyes shut (open at most
+// options.maxShutEyes × the track's median), the head frontal and turned as in `basefaceFrame`, the mouth
+// at rest and still, the face tracked confidently; the most shut of those that qualify. nullopt when no
+// frame does (a video without a blink, or blinks only with the head turned or the mouth moving).
+std::optional<ChosenFrame> closedEyesFrame(const LandmarkTrack& track, std::int64_t basefaceFrame, const FromVideoOptions& options);
 
 // The most neutral frame: lips closed and relaxed (opening near its 5th percentile, width and jaw near
 // their medians), the head frontal and still.

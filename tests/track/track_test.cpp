@@ -347,3 +347,49 @@ TEST(FromVideo, aSmileCaughtInAFrameIsNotChosenOverTheSameMouthWithoutIt) {
 	}
 	EXPECT_GT(open, 20u);
 }
+
+TEST(FromVideo, theBlinkKeptIsTheMostShutFrontalFrameWithTheMouthAtRestAndNoneWithout) {
+	// Issue 47: 60 frames, the lids 10 px apart (eye aspect 0.33) but for three blinks — frames 4–6 with the
+	// mouth shut (frame 5 the most shut), 21–23 while speaking, 40–42 with the head turned.
+	std::vector<double> gaps;
+	for (std::size_t i = 0; i < 60; ++i) gaps.push_back(i < 12 ? 0 : 4 + 8 * double(i % 5));
+	auto lids = [](Points& p, double half) {
+		for (const auto& [first, x0] : {std::pair{36, 150.0}, std::pair{42, 220.0}}) {
+			p(first, 0) = x0, p(first + 3, 0) = x0 + 30;
+			p(first, 1) = p(first + 3, 1) = 180;
+			p(first + 1, 0) = p(first + 5, 0) = x0 + 10, p(first + 2, 0) = p(first + 4, 0) = x0 + 20;
+			p(first + 1, 1) = p(first + 2, 1) = 180 - half, p(first + 5, 1) = p(first + 4, 1) = 180 + half;
+		}
+	};
+	auto trackWith = [&](const std::vector<std::pair<std::size_t, double>>& shut, bool turnAt40) {
+		LandmarkTrack t = trackOf(gaps);
+		for (std::size_t i = 0; i < t.frames.size(); ++i) {
+			double half = 5;
+			for (const auto& [f, h] : shut)
+				if (f == i) half = h;
+			lids(t.frames[i].points, half);
+			if (turnAt40 && i >= 38 && i <= 44) t.frames[i].points(30, 0) += 30, t.frames[i].points(33, 0) += 30;  // nose: the head turned
+			t.frames[i].raw = t.frames[i].points;
+		}
+		return t;
+	};
+	FromVideoOptions o;
+	const LandmarkTrack blinks = trackWith({{4, 1.5}, {5, 0.5}, {6, 1.5}, {21, 0.2}, {22, 0.2}, {23, 0.2}, {40, 0.1}, {41, 0.1}, {42, 0.1}}, true);
+	const std::int64_t rest = mostNeutralFrame(blinks, o);
+	const auto shut = closedEyesFrame(blinks, rest, o);
+	ASSERT_TRUE(shut.has_value());
+	EXPECT_EQ(shut->frame, 5);  // not the more shut ones while speaking or turned
+	EXPECT_EQ(shut->emotion, "-");
+	EXPECT_EQ(shut->cdv, "closed-eyes");
+	EXPECT_NEAR(eyeAspect(shut->points), 1.0 / 30, 1e-12);
+	// The plan keeps it beside its chosen frames, none of which is a blink.
+	const VideoCorpusPlan plan = selectByShape(blinks, loadCdvMouthTargets(), o);
+	ASSERT_TRUE(plan.closedEyes.has_value());
+	EXPECT_EQ(plan.closedEyes->frame, 5);
+	for (const ChosenFrame& c : plan.entries) EXPECT_GT(eyeAspect(c.points), 0.3) << c.frame;
+	// No usable blink: none kept (blinks then draw the lid); nor when asked for none.
+	EXPECT_FALSE(closedEyesFrame(trackWith({{21, 0.2}, {22, 0.2}, {40, 0.1}}, true), rest, o).has_value());
+	EXPECT_FALSE(closedEyesFrame(trackWith({{4, 2.5}}, false), rest, o).has_value());  // half shut (0.17 > 0.4 × 0.33)
+	o.maxShutEyes = 0;
+	EXPECT_FALSE(closedEyesFrame(blinks, rest, o).has_value());
+}
