@@ -101,7 +101,38 @@ ClosedLidPatch closedLidFrom(const FaceModel& m, const Image8& closed, const Eye
 	return patch;
 }
 
-ClosedLidPatch closedLid(const FaceModel& m, const Image8& b, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range) {
+// Issue 47: how dark the shut eye's lash line is in the corpus's closed-eyes image `closed` (in the mean
+// frame), 0–0.7 of the lid's skin: per column of the eye, the darkest luma from a tenth of an eye width
+// above the lower lid to a twentieth below it, against the median of the lid's skin 0.1–0.3 eye widths
+// above the open upper lid; the median over the columns. A person's own lashes are often fainter than the
+// drawn lid's line (0.7), which then shows as a drawn line on a real face.
+double lashDepth(const FaceModel& m, const Image8& closed, const EyeSpec& e) {
+	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
+	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
+	auto luma = [&](int x, int y) {
+		const std::uint8_t* p = &closed.row(std::clamp(y, 0, closed.height - 1))[3 * std::clamp(x, 0, closed.width - 1)];
+		return 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+	};
+	std::vector<double> depths;
+	const double x0 = m.meanShape(e.corner0, 0), x1 = m.meanShape(e.corner1, 0);
+	for (int x = int(std::ceil(std::min(x0, x1) + 0.2 * width)); x <= int(std::floor(std::max(x0, x1) - 0.2 * width)); ++x) {
+		const double yu = polylineY(up, x), yl = polylineY(lo, x);
+		if (std::isnan(yu) || std::isnan(yl)) continue;
+		std::vector<double> skin;
+		for (int y = int(yu - 0.3 * width); y <= int(yu - 0.1 * width); ++y) skin.push_back(luma(x, y));
+		double dark = 255;
+		for (int y = int(yl - 0.1 * width); y <= int(yl + 0.05 * width); ++y) dark = std::min(dark, luma(x, y));
+		if (skin.empty()) continue;
+		std::nth_element(skin.begin(), skin.begin() + long(skin.size() / 2), skin.end());
+		const double s = skin[skin.size() / 2];
+		if (s > 8) depths.push_back(std::clamp(1 - dark / s, 0.0, 0.7));
+	}
+	if (depths.empty()) return 0.7;
+	std::nth_element(depths.begin(), depths.begin() + long(depths.size() / 2), depths.end());
+	return depths[depths.size() / 2];
+}
+
+ClosedLidPatch closedLid(const FaceModel& m, const Image8& b, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range, double lash) {
 	ClosedLidPatch patch;
 	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
 	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
@@ -158,7 +189,7 @@ ClosedLidPatch closedLid(const FaceModel& m, const Image8& b, const EyeSpec& e, 
 			patch.alpha[i] = float(std::clamp(inside, 0.0, 1.0));
 			const double t = std::clamp((double(y) - top) / std::max(1.0, bottom - top), 0.0, 1.0);
 			const double d = double(y) - lashes[j];
-			const double shade = (1 - 0.06 * t) * (1 - 0.7 * std::exp(-(d * d) / (2 * sigma * sigma)) * std::clamp(side, 0.0, 1.0));
+			const double shade = (1 - 0.06 * t) * (1 - lash * std::exp(-(d * d) / (2 * sigma * sigma)) * std::clamp(side, 0.0, 1.0));
 			for (int c = 0; c < 3; ++c)
 				patch.rgb[3 * i + std::size_t(c)] = std::uint8_t(std::clamp(smooth[3 * j + std::size_t(c)] * shade + 0.5, 0.0, 255.0));
 		}
@@ -352,7 +383,8 @@ void FaceRig::makeClosedLids(const Face& face, const SynthOptions& o) {
 		// D50: the corpus's closed-eyes image, in the mean frame, gives the shut lid where the model has one.
 		const Image8& closed = face.closedEyes();
 		for (const EyeSpec& e : eyes) {
-			eyePatches.push_back(closedLid(model, closed.empty() ? model.baseface : closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
+			const double lash = closed.empty() ? 0.7 : lashDepth(model, closed, e);
+			eyePatches.push_back(closedLid(model, closed.empty() ? model.baseface : closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange, lash));
 			if (!closed.empty()) eyePatches.push_back(closedLidFrom(model, closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
 		}
 	}
