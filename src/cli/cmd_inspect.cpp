@@ -18,6 +18,7 @@
 #include "model/face_model.h"
 #include "model/model_file.h"
 #include "phonetics/labels.h"
+#include "synth/synthesizer.h"
 #include "viz/inspect_images.h"
 
 namespace talkhead::cli {
@@ -31,6 +32,29 @@ std::string defaultModelPath() {
 	std::string where;
 	for (const auto& c : defaultModelCandidates()) where += (where.empty() ? "" : ", ") + c;
 	throw Error("no default face model found (looked for " + where + "); build one with scripts/demo (or the 'default_model' build target), or name a model");
+}
+
+// Issue 47: per recorded emotion, where each of the CDVs comes from — its own sample, another (the
+// fallbacks: neutral's, the group's, the nearest mouth), or the neutral mouth moved by its action units.
+void printCoverage(const FaceModel& m) {
+	std::vector<Emotion> recorded;
+	for (const SampleInfo& s : m.samples)
+		if (auto e = Emotion::find(s.emotion); e && std::find(recorded.begin(), recorded.end(), *e) == recorded.end()) recorded.push_back(*e);
+	if (recorded.empty()) return;
+	const Synthesizer synth(m, SynthOptions{});
+	std::printf("emotions   of the %zu CDVs: own sample, another sample (the nearest mouth it has), the neutral mouth by its action units\n", Cdv::count());
+	for (Emotion e : recorded) {
+		int own = 0, units = 0;
+		std::string borrowed;
+		for (std::size_t i = 0; i < Cdv::count(); ++i) {
+			const KeyposeSource s = synth.keyposeSource(Cdv::at(i), e);
+			if (s.kind == KeyposeSource::Kind::Own) ++own;
+			else if (s.kind == KeyposeSource::Kind::ActionUnits) ++units;
+			else borrowed += " " + Cdv::at(i).ascii() + ">" + (s.emotion == e.label() ? "" : s.emotion + ":") + Cdv::parse(s.cdv).ascii();
+		}
+		const int others = int(Cdv::count()) - own - units;
+		std::printf("  %-14s %2d own, %2d by action units, %2d from another sample%s%s\n", e.label().c_str(), own, units, others, others ? ":" : "", borrowed.c_str());
+	}
 }
 
 void printSummary(const FaceModel& m, const std::string& path) {
@@ -139,7 +163,7 @@ int runInspect(const std::vector<std::string>& argv) {
 	if (args.positionals().size() > 1) throw UsageError("inspect: expected at most one MODEL.thm argument");
 	const std::string path = args.positionals().empty() ? defaultModelPath() : args.positionals()[0];
 	FaceModel model = loadModel(path);
-	if (!args.has("--quiet")) printSummary(model, path);
+	if (!args.has("--quiet")) printSummary(model, path), printCoverage(model);
 	if (auto dir = args.get("--output")) {
 		namespace fs = std::filesystem;
 		// All or nothing: the pictures go to a staged folder that replaces DIR once all are written.

@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "phonetics/cdv.h"
 
+#include <array>
+#include <cmath>
 #include <ostream>
+#include <vector>
 #include <stdexcept>
 
+#include "base/data_dirs.h"
 #include "base/error.h"
+#include "base/tsv.h"
 #include "base/text.h"
 
 namespace talkhead {
@@ -67,6 +72,26 @@ std::size_t Cdv::count() { return visemeLabels().size(); }
 Cdv Cdv::at(std::size_t index) {
 	if (index >= count()) throw std::out_of_range("Cdv::at");
 	return Cdv(int(index));
+}
+
+double Cdv::mouthDistance(Cdv other) const {
+	// Each CDV's target (the rest mouth, zeros, for a CDV the file leaves out), read once.
+	static const std::vector<std::array<double, 4>> targets = [] {
+		std::vector<std::array<double, 4>> t(count(), {0, 0, 0, 0});
+		const auto path = findDataFile("phonetics/cdv-mouth-targets.tsv");
+		if (!path) throw Error("phonetics/cdv-mouth-targets.tsv: not found in the data folders (set TALKHEAD_DATA_DIR)");
+		const TsvTable tab = readTsv(*path);
+		const std::size_t cc = tab.column("cdv"), cols[4] = {tab.column("opening"), tab.column("width"), tab.column("height"), tab.column("jaw")};
+		for (const auto& row : tab.rows) {
+			const auto c = find(row.fields[cc]);
+			if (!c) throw Error(tab.path, row.line, "unknown CDV '" + row.fields[cc] + "'");
+			for (int k = 0; k < 4; ++k) t[c->index()][std::size_t(k)] = tab.number(row, cols[k], -1, 1);
+		}
+		return t;
+	}();
+	double d = 0;
+	for (std::size_t k = 0; k < 4; ++k) d += std::pow(targets[index()][k] - targets[other.index()][k], 2);
+	return std::sqrt(d);
 }
 
 std::ostream& operator<<(std::ostream& out, const Cdv& cdv) { return out << cdv.label(); }

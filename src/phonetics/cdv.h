@@ -36,6 +36,11 @@ public:
 	// Whether this is one of `labels` (canonical labels, each checked as Cdv::of checks it).
 	bool in(std::initializer_list<std::string_view> labels) const;
 
+	// How far apart two CDVs' mouths are: the distance of their articulatory targets (inner-lip opening,
+	// mouth width, lip height, jaw; phonetics/cdv-mouth-targets.tsv, eye distances from the rest mouth). A
+	// face that lacks a CDV shows the nearest one it has (issue 47); silence is the rest mouth (0).
+	double mouthDistance(Cdv other) const;
+
 	static std::size_t count();
 	static Cdv at(std::size_t index);
 	std::size_t index() const { return std::size_t(index_); }

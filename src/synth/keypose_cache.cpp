@@ -4,6 +4,7 @@
 #include "synth/keypose_cache.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "base/parallel.h"
 #include "phonetics/emotion.h"
@@ -37,14 +38,29 @@ std::string groupOf(const std::string& cdv) {
 }
 }  // namespace
 
+bool KeyposeCache::hasEmotion(const std::string& emotion) const {
+	for (const auto& s : model_.samples)
+		if (s.emotion == emotion) return true;
+	return false;
+}
+
+bool KeyposeCache::ownsMouth(const std::string& emotion, const std::string& cdv) const {
+	for (const auto& s : model_.samples)
+		if (s.emotion == emotion && groupOf(s.cdv) == groupOf(cdv)) return true;
+	return false;
+}
+
 bool KeyposeCache::fromActionUnits(const Keypose& key) const {
 	if (!rig_.auTemplates || o_.emotionSource == EmotionSource::Corpus) return false;
 	const std::string& emotion = emotionOf(key).label();
 	if (emotion == Emotion::neutralLabel() || !defaultAuProfiles().count(emotion)) return false;
 	if (o_.emotionSource == EmotionSource::ActionUnits) return true;
-	for (const auto& s : model_.samples)
-		if (s.emotion == emotion) return false;
-	return true;
+	if (key.sample >= 0 && std::size_t(key.sample) < model_.sampleCount() && model_.samples[std::size_t(key.sample)].emotion == emotion) return false;
+	if (!hasEmotion(emotion)) return true;
+	// Issue 47: an emotion recorded in a short take lacks some CDVs. One it lacks with its whole group is
+	// drawn from the neutral face's mouth for it, moved by the emotion's action units — not the neutral face
+	// itself (the emotion would vanish for that keypose) nor the emotion's shut silence (it would mumble).
+	return !ownsMouth(emotion, key.cdv.label()) && ownsMouth(Emotion::neutralLabel(), key.cdv.label());
 }
 
 std::pair<long, long> KeyposeCache::resolvePair(const Keypose& key) const {
@@ -65,12 +81,18 @@ std::string KeyposeCache::indexKey(const Keypose& key) const {
 long KeyposeCache::resolve(const Keypose& key) const { return resolve(key, emotionOf(key).label()); }
 
 long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const {
-	// Fallbacks (issue 5): the emotion's entry, then neutral for that CDV, then the group's other CDVs;
-	// among several samples of one entry, the best phone context (FaceModel::findSample).
+	// Fallbacks (issue 5, 47): the emotion's entry, its own group's other CDVs, neutral for that CDV, then
+	// the group's other CDVs, then the emotion's nearest mouth; among several samples of one entry, the
+	// best phone context (FaceModel::findSample).
 	const std::string& cdv = key.cdv.label();
 	const auto* context = &key.context;
 	if (key.sample >= 0 && std::size_t(key.sample) < model_.sampleCount() && model_.samples[std::size_t(key.sample)].emotion == emotion) return key.sample;
 	long sample = model_.findSample(emotion, cdv, context);
+	// Issue 47: an emotion recorded in the CDV's group keeps itself (a homorganic sibling) before it is
+	// dropped for neutral's sample of the CDV.
+	if (sample < 0 && ownsMouth(emotion, cdv))
+		for (const auto& v : visemeLabels())
+			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) sample = model_.findSample(emotion, v.label, context);
 	if (sample < 0) sample = model_.findSample(Emotion::neutralLabel(), cdv, context);
 	if (sample < 0)
 		for (const auto& v : visemeLabels())
@@ -78,6 +100,18 @@ long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const
 				sample = model_.findSample(emotion, v.label, context);
 				if (sample < 0) sample = model_.findSample(Emotion::neutralLabel(), v.label, context);
 			}
+	if (sample < 0) {
+		// Issue 47: the emotion's CDV whose mouth is nearest this one's (a short take lacks CDVs that neither
+		// it nor the neutral take has, all of one sentence): a spread /i/ for a missing /ɪ/, not the shut rest.
+		double best = std::numeric_limits<double>::max();
+		for (std::size_t i = 0; i < model_.sampleCount(); ++i) {
+			const SampleInfo& s = model_.samples[i];
+			const auto other = s.emotion == emotion ? Cdv::find(s.cdv) : std::nullopt;
+			if (!other) continue;
+			const double d = key.cdv.mouthDistance(*other);
+			if (d < best) best = d, sample = model_.findSample(emotion, s.cdv, context);
+		}
+	}
 	if (sample < 0) {
 		// Last resort: the emotion's silence, then anything of the emotion, then the first sample.
 		sample = model_.findSample(emotion, "sil");
@@ -115,8 +149,25 @@ namespace {
 std::string actionUnitLine(const std::string& emotion) {
 	return emotion + " from the neutral images by its action units (the model has no " + emotion + " images)";
 }
+std::string actionUnitLine(const std::string& emotion, const std::string& cdv) {
+	return emotion + " " + cdv + " -> neutral " + cdv + " with " + emotion + "'s action units (the model's " + emotion + " has no " + cdv + " nor its group)";
+}
 
 }  // namespace
+
+KeyposeSource KeyposeCache::sourceOf(const Keypose& key) const {
+	KeyposeSource s;
+	if (fromActionUnits(key)) {
+		s.kind = KeyposeSource::Kind::ActionUnits;
+		const SampleInfo& n = model_.samples[std::size_t(resolve(key, Emotion::neutralLabel()))];
+		s.emotion = n.emotion, s.cdv = n.cdv;
+		return s;
+	}
+	const SampleInfo& u = model_.samples[std::size_t(resolve(key))];
+	s.emotion = u.emotion, s.cdv = u.cdv;
+	s.kind = u.emotion == emotionOf(key).label() && u.cdv == key.cdv.label() ? KeyposeSource::Kind::Own : KeyposeSource::Kind::Borrowed;
+	return s;
+}
 
 std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypose>& keys) const {
 	std::vector<std::string> out;
@@ -124,7 +175,7 @@ std::vector<std::string> KeyposeCache::substitutionsFor(const std::vector<Keypos
 		const std::string& emotion = emotionOf(k).label();
 		if (fromActionUnits(k)) {  // issue 31: an emotion the model lacks comes from its action units
 			if (o_.emotionSource == EmotionSource::ActionUnits) continue;  // asked for
-			const std::string line = actionUnitLine(emotion);
+			const std::string line = hasEmotion(emotion) ? actionUnitLine(emotion, k.cdv.label()) : actionUnitLine(emotion);
 			if (std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
 			continue;
 		}
@@ -448,7 +499,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 		std::string line;
 		if (image->usedEmotion == emotion + " (action units)") {
 			if (o_.emotionSource == EmotionSource::ActionUnits) continue;  // asked for
-			line = actionUnitLine(emotion);
+			line = hasEmotion(emotion) ? actionUnitLine(emotion, k->cdv.label()) : actionUnitLine(emotion);
 		} else if ((image->usedEmotion != emotion || image->usedCdv != k->cdv.label()) && !(k->mouthOpening && k->sample >= 0)) {
 			line = emotion + " " + k->cdv.label() + " -> " + image->usedEmotion + " " + image->usedCdv;
 		} else {

@@ -34,6 +34,8 @@ public:
 	const KeyposeImage& cached(const Keypose& key) const;
 	std::vector<std::string> substitutions() const;
 	std::vector<std::string> substitutionsFor(const std::vector<Keypose>& keys) const;
+	// Where a keypose comes from, without drawing it (Synthesizer::keyposeSource).
+	KeyposeSource sourceOf(const Keypose& key) const;
 
 private:
 	const Face& face_;
@@ -61,6 +63,8 @@ private:
 	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;
 	bool fromActionUnits(const Keypose& key) const;  // whether this keypose's emotion comes from action units
+	bool hasEmotion(const std::string& emotion) const;  // a sample of the emotion
+	bool ownsMouth(const std::string& emotion, const std::string& cdv) const;  // a sample of the emotion in the CDV's group
 	long resolve(const Keypose& key) const;          // the model sample used for a keypose (CDV, context)
 	long resolve(const Keypose& key, const std::string& emotion) const;
 	// The sample and, when the intensity mixes it in, the neutral sample of the same CDV and context (else −1).

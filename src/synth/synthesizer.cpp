@@ -57,6 +57,13 @@ Synthesizer::Workspace& Synthesizer::Workspace::operator=(Workspace&&) noexcept 
 int Synthesizer::width() const { return rig_->width; }
 int Synthesizer::height() const { return rig_->height; }
 const KeyposeImage& Synthesizer::keypose(Cdv cdv) { return cache_->keypose(cdv); }
+
+KeyposeSource Synthesizer::keyposeSource(Cdv cdv, Emotion emotion) const {
+	Keypose k{Ticks(0), cdv, 0, 0};
+	k.context = {"", "", "", "", ""};
+	k.emotion = emotion;
+	return cache_->sourceOf(k);
+}
 std::vector<std::string> Synthesizer::substitutions() const { return cache_->substitutions(); }
 void Synthesizer::prepare(const std::vector<Keypose>& keys) { cache_->prepare(keys); }
 std::vector<std::string> Synthesizer::substitutionsFor(const std::vector<Keypose>& keys) const { return cache_->substitutionsFor(keys); }

@@ -72,6 +72,11 @@ struct FaceRig;
 class KeyposeCache;
 class PiecewiseAffineWarp;
 
+struct KeyposeSource {
+	enum class Kind { Own, Borrowed, ActionUnits } kind = Kind::Own;
+	std::string emotion, cdv;  // the sample used (ActionUnits: the neutral one moved)
+};
+
 class Synthesizer {
 public:
 	// Draws `face` (its parts loaded once, shared with other synthesizers: synth/face.h).
@@ -92,6 +97,10 @@ public:
 	const KeyposeImage& keypose(Cdv cdv);
 	// Substitutions made so far: "emotion cdv → emotion' cdv'".
 	std::vector<std::string> substitutions() const;
+	// Where the keypose of a CDV in an emotion comes from (issue 47), without drawing it: the emotion's own
+	// sample, another sample (the fallbacks: neutral's, the group's, the nearest mouth), or the neutral
+	// sample moved by the emotion's action units.
+	KeyposeSource keyposeSource(Cdv cdv, Emotion emotion) const;
 	// Computes every keypose of a timeline up front (so frames can then be drawn in parallel).
 	void prepare(const std::vector<Keypose>& keys);
 

@@ -73,6 +73,12 @@ grep -q '^# take 2: joy.mp4, joy, .*gain' "$T/fc/corpus.csv"
 
 # One model of every recorded emotion; each emotion's keyposes come from its own take.
 "$TH" build -q "$T/fc/corpus.csv" -o "$T/takes.thm"
+# Issue 47: inspect says, per recorded emotion, where each of the 34 CDVs comes from (counts that add up).
+"$TH" inspect "$T/takes.thm" >"$T/inspect.txt"
+for e in neutral joy anger; do
+	line=$(grep -E "^  $e +[0-9]+ own, +[0-9]+ by action units, +[0-9]+ from another sample" "$T/inspect.txt") || { echo "no coverage line for $e"; cat "$T/inspect.txt"; exit 1; }
+	awk '{ n = $2 + $4 + $8; if (n != 34) { print "counts add up to " n ": " $0; exit 1 } }' <<<"$line"
+done
 for e in joy anger; do
 	"$TH" render --model "$T/takes.thm" --transcript "$SHARED/grid/swwp2s.align" --emotion "$e" --format y4m -o "$T/$e.y4m" 2>"$T/$e.log" || { cat "$T/$e.log"; false; }
 	if grep -qi "substitut.*$e.*neutral\|$e.*falls back" "$T/$e.log"; then cat "$T/$e.log"; echo "$e is not drawn from its own take"; false; fi

@@ -910,3 +910,50 @@ TEST(Synthesizer, theThesisWarpOrderDrawsTheShutLidsToo) {
 	EXPECT_GT(psnr(toFloat(thesis), toFloat(direct), eyes), 30.0);
 	EXPECT_LT(psnr(toFloat(thesis), toFloat(open), eyes), 25.0);  // and the eyes are not open
 }
+
+TEST(Synthesizer, aCdvAnEmotionsTakeLacksComesFromTheNeutralMouthMovedByItsActionUnits) {
+	// Issue 47: joy recorded without /a/ (a short take). Auto draws joy's /a/ from the neutral /a/ with joy's
+	// action units — not neutral's /a/ as it is (no joy left) nor joy's shut silence — and says so; joy's own
+	// CDVs stay its own, and the corpus alone (EmotionSource::Corpus) keeps the old fallback.
+	FaceModel model = smallFace().model;
+	const long joyA = model.findSample("joy", "a");
+	ASSERT_GE(joyA, 0);
+	model.samples[std::size_t(joyA)].emotion = "-";  // unlabelled: joy has no /a/ now
+	SynthOptions o;
+	o.expression = Expression(Emotion::of("joy"));
+	o.emotionSource = EmotionSource::Auto;
+	o.auAppearance = false;
+	Synthesizer joy(model, o);
+	const KeyposeImage& a = joy.keypose("a");
+	EXPECT_EQ(a.usedEmotion, "joy (action units)");
+	EXPECT_EQ(joy.keypose("u").usedEmotion, "joy");  // its own
+	ASSERT_EQ(joy.substitutions().size(), 1u);
+	EXPECT_EQ(joy.substitutions()[0], "joy a -> neutral a with joy's action units (the model's joy has no a nor its group)");
+	SynthOptions n;
+	Synthesizer neutral(model, n);
+	const int rm2 = model.scheme.indexOf("RM2"), cum = model.scheme.indexOf("CUM"), cium = model.scheme.indexOf("CIUM"), cilm = model.scheme.indexOf("CILM");
+	const Points& na = neutral.keypose("a").shape;
+	EXPECT_LT(a.shape(rm2, 1) - a.shape(cum, 1), na(rm2, 1) - na(cum, 1) - 1);  // joy's corners rise against the lip
+	EXPECT_GT(a.shape(cilm, 1) - a.shape(cium, 1), 1.0);                          // and the mouth is open
+	o.emotionSource = EmotionSource::Corpus;
+	Synthesizer corpus(model, o);
+	EXPECT_EQ(corpus.keypose("a").usedEmotion, "neutral");
+}
+
+TEST(Synthesizer, aCdvNoTakeHasShowsTheNearestMouthTheEmotionHasNotItsShutRest) {
+	// Issue 47: /ɪ/ is in no take of the small model (neither joy nor neutral nor a group of its own). It
+	// showed joy's shut silence; now the joy mouth nearest its articulatory target (phonetics/cdv-mouth-
+	// targets.tsv): /i1/. A bilabial's nearest is still the shut mouth.
+	const SmallFace& f = smallFace();
+	SynthOptions o;
+	o.expression = Expression(Emotion::of("joy"));
+	Synthesizer joy(f.model, o);
+	const KeyposeImage& k = joy.keypose("ɪ");
+	EXPECT_EQ(k.usedEmotion, "joy");
+	EXPECT_EQ(k.usedCdv, "i1");
+	EXPECT_EQ(joy.substitutions(), (std::vector<std::string>{"joy ɪ -> joy i1"}));
+	EXPECT_LT(Cdv("p2").mouthDistance(Cdv("p1")), Cdv("p2").mouthDistance(Cdv("a")));
+	EXPECT_EQ(Cdv("a").mouthDistance(Cdv("u")), Cdv("u").mouthDistance(Cdv("a")));
+	EXPECT_EQ(Cdv("a").mouthDistance(Cdv("a")), 0.0);
+	EXPECT_GT(Cdv("a").mouthDistance(Cdv()), Cdv("p1").mouthDistance(Cdv()));  // the open vowel is far from the rest
+}
