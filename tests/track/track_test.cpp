@@ -58,6 +58,16 @@ LandmarkTrack trackOf(const std::vector<double>& gaps, double fps = 25) {
 	return t;
 }
 
+// Both eyes 30 px wide at y 180, the lids `half` px above and below it (eye aspect 2 × half / 30).
+void lids(Points& p, double half) {
+	for (const auto& [first, x0] : {std::pair{36, 150.0}, std::pair{42, 220.0}}) {
+		p(first, 0) = x0, p(first + 3, 0) = x0 + 30;
+		p(first, 1) = p(first + 3, 1) = 180;
+		p(first + 1, 0) = p(first + 5, 0) = x0 + 10, p(first + 2, 0) = p(first + 4, 0) = x0 + 20;
+		p(first + 1, 1) = p(first + 2, 1) = 180 - half, p(first + 5, 1) = p(first + 4, 1) = 180 + half;
+	}
+}
+
 }  // namespace
 
 TEST(OneEuroFilter, passesAConstantAndFollowsAStepWithLittleLagWhenFast) {
@@ -277,14 +287,6 @@ TEST(FromVideo, framesWithTheEyesHalfShutAreNeverChosen) {
 	std::vector<double> gaps;
 	for (std::size_t i = 0; i < 40; ++i) gaps.push_back(i <= 11 ? 0 : 4 + 8 * double(i % 5));
 	LandmarkTrack t = trackOf(gaps);
-	auto lids = [](Points& p, double half) {
-		for (const auto& [first, x0] : {std::pair{36, 150.0}, std::pair{42, 220.0}}) {
-			p(first, 0) = x0, p(first + 3, 0) = x0 + 30;
-			p(first, 1) = p(first + 3, 1) = 180;
-			p(first + 1, 0) = p(first + 5, 0) = x0 + 10, p(first + 2, 0) = p(first + 4, 0) = x0 + 20;
-			p(first + 1, 1) = p(first + 2, 1) = 180 - half, p(first + 5, 1) = p(first + 4, 1) = 180 + half;
-		}
-	};
 	for (std::size_t i = 0; i < t.frames.size(); ++i) {
 		lids(t.frames[i].points, blink(i) ? 1 : 5);
 		t.frames[i].raw = t.frames[i].points;
@@ -353,14 +355,6 @@ TEST(FromVideo, theBlinkKeptIsTheMostShutFrontalFrameWithTheMouthAtRestAndNoneWi
 	// mouth shut (frame 5 the most shut), 21–23 while speaking, 40–42 with the head turned.
 	std::vector<double> gaps;
 	for (std::size_t i = 0; i < 60; ++i) gaps.push_back(i < 12 ? 0 : 4 + 8 * double(i % 5));
-	auto lids = [](Points& p, double half) {
-		for (const auto& [first, x0] : {std::pair{36, 150.0}, std::pair{42, 220.0}}) {
-			p(first, 0) = x0, p(first + 3, 0) = x0 + 30;
-			p(first, 1) = p(first + 3, 1) = 180;
-			p(first + 1, 0) = p(first + 5, 0) = x0 + 10, p(first + 2, 0) = p(first + 4, 0) = x0 + 20;
-			p(first + 1, 1) = p(first + 2, 1) = 180 - half, p(first + 5, 1) = p(first + 4, 1) = 180 + half;
-		}
-	};
 	auto trackWith = [&](const std::vector<std::pair<std::size_t, double>>& shut, bool turnAt40) {
 		LandmarkTrack t = trackOf(gaps);
 		for (std::size_t i = 0; i < t.frames.size(); ++i) {
