@@ -317,6 +317,15 @@ std::optional<ChosenFrame> closedEyesFrame(const LandmarkTrack& track, std::int6
 	return chosen(track, *pick, "-", "closed-eyes", best);
 }
 
+namespace {
+// The plan's shut eyes, unless that frame is one of its visemes too (--min-eye-opening 0): one row per image.
+void setClosedEyes(VideoCorpusPlan& plan, const LandmarkTrack& track, const FromVideoOptions& o) {
+	plan.closedEyes = closedEyesFrame(track, plan.basefaceFrame, o);
+	if (plan.closedEyes && std::any_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.closedEyes->frame; }))
+		plan.closedEyes.reset();
+}
+}  // namespace
+
 VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvMouthTarget>& targets, const FromVideoOptions& o) {
 	VideoCorpusPlan plan;
 	plan.method = "shape";
@@ -381,7 +390,7 @@ VideoCorpusPlan selectByShape(const LandmarkTrack& track, const std::vector<CdvM
 	}
 	if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
 		plan.entries.push_back(chosen(track, baseIndex, o.emotion, "sil", 0));
-	plan.closedEyes = closedEyesFrame(track, plan.basefaceFrame, o);
+	setClosedEyes(plan, track, o);
 	sortPlan(plan);
 	return plan;
 }
@@ -497,7 +506,7 @@ VideoCorpusPlan selectByPhones(const LandmarkTrack& track, const std::vector<Pho
 		if (std::none_of(plan.entries.begin(), plan.entries.end(), [&](const ChosenFrame& c) { return c.frame == plan.basefaceFrame; }))
 			throw Error(track.source, 0, "{{baseface}} " + std::to_string(plan.basefaceFrame) + ": no tracked face in that frame");
 	}
-	plan.closedEyes = closedEyesFrame(track, plan.basefaceFrame, o);
+	setClosedEyes(plan, track, o);
 	sortPlan(plan);
 	return plan;
 }

@@ -381,6 +381,11 @@ TEST(FromVideo, theBlinkKeptIsTheMostShutFrontalFrameWithTheMouthAtRestAndNoneWi
 	ASSERT_TRUE(plan.closedEyes.has_value());
 	EXPECT_EQ(plan.closedEyes->frame, 5);
 	for (const ChosenFrame& c : plan.entries) EXPECT_GT(eyeAspect(c.points), 0.3) << c.frame;
+	// With any eyes allowed (--min-eye-opening 0) a shut frame may be a viseme too: then it is not kept twice.
+	FromVideoOptions any = o;
+	any.minEyeOpening = 0;
+	const VideoCorpusPlan anyPlan = selectByShape(blinks, loadCdvMouthTargets(), any);
+	for (const ChosenFrame& c : anyPlan.entries) EXPECT_FALSE(anyPlan.closedEyes && anyPlan.closedEyes->frame == c.frame) << c.frame;
 	// No usable blink: none kept (blinks then draw the lid); nor when asked for none.
 	EXPECT_FALSE(closedEyesFrame(trackWith({{21, 0.2}, {22, 0.2}, {40, 0.1}}, true), rest, o).has_value());
 	EXPECT_FALSE(closedEyesFrame(trackWith({{4, 2.5}}, false), rest, o).has_value());  // half shut (0.17 > 0.4 × 0.33)
