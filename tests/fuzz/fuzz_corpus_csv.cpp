@@ -16,7 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 		for (const CorpusEntry& e : c.entries) {
 			TALKHEAD_FUZZ_CHECK(e.points.rows() == c.entries.front().points.rows() && e.points.cols() == 2, e.source);
 			TALKHEAD_FUZZ_CHECK(e.points.allFinite(), e.source);
-			TALKHEAD_FUZZ_CHECK(!e.emotion.empty() && !e.cdv.empty(), e.source);
+			// A labelled row has both labels (typed), an unlabelled one neither, and its name.
+			TALKHEAD_FUZZ_CHECK(e.emotion.has_value() == e.cdv.has_value() && (e.labelled() || !e.name.empty()), e.source);
 		}
 	});
 	return 0;
