@@ -50,7 +50,10 @@ void printCoverage(const FaceModel& m) {
 			const KeyposeSource s = synth.keyposeSource(Cdv::at(i), e);
 			if (s.kind == KeyposeSource::Kind::Own) ++own;
 			else if (s.kind == KeyposeSource::Kind::ActionUnits) ++units;
-			else borrowed += " " + Cdv::at(i).ascii() + ">" + (s.emotion == e.label() ? "" : s.emotion + ":") + Cdv::parse(s.cdv).ascii();
+			else {  // a model sample's CDV: a known label, or an unlabelled row's name as it is
+				const auto used = Cdv::find(s.cdv);
+				borrowed += " " + Cdv::at(i).ascii() + ">" + (s.emotion == e.label() ? "" : s.emotion + ":") + (used ? used->ascii() : s.cdv);
+			}
 		}
 		const int others = int(Cdv::count()) - own - units;
 		std::printf("  %-14s %2d own, %2d by action units, %2d from another sample%s%s\n", e.label().c_str(), own, units, others, others ? ":" : "", borrowed.c_str());

@@ -82,7 +82,7 @@ long KeyposeCache::resolve(const Keypose& key) const { return resolve(key, emoti
 
 long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const {
 	// Fallbacks (issue 5, 47): the emotion's entry, its own group's other CDVs, neutral for that CDV, then
-	// the group's other CDVs, then the emotion's nearest mouth; among several samples of one entry, the
+	// neutral's in the group, then the emotion's nearest mouth; among several samples of one entry, the
 	// best phone context (FaceModel::findSample).
 	const std::string& cdv = key.cdv.label();
 	const auto* context = &key.context;
@@ -94,12 +94,9 @@ long KeyposeCache::resolve(const Keypose& key, const std::string& emotion) const
 		for (const auto& v : visemeLabels())
 			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) sample = model_.findSample(emotion, v.label, context);
 	if (sample < 0) sample = model_.findSample(Emotion::neutralLabel(), cdv, context);
-	if (sample < 0)
+	if (sample < 0)  // the emotion has none of the group (above): neutral's
 		for (const auto& v : visemeLabels())
-			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) {
-				sample = model_.findSample(emotion, v.label, context);
-				if (sample < 0) sample = model_.findSample(Emotion::neutralLabel(), v.label, context);
-			}
+			if (sample < 0 && v.label != cdv && groupOf(v.label) == groupOf(cdv)) sample = model_.findSample(Emotion::neutralLabel(), v.label, context);
 	if (sample < 0) {
 		// Issue 47: the emotion's CDV whose mouth is nearest this one's (a short take lacks CDVs that neither
 		// it nor the neutral take has, all of one sentence): a spread /i/ for a missing /ɪ/, not the shut rest.
