@@ -197,6 +197,18 @@ int main(int argc, char** argv) {
 			const Image8 meanL = resampled(source, sourceCoordinates(source, e->points, model.meanShape, model.frameMesh, model.width, model.height), 3, lanczos3);
 			const Image8 twoL = resampled(meanL, sourceCoordinates(meanL, model.meanShape, at, model.frameMesh, W, H), 3, lanczos3);
 			const Image8 lanczosThenBilinear = warped(meanL, model.meanShape, at, model.frameMesh, W, H);
+			const Image8 lanczosThenCubic = resampled(meanL, sourceCoordinates(meanL, model.meanShape, at, model.frameMesh, W, H), 2, cubic);
+			auto sharpen = [](const Image8& im, double a) {
+				Image8 t = im, o = im;
+				for (int r = 0; r < im.height; ++r) for (int c = 1; c + 1 < im.width; ++c) for (int k = 0; k < 3; ++k)
+					t.row(r)[3*c+k] = std::uint8_t(std::clamp(std::lround((1+2*a)*im.row(r)[3*c+k] - a*(im.row(r)[3*c-3+k] + im.row(r)[3*c+3+k])), 0L, 255L));
+				for (int r = 1; r + 1 < im.height; ++r) for (int c = 0; c < im.width; ++c) for (int k = 0; k < 3; ++k)
+					o.row(r)[3*c+k] = std::uint8_t(std::clamp(std::lround((1+2*a)*t.row(r)[3*c+k] - a*(t.row(r-1)[3*c+k] + t.row(r+1)[3*c+k])), 0L, 255L));
+				return o;
+			};
+			const Image8 sh1 = warped(sharpen(meanL, 0.125), model.meanShape, at, model.frameMesh, W, H);
+			const Image8 sh2 = warped(sharpen(meanL, 0.2), model.meanShape, at, model.frameMesh, W, H);
+			std::fprintf(stderr, "%g %g %g %g %g\n", mouthDetail(lanczosThenCubic, at, mouth), mouthDetail(sh1, at, mouth), mouthDetail(sh2, at, mouth), mouthDetail(lanczosThenBilinear, at, mouth), mouthDetail(source, e->points, mouth));
 			const double d[8] = {mouthDetail(source, e->points, mouth), mouthDetail(one, at, mouth), mouthDetail(bicubic, at, mouth),
 			                     mouthDetail(lanczos, at, mouth), mouthDetail(two, at, mouth), mouthDetail(twoL, at, mouth),
 			                     mouthDetail(lanczosThenBilinear, at, mouth), mouthDetail(rendered, at, mouth)};

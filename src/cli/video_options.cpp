@@ -167,6 +167,7 @@ std::vector<OptionSpec> drawingOptionSpecs() {
 	return {{"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
+	        {"--resampling", "KIND", "the direct warp's one resampling: sharp (default: the images it samples prefiltered so the bilinear kernel keeps fine detail, D84) or linear (plain bilinear, the frames of talkhead before issue 47's sharpening)"},
 	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
 	        {"--au-appearance", "on|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default) or off (the shape alone)"}};
 }
@@ -299,6 +300,9 @@ void parseDrawingOptions(const Args& args, const std::string& command, SynthOpti
 	const std::string warpPath = args.get("--warp", "direct");
 	if (warpPath != "direct" && warpPath != "keypose") throw UsageError(command + ": --warp takes direct or keypose");
 	synth.warpPath = warpPath == "direct" ? WarpPath::Direct : WarpPath::Keypose;
+	const std::string resampling = args.get("--resampling", "sharp");
+	if (resampling != "sharp" && resampling != "linear") throw UsageError(command + ": --resampling takes sharp or linear");
+	synth.resampling = resampling == "sharp" ? Resampling::Sharp : Resampling::Linear;
 	const std::string source = args.get("--emotion-source", "auto");
 	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
 	synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);

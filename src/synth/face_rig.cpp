@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "geometry/scheme.h"
 #include "warp/piecewise_affine.h"
+#include "warp/prefilter.h"
 
 namespace talkhead {
 
@@ -354,10 +355,13 @@ void FaceRig::makeMeshes(const FaceModel& model, const SynthOptions& o) {
 	movingMesh.vertexCount = mesh.vertexCount;
 	for (const Triangle& t : mesh.triangles)
 		if (t[0] < k || t[1] < k || t[2] < k) movingMesh.triangles.push_back(t);
+	if (o.warpPath == WarpPath::Direct && o.resampling == Resampling::Sharp) prefilter = float(prefilterStrength(std::min(scaleX, scaleY)));
+	makePrefilterMask(model, o);
+	baseface = prefilteredForBilinear(model.baseface, prefilter, prefilterMask.empty() ? nullptr : &prefilterMask);
 	if (o.warpPath == WarpPath::Direct && !model.baseface.empty()) {
 		baseY.resize(std::size_t(model.width) * model.height);
 		baseUV.resize(std::size_t(cw) * ch * 2);
-		rgbToYuv420(model.baseface.data.data(), std::size_t(model.width) * 3, model.width, model.height, o.yuvRange, baseY.data(),
+		rgbToYuv420(baseface.data.data(), std::size_t(model.width) * 3, model.width, model.height, o.yuvRange, baseY.data(),
 		            std::size_t(model.width), baseUV.data(), baseUV.data() + 1, std::size_t(cw) * 2, 2);
 		// The background: the mean shape's frame, whose static triangles every frame shares.
 		Points mean = model.meanShape;
@@ -376,16 +380,44 @@ void FaceRig::makeMeshes(const FaceModel& model, const SynthOptions& o) {
 	}
 }
 
+// D84: enlarged or reduced, every pixel of the face and of the background is resampled at a phase that
+// runs across it, so the prefilter applies everywhere. At the model's own size (within 2 px over the frame)
+// the static background is copied and a face point moves only as far as the samples move it: a vertex
+// that moves half a pixel or more (the most any sample's aligned point is from s̄'s, or any head motion)
+// takes the whole prefilter, a still one none, the anchors and the frame border none, interpolated over
+// the mesh between them.
+void FaceRig::makePrefilterMask(const FaceModel& model, const SynthOptions& o) {
+	prefilterMask.clear();
+	if (prefilter == 0 || model.baseface.empty()) return;
+	const double span = double(std::max(model.width, model.height));
+	if (std::abs(scaleX - 1) * span >= 2 || std::abs(scaleY - 1) * span >= 2) return;
+	const int k = model.pointCount();
+	const bool headMoves = o.modulator && (o.modulator->maxAngle() > 0 || o.modulator->maxShift() > 0);
+	Points value = Points::Zero(meanSource.rows(), 2);
+	for (int i = 0; i < k; ++i) {
+		double most = headMoves ? 1.0 : 0.0;
+		for (const Points& s : model.alignedShapes) most = std::max(most, (s.row(i) - model.meanShape.row(i)).norm());
+		value(i, 0) = std::min(1.0, most / 0.5);
+	}
+	// The mesh's affine map per triangle carries the vertex values: its "source x" at a pixel is their
+	// barycentric mix.
+	PiecewiseAffineWarp field(mesh, meanSource, model.width, model.height);
+	field.setSource(value);
+	prefilterMask.assign(std::size_t(model.width) * std::size_t(model.height), 0.f);
+	field.forEachPixel([&](std::size_t p, float v, float) { prefilterMask[p] = std::clamp(v, 0.f, 1.f); });
+}
+
 // D42, D50: the closed lids, when the modulator blinks.
 void FaceRig::makeClosedLids(const Face& face, const SynthOptions& o) {
 	const FaceModel& model = face.model();
 	if (o.modulator && !o.modulator->blinks().empty() && !model.baseface.empty()) {
 		// D50: the corpus's closed-eyes image, in the mean frame, gives the shut lid where the model has one.
 		const Image8& closed = face.closedEyes();
+		const Image8 closedDrawn = prefilteredForBilinear(closed, prefilter, prefilterMask.empty() ? nullptr : &prefilterMask);  // sampled as the rest of the face is (D84)
 		for (const EyeSpec& e : eyes) {
 			const double lash = closed.empty() ? 0.7 : lashDepth(model, closed, e);
-			eyePatches.push_back(closedLid(model, closed.empty() ? model.baseface : closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange, lash));
-			if (!closed.empty()) eyePatches.push_back(closedLidFrom(model, closed, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
+			eyePatches.push_back(closedLid(model, closed.empty() ? baseface : closedDrawn, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange, lash));
+			if (!closed.empty()) eyePatches.push_back(closedLidFrom(model, closedDrawn, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
 		}
 	}
 }
@@ -403,7 +435,7 @@ const Image8& FaceRig::backgroundRgb() const {
 		PiecewiseAffineWarp warp(mesh, anchored(mean, false), width, height);
 		warp.setSource(meanSource);
 		backgroundRgb_ = Image8(width, height, 3);
-		warp.apply(model_.baseface, backgroundRgb_);
+		warp.apply(baseface, backgroundRgb_);
 	});
 	return backgroundRgb_;
 }

@@ -46,6 +46,13 @@ struct FaceRig {
 	Points meanSource, meanSourceChroma;   // s̄ + anchors + frame border, in luma and chroma pixels
 	YuvImage backgroundYuv;                // Direct path: the static frame at the output size
 	std::vector<std::uint8_t> baseY, baseUV;  // the baseface in YUV 4:2:0
+	// Direct path: the prefilter's strength for this output scale (0: none; warp/prefilter.h, D84) and the
+	// baseface as the frame warp samples it (prefiltered with it).
+	float prefilter = 0;
+	// At the model's own size, how much of it per model-frame pixel (row-major; empty: all of it): what
+	// never moves is never resampled, so it is left as it is (D84).
+	std::vector<float> prefilterMask;
+	Image8 baseface;
 	std::vector<EyeSpec> eyes;
 	std::vector<BrowSpec> brows;
 	double eyeDistance = 0;  // between the eyes' centres on the mean shape, model pixels (brow motion's unit)
@@ -77,6 +84,7 @@ private:
 	void loadAuSkin(const Face& face, const SynthOptions& o);
 	void loadActionUnits(const Face& face, const SynthOptions& o);
 	void makeMeshes(const FaceModel& model, const SynthOptions& o);
+	void makePrefilterMask(const FaceModel& model, const SynthOptions& o);
 	void makeClosedLids(const Face& face, const SynthOptions& o);
 	mutable Image8 backgroundRgb_;
 };

@@ -12,6 +12,7 @@
 #include "synth/coarticulation.h"
 #include "synth/face_rig.h"
 #include "warp/piecewise_affine.h"
+#include "warp/prefilter.h"
 
 namespace talkhead {
 
@@ -242,6 +243,34 @@ KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const s
 		for (std::size_t p = 0; p < gain.size(); ++p)
 			for (std::size_t c = 0; c < 3; ++c) crop[3 * p + c] *= gain[p];
 	k.rgb.resize(crop.size());
+	if (rig_.prefilter > 0) {  // D84: as the frame warp samples it, over the box and a pixel of baseface around it
+		thread_local std::vector<float> framed;
+		const int fw = rw + 2, fh = rh + 2;
+		framed.resize(std::size_t(fw) * fh * 3);
+		for (int y = 0; y < fh; ++y)
+			for (int x = 0; x < fw; ++x) {
+				float* f = &framed[(std::size_t(y) * fw + std::size_t(x)) * 3];
+				if (y >= 1 && y <= rh && x >= 1 && x <= rw) {
+					std::copy_n(&crop[(std::size_t(y - 1) * rw + std::size_t(x - 1)) * 3], 3, f);
+				} else {
+					const int by = std::clamp(rig_.roiY0 + y - 1, 0, model_.height - 1), bx = std::clamp(rig_.roiX0 + x - 1, 0, W - 1);
+					const std::uint8_t* b = model_.baseface.row(by) + std::size_t(bx) * 3;
+					f[0] = b[0], f[1] = b[1], f[2] = b[2];
+				}
+			}
+		prefilterForBilinear(framed.data(), fw, fh, 3, rig_.prefilter);
+		const std::vector<float>& mask = rig_.prefilterMask;
+		for (int y = 0; y < rh; ++y) {
+			const float* f = &framed[(std::size_t(y + 1) * fw + 1) * 3];
+			float* c = &crop[std::size_t(y) * rw * 3];
+			if (mask.empty()) {
+				std::copy_n(f, std::size_t(rw) * 3, c);
+			} else {
+				const float* m = &mask[std::size_t(rig_.roiY0 + y) * std::size_t(W) + std::size_t(rig_.roiX0)];
+				for (std::size_t i = 0; i < std::size_t(rw) * 3; ++i) c[i] = c[i] + m[i / 3] * (f[i] - c[i]);
+			}
+		}
+	}
 	for (std::size_t i = 0; i < crop.size(); ++i) {
 		const float v = crop[i] + 0.5f;
 		k.rgb[i] = std::uint8_t(v <= 0.f ? 0.f : (v >= 255.f ? 255.f : v));

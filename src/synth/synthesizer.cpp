@@ -336,7 +336,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 		return;
 	}
 	// Direct: dissolve the two composited appearances in the mean-shape frame, then one warp s̄ → P(t).
-	if (ws.meanRgb.empty()) ws.meanRgb = model_.baseface;
+	if (ws.meanRgb.empty()) ws.meanRgb = rig_->baseface;
 	const int rw = rig_->roiX1 - rig_->roiX0;
 	for (int y = rig_->roiY0; y < rig_->roiY1; ++y) {
 		const std::size_t at = std::size_t(y - rig_->roiY0) * rw * 3;

@@ -29,6 +29,12 @@ enum class Trajectory { Hermite, Linear, Monotone };
 // the same frame up to resampling: Direct resamples once (sharper) and costs one warp instead of three.
 enum class WarpPath { Direct, Keypose };
 
+// How the direct path's one resampling keeps detail (issue 47, D84). Sharp (default): the images the frame
+// warp samples (the keyposes' appearances and the baseface, each made once) are prefiltered so that the
+// bilinear warp's loss of fine detail is made good (warp/prefilter.h); Linear: plain bilinear, as before.
+// The thesis's order (WarpPath::Keypose) is always Linear.
+enum class Resampling { Sharp, Linear };
+
 // Where an emotion's keyposes come from (D48). Corpus: the model's samples of the emotion (a missing one
 // falls back to neutral, and says so). ActionUnits: the neutral samples, their shapes moved by the
 // emotion's action units (corpus-tools/data/expression-aus.tsv) through the scheme's AU templates — the
@@ -42,6 +48,7 @@ struct SynthOptions {
 	Trajectory trajectory = Trajectory::Hermite;  // feature points between keyposes (spec §5.5)
 	Trajectory dissolve = Trajectory::Linear;     // cross-dissolve weight: t (thesis) or the Hermite ease
 	WarpPath warpPath = WarpPath::Direct;
+	Resampling resampling = Resampling::Sharp;
 	YuvRange yuvRange = YuvRange::Limited;         // of renderFrameYuv's output
 	// Blinks and head motion (D42); none when null. Blinks need the scheme's eyes ('eye' lines).
 	std::shared_ptr<const ShapeModulator> modulator;

