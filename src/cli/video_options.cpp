@@ -169,7 +169,7 @@ std::vector<OptionSpec> drawingOptionSpecs() {
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
 	        {"--resampling", "KIND", "the direct warp's one resampling: sharp (default: the images it samples prefiltered so the bilinear kernel keeps fine detail, D84) or linear (plain bilinear, the frames of talkhead before issue 47's sharpening)"},
 	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
-	        {"--au-appearance", "on|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default) or off (the shape alone)"}};
+	        {"--au-appearance", "on|learned|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default; on a face other than the default one, its own skin deepened where the lines form, D85), learned (the maps' lines as learned on the default face) or off (the shape alone)"}};
 }
 
 std::vector<OptionSpec> videoOptionSpecs() {
@@ -307,8 +307,9 @@ void parseDrawingOptions(const Args& args, const std::string& command, SynthOpti
 	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
 	synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);
 	const std::string skin = args.get("--au-appearance", "on");
-	if (skin != "on" && skin != "off") throw UsageError(command + ": --au-appearance takes on or off");
-	synth.auAppearance = skin == "on";
+	if (skin != "on" && skin != "off" && skin != "learned") throw UsageError(command + ": --au-appearance takes on, learned or off");
+	synth.auAppearance = skin != "off";
+	synth.auOwnSkin = skin == "on";
 }
 
 PauseStyle parsePausesOption(const Args& args, const std::string& command) {

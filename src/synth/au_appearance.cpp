@@ -415,10 +415,33 @@ std::optional<AuAppearance> installedAuAppearance(const std::vector<std::string>
 }
 
 MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, const Points& shape, int x0, int y0, int width, int height,
-                                   const std::vector<std::string>* only) {
+                                   const std::vector<std::string>* only, const Image8* face) {
 	MappedAuAppearance m;
 	m.x0 = x0, m.y0 = y0, m.width = width, m.height = height;
-	const Eigen::Matrix<double, 2, 3> T = fitAffine(appearanceAnchors(scheme, shape), a.anchors);  // face pixels → grid
+	const Points anchors = appearanceAnchors(scheme, shape);
+	const Eigen::Matrix<double, 2, 3> T = fitAffine(anchors, a.anchors);  // face pixels → grid
+	double residual = 0;  // RMS, grid pixels: how far this face's proportions are from the learning face's
+	for (Eigen::Index i = 0; i < anchors.rows(); ++i) {
+		const Eigen::Vector2d g = T * Eigen::Vector3d(anchors(i, 0), anchors(i, 1), 1);
+		residual += (g - a.anchors.row(i).transpose()).squaredNorm();
+	}
+	residual = std::sqrt(residual / double(anchors.rows()));
+	const double gridIod = 0.5 * ((a.anchors.row(0) + a.anchors.row(1)) - (a.anchors.row(2) + a.anchors.row(3))).norm();
+	std::vector<float> detail;  // D85: the face's own fine detail (log luminance less its blur), when it is another face
+	double iod = 0;
+	if (face && !face->empty() && residual > 0.05 * gridIod && width > 0 && height > 0) {
+		iod = 0.5 * ((anchors.row(0) + anchors.row(1)) - (anchors.row(2) + anchors.row(3))).norm();
+		detail.resize(std::size_t(width) * std::size_t(height));
+		for (int y = 0; y < height; ++y)
+			for (int x = 0; x < width; ++x) {
+				const int fx = std::clamp(x0 + x, 0, face->width - 1), fy = std::clamp(y0 + y, 0, face->height - 1);
+				detail[std::size_t(y) * std::size_t(width) + std::size_t(x)] = std::log(luma(face->row(fy) + 3 * fx) + 8.f);
+			}
+		std::vector<float> smooth = detail;
+		blur(smooth, width, height, std::max(0.5, 0.04 * iod));
+		for (std::size_t p = 0; p < detail.size(); ++p) detail[p] -= smooth[p];
+		m.ownSkin = true;
+	}
 	const std::size_t P = std::size_t(width) * std::size_t(height);
 	// Bilinear positions once for all AUs; outside the grid, no change.
 	std::vector<std::int32_t> index(P, -1);
@@ -442,6 +465,18 @@ MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, 
 			const float* q = &src[std::size_t(index[p])];
 			const float top = q[0] + fx[p] * (q[1] - q[0]), bottom = q[a.width] + fx[p] * (q[a.width + 1] - q[a.width]);
 			out[p] = top + fy[p] * (bottom - top);
+		}
+		if (!detail.empty()) {  // D85: the broad shading, and the face's own detail deepened where the lines were
+			std::vector<float> shading = out;
+			blur(shading, width, height, 0.08 * iod);
+			std::vector<float> strength(P);
+			for (std::size_t p = 0; p < P; ++p) strength[p] = std::abs(out[p] - shading[p]);
+			blur(strength, width, height, 0.08 * iod);
+			for (std::size_t p = 0; p < P; ++p) {
+				const float line = out[p] - shading[p];
+				const float crease = line < 0 ? std::max(-0.3f, -line * line / 0.06f) : 0.f;  // the dark folds, narrowed; no pale ridges
+				out[p] = shading[p] + crease + std::min(1.5f, strength[p] / 0.05f) * detail[p];
+			}
 		}
 		m.logRatio.push_back(std::move(out));
 	}

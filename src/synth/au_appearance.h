@@ -57,15 +57,26 @@ std::optional<AuAppearance> installedAuAppearance(const std::vector<std::string>
 
 // The maps resampled into one face's frame: the box [x0, x0 + width) × [y0, y0 + height) of an image
 // whose face has the shape `shape` (an affine fit of the anchors, least squares).
+//
+// Given the face's own image (`face`, the frame the box is in), a face other than the one the maps were
+// learned from keeps its own skin (issue 47, D85): the learned furrows and wrinkles are the learning face's
+// drawn lines, at its scale, and pasted as they are they show on another face as pale and dark bands. Each
+// map is split at 0.08 eye distances into its broad shading (kept: a furrow's shadow, a raised cheek) and
+// its lines; where the lines were, the face's own fine detail (its log luminance less its blur at 0.04 eye
+// distances) is deepened, in proportion to the lines' local strength (×(1 + A), A = their mean |log ratio|
+// / 0.05, at most 1.5). The learning face itself (its anchors fit the map's within 5 % of its eye distance; the default face 1.3 %,
+// franck 22 %, a GRID s1 face 21 %) keeps the
+// map as learned.
 struct MappedAuAppearance {
 	int x0 = 0, y0 = 0, width = 0, height = 0;
 	std::vector<std::string> names;
 	std::vector<std::vector<float>> logRatio;
+	bool ownSkin = false;  // D85: the lines became the face's own detail deepened
 	int find(const std::string& au) const;
 };
 // Only the AUs in `only` when it is given (a render maps those its emotions use).
 MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, const Points& shape, int x0, int y0, int width, int height,
-                                   const std::vector<std::string>* only = nullptr);
+                                   const std::vector<std::string>* only = nullptr, const Image8* face = nullptr);
 
 // The luminance gain per pixel of the box for these AU weights: exp(Σ weight × logRatio), 1 where none
 // applies. Empty when no weight names a mapped AU (nothing to change).

@@ -13,12 +13,12 @@ const AuTemplates* Face::auTemplates() const {
 	return templates_ ? &*templates_ : nullptr;
 }
 
-std::optional<MappedAuAppearance> Face::auSkin(const std::vector<std::string>& aus, int x0, int y0, int width, int height) const {
+std::optional<MappedAuAppearance> Face::auSkin(const std::vector<std::string>& aus, int x0, int y0, int width, int height, bool ownSkin) const {
 	const Scheme& scheme = model_.scheme;  // a loaded model's eyes and brows are its shipped scheme's (completeSchemeParts)
 	if (scheme.eyes.size() != 2 || scheme.brows.size() != 2 || aus.empty()) return std::nullopt;
 	const std::optional<AuAppearance> a = installedAuAppearance(aus);
 	if (!a || a->names.empty()) return std::nullopt;
-	return mapAuAppearance(*a, scheme, model_.meanShape, x0, y0, width, height);
+	return mapAuAppearance(*a, scheme, model_.meanShape, x0, y0, width, height, nullptr, ownSkin ? &model_.baseface : nullptr);
 }
 
 const Image8& Face::closedEyes() const {

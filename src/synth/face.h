@@ -34,7 +34,8 @@ public:
 	// D61: the skin of the action units `aus` (models/au-appearance.bin), mapped into the box (x0, y0,
 	// width × height) of the model frame over its mean shape; nullopt when none is installed, it has none
 	// of them, or the scheme has not two eyes and two brows.
-	std::optional<MappedAuAppearance> auSkin(const std::vector<std::string>& aus, int x0, int y0, int width, int height) const;
+	// ownSkin: a face other than the maps' own keeps its skin (D85, mapAuAppearance).
+	std::optional<MappedAuAppearance> auSkin(const std::vector<std::string>& aus, int x0, int y0, int width, int height, bool ownSkin = true) const;
 	// D50: the model's closed-eyes sample composited in the model frame (RGB); empty when it has none.
 	const Image8& closedEyes() const;
 

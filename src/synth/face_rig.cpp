@@ -334,7 +334,7 @@ void FaceRig::loadAuSkin(const Face& face, const SynthOptions& o) {
 	};
 	for (const AuEvent& e : o.modulator->auEvents()) add(e.au);
 	for (const ControlCurves::Au& c : o.modulator->curves().aus) add(c.au);
-	std::optional<MappedAuAppearance> skin = face.auSkin(aus, roiX0, roiY0, roiX1 - roiX0, roiY1 - roiY0);
+	std::optional<MappedAuAppearance> skin = face.auSkin(aus, roiX0, roiY0, roiX1 - roiX0, roiY1 - roiY0, o.auOwnSkin);
 	if (!skin) return;
 	auSkin = std::make_unique<MappedAuAppearance>(std::move(*skin));
 	for (const AuEvent& e : o.modulator->auEvents()) auEventSkin.push_back(auSkin->find(e.au));

@@ -447,7 +447,7 @@ void KeyposeCache::prepareAuAppearance(const std::vector<std::string>& emotions)
 		for (const auto& [au, w] : defaultAuProfiles().at(e))
 			if (w != 0 && (!auAppearance_ || auAppearance_->find(au) < 0) && std::find(missing.begin(), missing.end(), au) == missing.end())
 				missing.push_back(au);
-	std::optional<MappedAuAppearance> mapped = face_.auSkin(missing, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0);
+	std::optional<MappedAuAppearance> mapped = face_.auSkin(missing, rig_.roiX0, rig_.roiY0, rig_.roiX1 - rig_.roiX0, rig_.roiY1 - rig_.roiY0, o_.auOwnSkin);
 	if (!mapped) return;
 	MappedAuAppearance& m = *mapped;
 	if (!auAppearance_) {

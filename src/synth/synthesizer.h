@@ -56,6 +56,9 @@ struct SynthOptions {
 	// With action units: the skin's appearance changes too (furrows, wrinkles; issue 31 route 2) where the
 	// appearance maps are installed (models/au-appearance.bin). false: the shape alone, as before.
 	bool auAppearance = true;
+	// D85: on a face other than the one the maps were learned from, the learned lines become the face's own
+	// detail deepened (false: the learned maps as they are, the learning face's drawn lines).
+	bool auOwnSkin = true;
 };
 
 // A keypose ready to morph: its shape (model pixels) and its appearance: composited in the mean-shape frame

@@ -183,8 +183,9 @@ TEST(AuAppearance, theDefaultFacesExpressionsFromItsNeutralImagesComeCloserToIts
 		return 10 * std::log10(255.0 * 255.0 / std::max(se / double(n), 1e-12));
 	};
 	// The floors: today's figures less 0.5 dB (D61, D71: the issue's 30 dB is reached by joy and hate; anger and
-	// distress lack what a warp of the neutral shape cannot give, fear its parted lips).
-	const std::map<std::string, double> rendered = {{"joy", 32.8}, {"distress", 27.8}, {"hate", 30.0}, {"anger", 26.8}, {"fear", 23.2}};
+	// distress lack what a warp of the neutral shape cannot give, fear its parted lips). D84's sharp resampling
+	// lowered the rendered figures by 0.1–1.0 dB (both renders are sharpened, their differences with them).
+	const std::map<std::string, double> rendered = {{"joy", 31.7}, {"distress", 27.2}, {"hate", 29.1}, {"anger", 26.2}, {"fear", 22.6}};
 	for (const auto& [emotion, floor] : rendered) {
 		const Face corpus = face(emotion, EmotionSource::Corpus, false), shape = face(emotion, EmotionSource::ActionUnits, false),
 		           skin = face(emotion, EmotionSource::ActionUnits, true);
@@ -234,4 +235,47 @@ TEST(AuAppearance, theShippedNoseWrinkleAndLipRaiseLeaveTheNostrilsBaseAlone) {
 				EXPECT_LT(std::abs(value(s(i, 0), s(i, 1) + down * iod)), 0.01f) << au << " at " << p << " + " << down;
 			}
 	}
+}
+
+TEST(AuAppearance, anotherFaceKeepsItsOwnSkinWithTheLinesDarkFoldsAndNoPaleBands) {
+	// Issue 47, D85: a map of pale and dark bands (period 8 px on the learning face) on a face of other
+	// proportions and with its own texture: the broad shading stays, the pale bands go, the dark ones
+	// become narrowed folds, and the face's own fine detail is deepened where the bands were. The learning
+	// face itself, and a face given no image, get the map as learned.
+	AuAppearance a;
+	a.width = 220, a.height = 240, a.names = {"AU9"};
+	a.anchors = appearanceAnchors(faceScheme(), face());
+	std::vector<float> bands(std::size_t(220 * 240), 0.f);
+	for (int y = 100; y < 140; ++y)
+		for (int x = 95; x < 125; ++x) bands[std::size_t(y) * 220 + std::size_t(x)] = 0.15f * float(std::sin(2 * 3.14159265358979 * y / 8.0));
+	a.logRatio = {bands};
+	Image8 skin(220, 240, 3, 128);  // the other face's own texture: a fine checker of ±6 levels
+	for (int y = 0; y < 240; ++y)
+		for (int x = 0; x < 220; ++x)
+			for (int c = 0; c < 3; ++c) skin.at(x, y, c) = std::uint8_t(((x / 2 + y / 2) % 2) ? 134 : 122);
+	const MappedAuAppearance same = mapAuAppearance(a, faceScheme(), face(), 0, 0, 220, 240, nullptr, &skin);
+	EXPECT_FALSE(same.ownSkin);  // the learning face: as learned
+	EXPECT_EQ(same.logRatio[0], mapAuAppearance(a, faceScheme(), face(), 0, 0, 220, 240).logRatio[0]);
+	Points other = face();
+	other(8, 1) -= 25, other(9, 1) -= 25;  // other proportions, which no affine map makes the learning face's: a
+	other(17, 0) += 25;                    // right brow higher than the left, a chin to one side (12 % of the eye distance off)
+	const MappedAuAppearance learnedOnOther = mapAuAppearance(a, faceScheme(), other, 0, 0, 220, 240);
+	const MappedAuAppearance own = mapAuAppearance(a, faceScheme(), other, 0, 0, 220, 240, nullptr, &skin);
+	ASSERT_TRUE(own.ownSkin);
+	EXPECT_FALSE(learnedOnOther.ownSkin);
+	// In the bands' box on the other face: learned, pale bands up to +0.15; own skin, no band paler than the
+	// face's own detail deepened (checker ±0.05 in log luminance, ×(1 + 1.5) at most) and dark folds kept.
+	double learnedMax = -1, ownMax = -1, ownMin = 1;
+	for (int y = 110; y < 145; ++y)
+		for (int x = 100; x < 120; ++x) {
+			const std::size_t p = std::size_t(y) * 220 + std::size_t(x);
+			learnedMax = std::max(learnedMax, double(learnedOnOther.logRatio[0][p]));
+			ownMax = std::max(ownMax, double(own.logRatio[0][p]));
+			ownMin = std::min(ownMin, double(own.logRatio[0][p]));
+		}
+	EXPECT_GT(learnedMax, 0.12);
+	EXPECT_LT(ownMax, 0.09);
+	EXPECT_LT(ownMin, -0.1);
+	// Away from the bands the face's texture is left alone.
+	EXPECT_EQ(own.logRatio[0][std::size_t(200) * 220 + 30], 0.f);
 }
