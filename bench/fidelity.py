@@ -125,7 +125,30 @@ def summary(face, label, real_json, rendered_json, real_brisque, rendered_brisqu
     print(line)
 
 
+def sheet(out, prefix, row):
+    """hate and anger, learned skin | own skin, the eyes and nose (1.5 × 1.2 eye distances) at 300 × 240."""
+    tiles = []
+    for e in ("hate", "anger"):
+        for s in ("learned", "on"):
+            with open(f"{prefix}-{e}-{s}.tsv", newline="") as f:
+                r = list(csv.reader(f, delimiter="\t"))
+            h, v = r[0], r[int(row) + 1]
+            g = lambda k: float(v[h.index(k)])
+            names = ("RE0", "LE3") if "RE0_x" in h else ("REYE1", "LEYE1")
+            cx, cy = (g(names[0] + "_x") + g(names[1] + "_x")) / 2, (g(names[0] + "_y") + g(names[1] + "_y")) / 2
+            iod = abs(g(names[1] + "_x") - g(names[0] + "_x"))
+            box = tuple(int(b) for b in (cx - 0.75 * iod, cy - 0.6 * iod, cx + 0.75 * iod, cy + 0.6 * iod))
+            tiles.append(Image.open(f"{prefix}-{e}-{s}.png").crop(box).resize((300, 240), Image.LANCZOS))
+    c = Image.new("RGB", (1212, 240), "white")
+    for j, t in enumerate(tiles):
+        c.paste(t, (j * 300 + (j // 2) * 12, 0))
+    c.save(out)
+
+
 def main():
+    if sys.argv[1] == "sheet":
+        sheet(*sys.argv[2:5])
+        return
     if sys.argv[1] == "side":
         print(side(sys.argv[2]))
         return

@@ -11,14 +11,17 @@
 # enlargement's kinks more than detail (a plain bilinear render has 2.2x the real frames' there).
 # Needs ../shared/data, ffmpeg (to cut frames; the product never runs it), libopencv-contrib-dev and
 # opencv-data (BRISQUE), the dlib plugin. franck's track is cached in ~/.cache/talkhead-bench/fidelity.
-# usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--faces "franck grid crema"]
+# With --sheets DIR, also DIR/skin-FACE.png: hate and anger from action units (his own takes for CREMA),
+# each with the learned skin maps as they are and with the face's own skin (D85), the eyes and nose enlarged.
+# usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--faces "franck grid crema"] [--sheets DIR]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="$root/build"; draw=(); faces="franck grid crema"
+build="$root/build"; draw=(); faces="franck grid crema"; sheets=""
 while [ $# -gt 0 ]; do
 	case "$1" in
 		--resampling) draw+=(--resampling "$2"); shift ;;
 		--faces) faces="$2"; shift ;;
+		--sheets) sheets="$2"; mkdir -p "$sheets"; shift ;;
 		*) build="$1" ;;
 	esac
 	shift
@@ -73,6 +76,14 @@ build_crema() {
 for face in $faces; do
 	"build_$face"
 	"$th" build "$w/$face-corpus/corpus.csv" -o "$w/$face.thm" -q
+	if [ -n "$sheets" ]; then
+		for e in hate anger; do for skin in learned on; do
+			"$th" say "Hello there" --lang en-US --model "$w/$face.thm" --emotion "$e" --au-appearance "$skin" --size 1280x720 "${draw[@]}" \
+				-o "$w/skin-$e-$skin.mp4" --landmarks-out "$w/skin-$e-$skin.tsv" -q
+			ffmpeg -v error -y -i "$w/skin-$e-$skin.mp4" -vf "select=eq(n\,20)" -vframes 1 "$w/skin-$e-$skin.png"
+		done; done
+		fid sheet "$sheets/skin-$face.png" "$w/skin" 20
+	fi
 	realFrames=$(cut -d' ' -f1 "$w/$face.real" | paste -sd,); realTsv=$(cut -d' ' -f2 "$w/$face.real" | paste -sd,)
 	for size in native 1280x720; do
 		sz=(); [ "$size" = native ] || sz=(--size "$size")

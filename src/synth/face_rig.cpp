@@ -102,36 +102,6 @@ ClosedLidPatch closedLidFrom(const FaceModel& m, const Image8& closed, const Eye
 	return patch;
 }
 
-// Issue 47: how dark the shut eye's lash line is in the corpus's closed-eyes image `closed` (in the mean
-// frame), 0–0.7 of the lid's skin: per column of the eye, the darkest luma from a tenth of an eye width
-// above the lower lid to a twentieth below it, against the median of the lid's skin 0.1–0.3 eye widths
-// above the open upper lid; the median over the columns. A person's own lashes are often fainter than the
-// drawn lid's line (0.7), which then shows as a drawn line on a real face.
-double lashDepth(const FaceModel& m, const Image8& closed, const EyeSpec& e) {
-	const auto up = lidLine(m.meanShape, e, true), lo = lidLine(m.meanShape, e, false);
-	const double width = (m.meanShape.row(e.corner1) - m.meanShape.row(e.corner0)).norm();
-	auto luma = [&](int x, int y) {
-		const std::uint8_t* p = &closed.row(std::clamp(y, 0, closed.height - 1))[3 * std::clamp(x, 0, closed.width - 1)];
-		return 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
-	};
-	std::vector<double> depths;
-	const double x0 = m.meanShape(e.corner0, 0), x1 = m.meanShape(e.corner1, 0);
-	for (int x = int(std::ceil(std::min(x0, x1) + 0.2 * width)); x <= int(std::floor(std::max(x0, x1) - 0.2 * width)); ++x) {
-		const double yu = polylineY(up, x), yl = polylineY(lo, x);
-		if (std::isnan(yu) || std::isnan(yl)) continue;
-		std::vector<double> skin;
-		for (int y = int(yu - 0.3 * width); y <= int(yu - 0.1 * width); ++y) skin.push_back(luma(x, y));
-		double dark = 255;
-		for (int y = int(yl - 0.1 * width); y <= int(yl + 0.05 * width); ++y) dark = std::min(dark, luma(x, y));
-		if (skin.empty()) continue;
-		std::nth_element(skin.begin(), skin.begin() + long(skin.size() / 2), skin.end());
-		const double s = skin[skin.size() / 2];
-		if (s > 8) depths.push_back(std::clamp(1 - dark / s, 0.0, 0.7));
-	}
-	if (depths.empty()) return 0.7;
-	std::nth_element(depths.begin(), depths.begin() + long(depths.size() / 2), depths.end());
-	return depths[depths.size() / 2];
-}
 
 ClosedLidPatch closedLid(const FaceModel& m, const Image8& b, const EyeSpec& e, int rx0, int ry0, int rx1, int ry1, YuvRange range, double lash) {
 	ClosedLidPatch patch;
@@ -415,9 +385,22 @@ void FaceRig::makeClosedLids(const Face& face, const SynthOptions& o) {
 		const Image8& closed = face.closedEyes();
 		const Image8 closedDrawn = prefilteredForBilinear(closed, prefilter, prefilterMask.empty() ? nullptr : &prefilterMask);  // sampled as the rest of the face is (D84)
 		for (const EyeSpec& e : eyes) {
-			const double lash = closed.empty() ? 0.7 : lashDepth(model, closed, e);
-			eyePatches.push_back(closedLid(model, closed.empty() ? baseface : closedDrawn, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange, lash));
-			if (!closed.empty()) eyePatches.push_back(closedLidFrom(model, closedDrawn, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
+			if (closed.empty()) {
+				eyePatches.push_back(closedLid(model, baseface, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange, 0.7));
+				continue;
+			}
+			// D86: the person's own lid comes down over the eye (eyeSlits), then their shut eye comes in.
+			eyePatches.push_back(closedLidFrom(model, closedDrawn, e, roiX0, roiY0, roiX1, roiY1, o.yuvRange));
+			const auto up = lidLine(model.meanShape, e, true), lo = lidLine(model.meanShape, e, false);
+			EyeSlit s;
+			const double xa = std::min(up.front()(0), up.back()(0)), xb = std::max(up.front()(0), up.back()(0));
+			s.x0 = std::max(roiX0, int(std::ceil(xa)));
+			for (int x = s.x0; x <= std::min(roiX1 - 1, int(std::floor(xb))); ++x) {
+				const double yu = polylineY(up, x), yl = polylineY(lo, x);
+				s.upper.push_back(float(std::isnan(yu) || std::isnan(yl) ? 0 : yu));
+				s.lower.push_back(float(std::isnan(yu) || std::isnan(yl) ? 0 : std::max(yu, yl)));
+			}
+			eyeSlits.push_back(std::move(s));
 		}
 	}
 }

@@ -65,6 +65,16 @@ struct FaceRig {
 	std::unique_ptr<MappedAuAppearance> auSkin;
 	std::vector<int> auEventSkin, auCurveSkin;  // per AU event / curve: its map in auSkin, or −1
 	std::vector<ClosedLidPatch> eyePatches;
+	// Issue 47 (D86): a face with its own shut eyes closes them as a lid comes down over the eye. Per eye, per
+	// mean-frame column x0 + i (luma pixels), the open lids' rows: a blink frame's eye between them is
+	// drawn from the open eye's rows that the lowered lid leaves visible, so that the frame's warp, which
+	// squeezes that band into the narrowed slit, shows them at their own size (half the iris under a lid
+	// at half closure, not the whole eye squashed under a drawn line).
+	struct EyeSlit {
+		int x0 = 0;
+		std::vector<float> upper, lower;
+	};
+	std::vector<EyeSlit> eyeSlits;
 	Eigen::RowVector2d centre{0, 0};  // the mean shape's centre (head rotation), model pixels
 	Eigen::RowVector2d eyeMid{0, 0};  // between the eyes on the mean shape (a tracked head's pivot, D55)
 	bool stabilise = false;           // a tracked head (D55): keypose shapes aligned on their eye corners to s̄

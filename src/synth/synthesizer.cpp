@@ -265,6 +265,32 @@ void Synthesizer::closeEyes(Points& points, double closure) const {
 void Synthesizer::drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const {
 	// The closed lid dissolves in faster than the lids close, so no half-open iris is squashed into the slit.
 	const int W = model_.width, cw = (W + 1) / 2;
+	// D86: a face with its own shut eyes: the band between the open lids is redrawn from the rows the lowered
+	// lid leaves visible; the frame's warp squeezes the band by k into the slit (closeEyes), so they come out
+	// at their own size, under the person's own upper lid margin.
+	const float k = float(1 - 0.95 * closure);
+	auto lower = [](std::uint8_t* plane, std::size_t stride, std::size_t step, int channels, int rows, float yu, float yl, float k) {
+		for (int y = std::max(0, int(std::ceil(yu))); y <= std::min(rows - 1, int(std::floor(yl))); ++y) {
+			const float from = yl - (yl - float(y)) * k;  // ≥ y: read before it is written (top to bottom)
+			const int r = std::min(rows - 1, int(from)), r1 = std::min(rows - 1, r + 1);
+			const float f = from - float(r);
+			for (int c = 0; c < channels; ++c) {
+				const float a = plane[std::size_t(r) * stride + step * std::size_t(c)], b = plane[std::size_t(r1) * stride + step * std::size_t(c)];
+				plane[std::size_t(y) * stride + step * std::size_t(c)] = std::uint8_t(a + f * (b - a) + 0.5f);
+			}
+		}
+	};
+	const int H = model_.height, ch = (H + 1) / 2;
+	for (const FaceRig::EyeSlit& s : rig_->eyeSlits)
+		for (std::size_t i = 0; i < s.upper.size(); ++i) {
+			const float yu = s.upper[i], yl = s.lower[i];
+			if (!(yl - yu >= 1)) continue;
+			const std::size_t x = std::size_t(s.x0) + i;
+			if (meanY) lower(meanY + x, std::size_t(W), 1, 1, H, yu, yl, k);
+			if (meanRgb) lower(meanRgb + 3 * x, std::size_t(W) * 3, 1, 3, H, yu, yl, k);
+			if (meanUV && (s.x0 + int(i)) % 2 == 0)  // the chroma sample of columns x, x + 1 (centred between them)
+				lower(meanUV + x, std::size_t(cw) * 2, 1, 2, ch, (yu - 0.5f) / 2, (yl - 0.5f) / 2, k);
+		}
 	for (const ClosedLidPatch& p : rig_->eyePatches) {
 		const double s = p.from > 0 ? std::clamp((closure - p.from) / (1 - p.from), 0.0, 1.0) : 0.0;
 		const float w = float(p.from > 0 ? s * s * (3 - 2 * s) : std::min(1.0, 1.6 * closure));

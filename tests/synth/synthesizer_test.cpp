@@ -8,6 +8,7 @@
 #include "geometry/scheme.h"
 #include "image/region_mask.h"
 #include "synth/au_appearance.h"
+#include "synth/face_rig.h"
 #include "synth/synthesizer.h"
 #include "synth_corpus.h"
 #include "warp/piecewise_affine.h"
@@ -1043,4 +1044,52 @@ TEST(Synthesizer, sharpResamplingRestoresTheMovingMouthsDetailAndLeavesWhatNever
 	EXPECT_NE(big.data, bigLinear.data);
 	EXPECT_GT(laplacianVariance(big, 2 * int(x0), 2 * int(y0), 2 * int(x1), 2 * int(y1)),
 	          1.1 * laplacianVariance(bigLinear, 2 * int(x0), 2 * int(y0), 2 * int(x1), 2 * int(y1)));
+}
+
+TEST(Synthesizer, aFaceWithItsOwnShutEyesLowersALidOverTheEyeInsteadOfDrawingOne) {
+	// Issue 47, D86: half shut, the part of the eye the lid leaves open is the open eye's own, at its own
+	// size (the frame's warp squeezes the band between the lids; the band is drawn from the rows that stay
+	// visible); the face without a closed-eyes image draws its lid over the slit (D42), which differs.
+	const EyesShutCorpus c = eyesShutCorpus();
+	NullProgress quiet;
+	BuildOptions with;
+	with.closedEyes = long(c.items.size() - 1);
+	auto source = [&](std::size_t i) { return c.faces[i].image; };
+	const FaceModel own = buildFaceModel(loadScheme("ch-unicamp-56"), c.shapes, c.samples, c.o.width, c.o.height, source, with, quiet);
+	const FaceModel drawn = buildFaceModel(loadScheme("ch-unicamp-56"), c.shapes, c.samples, c.o.width, c.o.height, source, BuildOptions{}, quiet);
+	const std::vector<Keypose> keys = restingKeys();
+	SynthOptions so;
+	so.width = 1280, so.height = 720;  // four times the model: a slit some pixels high
+	oneBlink(so, keys);
+	Ticks half{};  // a frame about half shut
+	for (Ticks t = ms(900); t < ms(1200); t += ms(2))
+		if (std::abs(so.modulator->eyeClosure(t) - 0.5) < 0.03) half = t;
+	ASSERT_GT(half.count(), 0);
+	Synthesizer so_(own, so), sd(drawn, so);
+	so_.prepare(keys), sd.prepare(keys);
+	Synthesizer::Workspace w1, w2, w3;
+	Image8 open, halfOwn, halfDrawn;
+	Points po, ph, pd;
+	so_.renderFrame(ms(400), keys, w1, open, po);
+	so_.renderFrame(half, keys, w2, halfOwn, ph);
+	sd.renderFrame(half, keys, w3, halfDrawn, pd);
+	// The visible slit of the right eye: between its lowered upper lid and its lower lid, inset a pixel.
+	const Scheme sc = loadScheme("ch-unicamp-56");
+	const EyeSpec& eye = sc.eyes.front();
+	const auto up = lidLine(ph, eye, true), lo = lidLine(ph, eye, false);
+	const double xa = std::min(ph(eye.corner0, 0), ph(eye.corner1, 0)), xb = std::max(ph(eye.corner0, 0), ph(eye.corner1, 0));
+	double seOwn = 0, seDrawn = 0;
+	long n = 0;
+	for (int x = int(xa + 0.3 * (xb - xa)); x <= int(xb - 0.3 * (xb - xa)); ++x) {
+		const double yu = polylineY(up, x), yl = polylineY(lo, x);
+		for (int y = int(std::ceil(yu)) + 1; y <= int(std::floor(yl)) - 1; ++y)
+			for (int k = 0; k < 3; ++k) {
+				const double d1 = double(halfOwn.at(x, y, k)) - open.at(x, y, k), d2 = double(halfDrawn.at(x, y, k)) - open.at(x, y, k);
+				seOwn += d1 * d1, seDrawn += d2 * d2, ++n;
+			}
+	}
+	ASSERT_GT(n, 30);
+	const double rmsOwn = std::sqrt(seOwn / double(n)), rmsDrawn = std::sqrt(seDrawn / double(n));
+	EXPECT_LT(rmsOwn, 12) << "the open eye, where the lid leaves it open";
+	EXPECT_GT(rmsDrawn, 2 * rmsOwn) << "the drawn lid covers it";
 }
