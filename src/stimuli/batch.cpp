@@ -52,7 +52,8 @@ const std::vector<Column>& columns() {
 	    {"rate", true, true, false},     {"pitch", true, true, false},           {"crf", true, true, true},
 	    {"lead-in", true, true, true}, {"tail", true, true, true},             {"av-offset", true, true, true},
 	    {"components", true, true, true}, {"drive", true, false, true}, {"drive-mouth", false, false, true},
-	    {"timing-text", true, false, true}, {"condition", false, true, true}};
+	    {"timing-text", true, false, true}, {"condition", false, true, true}, {"resampling", true, true, true},
+	    {"au-appearance", true, true, true}};
 	return c;
 }
 const Column* findColumn(const std::string& name) {
@@ -146,7 +147,8 @@ const std::string kVersus = "versus:";
 // Columns a side-by-side row's other side may change: what is drawn, never the speech, timing or frame.
 bool versusColumn(const std::string& c) {
 	static const std::set<std::string> allowed = {"model", "emotion", "intensity", "trajectory", "dissolve", "warp", "pauses", "blinks", "head-motion",
-	                                              "speech-brows", "emotion-source", "controls", "seed", "components"};
+	                                              "speech-brows", "emotion-source", "controls", "seed", "components",
+	                                              "resampling", "au-appearance"};
 	return allowed.count(c) > 0;
 }
 
@@ -234,7 +236,8 @@ Manifest parseManifest(const std::string& text, const std::string& path) {
 			if (!versusColumn(c.substr(kVersus.size())))
 				errors.push_back(path + ":" + std::to_string(headerLine) + ":" + c +
 				                 ": the two sides of a side-by-side stimulus share the speech, timing and frame; versus: columns may change model, emotion, "
-				                 "intensity, trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed, components");
+				                 "intensity, trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed, components, "
+				                 "resampling, au-appearance");
 		} else if (!findColumn(c) && !isAnnotation(c)) {
 			errors.push_back(path + ":" + std::to_string(headerLine) + ":" + c + ": unknown column (known: " + knownColumns() + ", versus:…)");
 		}

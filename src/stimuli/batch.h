@@ -20,12 +20,12 @@ namespace talkhead {
 // A manifest is CSV (a header row, then one row per stimulus) or JSON (an array of objects, or
 // {"stimuli": [...]}); the columns (README "Perceptual-test stimuli"):
 //   text, transcript, audio, lang, voice, model, emotion (LABEL or LABEL:I), intensity, muted, fps, size,
-//   trajectory, dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
-//   rate, pitch, crf, lead-in, tail, av-offset (ms), drive (a video: render --drive), drive-mouth (yes: the
+//   trajectory, dissolve, warp, resampling, pauses, blinks, head-motion, speech-brows, emotion-source,
+//   au-appearance, controls, seed, rate, pitch, crf, lead-in, tail, av-offset (ms), drive (a video: render --drive), drive-mouth (yes: the
 //   mouth from it too, no text or transcript); and free annotations: condition, and any column
 //   starting with "x-" (kept in the key). `versus:COLUMN` columns (model, emotion, intensity, trajectory,
-//   dissolve, warp, pauses, blinks, head-motion, speech-brows, emotion-source, controls, seed,
-//   components; "default" = the option's default) make the row a side-by-side stimulus: the row as
+//   dissolve, warp, resampling, pauses, blinks, head-motion, speech-brows, emotion-source, au-appearance,
+//   controls, seed, components; "default" = the option's default) make the row a side-by-side stimulus: the row as
 //   written on one side, with those columns replaced on the other.
 // A row with a transcript (or text + audio, or a drive video) is a `render`, one with text alone a `say`.
 // A row's job is its fields in the row command's words (perform/job.h): the command line hands it to the

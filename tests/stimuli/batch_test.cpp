@@ -198,3 +198,12 @@ TEST(Batch, aRowMayNameADrivingVideo) {
 	EXPECT_EQ(errors[3], path + ":4:drive-mouth: 'maybe' is not yes or no");
 	std::filesystem::remove_all(dir);
 }
+
+TEST(Batch, aRowMayChooseHowTheFaceIsResampledAndItsSkinAndPairThem) {
+	// Issue 47 (D84, D85): resampling and au-appearance are drawing columns, on a row and on its other side.
+	const Manifest m = parseManifest("text,resampling,au-appearance,versus:resampling\nOi.,linear,learned,sharp\n", "m.csv");
+	ASSERT_EQ(m.rows.size(), 1u);
+	const std::vector<std::string> w = jobWords(m.rows[0].job);
+	EXPECT_NE(std::find(w.begin(), w.end(), "resampling=linear"), w.end());
+	EXPECT_NE(std::find(w.begin(), w.end(), "au-appearance=learned"), w.end());
+}
