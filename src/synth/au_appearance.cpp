@@ -475,7 +475,12 @@ MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, 
 			for (std::size_t p = 0; p < P; ++p) {
 				const float line = out[p] - shading[p];
 				const float crease = line < 0 ? std::max(-0.3f, -line * line / 0.06f) : 0.f;  // the dark folds, narrowed; no pale ridges
-				out[p] = shading[p] + crease + std::min(1.5f, strength[p] / 0.05f) * detail[p];
+				const float lines = std::min(1.f, strength[p] / 0.05f);
+				// Where the lines are, no brightening either: a pale shading between dark folds is a band again.
+				const float shade = shading[p] > 0 ? shading[p] * (1 - lines) : shading[p];
+				// The skin's own fine lines deepened, by at most 4 % of its luminance: an eye's or a brow's edge
+				// (a detail of 0.3) would otherwise come out drawn, as with eyeliner.
+				out[p] = shade + crease + std::clamp(1.5f * lines * detail[p], -0.04f, 0.04f);
 			}
 		}
 		m.logRatio.push_back(std::move(out));

@@ -61,12 +61,14 @@ std::optional<AuAppearance> installedAuAppearance(const std::vector<std::string>
 // Given the face's own image (`face`, the frame the box is in), a face other than the one the maps were
 // learned from keeps its own skin (issue 47, D85): the learned furrows and wrinkles are the learning face's
 // drawn lines, at its scale, and pasted as they are they show on another face as pale and dark bands. Each
-// map is split at 0.08 eye distances into its broad shading (kept: a furrow's shadow, a raised cheek) and
-// its lines; where the lines were, the face's own fine detail (its log luminance less its blur at 0.04 eye
-// distances) is deepened, in proportion to the lines' local strength (×(1 + A), A = their mean |log ratio|
-// / 0.05, at most 1.5). The learning face itself (its anchors fit the map's within 5 % of its eye distance; the default face 1.3 %,
-// franck 22 %, a GRID s1 face 21 %) keeps the
-// map as learned.
+// map is split at 0.08 eye distances into its broad shading and its lines (their local strength L: the
+// mean |line| / 0.05, at most 1). Kept: the shading where it darkens (a furrow's shadow), its brightening
+// only away from the lines (× (1 − L)), and the lines' dark folds, narrowed (−line² / 0.06, at most −0.3);
+// the pale ridges between them go. Where the lines were, the face's own fine detail (its log luminance
+// less its blur at 0.04 eye distances) is deepened, ×(1 + 1.5 L), by at most ±0.04 (an eye's edge is a detail of
+// 0.3: deepened, it looked drawn). The learning face itself (its anchors fit
+// the map's within 5 % of its eye distance; the default face 1.3 %, franck 22 %, a GRID s1 face 21 %) keeps
+// the map as learned.
 struct MappedAuAppearance {
 	int x0 = 0, y0 = 0, width = 0, height = 0;
 	std::vector<std::string> names;
