@@ -167,9 +167,9 @@ std::vector<OptionSpec> drawingOptionSpecs() {
 	return {{"--trajectory", "KIND", "feature points between keyposes: hermite (default, thesis: zero tangents, a stop at each keypose), linear (MikeTalk-style) or monotone (a C¹ Hermite spline: stops only where the motion turns)"},
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
-	        {"--resampling", "KIND", "the direct warp's one resampling: sharp (default: the images it samples prefiltered so the bilinear kernel keeps fine detail, D84) or linear (plain bilinear, the frames of talkhead before issue 47's sharpening)"},
+	        {"--resampling", "KIND", "the direct warp's one resampling: sharp (default: the images it samples are prefiltered so that its bilinear kernel keeps the face's fine detail) or linear (plain bilinear: the frames of earlier versions)"},
 	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
-	        {"--au-appearance", "on|learned|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default; on a face other than the default one, its own skin deepened where the lines form, D85), learned (the maps' lines as learned on the default face) or off (the shape alone)"}};
+	        {"--au-appearance", "on|learned|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default; a face other than the default one keeps its own skin, deepened where the lines form), learned (the lines as learned on the default face, on any face) or off (the shape alone)"}};
 }
 
 std::vector<OptionSpec> videoOptionSpecs() {
