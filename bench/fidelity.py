@@ -14,6 +14,7 @@
 #     one JSON object per set on stdout: {"name", "frames", "mouth", "face", "opening"} (lists per frame)
 #   fidelity.py side TSV       the median face box side of a track, pixels
 #   fidelity.py summary FACE LABEL REAL.json RENDERED.json REAL.brisque RENDERED.brisque   one line
+#   fidelity.py bands LABEL FRAMES[,FRAMES...] TSV[,TSV...] EVERY   horizontal-band energy across the nose bridge
 import csv
 import json
 import os
@@ -125,6 +126,38 @@ def summary(face, label, real_json, rendered_json, real_brisque, rendered_brisqu
     print(line)
 
 
+def smooth(v, s):
+    r = int(3 * s) + 1
+    k = np.exp(-0.5 * (np.arange(-r, r + 1) / s) ** 2)
+    return np.convolve(np.pad(v, r, mode="edge"), k / k.sum(), mode="valid")
+
+
+def band_energy(path, pts):
+    """Horizontal bands across the nose bridge: the rows' mean luma between the eyes' inner corners (less a
+    tenth of an eye distance each side), from just above the eye line down 0.45 eye distances, less its
+    smooth course (Gaussian, 0.08 eye distances); the RMS of what is left, in % of the mean. Skin texture
+    averages out along a row; a band across the bridge does not."""
+    y = np.asarray(Image.open(path).convert("L"), dtype=np.float64)
+    re, le = group(pts, "RE", 6).mean(0), group(pts, "LE", 6).mean(0)
+    iod = np.linalg.norm(le - re)
+    x0, x1 = int(pts["RE3"][0] + 0.1 * iod), int(pts["LE0"][0] - 0.1 * iod)
+    y0 = int((re[1] + le[1]) / 2 - 0.05 * iod)
+    y1 = int(y0 + 0.45 * iod)
+    prof = y[y0:y1, x0:x1].mean(1)
+    res = prof - smooth(prof, 0.08 * iod)
+    return float(np.sqrt((res ** 2).mean()) / prof.mean() * 100)
+
+
+def bands(label, frames, tracks, every):
+    v = []
+    for fr, tr in zip(frames.split(","), tracks.split(",")):
+        for k, (frame, pts) in enumerate(read_track(tr)):
+            path = os.path.join(fr, f"frame_{frame + 1:06d}.png")
+            if k % int(every) == 0 and os.path.exists(path):
+                v.append(band_energy(path, pts))
+    print(f"         nose bands {label:26} median {np.median(v):5.2f} %  p95 {np.percentile(v, 95):5.2f} %  max {max(v):5.2f} %  ({len(v)} frames)")
+
+
 def sheet(out, prefix, row):
     """hate and anger, learned skin | own skin, the eyes and nose (1.5 × 1.2 eye distances) at 300 × 240."""
     tiles = []
@@ -146,6 +179,9 @@ def sheet(out, prefix, row):
 
 
 def main():
+    if sys.argv[1] == "bands":
+        bands(*sys.argv[2:6])
+        return
     if sys.argv[1] == "sheet":
         sheet(*sys.argv[2:5])
         return

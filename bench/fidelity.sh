@@ -11,6 +11,8 @@
 # enlargement's kinks more than detail (a plain bilinear render has 2.2x the real frames' there).
 # Needs ../shared/data, ffmpeg (to cut frames; the product never runs it), libopencv-contrib-dev and
 # opencv-data (BRISQUE), the dlib plugin. franck's track is cached in ~/.cache/talkhead-bench/fidelity.
+# Then bands across the nose bridge (the rows' luma less its smooth course, D85) in the real frames and in
+# hate and anger drawn with the learned skin maps and with the face's own skin.
 # With --sheets DIR, also DIR/skin-FACE.png: hate and anger from action units (his own takes for CREMA),
 # each with the learned skin maps as they are and with the face's own skin (D85), the eyes and nose enlarged.
 # usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--faces "franck grid crema"] [--sheets DIR]
@@ -85,6 +87,17 @@ for face in $faces; do
 		fid sheet "$sheets/skin-$face.png" "$w/skin" 20
 	fi
 	realFrames=$(cut -d' ' -f1 "$w/$face.real" | paste -sd,); realTsv=$(cut -d' ' -f2 "$w/$face.real" | paste -sd,)
+	# Bands across the nose (D85): the real frames against hate and anger drawn at the model's own size,
+	# the skin maps as learned and the face's own skin (CREMA's hate and anger are his takes).
+	echo "$face  bands across the nose bridge, at the model's own size (real: every 4th frame; rendered: every frame)"
+	every=4; [ "$face" = franck ] && every=20
+	fid bands "real" "$realFrames" "$realTsv" "$every"
+	for e in hate anger; do for skin in learned on; do
+		"$th" say "Hello there, my friend." --lang en-US --model "$w/$face.thm" --emotion "$e" --au-appearance "$skin" "${draw[@]}" \
+			-o "$w/band-$e-$skin.mp4" --landmarks-out "$w/band-$e-$skin.tsv" -q
+		frames "$w/band-$e-$skin.mp4" "$w/band-$e-$skin"
+		fid bands "$e, skin $skin" "$w/band-$e-$skin" "$w/band-$e-$skin.tsv" 1
+	done; done
 	for size in native 1280x720; do
 		sz=(); [ "$size" = native ] || sz=(--size "$size")
 		"$th" say "$text" --lang en-US --model "$w/$face.thm" "${sz[@]}" "${draw[@]}" -o "$w/$face-$size.mp4" -q
