@@ -14,6 +14,7 @@
 #     one JSON object per set on stdout: {"name", "frames", "mouth", "face", "opening"} (lists per frame)
 #   fidelity.py side TSV       the median face box side of a track, pixels
 #   fidelity.py summary FACE LABEL REAL.json RENDERED.json REAL.brisque RENDERED.brisque   one line
+#   fidelity.py y4m FRAMES TSV speaking|all MOST   real frames as YUV4MPEG2 on stdout (for classify.js)
 #   fidelity.py bands LABEL FRAMES[,FRAMES...] TSV[,TSV...] EVERY   horizontal-band energy across the nose bridge
 import csv
 import json
@@ -158,6 +159,84 @@ def bands(label, frames, tracks, every):
     print(f"         nose bands {label:26} median {np.median(v):5.2f} %  p95 {np.percentile(v, 95):5.2f} %  max {max(v):5.2f} %  ({len(v)} frames)")
 
 
+def y4m(frames_dir, track, which, most):
+    """The real frames as YUV4MPEG2 (4:2:0, BT.601 limited range, as classify.js reads) on stdout: `speaking`
+    (the inner-lip opening ranges over 0.08 eye distances within ±12 frames) or `all`, at most `most` of
+    them, evenly spaced."""
+    opening = {}
+    for frame, pts in read_track(track):
+        im_ = group(pts, "IM", 8)
+        eyes = np.linalg.norm(group(pts, "RE", 6).mean(0) - group(pts, "LE", 6).mean(0))
+        opening[frame] = float(np.mean([np.linalg.norm(im_[i] - im_[8 - i]) for i in (1, 2, 3)]) / max(eyes, 1e-6))
+    frames = sorted(opening)
+    if which == "speaking":
+        def moving(f):
+            near = [opening[g] for g in range(f - 12, f + 13) if g in opening]
+            return max(near) - min(near) > 0.08
+        frames = [f for f in frames if moving(f)]
+    frames = frames[:: max(1, len(frames) // int(most))]
+    out = sys.stdout.buffer
+    w = h = None
+    for f in frames:
+        path = os.path.join(frames_dir, f"frame_{f + 1:06d}.png")
+        if not os.path.exists(path):
+            continue
+        a = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64)
+        if w is None:
+            h, w = a.shape[0] // 2 * 2, a.shape[1] // 2 * 2
+            out.write(f"YUV4MPEG2 W{w} H{h} F25:1 Ip A1:1 C420jpeg\n".encode())
+        a = a[:h, :w]
+        r, g, b = a[..., 0], a[..., 1], a[..., 2]
+        planes = (16 + 0.257 * r + 0.504 * g + 0.098 * b,
+                  (128 - 0.148 * r - 0.291 * g + 0.439 * b).reshape(h // 2, 2, w // 2, 2).mean((1, 3)),
+                  (128 + 0.439 * r - 0.368 * g - 0.071 * b).reshape(h // 2, 2, w // 2, 2).mean((1, 3)))
+        out.write(b"FRAME\n")
+        for p in planes:
+            out.write(np.clip(np.round(p), 0, 255).astype(np.uint8).tobytes())
+
+
+CLASSES = ("neutral", "happy", "sad", "angry", "fearful", "disgusted", "surprised")
+
+
+def reading(path):
+    """classify.js's JSON lines in a file, pooled by their frames with a face."""
+    n, m = 0, {c: 0.0 for c in CLASSES}
+    for line in open(path):
+        if line.strip():
+            d = json.loads(line)
+            n += d["faces"]
+            for c in CLASSES:
+                m[c] += d["mean"][c] * d["faces"]
+    return {c: (m[c] / n if n else 0.0) for c in CLASSES}
+
+
+def expression(face, *pairs):
+    """LABEL=FILE... : one line per reading, neutral and happy and the largest class."""
+    for pair in pairs:
+        label, path = pair.split("=", 1)
+        r = reading(path)
+        top = max(CLASSES, key=lambda c: r[c])
+        print(f"         expression {label:28} neutral {r['neutral']:.2f}  happy {r['happy']:.2f}  (largest: {top} {r[top]:.2f})")
+
+
+def emotions(prefix):
+    """PREFIX-{take,render}-EMOTION.json for the six emotions: by argmax and by the gain over the same source's
+    neutral, how many of joy, distress, anger, fear and hate read as happy, sad, angry, fearful, disgusted."""
+    want = {"joy": "happy", "distress": "sad", "anger": "angry", "fear": "fearful", "hate": "disgusted"}
+    for src in ("take", "render"):
+        neutral = reading(f"{prefix}-{src}-neutral.json")
+        arg = gain = 0
+        cells = []
+        for e, c in want.items():
+            r = reading(f"{prefix}-{src}-{e}.json")
+            top = max(CLASSES, key=lambda k: r[k])
+            best = max(CLASSES, key=lambda k: r[k] - neutral[k])
+            arg += top == c
+            gain += best == c
+            cells.append(f"{e} {c} {r[c]:.2f}")
+        print(f"         expression {src + 's' if src == 'take' else 'renders':8} {', '.join(cells)}; argmax {arg} of 5, gain over neutral {gain} of 5")
+
+
 def sheet(out, prefix, row):
     """hate and anger, learned skin | own skin, the eyes and nose (1.5 × 1.2 eye distances) at 300 × 240."""
     tiles = []
@@ -179,6 +258,15 @@ def sheet(out, prefix, row):
 
 
 def main():
+    if sys.argv[1] == "expression":
+        expression(*sys.argv[2:])
+        return
+    if sys.argv[1] == "emotions":
+        emotions(sys.argv[2])
+        return
+    if sys.argv[1] == "y4m":
+        y4m(*sys.argv[2:6])
+        return
     if sys.argv[1] == "bands":
         bands(*sys.argv[2:6])
         return

