@@ -426,11 +426,13 @@ MappedAuAppearance mapAuAppearance(const AuAppearance& a, const Scheme& scheme, 
 		residual += (g - a.anchors.row(i).transpose()).squaredNorm();
 	}
 	residual = std::sqrt(residual / double(anchors.rows()));
-	const double gridIod = 0.5 * ((a.anchors.row(0) + a.anchors.row(1)) - (a.anchors.row(2) + a.anchors.row(3))).norm();
+	// Between the eyes' centres (the first four anchors are the eyes' corners).
+	auto eyeDistance = [](const Points& p) { return 0.5 * ((p.row(0) + p.row(1)) - (p.row(2) + p.row(3))).norm(); };
+	const double gridIod = eyeDistance(a.anchors);
 	std::vector<float> detail;  // D85: the face's own fine detail (log luminance less its blur), when it is another face
 	double iod = 0;
 	if (face && !face->empty() && residual > 0.05 * gridIod && width > 0 && height > 0) {
-		iod = 0.5 * ((anchors.row(0) + anchors.row(1)) - (anchors.row(2) + anchors.row(3))).norm();
+		iod = eyeDistance(anchors);
 		detail.resize(std::size_t(width) * std::size_t(height));
 		for (int y = 0; y < height; ++y)
 			for (int x = 0; x < width; ++x) {

@@ -271,9 +271,10 @@ std::int64_t mostNeutralFrame(const LandmarkTrack& track, const TrackMeasures& t
 	// The eyes as usual too: lids narrowed below the person's median (a smile's squint) cost (narrowing /
 	// 10 %)², as much as a mouth measure a spread off at 10 % narrower.
 	const UsualLift usual = tm.usualLift(cand);
-	std::vector<double> eyeValues;
+	const double shutLift = usual.at(ref[0]);
+	std::vector<double> eyes(track.frames.size(), NAN), eyeValues;
 	for (std::size_t i : cand)
-		if (const double e = eyeAspect(track.frames[i].points); std::isfinite(e)) eyeValues.push_back(e);
+		if (const double e = eyeAspect(track.frames[i].points); std::isfinite(e)) eyes[i] = e, eyeValues.push_back(e);
 	const double usualEyes = std::max(1e-6, percentile(eyeValues, 0.5));
 	double best = 1e300;
 	std::int64_t bestFrame = -1;
@@ -281,9 +282,9 @@ std::int64_t mostNeutralFrame(const LandmarkTrack& track, const TrackMeasures& t
 		const auto& f = track.frames[i];
 		double cost = 0;
 		for (int k = 0; k < kMeasures; ++k) cost += std::pow((tm.m[i][k] - ref[k]) / spread[k], 2);
-		const double smile = (tm.lift[i] - usual.at(ref[0])) / usual.spread();  // against the usual of shut lips
+		const double smile = (tm.lift[i] - shutLift) / usual.spread();  // against the usual of shut lips
 		cost += (smile > 0 ? 2.0 : 0.5) * smile * smile;
-		if (const double e = eyeAspect(f.points); std::isfinite(e)) cost += std::pow(std::max(0.0, 1 - e / usualEyes) / 0.1, 2);
+		if (std::isfinite(eyes[i])) cost += std::pow(std::max(0.0, 1 - eyes[i] / usualEyes) / 0.1, 2);
 		cost += std::pow(headRoll(f.points) / (5 * M_PI / 180), 2) + std::pow(headYaw(f.points) / 0.04, 2);
 		cost += std::pow(tm.speed[i] / 0.5, 2) + 4 * (1 - f.confidence);
 		if (cost < best) best = cost, bestFrame = std::int64_t(i);
