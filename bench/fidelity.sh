@@ -19,13 +19,14 @@
 # installed from npm on first use): franck and GRID, their neutral render of two sentences against their own
 # speaking frames (and all of franck's frames); the CREMA face, each of his six emotions rendered against his
 # take of it, by argmax and by the gain over neutral (issue 47's goals).
-# usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--faces "franck grid crema"] [--sheets DIR] [--expression]
+# usage: bench/fidelity.sh [BUILD_DIR] [--resampling sharp|linear] [--dissolve-detail on|off] [--faces "franck grid crema"] [--sheets DIR] [--expression]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"; draw=(); faces="franck grid crema"; sheets=""; expr=0
 while [ $# -gt 0 ]; do
 	case "$1" in
 		--resampling) draw+=(--resampling "$2"); shift ;;
+		--dissolve-detail) draw+=(--dissolve-detail "$2"); shift ;;
 		--faces) faces="$2"; shift ;;
 		--sheets) sheets="$2"; mkdir -p "$sheets"; shift ;;
 		--expression) expr=1 ;;

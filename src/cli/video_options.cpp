@@ -168,6 +168,7 @@ std::vector<OptionSpec> drawingOptionSpecs() {
 	        {"--dissolve", "KIND", "cross-dissolve weight: linear (default, thesis) or hermite"},
 	        {"--warp", "PATH", "direct (default: dissolve in the mean-shape frame, one warp) or keypose (the thesis's order: keyposes warped to their shapes, then forward and backward)"},
 	        {"--resampling", "KIND", "the direct warp's one resampling: sharp (default: the images it samples are prefiltered so that its bilinear kernel keeps the face's fine detail) or linear (plain bilinear: the frames of earlier versions)"},
+	        {"--dissolve-detail", "on|off", "with sharp resampling, a cross-dissolve between two keyposes keeps the fine detail's energy where their textures differ (on, default) or is the plain blend (off)"},
 	        {"--emotion-source", "SRC", "auto (default: the model's images of the emotion where it has them, else au), corpus (only the model's images; neutral where it has none) or au (the neutral images changed by the emotion's action units: shape and skin)"},
 	        {"--au-appearance", "on|learned|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default; a face other than the default one keeps its own skin, deepened where the lines form), learned (the lines as learned on the default face, on any face) or off (the shape alone)"}};
 }
@@ -303,6 +304,9 @@ void parseDrawingOptions(const Args& args, const std::string& command, SynthOpti
 	const std::string resampling = args.get("--resampling", "sharp");
 	if (resampling != "sharp" && resampling != "linear") throw UsageError(command + ": --resampling takes sharp or linear");
 	synth.resampling = resampling == "sharp" ? Resampling::Sharp : Resampling::Linear;
+	const std::string detail = args.get("--dissolve-detail", "on");
+	if (detail != "on" && detail != "off") throw UsageError(command + ": --dissolve-detail takes on or off");
+	synth.dissolveDetail = detail == "on";
 	const std::string source = args.get("--emotion-source", "auto");
 	if (source != "corpus" && source != "au" && source != "auto") throw UsageError(command + ": --emotion-source takes corpus, au or auto");
 	synth.emotionSource = source == "corpus" ? EmotionSource::Corpus : (source == "au" ? EmotionSource::ActionUnits : EmotionSource::Auto);

@@ -11,6 +11,7 @@
 #include "phonetics/labels.h"
 #include "synth/coarticulation.h"
 #include "synth/face_rig.h"
+#include "warp/dissolve_detail.h"
 #include "warp/piecewise_affine.h"
 #include "warp/prefilter.h"
 
@@ -281,6 +282,7 @@ KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const s
 	if (rw > 0 && rh > 0)
 		rgbToYuv420(k.rgb.data(), std::size_t(rw) * 3, rw, rh, o_.yuvRange, k.y.data(), std::size_t(rw), k.uv.data(), k.uv.data() + 1,
 		            std::size_t(cw) * 2, 2);
+	if (rig_.prefilter > 0 && o_.dissolveDetail) k.detail = fineDetail(k.y.data(), rw, rh);  // for the dissolves (issue 47)
 	return k;
 }
 

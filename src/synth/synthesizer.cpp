@@ -15,6 +15,7 @@
 #include "phonetics/labels.h"
 #include "synth/face_rig.h"
 #include "synth/keypose_cache.h"
+#include "warp/dissolve_detail.h"
 #include "warp/piecewise_affine.h"
 
 namespace talkhead {
@@ -320,6 +321,19 @@ void Synthesizer::drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std:
 	}
 }
 
+void Synthesizer::restoreDetail(const Between& f, Workspace& ws, std::uint8_t* plane, std::size_t stride, int channels, float scale) const {
+	if (f.src == f.dst || f.w256 <= 0 || f.w256 >= 256 || f.src->detail.empty() || f.dst->detail.empty()) return;
+	const int rw = rig_->roiX1 - rig_->roiX0, rh = rig_->roiY1 - rig_->roiY0;
+	if (!ws.detail) ws.detail = std::make_unique<DetailDissolve>();
+	if (ws.detailA != f.src || ws.detailB != f.dst) {  // a new pair: made once, for the frames between them
+		ws.detail->prepare(f.src->detail.data(), f.dst->detail.data(), rw, rh);
+		ws.detailA = f.src, ws.detailB = f.dst;
+	}
+	const double w = f.w256 / 256.0;  // the blend's own weight
+	for (int y = ws.detail->y0(); y < ws.detail->y1(); ++y)
+		ws.detail->restoreRow(y, w, plane + std::size_t(rig_->roiY0 + y) * stride + std::size_t(rig_->roiX0) * std::size_t(channels), channels, scale);
+}
+
 namespace {
 // Points a workspace's warp at a new destination shape (made on first use).
 void placeWarp(std::unique_ptr<PiecewiseAffineWarp>& warp, const TriangleMesh& mesh, const Points& destination, int width, int height) {
@@ -368,6 +382,7 @@ void Synthesizer::renderFrame(Ticks tau, const std::vector<Keypose>& keys, Works
 		const std::size_t at = std::size_t(y - rig_->roiY0) * rw * 3;
 		blendRow(f.src->rgb.data() + at, f.dst->rgb.data() + at, f.w256, ws.meanRgb.row(y) + std::size_t(rig_->roiX0) * 3, std::size_t(rw) * 3);
 	}
+	restoreDetail(f, ws, ws.meanRgb.data.data(), std::size_t(model_.width) * 3, 3, o_.yuvRange == YuvRange::Limited ? 255.f / 219.f : 1.f);
 	applySkin(f, ws.meanRgb.data.data(), std::size_t(model_.width) * 3, 3, 0);
 	if (f.closure > 0) drawClosedLids(nullptr, nullptr, ws.meanRgb.data.data(), f.closure);
 	ws.warp->setSource(rig_->meanSource);
@@ -413,6 +428,7 @@ void Synthesizer::renderFrameYuv(Ticks tau, const std::vector<Keypose>& keys, Wo
 		blendRow(f.src->uv.data() + at, f.dst->uv.data() + at, f.w256, ws.meanUV.data() + (std::size_t(y) * cw + std::size_t(rig_->roiX0 / 2)) * 2,
 		         std::size_t(rcw) * 2);
 	}
+	restoreDetail(f, ws, ws.meanY.data(), std::size_t(W), 1, 1.f);
 	applySkin(f, ws.meanY.data(), std::size_t(W), 1, o_.yuvRange == YuvRange::Limited ? 16 : 0);
 	if (f.closure > 0) drawClosedLids(ws.meanY.data(), ws.meanUV.data(), nullptr, f.closure);
 	ws.warp->setSource(rig_->meanSource);

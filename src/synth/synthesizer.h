@@ -59,6 +59,10 @@ struct SynthOptions {
 	// D85: on a face other than the one the maps were learned from, the learned lines become the face's own
 	// detail deepened (false: the learned maps as they are, the learning face's drawn lines).
 	bool auOwnSkin = true;
+	// Issue 47: a cross-dissolve between two keyposes keeps the fine detail's energy where their textures
+	// differ (warp/dissolve_detail.h) — with Resampling::Sharp at a scale that prefilters; false: the plain
+	// blend of Eq. 5.4.
+	bool dissolveDetail = true;
 };
 
 // A keypose ready to morph: its shape (model pixels) and its appearance: composited in the mean-shape frame
@@ -67,6 +71,7 @@ struct KeyposeImage {
 	Image8 image;                    // WarpPath::Keypose: model frame, warped to `shape`
 	std::vector<std::uint8_t> rgb;   // WarpPath::Direct: mean-frame RGB of the face box
 	std::vector<std::uint8_t> y, uv; // the same as luma and interleaved chroma (4:2:0) in the synthesizer's range
+	std::vector<std::int16_t> detail; // y's fine detail (fineDetail) when dissolves restore it; else empty
 	Points shape;
 	std::string usedEmotion, usedCdv;  // the model entry it came from (after fallbacks)
 	// A keypose from action units whose mouth they open: the neutral sample whose mouth skin it shows (D71),
@@ -81,6 +86,7 @@ struct KeyposeImage {
 struct FaceRig;
 class KeyposeCache;
 class PiecewiseAffineWarp;
+class DetailDissolve;
 
 struct KeyposeSource {
 	enum class Kind { Own, Borrowed, ActionUnits } kind = Kind::Own;
@@ -123,6 +129,8 @@ public:
 		std::unique_ptr<PiecewiseAffineWarp> warp, chromaWarp;  // the warp stays inside synth/
 		Image8 meanRgb, rgb;                     // mean-frame RGB (baseface outside the face box); RGB frame
 		std::vector<std::uint8_t> meanY, meanUV;  // the same in YUV 4:2:0 (chroma interleaved)
+		std::unique_ptr<DetailDissolve> detail;   // the dissolve's detail for the pair (detailA, detailB)
+		const KeyposeImage *detailA = nullptr, *detailB = nullptr;
 		double warpSeconds = 0;  // CPU time spent in the dissolve and warp passes, for benchmarks
 	};
 	// Draws the frame at time τ (keyposes must be prepared) into `out` (output size) and its feature
@@ -180,6 +188,9 @@ private:
 	// Multiplies the mean frame's face box (a plane of `channels` interleaved, `black` its zero) by the
 	// skin's gain of f's action units (issue 31).
 	void applySkin(const Between& f, std::uint8_t* plane, std::size_t stride, int channels, int black) const;
+	// The dissolve's lost fine detail put back into the mean frame's face box (SynthOptions::dissolveDetail):
+	// a plane of `channels` interleaved (luma; RGB, each channel alike, `scale` levels per luma level).
+	void restoreDetail(const Between& f, Workspace& ws, std::uint8_t* plane, std::size_t stride, int channels, float scale) const;
 	// Adds an action unit's weight on one side (−1 image left, +1 image right, 0 both) to its map's.
 	static void addSkin(Between& f, int map, double weight, int side);
 	// Also sets `points`: the feature points at τ in output pixels.
