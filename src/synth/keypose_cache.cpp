@@ -282,7 +282,10 @@ KeyposeImage KeyposeCache::makeKeypose(long sample, const Points& shape, const s
 	if (rw > 0 && rh > 0)
 		rgbToYuv420(k.rgb.data(), std::size_t(rw) * 3, rw, rh, o_.yuvRange, k.y.data(), std::size_t(rw), k.uv.data(), k.uv.data() + 1,
 		            std::size_t(cw) * 2, 2);
-	if (rig_.prefilter > 0 && o_.dissolveDetail) k.detail = fineDetail(k.y.data(), rw, rh);  // for the dissolves (issue 47)
+	if (rig_.prefilter > 0 && o_.dissolveDetail) {  // for the dissolves (issue 47)
+		k.detail = fineDetail(k.y.data(), rw, rh);
+		k.detailEnergy = detailEnergy(k.detail.data(), rw, rh);
+	}
 	return k;
 }
 

@@ -326,12 +326,13 @@ void Synthesizer::restoreDetail(const Between& f, Workspace& ws, std::uint8_t* p
 	const int rw = rig_->roiX1 - rig_->roiX0, rh = rig_->roiY1 - rig_->roiY0;
 	if (!ws.detail) ws.detail = std::make_unique<DetailDissolve>();
 	if (ws.detailA != f.src || ws.detailB != f.dst) {  // a new pair: made once, for the frames between them
-		ws.detail->prepare(f.src->detail.data(), f.dst->detail.data(), rw, rh);
+		ws.detail->prepare(f.src->detail.data(), f.src->detailEnergy, f.dst->detail.data(), f.dst->detailEnergy, rw, rh);
 		ws.detailA = f.src, ws.detailB = f.dst;
 	}
-	const double w = f.w256 / 256.0;  // the blend's own weight
+	if (ws.detail->y1() <= ws.detail->y0()) return;
+	ws.detail->setWeight(f.w256 / 256.0);  // the blend's own weight
 	for (int y = ws.detail->y0(); y < ws.detail->y1(); ++y)
-		ws.detail->restoreRow(y, w, plane + std::size_t(rig_->roiY0 + y) * stride + std::size_t(rig_->roiX0) * std::size_t(channels), channels, scale);
+		ws.detail->restoreRow(y, plane + std::size_t(rig_->roiY0 + y) * stride + std::size_t(rig_->roiX0) * std::size_t(channels), channels, scale);
 }
 
 namespace {

@@ -72,6 +72,7 @@ struct KeyposeImage {
 	std::vector<std::uint8_t> rgb;   // WarpPath::Direct: mean-frame RGB of the face box
 	std::vector<std::uint8_t> y, uv; // the same as luma and interleaved chroma (4:2:0) in the synthesizer's range
 	std::vector<std::int16_t> detail; // y's fine detail (fineDetail) when dissolves restore it; else empty
+	std::vector<float> detailEnergy;  // and its energy per 4 × 4 block (detailEnergy)
 	Points shape;
 	std::string usedEmotion, usedCdv;  // the model entry it came from (after fallbacks)
 	// A keypose from action units whose mouth they open: the neutral sample whose mouth skin it shows (D71),
