@@ -326,7 +326,19 @@ void Synthesizer::restoreDetail(const Between& f, Workspace& ws, std::uint8_t* p
 	const int rw = rig_->roiX1 - rig_->roiX0, rh = rig_->roiY1 - rig_->roiY0;
 	if (!ws.detail) ws.detail = std::make_unique<DetailDissolve>();
 	if (ws.detailA != f.src || ws.detailB != f.dst) {  // a new pair: made once, for the frames between them
-		ws.detail->prepare(f.src->detail.data(), f.src->detailEnergy, f.dst->detail.data(), f.dst->detailEnergy, rw, rh);
+		{
+			std::lock_guard<std::mutex> lock(pairsMutex_);
+			const std::pair<const KeyposeImage*, const KeyposeImage*> key{f.src, f.dst};
+			auto it = pairs_.find(key);
+			if (it == pairs_.end()) {
+				if (pairs_.size() >= 4096) pairs_.clear();  // a long live session: start again (workspaces keep theirs alive)
+				it = pairs_.emplace(key, std::make_shared<const DetailPair>(detailPair(f.src->detail.data(), f.src->detailEnergy, f.dst->detail.data(),
+				                                                                        f.dst->detailEnergy, rw, rh))).first;
+			}
+			const std::shared_ptr<const DetailPair>& p = it->second;
+			ws.detailPair = p;
+		}
+		ws.detail->prepare(f.src->detail.data(), f.src->detailEnergy, f.dst->detail.data(), f.dst->detailEnergy, *ws.detailPair, rw, rh);
 		ws.detailA = f.src, ws.detailB = f.dst;
 	}
 	if (ws.detail->y1() <= ws.detail->y0()) return;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 #include <array>
+#include <map>
+#include <mutex>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,6 +90,7 @@ struct FaceRig;
 class KeyposeCache;
 class PiecewiseAffineWarp;
 class DetailDissolve;
+struct DetailPair;
 
 struct KeyposeSource {
 	enum class Kind { Own, Borrowed, ActionUnits } kind = Kind::Own;
@@ -132,6 +135,7 @@ public:
 		std::vector<std::uint8_t> meanY, meanUV;  // the same in YUV 4:2:0 (chroma interleaved)
 		std::unique_ptr<DetailDissolve> detail;   // the dissolve's detail for the pair (detailA, detailB)
 		const KeyposeImage *detailA = nullptr, *detailB = nullptr;
+		std::shared_ptr<const DetailPair> detailPair;
 		double warpSeconds = 0;  // CPU time spent in the dissolve and warp passes, for benchmarks
 	};
 	// Draws the frame at time τ (keyposes must be prepared) into `out` (output size) and its feature
@@ -170,6 +174,9 @@ private:
 	SynthOptions o_;
 	std::unique_ptr<FaceRig> rig_;         // what frames are drawn on (synth/face_rig.h)
 	std::unique_ptr<KeyposeCache> cache_;  // the keyposes' images (synth/keypose_cache.h)
+	// The dissolves' pairs (DetailPair), made once by whichever thread draws a pair's first frame.
+	mutable std::mutex pairsMutex_;
+	mutable std::map<std::pair<const KeyposeImage*, const KeyposeImage*>, std::shared_ptr<const DetailPair>> pairs_;
 	void closeEyes(Points& points, double closure) const;
 	void drawClosedLids(std::uint8_t* meanY, std::uint8_t* meanUV, std::uint8_t* meanRgb, double closure) const;
 	// A frame's place in the timeline: the bracketing keyposes of τ, the morph position u ∈ [0, 1] and the

@@ -16,7 +16,7 @@ namespace talkhead {
 // w(1 − w)·E_{A−B}; it is scaled by k = √(((1 − w)·E_A + w·E_B) / that), at most 1.5, interpolated bilinearly
 // between the blocks' centres: k = 1 where the two images' details are the same, √2 halfway where they are
 // unrelated. The details and energies are made once per image, E_{A−B} once per pair; a frame costs a
-// square root per block and a multiply-add per pixel. Deterministic: integer details, IEEE float
+// square root per block and a multiply-add per pixel where k may exceed 1.02 (elsewhere k stays 1). Deterministic: integer details, IEEE float
 // operations in a fixed order (no contraction, D74).
 
 // The fine detail of an 8-bit plane (w × h, stride w), in luma levels, as 16-bit fixed point (1/8 level).
@@ -24,9 +24,21 @@ std::vector<std::int16_t> fineDetail(const std::uint8_t* plane, int w, int h);
 // The local energies of a detail (levels²), one per 4 × 4 block (ceil(w/4) × ceil(h/4), row-major).
 std::vector<float> detailEnergy(const std::int16_t* detail, int w, int h);
 
+// What a pair of details needs, made once per pair and shared by the threads drawing its frames: E_{A−B} per
+// block, the blocks whose k may exceed 1.02 (elsewhere k stays 1), and the rows [y0, y1) where any may.
+struct DetailPair {
+	std::vector<float> ed;
+	std::vector<std::uint8_t> active;
+	int y0 = 0, y1 = 0;
+};
+DetailPair detailPair(const std::int16_t* a, const std::vector<float>& energyA, const std::int16_t* b, const std::vector<float>& energyB, int w, int h);
+
 class DetailDissolve {
 public:
-	// For two planes' details and energies (w × h). Reuses its buffers (no allocation once large enough).
+	// For two planes' details and energies (w × h) and their pair (kept by reference until the next prepare),
+	// or with a pair of its own. Reuses its buffers (no allocation once large enough).
+	void prepare(const std::int16_t* a, const std::vector<float>& energyA, const std::int16_t* b, const std::vector<float>& energyB,
+	             const DetailPair& pair, int w, int h);
 	void prepare(const std::int16_t* a, const std::vector<float>& energyA, const std::int16_t* b, const std::vector<float>& energyB, int w, int h);
 	// Sets the weight w (0 … 1) of the frames drawn next (the blocks' k).
 	void setWeight(double w);
@@ -43,8 +55,12 @@ private:
 	const std::vector<float>*ea_ = nullptr, *eb_ = nullptr;
 	int w_ = 0, h_ = 0, gw_ = 0, gh_ = 0, y0_ = 0, y1_ = 0;
 	float wa_ = 1, wb_ = 0;
-	std::vector<std::int16_t> diff_;
-	std::vector<float> ed_, k_, kRow_;  // E_{A−B} and k per block; k of the row being drawn, per block column
+	const DetailPair* pair_ = nullptr;
+	DetailPair own_;
+	std::vector<float> k_, kRow_;       // k per block; k − 1 of the row being drawn, per block column
+	std::vector<int> bx0_, bx1_;        // per column: the block columns it lies between
+	std::vector<float> fx_;             // and how far from the first
+	std::vector<float> gain_;           // k − 1 of each pixel of the row being drawn
 };
 
 }  // namespace talkhead

@@ -975,6 +975,7 @@ double laplacianVariance(const Image8& im, int x0, int y0, int x1, int y1) {
 Image8 keyposeFrame(const FaceModel& model, Resampling r, int width, int height, Points& pts) {
 	SynthOptions o;
 	o.resampling = r;
+	o.dissolveDetail = false;  // the prefilter alone (D84); the dissolve's detail has its own test (D88)
 	o.width = width, o.height = height;
 	Synthesizer synth(model, o);
 	std::vector<PhoneSegment> phones;
