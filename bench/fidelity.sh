@@ -13,6 +13,8 @@
 # opencv-data (BRISQUE), the dlib plugin. franck's track is cached in ~/.cache/talkhead-bench/fidelity.
 # Then bands across the nose bridge (the rows' luma less its smooth course, D85) in the real frames and in
 # hate and anger drawn with the learned skin maps and with the face's own skin.
+# The CREMA face's real frames are also measured take by take: his hate take shows what a real wrinkled nose
+# adds to the band measure against his neutral one.
 # With --sheets DIR, also DIR/skin-FACE.png: hate and anger from action units (his own takes for CREMA),
 # each with the learned skin maps as they are and with the face's own skin (D85), the eyes and nose enlarged.
 # With --expression, also how the faces read by face-api's expression net (bench/expression.sh's classifier,
@@ -111,6 +113,10 @@ for face in $faces; do
 	echo "$face  bands across the nose bridge, at the model's own size (real: every 4th frame; rendered: every frame)"
 	every=4; [ "$face" = franck ] && every=20
 	fid bands "real" "$realFrames" "$realTsv" "$every"
+	if [ "$face" = crema ]; then  # a real nose wrinkle: his takes one by one (hate is AU9's emotion)
+		k=0
+		for e in neutral anger hate fear joy distress; do k=$((k + 1)); fid bands "real, his $e take" "$w/crema-real$k" "$w/crema-corpus/landmarks-take$k.tsv" 1; done
+	fi
 	for e in hate anger; do for skin in learned on; do
 		"$th" say "Hello there, my friend." --lang en-US --model "$w/$face.thm" --emotion "$e" --au-appearance "$skin" "${draw[@]}" \
 			-o "$w/band-$e-$skin.mp4" --landmarks-out "$w/band-$e-$skin.tsv" -q
