@@ -457,7 +457,11 @@ long nearestMouth(const FaceModel& model, const MouthPool& pool, const std::vect
 
 std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion, std::vector<Keypose>& keys) {
 	Scheme scheme;
-	if (!mouthScheme(model, scheme)) return 0;
+	if (!mouthScheme(model, scheme)) {  // no mouth to measure: the predictions cannot choose, the fallbacks draw
+		for (Keypose& k : keys)
+			if (k.sample < 0) k.mouthOpening.reset(), k.mouthWidth.reset();
+		return 0;
+	}
 	const std::vector<MouthSize> size = sampleMouths(model, scheme);
 	// Per emotion: its samples and this face's scale (the 90th percentile of their openings, pauses left out).
 	std::map<std::string, MouthPool> pools;
@@ -472,23 +476,34 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 		std::string e = k.emotion.value_or(emotion).label();
 		if (poolOf(e).samples.empty() || !(poolOf(e).scale > 0)) e = Emotion::neutralLabel();
 		const MouthPool& pool = poolOf(e);
-		if (pool.samples.empty() || !(pool.scale > 0)) continue;
-		long own = model.findSample(e, k.cdv.label(), &k.context);
-		if (own < 0) continue;  // the CDV's fallbacks stay the synthesizer's
-		const MouthSize& o = size[std::size_t(own)];
+		if (pool.samples.empty() || !(pool.scale > 0)) {  // nothing to choose from: the synthesizer's fallbacks
+			k.mouthOpening.reset(), k.mouthWidth.reset();
+			continue;
+		}
+		// The emotion's own exemplar of the CDV; one it lacks (a short take: issue 47) is chosen from the
+		// emotion's whole pool by the predicted mouth like any other — not left to the synthesizer's
+		// fallbacks, which know nothing of the prediction.
+		const long own = model.findSample(e, k.cdv.label(), &k.context);
+		const MouthSize* o = own >= 0 ? &size[std::size_t(own)] : nullptr;
 		long best = own;
 		if (bilabial(k.cdv.label())) {
-			if (o.opening > pool.closedLimit) {
+			if (!o || o->opening > pool.closedLimit) {
+				const double above = o ? o->opening : std::numeric_limits<double>::max();
 				double least = std::numeric_limits<double>::max();
 				for (int pass = 0; pass < 2 && best == own; ++pass)  // a bilabial exemplar first, then any
 					for (std::size_t s : pool.samples)
-						if ((pass == 1 || bilabial(model.samples[s].cdv)) && size[s].opening < least && size[s].opening < o.opening)
+						if ((pass == 1 || bilabial(model.samples[s].cdv)) && size[s].opening < least && size[s].opening < above)
 							least = size[s].opening, best = long(s);
 			}
 		} else {
-			const double target = *k.mouthOpening * pool.scale, width = k.mouthWidth ? *k.mouthWidth * pool.width : o.width;
+			const double target = *k.mouthOpening * pool.scale;
+			const double width = k.mouthWidth ? *k.mouthWidth * pool.width : (o ? o->width : pool.width);
 			const long nearest = nearestMouth(model, pool, size, target, width);
 			if (nearest >= 0) best = nearest;
+		}
+		if (best < 0) {  // no exemplar at all (a pool of pauses): the synthesizer's fallbacks, unpredicted
+			k.mouthOpening.reset(), k.mouthWidth.reset();
+			continue;
 		}
 		k.sample = best;
 		++chosen;

@@ -123,7 +123,10 @@ bool bilabial(const std::string& cdv);  // p1, p2: the CDVs whose lips shut
 // among the samples of its emotion (else neutral's), the one whose opening and width are nearest the
 // targets (scaled to this face's own 90th percentile of opening and median width); a bilabial closes
 // (its CDV's sample when that is shut, else the most closed bilabial exemplar, else the most closed one).
-// Returns the number of keyposes given an exemplar; 0 when the scheme cannot measure the mouth.
+// A CDV the emotion has no sample of (a face from short takes) is chosen the same way from the whole pool.
+// A keypose left without an exemplar (a pool with no mouth to choose) loses its prediction and keeps the
+// synthesizer's fallbacks. Returns the number of keyposes given an exemplar; 0 when the scheme cannot
+// measure the mouth.
 std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion, std::vector<Keypose>& keys);
 
 }  // namespace talkhead

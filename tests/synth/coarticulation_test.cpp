@@ -367,6 +367,36 @@ TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePr
 	}
 }
 
+TEST(Coarticulation, aCdvTheFaceHasNoSampleOfTakesTheExemplarNearestThePrediction) {
+	// Issue 47: a face from short takes lacks most CDVs. A predicted mouth for one it lacks is chosen from the
+	// emotion's whole pool like any other (before, it kept no exemplar and renderPerformance refused the plan).
+	const FaceModel& model = smallFace();
+	Scheme scheme;
+	ASSERT_TRUE(mouthScheme(model, scheme));
+	std::string missing;
+	for (const char* c : {"u", "o", "e", "ɔ", "ɛ", "i1", "s1", "f1", "k1"})
+		if (missing.empty() && model.findSample("neutral", c) < 0) missing = c;
+	ASSERT_FALSE(missing.empty()) << "the small face lacks some CDVs";
+	const double open = mouthSize(scheme, model.alignedShapes[std::size_t(model.findSample("neutral", "a"))]).opening;
+	const auto ph = phones({{"x", missing.c_str()}, {"t", "t1"}, {"x", missing.c_str()}});
+	for (double asked : {4.0, 0.05}) {
+		auto keys = keyposes(ph, ms(40));
+		for (Keypose& k : keys)
+			if (isPhoneKeypose(ph, k)) k.mouthOpening = asked, k.mouthWidth = 1.0;
+		EXPECT_EQ(chooseMouthExemplars(model, Emotion::of("neutral"), keys), 3u);
+		for (const Keypose& k : keys) {
+			if (!k.mouthOpening || k.cdv == "t1") continue;
+			ASSERT_GE(k.sample, 0);
+			const double gap = mouthSize(scheme, model.alignedShapes[std::size_t(k.sample)]).opening;
+			if (asked > 1) {
+				EXPECT_EQ(k.sample, model.findSample("neutral", "a")) << "wide open: the open exemplar";
+			} else {
+				EXPECT_LT(gap, 0.5 * open) << "barely open: a nearly closed exemplar";
+			}
+		}
+	}
+}
+
 // Live sessions (serve, talkhead live) plan with the model too: an utterance's keyposes get the exemplars a
 // render of the same phones gets, bilabials shut, and an emotion change mid-utterance chooses them again.
 TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
