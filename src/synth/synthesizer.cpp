@@ -328,15 +328,13 @@ void Synthesizer::restoreDetail(const Between& f, Workspace& ws, std::uint8_t* p
 	if (ws.detailA != f.src || ws.detailB != f.dst) {  // a new pair: made once, for the frames between them
 		{
 			std::lock_guard<std::mutex> lock(pairsMutex_);
-			const std::pair<const KeyposeImage*, const KeyposeImage*> key{f.src, f.dst};
-			auto it = pairs_.find(key);
+			auto it = pairs_.find({f.src, f.dst});
 			if (it == pairs_.end()) {
 				if (pairs_.size() >= 4096) pairs_.clear();  // a long live session: start again (workspaces keep theirs alive)
-				it = pairs_.emplace(key, std::make_shared<const DetailPair>(detailPair(f.src->detail.data(), f.src->detailEnergy, f.dst->detail.data(),
-				                                                                        f.dst->detailEnergy, rw, rh))).first;
+				it = pairs_.emplace(std::make_pair(f.src, f.dst), std::make_shared<const DetailPair>(detailPair(f.src->detail.data(), f.src->detailEnergy,
+				                                                                                               f.dst->detail.data(), f.dst->detailEnergy, rw, rh))).first;
 			}
-			const std::shared_ptr<const DetailPair>& p = it->second;
-			ws.detailPair = p;
+			ws.detailPair = it->second;
 		}
 		ws.detail->prepare(f.src->detail.data(), f.src->detailEnergy, f.dst->detail.data(), f.dst->detailEnergy, *ws.detailPair, rw, rh);
 		ws.detailA = f.src, ws.detailB = f.dst;

@@ -97,10 +97,11 @@ void DetailDissolve::prepare(const std::int16_t* a, const std::vector<float>& en
 
 void DetailDissolve::prepare(const std::int16_t* a, const std::vector<float>& energyA, const std::int16_t* b, const std::vector<float>& energyB,
                              const DetailPair& pair, int w, int h) {
-	a_ = a, b_ = b, ea_ = &energyA, eb_ = &energyB, pair_ = &pair, w_ = w, h_ = h, gw_ = (w + 3) / 4, gh_ = (h + 3) / 4;
-	y0_ = pair.y0, y1_ = pair.y1;
-	if (y1_ <= y0_) return;
+	a_ = a, b_ = b, ea_ = &energyA, eb_ = &energyB, pair_ = &pair, gh_ = (h + 3) / 4;
+	if (pair.y1 <= pair.y0) return;
 	k_.resize(pair.ed.size());
+	if (w == w_) return;  // the column tables below depend on the width alone
+	w_ = w, gw_ = (w + 3) / 4;
 	kRow_.resize(std::size_t(gw_));
 	gain_.resize(std::size_t(w));
 	// Per column: the two block columns it lies between and how far (the same for every row).
@@ -122,7 +123,7 @@ void DetailDissolve::setWeight(double w) {
 }
 
 void DetailDissolve::restoreRow(int y, std::uint8_t* row, int channels, float scale) {
-	if (y < y0_ || y >= y1_ || wb_ <= 0.f || wa_ <= 0.f) return;
+	if (!pair_ || y < pair_->y0 || y >= pair_->y1 || wb_ <= 0.f || wa_ <= 0.f) return;
 	// k between the block centres (4b + 1.5): first down the column of blocks, then along the row.
 	const float fy = std::clamp((float(y) - 1.5f) / 4.f, 0.f, float(gh_ - 1));
 	const int by = std::min(int(fy), std::max(gh_ - 2, 0)), by1 = std::min(by + 1, gh_ - 1);

@@ -47,18 +47,18 @@ public:
 	// scale converts luma levels to the channels' levels).
 	void restoreRow(int y, std::uint8_t* row, int channels, float scale);
 	// The rows [y0, y1) outside which the two details are the same (k = 1 there).
-	int y0() const { return y0_; }
-	int y1() const { return y1_; }
+	int y0() const { return pair_ ? pair_->y0 : 0; }
+	int y1() const { return pair_ ? pair_->y1 : 0; }
 
 private:
 	const std::int16_t *a_ = nullptr, *b_ = nullptr;
 	const std::vector<float>*ea_ = nullptr, *eb_ = nullptr;
-	int w_ = 0, h_ = 0, gw_ = 0, gh_ = 0, y0_ = 0, y1_ = 0;
+	int w_ = 0, gw_ = 0, gh_ = 0;
 	float wa_ = 1, wb_ = 0;
 	const DetailPair* pair_ = nullptr;
 	DetailPair own_;
 	std::vector<float> k_, kRow_;       // k per block; k − 1 of the row being drawn, per block column
-	std::vector<int> bx0_, bx1_;        // per column: the block columns it lies between
+	std::vector<int> bx0_, bx1_;        // per column (of w_): the block columns it lies between
 	std::vector<float> fx_;             // and how far from the first
 	std::vector<float> gain_;           // k − 1 of each pixel of the row being drawn
 };
