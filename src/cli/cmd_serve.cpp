@@ -41,8 +41,8 @@ std::vector<OptionSpec> liveOptionSpecs() {
 	        {"--speech-brows", "on|off|X", "brow raises with speech (default on)"},
 	        {"--seed", "N", "seed of blinks and head motion (default 1): the same seed and requests give the same frames"},
 	        {"--sample-rate", "HZ", "the stream's sound (default 22050, espeak-ng's own rate)"},
-	        {"--coarticulation", "F.tsv", "the mouth from its phone context (D62, 'talkhead corpus coarticulation'), as render's option"},
-	        {"--pauses", "STYLE", "natural (default), still (the default with --coarticulation) or thesis, as render's option"}};
+	        {"--coarticulation", "on|off|F.tsv", "the mouth from its phone context (D62, D90): on (default, the model that ships), off (the thesis's path) or a model file, as render's option"},
+	        {"--pauses", "STYLE", "natural (the default with --coarticulation off), still (the default) or thesis, as render's option"}};
 	for (auto& d : drawingOptionSpecs()) specs.push_back(d);
 	return specs;
 }

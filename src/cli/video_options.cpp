@@ -188,8 +188,8 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--no-audio", "", "no audio track (the audio's length still sets the duration)"},
 	        {"--crf", "N", "quality: H.264 0–51 (default 20), VP9 0–63 (default 32); lower is better and larger"},
 	        {"--preset", "NAME", "x264 preset (default veryfast)"},
-	        {"--pauses", "STYLE", "pauses: natural (default: rest soon after speech, a breath before it), still (rest soon after speech and held; before the next words a slow in-breath where the pause allows; the default with --coarticulation) or thesis (one silence keypose at each pause midpoint)"},
-	        {"--coarticulation", "F.tsv", "the mouth from its phone context (D62): each phone's keypose shows the face's exemplar nearest the opening this model predicts ('talkhead corpus coarticulation'); bilabials close"},
+	        {"--pauses", "STYLE", "pauses: natural (rest soon after speech, a breath before it; the default with --coarticulation off), still (rest soon after speech and held; before the next words a slow in-breath where the pause allows; the default) or thesis (one silence keypose at each pause midpoint)"},
+	        {"--coarticulation", "on|off|F.tsv", "the mouth from its phone context (D62, D90): each phone's keypose shows the face's exemplar nearest the opening a model learned from real speakers predicts; bilabials close. on (default): the model that ships (95 GRID clips, 6 speakers); off: the thesis's path (one target per phone); or a model of your own ('talkhead corpus coarticulation')"},
 	        {"--controls", "F", "timed events (JSON, or a TextGrid with --control-tier): emotion changes, blinks, nods, shakes, turns, brows, action units (README: Timed controls)"},
 	        {"--control-tier", "NAME", "with a TextGrid --controls: the tier whose labels are the events"},
 	        {"--blinks", "on|off", "blink (default on: ~17 a minute at rest, fewer in fear, more in distress, placed in pauses)"},
@@ -317,7 +317,7 @@ void parseDrawingOptions(const Args& args, const std::string& command, SynthOpti
 }
 
 PauseStyle parsePausesOption(const Args& args, const std::string& command) {
-	if (!args.has("--pauses")) return defaultPauseStyle(args.has("--coarticulation"));
+	if (!args.has("--pauses")) return defaultPauseStyle(args.get("--coarticulation", "on") != "off");
 	const auto pauses = parsePauseStyle(*args.get("--pauses"));
 	if (!pauses) throw UsageError(command + ": --pauses takes natural, still or thesis");
 	return *pauses;
@@ -388,8 +388,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 }
 
 std::shared_ptr<const CoarticulationModel> parseCoarticulation(const Args& args) {
-	if (auto f = args.get("--coarticulation")) return std::make_shared<const CoarticulationModel>(loadCoarticulation(*f));
-	return nullptr;
+	return coarticulationOption(args.get("--coarticulation", "on"));
 }
 
 VideoFace loadVideoFace(const VideoCommand& cmd) {

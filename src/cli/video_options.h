@@ -28,7 +28,8 @@ std::vector<OptionSpec> videoOptionSpecs();
 // --emotion-source, --au-appearance.
 std::vector<OptionSpec> drawingOptionSpecs();
 void parseDrawingOptions(const Args& args, const std::string& command, SynthOptions& synth);
-// --pauses, by default as the library says (defaultPauseStyle: still with --coarticulation).
+// --pauses, by default as the library says (defaultPauseStyle: still with a coarticulation model, which is
+// the default; natural with --coarticulation off).
 PauseStyle parsePausesOption(const Args& args, const std::string& command);
 
 // A render or say: the job's output half (render/video_job.h) and what the command line adds — the
@@ -65,7 +66,7 @@ void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech);
 // SSML marks on stderr, as JSON progress lines with --json-progress, else one line each unless -q.
 void reportMarks(const VideoCommand& cmd, const std::vector<Utterance::Mark>& marks);
 
-// --coarticulation F (D62): the model read, or null.
+// --coarticulation on|off|F (D62, D90): the shipped model (on, the default), none (off) or F read.
 std::shared_ptr<const CoarticulationModel> parseCoarticulation(const Args& args);
 
 // The face a video command draws (--model, else the default face, made on first use; with the

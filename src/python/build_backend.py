@@ -166,6 +166,7 @@ def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
             add(f"{info}/METADATA", _metadata(version).encode())
             add(f"{info}/WHEEL", f"Wheel-Version: 1.0\nGenerator: talkhead build_backend\nRoot-Is-Purelib: false\nTag: {_tag()}\n".encode())
             add(f"{info}/LICENSE", (SOURCE / "LICENSE").read_bytes())
+            add(f"{info}/NOTICE", (SOURCE / "NOTICE").read_bytes())
             text = io.StringIO()
             writer = csv.writer(text, lineterminator="\n")
             writer.writerows(record + [[f"{info}/RECORD", "", ""]])

@@ -313,6 +313,21 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 	writeFileAtomically(path, out.str());
 }
 
+std::shared_ptr<const CoarticulationModel> shippedCoarticulation() {
+	static const std::shared_ptr<const CoarticulationModel> m = [] {
+		const auto path = findDataFile(kShippedCoarticulation);
+		if (!path) throw Error(std::string(kShippedCoarticulation) + ": not found in the data folders (set TALKHEAD_DATA_DIR, or --coarticulation off)");
+		return std::make_shared<const CoarticulationModel>(loadCoarticulation(*path));
+	}();
+	return m;
+}
+
+std::shared_ptr<const CoarticulationModel> coarticulationOption(const std::string& value) {
+	if (value == "off") return nullptr;
+	if (value == "on") return shippedCoarticulation();
+	return std::make_shared<const CoarticulationModel>(loadCoarticulation(value));
+}
+
 CoarticulationModel loadCoarticulation(const std::string& path) {
 	std::ifstream in(path, std::ios::binary);
 	if (!in) throw Error(path + ": cannot open the coarticulation model (" + std::strerror(errno) + ")");

@@ -4,6 +4,7 @@
 // and durations by a sliding-window ridge regression (the idea of Taylor et al. 2017, done linearly),
 // learned from real speakers; the face then shows its corpus exemplar nearest that opening.
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <string>
@@ -85,6 +86,15 @@ void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneS
 // Text file "talkhead-coarticulation 3" (2: without the bilabial line; 1: without the lead line either); reading checks every line and the features, naming the file.
 void saveCoarticulation(const CoarticulationModel& m, const std::string& path);
 CoarticulationModel loadCoarticulation(const std::string& path);
+
+// The model that ships with talkhead (issue 48, D90): models/coarticulation/grid.tsv in the data folders,
+// learned from 95 GRID clips of 6 speakers (CC BY 4.0: NOTICE; corpus-tools/coarticulation-grid.sh
+// rebuilds it). Read once, on first use, and shared; Error when no data folder has it.
+inline constexpr const char* kShippedCoarticulation = "models/coarticulation/grid.tsv";
+std::shared_ptr<const CoarticulationModel> shippedCoarticulation();
+// What a `coarticulation` option names: "on" (the shipped model), "off" (none: the thesis's path, one
+// target per phone) or a model file's path.
+std::shared_ptr<const CoarticulationModel> coarticulationOption(const std::string& value);
 
 // The inner-lip opening and mouth width of a shape in eye distances (between the eyes' centres; the
 // scheme needs two eyes and a mouth line).
