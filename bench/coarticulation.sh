@@ -35,7 +35,7 @@ speaker_of() {  # grid/ clip base name → its GRID speaker
 	local f; f=$(ls "$DATA/open-av/grid/labels-for-shared-grid/"*"_${1##*_}.align"); f=$(basename "$f"); echo "${f%%_*}"
 }
 # The shipped model, rebuilt from its recipe: the same bytes.
-"$root/corpus-tools/coarticulation-grid.sh" -o "$OUT/shipped.tsv" --work "$OUT/train" >/dev/null 2>&1
+"$root/corpus-tools/coarticulation-grid.sh" -o "$OUT/shipped.tsv" >/dev/null 2>&1
 cmp -s "$OUT/shipped.tsv" "$root/models/coarticulation/grid.tsv" && echo "models/coarticulation/grid.tsv: rebuilt from its recipe, identical" ||
 	echo "models/coarticulation/grid.tsv: rebuilt from its recipe, DIFFERENT (see $OUT/shipped.tsv)"
 printf 'clip\tspeaker\tmodel\n' >"$OUT/clips.tsv"
@@ -50,7 +50,7 @@ for clip in "$DATA"/grid/*.mpg; do
 	model=on
 	if grep -qx "$s" <<<"$trained"; then
 		model="$OUT/without-$s.tsv"
-		[ -f "$model" ] || "$root/corpus-tools/coarticulation-grid.sh" --without "$s" -o "$model" --work "$OUT/train" >/dev/null 2>&1
+		[ -f "$model" ] || "$root/corpus-tools/coarticulation-grid.sh" --without "$s" -o "$model" >/dev/null 2>&1
 	fi
 	printf '%s\t%s\t%s\n' "$base" "$s" "$model" >>"$OUT/clips.tsv"
 	for face in "${faces[@]}"; do

@@ -35,7 +35,20 @@ std::string timelineJson(const Performance& p, const std::vector<PhoneSegment>& 
 	}
 	for (const auto& ph : phones)
 		phoneItems.raw(JsonObject().raw("start", sec(ph.start + leadIn)).raw("end", sec(ph.end + leadIn)).add("phone", ph.phone).add("cdv", ph.cdv.label()).str());
-	for (const auto& k : p.timeline.keys) keyItems.raw(JsonObject().raw("time", sec(k.time)).add("cdv", k.cdv.label()).add("emotion", k.emotion.value_or(p.expression.emotion()).label()).str());
+	for (const auto& k : p.timeline.keys) {
+		JsonObject key;
+		key.raw("time", sec(k.time)).add("cdv", k.cdv.label()).add("emotion", k.emotion.value_or(p.expression.emotion()).label());
+		// The coarticulation model's prediction (D62, D90): the opening and width it asked the face for, in
+		// units of a speaker's own (90th percentile of openings, median width, in speech).
+		auto unit = [](double v) {
+			char b[32];
+			std::snprintf(b, sizeof b, "%.3f", v);
+			return std::string(b);
+		};
+		if (k.mouthOpening) key.raw("mouth_opening", unit(*k.mouthOpening));
+		if (k.mouthWidth) key.raw("mouth_width", unit(*k.mouthWidth));
+		keyItems.raw(key.str());
+	}
 	JsonObject o;
 	o.add("fps", p.rate.str()).add("frames", p.frameCount()).raw("duration", sec(p.duration)).raw("lead_in", sec(leadIn)).raw("tail", sec(tail));
 	o.raw("av_offset", sec(avOffset)).raw("speech_onset", onset < Ticks(0) ? "null" : sec(onset + leadIn));

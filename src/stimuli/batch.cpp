@@ -53,7 +53,7 @@ const std::vector<Column>& columns() {
 	    {"lead-in", true, true, true}, {"tail", true, true, true},             {"av-offset", true, true, true},
 	    {"components", true, true, true}, {"drive", true, false, true}, {"drive-mouth", false, false, true},
 	    {"timing-text", true, false, true}, {"condition", false, true, true}, {"resampling", true, true, true},
-	    {"au-appearance", true, true, true}};
+	    {"au-appearance", true, true, true}, {"coarticulation", true, true, true}};
 	return c;
 }
 const Column* findColumn(const std::string& name) {

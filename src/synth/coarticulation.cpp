@@ -316,7 +316,7 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 std::shared_ptr<const CoarticulationModel> shippedCoarticulation() {
 	static const std::shared_ptr<const CoarticulationModel> m = [] {
 		const auto path = findDataFile(kShippedCoarticulation);
-		if (!path) throw Error(std::string(kShippedCoarticulation) + ": not found in the data folders (set TALKHEAD_DATA_DIR, or --coarticulation off)");
+		if (!path) throw Error(std::string(kShippedCoarticulation) + ": not found in the data folders (set TALKHEAD_DATA_DIR, or {{coarticulation}} off)");
 		return std::make_shared<const CoarticulationModel>(loadCoarticulation(*path));
 	}();
 	return m;

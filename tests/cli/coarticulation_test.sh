@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Issue 32 (D62): a coarticulation model learned from real speakers (five GRID clips of five speakers,
 # tracked and aligned here), its damaged or missing file one clear error, and a render with it on the
-# default face: every /p b m/ shuts the lips, the same input gives the same frames, and without the
-# option the thesis's path is untouched.
+# default face: every /p b m/ shuts the lips, the same input gives the same frames, and with
+# --coarticulation off the thesis's path is untouched. Issue 48 (D90): the shipped model
+# (models/coarticulation/grid.tsv) is read and used by default, with no shared data.
 set -euo pipefail
 TH=$1; SHARED=$2
 PY=/usr/bin/python3
@@ -21,6 +22,32 @@ printf '{"frame": 0, "request": {"type": "say", "text": "Bob met Pam."}}\n{"type
 err live "$T/session.jsonl" --coarticulation "$T/bad.tsv" -o "$T/x.y4m" -q | grep -q "bad.tsv:1: not a talkhead coarticulation model"
 err serve --listen 127.0.0.1:0 --coarticulation "$T/none.tsv" | grep -q "none.tsv: cannot open the coarticulation model"
 test ! -e "$T/x.y4m"
+
+# The shipped model by default (render, live): the same frames as naming it, and not the thesis's.
+common=(--transcript "$TG" --size 320x180 --head-motion off --blinks off --format y4m -q)
+"$TH" render "${common[@]}" -o "$T/default.y4m" --timeline-out "$T/default.json"
+"$TH" render "${common[@]}" --coarticulation on -o "$T/on.y4m"
+"$TH" render "${common[@]}" --coarticulation "$(dirname "$0")/../../models/coarticulation/grid.tsv" --pauses still -o "$T/file.y4m"
+"$TH" render "${common[@]}" --coarticulation off -o "$T/off.y4m" --timeline-out "$T/off.json"
+"$TH" render "${common[@]}" --coarticulation off --pauses natural -o "$T/off-natural.y4m"
+cmp "$T/default.y4m" "$T/on.y4m"
+cmp "$T/default.y4m" "$T/file.y4m"
+cmp "$T/off.y4m" "$T/off-natural.y4m"  # off: the thesis's path, Natural pauses
+! cmp -s "$T/default.y4m" "$T/off.y4m"
+# The shipped model predicts each phone's opening: the timeline says so only with it.
+grep -q '"mouth_opening"' "$T/default.json"
+! grep -q '"mouth_opening"' "$T/off.json"
+"$TH" live "$T/session.jsonl" --size 320x180 --blinks off --head-motion off -q -o "$T/live-default.y4m" >/dev/null
+"$TH" live "$T/session.jsonl" --size 320x180 --blinks off --head-motion off -q --coarticulation on -o "$T/live-on.y4m" >/dev/null
+"$TH" live "$T/session.jsonl" --size 320x180 --blinks off --head-motion off -q --coarticulation off -o "$T/live-off.y4m" >/dev/null
+cmp "$T/live-default.y4m" "$T/live-on.y4m"
+! cmp -s "$T/live-default.y4m" "$T/live-off.y4m"
+
+# A batch: a row with no coarticulation column's value is the shipped model's, "off" the thesis's.
+printf 'transcript,coarticulation,muted,size\n%s,,yes,160x90\n%s,on,yes,160x90\n%s,off,yes,160x90\n' "$TG" "$TG" "$TG" >"$T/m.csv"
+"$TH" batch "$T/m.csv" -o "$T/batch" --seed 1 -q
+sha() { awk -F, -v r="$1" '$2 == r { print $4 }' "$T/batch/key.csv"; }
+test -n "$(sha 1)" && test "$(sha 1)" = "$(sha 2)" && test "$(sha 1)" != "$(sha 3)"
 
 G=$SHARED/grid
 if [ ! -d "$G" ]; then echo "skipped: no shared data in $SHARED (grid/)"; exit 77; fi
@@ -46,9 +73,9 @@ common=(--transcript "$T/s.TextGrid" --audio "$c" --lang en-US --fps 100 --head-
 "$TH" render -q "${common[@]}" --coarticulation "$T/model.tsv" -o "$T/a.y4m" --landmarks-out "$T/a.tsv" --timeline-out "$T/a.json"
 "$TH" render -q "${common[@]}" --coarticulation "$T/model.tsv" -o "$T/b.y4m"
 cmp "$T/a.y4m" "$T/b.y4m"
-"$TH" render -q "${common[@]}" -o "$T/thesis.y4m"
-"$TH" render -q "${common[@]}" --pauses natural -o "$T/natural.y4m"
-cmp "$T/thesis.y4m" "$T/natural.y4m"  # without the option: the thesis's path, Natural pauses
+"$TH" render -q "${common[@]}" --coarticulation off -o "$T/thesis.y4m"
+"$TH" render -q "${common[@]}" --coarticulation off --pauses natural -o "$T/natural.y4m"
+cmp "$T/thesis.y4m" "$T/natural.y4m"  # off: the thesis's path, Natural pauses
 ! cmp -s "$T/a.y4m" "$T/thesis.y4m"
 $PY - "$T/a.tsv" "$T/a.json" <<'EOF'
 import json, sys
@@ -75,7 +102,7 @@ EOF
 live=(live "$T/session.jsonl" --size 320x180 --blinks off --head-motion off -q)
 "$TH" "${live[@]}" --coarticulation "$T/model.tsv" -o "$T/live-a.y4m" >/dev/null
 "$TH" "${live[@]}" --coarticulation "$T/model.tsv" -o "$T/live-b.y4m" >/dev/null
-"$TH" "${live[@]}" -o "$T/live-thesis.y4m" >/dev/null
+"$TH" "${live[@]}" --coarticulation off -o "$T/live-thesis.y4m" >/dev/null
 cmp "$T/live-a.y4m" "$T/live-b.y4m"
 ! cmp -s "$T/live-a.y4m" "$T/live-thesis.y4m"
 echo "live session with the model: deterministic, and not the thesis's mouths"

@@ -32,6 +32,18 @@ def test_render_writes_the_same_video_as_the_cli(tmp_path):
     assert (tmp_path / "py.y4m").read_bytes() == (tmp_path / "cli.y4m").read_bytes()
 
 
+def test_the_learned_mouth_is_on_by_default_and_off_is_the_thesis_path(tmp_path):
+    # Issue 48 (D90): the shipped coarticulation model plans every render unless coarticulation="off".
+    talkhead.render(tmp_path / "default.y4m", transcript=TG, format="y4m", quiet=True, **SMALL)
+    talkhead.render(tmp_path / "on.y4m", transcript=TG, format="y4m", quiet=True, coarticulation="on", **SMALL)
+    talkhead.render(tmp_path / "off.y4m", transcript=TG, format="y4m", quiet=True, coarticulation="off", **SMALL)
+    subprocess.run([TH, "render", "--transcript", str(TG), "--format", "y4m", "-q", "--size", "320x180", "--head-motion", "off", "--blinks", "off",
+                    "--coarticulation", "off", "--pauses", "natural", "-o", str(tmp_path / "cli-off.y4m")], check=True)
+    assert (tmp_path / "default.y4m").read_bytes() == (tmp_path / "on.y4m").read_bytes()
+    assert (tmp_path / "off.y4m").read_bytes() == (tmp_path / "cli-off.y4m").read_bytes()
+    assert (tmp_path / "default.y4m").read_bytes() != (tmp_path / "off.y4m").read_bytes()
+
+
 def test_frames_are_the_clis_frames_with_their_times(tmp_path):
     subprocess.run([TH, "render", "--transcript", str(TG), "--fps", "25", "-q", "--size", "320x180", "--head-motion", "off", "--blinks", "off",
                     "--format", "none", "--frames", str(tmp_path / "png")], check=True)

@@ -146,6 +146,25 @@ TEST(Coarticulation, aRoundedVowelRoundsTheConsonantBeforeItAndAnOpenVowelOpensT
 	for (const Keypose& k : keys) EXPECT_EQ(k.mouthOpening.has_value(), isPhoneKeypose(ph, k)) << k.cdv;
 }
 
+TEST(Coarticulation, theShippedModelLoadsFromTheDataFoldersAndMovesTheMouthAsTheRealSpeakersDo) {
+	// Issue 48 (D90): models/coarticulation/grid.tsv, learned from 95 GRID clips; "on" is it, "off" none.
+	const auto m = shippedCoarticulation();
+	ASSERT_TRUE(m);
+	EXPECT_EQ(m->features, coarticulationFeatureNames());
+	EXPECT_GT(m->samples, 1000u);
+	ASSERT_TRUE(m->leadOpening && m->bilabialLead);
+	EXPECT_GT(*m->leadOpening, 0.2);  // GRID speakers part their lips before they speak (D70)
+	EXPECT_LT(*m->bilabialLead, 0.0);  // and shut /p b m/ before the phone's midpoint (D71)
+	EXPECT_EQ(coarticulationOption("on"), m);
+	EXPECT_EQ(coarticulationOption("off"), nullptr);
+	// Real speakers' mouths: vowels open, /p/ and /f/ close, /w/ rounds.
+	const Phone t = {"t", "t1"}, a = {"a", "a"}, i = {"i", "i1"}, p = {"p", "p1"}, f = {"f", "f1"}, w = {"w", "ʊ"};
+	const double open = std::min(predicted(*m, {t, a, t}, 2).first, predicted(*m, {t, i, t}, 2).first);
+	EXPECT_LT(predicted(*m, {a, p, a}, 2).first, open - 0.2);
+	EXPECT_LT(predicted(*m, {a, f, a}, 2).first, open - 0.2);
+	EXPECT_LT(predicted(*m, {a, w, a}, 2).second, predicted(*m, {a, t, a}, 2).second - 0.05);
+}
+
 TEST(Coarticulation, savedAndLoadedExactlyAndADamagedOrMissingFileIsOneClearError) {
 	const CoarticulationModel m = trainCoarticulation(clips(), ms(40), 1.0);
 	const std::string path = (std::filesystem::temp_directory_path() / "talkhead-coarticulation-test.tsv").string();
