@@ -104,10 +104,11 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	perf.expression = spec.expression;
 	perf.modulation = spec.modulation;
 	perf.modulation.intensity = spec.expression.intensity();
-	perf.timeline.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses);
+	perf.timeline.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses, spec.coarticulation != nullptr);
 	if (spec.coarticulation && !spec.phones.empty()) {
 		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.timeline.keys);
 		applyBilabialLead(*spec.coarticulation, spec.phones, perf.timeline.keys, spec.rate.frameLength());
+		holdBilabials(spec.phones, perf.timeline.keys, spec.rate.frameLength());
 	}
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);

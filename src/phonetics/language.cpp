@@ -590,15 +590,18 @@ std::optional<PauseStyle> parsePauseStyle(const std::string& name) {
 	return std::nullopt;
 }
 
-std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, PauseStyle pauses) {
+std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, PauseStyle pauses, bool keepBilabials) {
 	std::vector<Keypose> out;
+	auto shuts = [&](const Keypose& k) { return keepBilabials && (k.cdv.label() == "p1" || k.cdv.label() == "p2"); };
 	// Appends k unless it is less than a frame after the previous keypose (then the one whose phones
-	// last longer stays; a pause's extra keyposes never displace a phone's).
+	// last longer stays — with keepBilabials a /p b m/ first; a pause's extra keyposes never displace a phone's).
 	auto add = [&](const Keypose& k, bool canReplace) {
 		if (!out.empty() && k.time - out.back().time < frame) {
 			const Keypose& prev = out.back();
 			const Ticks prevLen = ph[prev.last].end - ph[prev.first].start, len = ph[k.last].end - ph[k.first].start;
-			if (canReplace && len > prevLen) out.back() = k;
+			if (canReplace && shuts(k) != shuts(prev)) {
+				if (shuts(k)) out.back() = k;
+			} else if (canReplace && len > prevLen) out.back() = k;
 		} else {
 			out.push_back(k);
 		}

@@ -272,6 +272,26 @@ void applyBilabialLead(const CoarticulationModel& m, const std::vector<PhoneSegm
 	}
 }
 
+void holdBilabials(const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys, Ticks frame) {
+	const Ticks half(frame.count() / 2);
+	std::vector<Keypose> out;
+	out.reserve(keys.size() + 8);
+	for (std::size_t i = 0; i < keys.size(); ++i) {
+		const Keypose& k = keys[i];
+		const bool room = (out.empty() || k.time - half - out.back().time >= half) && (i + 1 == keys.size() || keys[i + 1].time - (k.time + half) >= half) &&
+		                  k.time >= half;
+		if (!bilabial(k.cdv.label()) || !isPhoneKeypose(phones, k) || !room) {
+			out.push_back(k);
+			continue;
+		}
+		Keypose a = k, b = k;
+		a.time = k.time - half, b.time = k.time + half;
+		out.push_back(a);
+		out.push_back(b);
+	}
+	keys = std::move(out);
+}
+
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda) {
 	std::vector<Eigen::MatrixXd> xs(clips.size()), ys(clips.size());
 	for (std::size_t i = 0; i < clips.size(); ++i) coarticulationExamples(clips[i], frame, xs[i], ys[i]);
@@ -437,14 +457,22 @@ MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, 
 			if (model.samples[s].cdv != "sil") open.push_back(size[s].opening), width.push_back(size[s].width);
 		}
 	if (!open.empty()) {
-		std::sort(open.begin(), open.end());
-		p.scale = open[std::size_t(0.9 * double(open.size() - 1))];
-		p.closedLimit = open.front() + 0.1 * (open.back() - open.front());  // issue 32: ≤ 10 % of the open range
+		std::vector<double> sorted = open;
+		std::sort(sorted.begin(), sorted.end());
+		p.scale = sorted[std::size_t(0.9 * double(sorted.size() - 1))];
+		p.closedLimit = sorted.front() + 0.1 * (sorted.back() - sorted.front());  // issue 32: ≤ 10 % of the open range
+		p.widest = sorted.back();
 		double mw = 0, sw = 0;
 		for (double w : width) mw += w;
 		mw /= double(width.size());
 		for (double w : width) sw += (w - mw) * (w - mw);
 		p.widthSpread = std::sqrt(sw / double(width.size())) + 1e-6;
+		double mo = 0, so = 0, sow = 0;  // width = a + b · opening (open, width are in sample order here)
+		for (double o : open) mo += o;
+		mo /= double(open.size());
+		for (std::size_t i = 0; i < open.size(); ++i) so += (open[i] - mo) * (open[i] - mo), sow += (open[i] - mo) * (width[i] - mw);
+		p.widthPerOpening = so > 1e-12 ? sow / so : 0.0;
+		p.widthAtShut = mw - p.widthPerOpening * mo;
 		std::sort(width.begin(), width.end());
 		p.width = width[width.size() / 2];
 	}
@@ -452,6 +480,7 @@ MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, 
 }
 
 namespace {
+constexpr double kPeakShare = 0.87;
 double mouthCost(const MouthPool& pool, const MouthSize& m, double opening, double width) {
 	const double dOpen = (m.opening - opening) / pool.scale, dWidth = (m.width - width) / pool.widthSpread;
 	return dOpen * dOpen + kWidthWeight * dWidth * dWidth;
@@ -511,8 +540,16 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 							least = size[s].opening, best = long(s);
 			}
 		} else {
-			const double target = *k.mouthOpening * pool.scale;
-			const double width = k.mouthWidth ? *k.mouthWidth * pool.width : (o ? o->width : pool.width);
+			// The prediction is in units of the speakers' 90th percentile of openings over every frame of
+			// their speech. The face's samples are keyposes, each its viseme's extreme: its widest stands for
+			// a speaker's widest, and the GRID speakers' 90th percentile is kPeakShare of their widest (median
+			// over the 95 clips the shipped model learned from). The 90th percentile of the samples was the
+			// unit before: a face with few open samples (a short take, a small corpus) never reached them (D90).
+			const double target = *k.mouthOpening * kPeakShare * pool.widest;
+			// The predicted width is the speakers' relative to their median; the face's is taken relative to
+			// its usual width at the target opening (D90), so a face whose open mouths are all wider than its
+			// median (franck) still opens.
+			const double width = k.mouthWidth ? *k.mouthWidth * pool.usualWidth(target) : (o ? o->width : pool.width);
 			const long nearest = nearestMouth(model, pool, size, target, width);
 			if (nearest >= 0) best = nearest;
 		}

@@ -77,6 +77,10 @@ void learnBilabialLead(CoarticulationModel& m, const std::vector<CoarticulationC
 // Moves each bilabial phone keypose by the model's bilabialLead, kept at least a frame from the keyposes
 // either side (unmoved when there is no room); nothing without a lead.
 void applyBilabialLead(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys, Ticks frame);
+// Holds each /p b m/ phone keypose shut for a frame (D90): two copies, half a frame before and after it, where
+// both stay at least half a frame from the keyposes either side — so a video frame, wherever it falls, shows
+// the lips shut (the curve passes a single shut keypose between two frames). Real lips stay shut 60–100 ms.
+void holdBilabials(const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys, Ticks frame);
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda = 10);
 
 // Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones), and
@@ -121,6 +125,11 @@ std::vector<MouthSize> sampleMouths(const FaceModel& model, const Scheme& scheme
 struct MouthPool {
 	std::vector<std::size_t> samples;
 	double scale = 0, width = 0, widthSpread = 0, closedLimit = 0;
+	// The face's usual width at an opening (least squares over the same samples, eye distances): a face
+	// whose open mouths are wide is judged against its own open mouths, not its median (D90).
+	double widthAtShut = 0, widthPerOpening = 0;
+	double widest = 0;  // the widest opening (the unit of a predicted opening, D90)
+	double usualWidth(double opening) const { return widthAtShut + widthPerOpening * opening; }
 };
 MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, const std::string& emotion);
 // The pool's sample (silences left out) whose mouth is nearest (opening, width), eye distances:

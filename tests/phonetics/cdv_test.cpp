@@ -183,6 +183,25 @@ TEST(Keyposes, oneAtEachPhoneMidpointWithMergesAndDrops) {
 	EXPECT_EQ(k[1].last, 2u);
 }
 
+TEST(Keyposes, aBilabialShorterThanItsNeighbourIsKeptWhenAsked) {
+	// pwij3p at 25 fps (D90): a 30-ms /p/ then a 34-ms /l/ — their keyposes 32 ms apart, under a frame.
+	const Ticks frame(kTicksPerSecond / 25);
+	auto ms = [](long v) { return Ticks(v * (kTicksPerSecond / 1000)); };
+	std::vector<PhoneSegment> p = {{ms(0), ms(300), "", "_", "sil", 1},   {ms(300), ms(330), "p", "p", "p1", 2},
+	                               {ms(330), ms(364), "l", "l", "l2", 3}, {ms(364), ms(464), "e", "e", "e", 4},
+	                               {ms(464), ms(494), "m", "m", "p1", 5}, {ms(494), ms(600), "", "_", "sil", 6}};
+	auto cdvs = [](const std::vector<Keypose>& k) {
+		std::string s;
+		for (const Keypose& x : k) s += x.cdv.label() + " ";
+		return s;
+	};
+	EXPECT_EQ(cdvs(keyposes(p, frame)), "sil l2 e p1 sil ");  // the thesis's rule: the longer phone stays
+	EXPECT_EQ(cdvs(keyposes(p, frame, PauseStyle::Natural, true)), "sil p1 e p1 sil ");
+	// Where nothing conflicts, the same keyposes either way.
+	const Ticks fine(kTicksPerSecond / 100);
+	EXPECT_EQ(cdvs(keyposes(p, fine, PauseStyle::Natural, true)), cdvs(keyposes(p, fine)));
+}
+
 TEST(Keyposes, naturalPausesRestSoonAndBreatheInBeforeSpeech) {
 	const Ticks frame(kTicksPerSecond / 25);
 	auto ms = [](long v) { return Ticks(v * (kTicksPerSecond / 1000)); };

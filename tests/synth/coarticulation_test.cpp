@@ -165,6 +165,34 @@ TEST(Coarticulation, theShippedModelLoadsFromTheDataFoldersAndMovesTheMouthAsThe
 	EXPECT_LT(predicted(*m, {a, w, a}, 2).second, predicted(*m, {a, t, a}, 2).second - 0.05);
 }
 
+TEST(Coarticulation, aBilabialIsHeldShutForAFrameWhereThereIsRoom) {
+	// D90: /p/ between two vowels 80 ms away on each side: two copies at ±half a frame (25 fps: ±20 ms);
+	// a /p/ whose neighbours are closer than a frame and a half keeps its single keypose.
+	const Phone a = {"a", "a"}, p = {"p", "p1"};
+	const auto ph = phones({a, p, a});
+	auto keys = keyposes(ph, ms(40));
+	std::vector<Ticks> before;
+	for (const Keypose& k : keys) before.push_back(k.time);
+	holdBilabials(ph, keys, ms(40));
+	std::vector<std::pair<std::string, Ticks>> got;
+	for (const Keypose& k : keys) got.push_back({k.cdv.label(), k.time});
+	ASSERT_EQ(keys.size(), before.size() + 1);
+	std::size_t at = 0;
+	while (at < keys.size() && keys[at].cdv.label() != "p1") ++at;
+	ASSERT_LT(at + 1, keys.size());
+	EXPECT_EQ(keys[at + 1].cdv.label(), "p1");
+	EXPECT_EQ(keys[at + 1].time - keys[at].time, ms(40));
+	EXPECT_EQ(keys[at].time + ms(20), before[at]);  // centred on the bilabial's keypose
+	EXPECT_EQ(keys[at].first, keys[at + 1].first);
+	// No room: keyposes 30 ms apart at 25 fps.
+	std::vector<Keypose> tight = keys;
+	tight.erase(tight.begin() + long(at) + 1);
+	tight[at].time = tight[at - 1].time + ms(30);
+	const std::size_t n = tight.size();
+	holdBilabials(ph, tight, ms(40));
+	EXPECT_EQ(tight.size(), n);
+}
+
 TEST(Coarticulation, savedAndLoadedExactlyAndADamagedOrMissingFileIsOneClearError) {
 	const CoarticulationModel m = trainCoarticulation(clips(), ms(40), 1.0);
 	const std::string path = (std::filesystem::temp_directory_path() / "talkhead-coarticulation-test.tsv").string();
@@ -445,7 +473,9 @@ TEST(Coarticulation, aLiveSessionShowsTheExemplarsARenderOfTheSamePhonesShows) {
 		return out;
 	};
 	const auto rendered8 = predicted(rendered.timeline.keys);
-	ASSERT_EQ(rendered8.size(), 8u);  // the six phones and, before them, the lips held still (D70): two keyposes
+	// The six phones, each /p/ held shut for a frame (D90: two keyposes), and before them the lips held
+	// still (D70): two keyposes.
+	ASSERT_EQ(rendered8.size(), 10u);
 	EXPECT_TRUE(rendered.timeline.keys[0].hold && rendered.timeline.keys[1].hold);
 	// A live session holds the pose it shows until the utterance starts (its own keypose there, not the
 	// utterance's first), then goes to the held lips as the render does.
