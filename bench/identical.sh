@@ -17,11 +17,11 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"; [ -n "${wt:-}" ] && git -C "$root" worktr
 if [ -x "$base" ]; then base=$(realpath "$base"); else
 	wt="$tmp/base-tree"
 	git -C "$root" worktree add --detach "$wt" "$base" >/dev/null
-	echo "building $base in $wt (the CLI only)"
+	echo "building $base in $wt (the CLI and its face tracker)"
 	# The default face reused from this checkout's build (both sides then draw the same model).
 	cmake -S "$wt" -B "$wt/build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DTALKHEAD_DEFAULT_MODEL_FROM="$(dirname "$new")/models" >"$tmp/cmake.log" 2>&1 ||
 		{ tail -20 "$tmp/cmake.log"; exit 1; }
-	ninja -C "$wt/build" talkhead_cli default_model >"$tmp/build.log" 2>&1 || { tail -20 "$tmp/build.log"; exit 1; }
+	ninja -C "$wt/build" talkhead_cli talkhead_dlib default_model >"$tmp/build.log" 2>&1 || { tail -20 "$tmp/build.log"; exit 1; }
 	base="$wt/build/talkhead"
 fi
 ex="$root/examples"
