@@ -590,9 +590,11 @@ std::optional<PauseStyle> parsePauseStyle(const std::string& name) {
 	return std::nullopt;
 }
 
+bool bilabial(const std::string& cdv) { return cdv == "p1" || cdv == "p2"; }
+
 std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& ph, Ticks frame, PauseStyle pauses, bool keepBilabials) {
 	std::vector<Keypose> out;
-	auto shuts = [&](const Keypose& k) { return keepBilabials && (k.cdv.label() == "p1" || k.cdv.label() == "p2"); };
+	auto shuts = [&](const Keypose& k) { return keepBilabials && bilabial(k.cdv.label()); };
 	// Appends k unless it is less than a frame after the previous keypose (then the one whose phones
 	// last longer stays — with keepBilabials a /p b m/ first; a pause's extra keyposes never displace a phone's).
 	auto add = [&](const Keypose& k, bool canReplace) {

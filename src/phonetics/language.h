@@ -146,6 +146,7 @@ std::optional<PauseStyle> parsePauseStyle(const std::string& name);
 // One keypose per phone at its midpoint, with the project's edge rules (docs/decisions.md): runs of the
 // same CDV merge into one keypose at the run's midpoint; a keypose less than one frame after the previous
 // one is dropped unless its phone is longer (then it replaces the previous one); pauses as `pauses` says.
+bool bilabial(const std::string& cdv);  // p1, p2: the CDVs whose lips shut
 // `keepBilabials` (with a coarticulation model, D90): a /p b m/ keypose is never the one dropped — the
 // lips' closure is what a viewer checks the sync by — so a 30-ms /p/ before a 34-ms /l/ at 25 fps shuts.
 std::vector<Keypose> keyposes(const std::vector<PhoneSegment>& phones, Ticks frame, PauseStyle pauses = PauseStyle::Natural,

@@ -24,8 +24,6 @@
 
 namespace talkhead {
 
-bool bilabial(const std::string& cdv) { return cdv == "p1" || cdv == "p2"; }
-
 namespace {
 
 std::string number(double v) {
@@ -278,9 +276,11 @@ void holdBilabials(const std::vector<PhoneSegment>& phones, std::vector<Keypose>
 	out.reserve(keys.size() + 8);
 	for (std::size_t i = 0; i < keys.size(); ++i) {
 		const Keypose& k = keys[i];
-		const bool room = (out.empty() || k.time - half - out.back().time >= half) && (i + 1 == keys.size() || keys[i + 1].time - (k.time + half) >= half) &&
-		                  k.time >= half;
-		if (!bilabial(k.cdv.label()) || !isPhoneKeypose(phones, k) || !room) {
+		auto room = [&] {  // both copies half a frame from the keyposes either side, and not before 0
+			return k.time >= half && (out.empty() || k.time - half - out.back().time >= half) &&
+			       (i + 1 == keys.size() || keys[i + 1].time - (k.time + half) >= half);
+		};
+		if (!bilabial(k.cdv.label()) || !isPhoneKeypose(phones, k) || !room()) {
 			out.push_back(k);
 			continue;
 		}

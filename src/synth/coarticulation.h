@@ -136,7 +136,6 @@ MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, 
 // (Δopening / scale)² + 0.15 (Δwidth / spread)² (D62); `prefer` (≥ 0) is kept unless another is strictly
 // nearer. −1 when the pool has none.
 long nearestMouth(const FaceModel& model, const MouthPool& pool, const std::vector<MouthSize>& size, double opening, double width, long prefer = -1);
-bool bilabial(const std::string& cdv);  // p1, p2: the CDVs whose lips shut
 
 // For every keypose with a mouthOpening and no sample yet, the model's exemplar to show (Keypose::sample):
 // among the samples of its emotion (else neutral's), the one whose opening and width are nearest the
