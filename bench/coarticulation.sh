@@ -28,7 +28,12 @@ OUT=${1:-${TMPDIR:-/tmp}/talkhead-coarticulation}
 MODEL=${FRANCK_MODEL:-}
 [ -d "$DATA/grid" ] && [ -d "$DATA/open-av/grid/labels-for-shared-grid" ] || { echo "coarticulation.sh: no $DATA/grid or its speaker labels" >&2; exit 77; }
 DEFAULT=${DEFAULT_MODEL:-$root/build/models/default.thm}
-faces=(default); [ -f "$MODEL" ] && faces+=(franck) || echo "coarticulation.sh: FRANCK_MODEL not set: the default face only" >&2
+# FACES: which faces (default: the synthetic default face, franck when FRANCK_MODEL is set, and the real
+# faces that ship — `--face NAME`, built on first use; grid-s4 is the speaker of one evaluation clip, lwbsza).
+if [ -n "${FACES:-}" ]; then read -r -a faces <<<"$FACES"; else
+	faces=(default); [ -f "$MODEL" ] && faces+=(franck) || echo "coarticulation.sh: FRANCK_MODEL not set: no franck" >&2
+	faces+=(grid-s4 crema-1001)
+fi
 mkdir -p "$OUT/clips"
 source "$root/examples/real-face/grid-words.sh"
 speaker_of() {  # grid/ clip base name → its GRID speaker
@@ -54,10 +59,10 @@ for clip in "$DATA"/grid/*.mpg; do
 	fi
 	printf '%s\t%s\t%s\n' "$base" "$s" "$model" >>"$OUT/clips.tsv"
 	for face in "${faces[@]}"; do
-		m=$MODEL; [ "$face" = default ] && m=$DEFAULT
+		case $face in default) fm=(--model "$DEFAULT") ;; franck) fm=(--model "$MODEL") ;; *) fm=(--face "$face") ;; esac
 		for way in thesis learned; do
 			co=(); [ "$way" = thesis ] && co=(--coarticulation off); [ "$way" = learned ] && [ "$model" != on ] && co=(--coarticulation "$model")
-			common=(--model "$m" --transcript "$c.TextGrid" --audio "$clip" --lang en-US --head-motion off --blinks off --no-audio "${co[@]}")
+			common=("${fm[@]}" --transcript "$c.TextGrid" --audio "$clip" --lang en-US --head-motion off --blinks off --no-audio "${co[@]}")
 			"$TH" render -q "${common[@]}" --fps 100 --format y4m -o /dev/null --landmarks-out "$c.$face.$way.points.tsv" --timeline-out "$c.timeline.json"
 			"$TH" render -q "${common[@]}" --fps 25 --size 640x360 -o "$c.$face.$way.mp4"
 			rm -rf "$c.$face.$way.pixels"
@@ -128,7 +133,7 @@ for base, speaker, model in clips:
     print(f"{base}\t{speaker}\t{'shipped' if model == 'on' else 'without ' + speaker}\t" + "\t".join(f"{x:.3f}" for x in row))
 print()
 for k in ways:
-    print(f"{k[0]:7s} {k[1]:8s} {k[2]:6s} lip r {np.mean(lip[k]):.3f} (weakest {np.min(lip[k]):.3f}); range {np.mean(rng[k]):.3f}"
+    print(f"{k[0]:10s} {k[1]:8s} {k[2]:6s} lip r {np.mean(lip[k]):.3f} (weakest {np.min(lip[k]):.3f}); range {np.mean(rng[k]):.3f}"
           f" ({np.mean(rng[k]) / np.mean(rng['real']):.2f}x real); bilabials shut {shut[k][0]}/{shut[k][1]}"
           f" ({100 * shut[k][0] / max(1, shut[k][1]):.0f} %); silent {np.nanmean(still[k]):.4f}")
 print(f"real speakers: range {np.mean(rng['real']):.3f}; silent {np.nanmean(still['real']):.4f}")

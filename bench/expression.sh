@@ -5,7 +5,7 @@
 # judgement is the class with the highest mean probability. Prints the confusion table (mean probability
 # per class) and how many of joy, distress, anger, fear and hate read as happy, sad, angry, fearful and
 # disgusted, and whether neutral stays neutral (issue 13's goal: >= 4 of 5, neutral neutral).
-# usage: bench/expression.sh [BUILD_DIR] [--all] [--model M.thm] [--lang L --text "…"] [--au-appearance on|off]
+# usage: bench/expression.sh [BUILD_DIR] [--all] [--model M.thm | --face NAME] [--lang L --text "…"] [--au-appearance on|off]
 #                            [--coarticulation on|off|F.tsv]
 #   --all   also the other 17 OCC emotions (their expected class is their basis's basic emotion)
 #   --au-appearance off   an emotion from action units changes the shape alone (issue 31: before and after)
@@ -17,6 +17,7 @@ while [ $# -gt 0 ]; do
 	case "$1" in
 		--all) all=1 ;;
 		--model) model=(--model "$2"); shift ;;
+		--face) model=(--face "$2"); shift ;;
 		--au-appearance) extra+=(--au-appearance "$2"); shift ;;
 		--coarticulation) extra+=(--coarticulation "$2"); shift ;;
 		--lang) lang="$2"; shift ;;

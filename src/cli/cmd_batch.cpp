@@ -311,7 +311,16 @@ int runBatch(const std::vector<std::string>& argv) {
 	Manifest m;
 	try {
 		m = loadManifest(args.positionals()[0]);
-		checkManifestModels(m);
+		// Every face the rows name is built here, once, before the rows run (each in its own process).
+		checkManifestModels(m, [&](const std::string& face) { return shippedFaceModel(face, quiet); });
+		for (const BatchRow& row : m.rows)
+			if (auto face = jobValue(row.job, "face")) {
+				try {
+					shippedFaceModel(*face, quiet);
+				} catch (const Error& e) {
+					throw Error(m.path + ":" + std::to_string(row.line) + ":face: " + e.what());
+				}
+			}
 	} catch (const ManifestErrors& e) {
 		for (const auto& msg : e.messages) std::fprintf(stderr, "talkhead: error: %s\n", shownLine(msg).c_str());
 		return 1;

@@ -20,36 +20,13 @@
 #include "phonetics/emotion.h"
 #include "phonetics/labels.h"
 #include "phonetics/language.h"
+#include "track/face_build.h"
 #include "track/from_video.h"
 #include "track/landmarks.h"
 
 namespace talkhead::cli {
 
 namespace {
-
-// The phones of a take's speech (and its words, where known): its transcript, or its text aligned to the
-// audio (the video's own track, or the take's audio).
-std::vector<PhoneSegment> takeSpeech(const VideoTake& take, const VideoInfo& info, const Language& lang, bool quiet, std::vector<Interval>& words) {
-	Transcript phoneTranscript;
-	if (!take.transcript.empty()) {
-		phoneTranscript = readTranscript(take.transcript);
-	} else {
-		const std::string audio = take.audio.empty() ? take.video : take.audio;
-		if (take.audio.empty() && !info.hasAudio)
-			throw Error(take.video, 0, "has no audio track to align the text with (give --audio, or --select-by-shape)");
-		AlignOptions ao;
-		ao.languageTag = lang.tag();
-		Alignment a = alignSpeechFile(audio, take.text, ao);
-		for (const auto& w : a.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
-		if (!quiet) std::fprintf(stderr, "aligned the text to %s (confidence %.2f)\n", audio.c_str(), a.confidence);
-		phoneTranscript = a.phones;
-		words = a.words.intervals;
-	}
-	if (phoneTranscript.level == LabelLevel::Word) words = phoneTranscript.intervals;
-	// An alignment's phones are canonical IPA; a transcript's notation is decided from its labels. Times in
-	// the transcript are relative to the audio, which starts with the video.
-	return phoneSegments(phoneTranscript, lang, UnknownPhone::Error, take.transcript.empty() ? Notation::Ipa : Notation::Auto);
-}
 
 Args fromVideoArgs() {
 	return Args("corpus from-video",
@@ -119,32 +96,15 @@ std::vector<VideoTake> takesOf(const Args& args) {
 	return takes;
 }
 
-// One take: tracked, its frames chosen (by phones with speech, else by mouth shape).
+// One take: tracked, its frames chosen (by phones with speech, else by mouth shape); the alignment's
+// confidence and warnings printed.
 TakePlan planTake(const VideoTake& take, const Args& args, const FromVideoOptions& options, const Language& lang, bool byShape, bool quiet) {
-	TakePlan tp;
-	tp.take = take;
-	VideoInfo info;
-	{
-		VideoReader probe(take.video);
-		info = probe.info();
-	}
-	std::vector<PhoneSegment> phones;
-	std::vector<Interval> words;
-	if (!byShape) phones = takeSpeech(take, info, lang, quiet, words);
 	ProgressBar bar(quiet);
-	if (auto lm = args.get("--landmarks")) {
-		tp.track = readLandmarksTsv(*lm);
-		tp.track.info = info;
-	} else {
-		TrackOptions to;
-		to.start = take.start;
-		if (take.duration > Ticks(0)) to.duration = take.duration;
-		tp.track = trackVideo(take.video, to, bar);
-	}
+	TakeSpeechNote note;
+	TakePlan tp = planVideoTake(take, lang, options, byShape, args.get("--landmarks", ""), bar, &note);
 	bar.finish();
-	FromVideoOptions fo = options;
-	fo.emotion = take.emotion;
-	tp.plan = byShape ? selectByShape(tp.track, loadCdvMouthTargets(), fo) : selectByPhones(tp.track, phones, words, fo);
+	for (const auto& w : note.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
+	if (!quiet && note.alignConfidence) std::fprintf(stderr, "aligned the text to %s (confidence %.2f)\n", note.alignedAudio.c_str(), *note.alignConfidence);
 	return tp;
 }
 
@@ -181,9 +141,7 @@ int runCorpusFromVideo(const std::vector<std::string>& argv) {
 		plans.push_back(planTake(take, args, fo, lang, byShape, quiet));
 	}
 	// The baseface: the neutral take's (the first neutral one), else the first take's.
-	std::size_t base = 0;
-	for (std::size_t k = plans.size(); k-- > 0;)
-		if (plans[k].take.emotion == Emotion::neutralLabel()) base = k;
+	const std::size_t base = basefaceTake(plans);
 	OutputDir dir(out);
 	const std::vector<ColourMatch> matches = writeTakesCorpus(plans, base, dir.path(""));
 	if (plans.size() == 1) {

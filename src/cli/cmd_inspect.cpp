@@ -15,6 +15,7 @@
 #include "cli/corpus_filter.h"
 #include "base/progress.h"
 #include "media/image_io.h"
+#include "cli/video_options.h"
 #include "model/face_model.h"
 #include "model/model_file.h"
 #include "phonetics/labels.h"
@@ -153,8 +154,9 @@ int reconstruct(const FaceModel& model, const std::string& corpusPath, const Arg
 }  // namespace
 
 int runInspect(const std::vector<std::string>& argv) {
-	Args args("inspect", "talkhead inspect [MODEL.thm] [-o DIR] [--recon CORPUS]",
-	          {{"--output", "DIR", "write pictures of the model (PNG) into DIR", "-o"},
+	Args args("inspect", "talkhead inspect [MODEL.thm | --face NAME] [-o DIR] [--recon CORPUS]",
+	          {faceOption(),
+	           {"--output", "DIR", "write pictures of the model (PNG) into DIR", "-o"},
 	           {"--recon", "CORPUS", "project and reconstruct each image of CORPUS; print MSE, PSNR, SSIM per region"},
 	           kIncludeOption,
 	           kExcludeOption,
@@ -164,7 +166,10 @@ int runInspect(const std::vector<std::string>& argv) {
 	          "reconstruction with --recon.");
 	if (!args.parse(argv)) return 0;
 	if (args.positionals().size() > 1) throw UsageError("inspect: expected at most one MODEL.thm argument");
-	const std::string path = args.positionals().empty() ? defaultModelPath() : args.positionals()[0];
+	if (args.has("--face") && !args.positionals().empty()) throw UsageError("inspect: give a MODEL.thm or --face NAME, not both");
+	std::string path = args.positionals().empty() ? "" : args.positionals()[0];
+	if (auto face = args.get("--face")) path = shippedFaceModel(*face, args.has("--quiet"));
+	if (path.empty()) path = defaultModelPath();
 	FaceModel model = loadModel(path);
 	if (!args.has("--quiet")) printSummary(model, path), printCoverage(model);
 	if (auto dir = args.get("--output")) {

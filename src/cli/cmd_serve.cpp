@@ -30,7 +30,7 @@ namespace {
 
 // Options both commands share: how the face looks and moves.
 std::vector<OptionSpec> liveOptionSpecs() {
-	std::vector<OptionSpec> specs = {{"--model", "M.thm", "face model (default: the embedded default face)"},
+	std::vector<OptionSpec> specs = {faceOption(), {"--model", "M.thm", "face model file (default: the embedded default face)"},
 	        {"--size", "WxH", "output size (default 1280x720)"},
 	        {"--fit", "MODE", "face (default: the whole face kept), crop, pad or stretch when --size has another aspect than the model, as render's option"},
 	        {"--fps", "RATE", "frame rate (default 30)"},
@@ -126,7 +126,7 @@ void limitOptions(const Args& args, ServeOptions& o) {
 }  // namespace
 
 int runServe(const std::vector<std::string>& argv) {
-	Args args("serve", "talkhead serve [--listen 127.0.0.1:8765] [--demo] [--model M.thm] [--size WxH] [--fps N]",
+	Args args("serve", "talkhead serve [--listen 127.0.0.1:8765] [--demo] [--face NAME | --model M.thm] [--size WxH] [--fps N]",
 	          with(liveOptionSpecs(),
 	               {{"--listen", "HOST:PORT", "address to listen on (default 127.0.0.1:8765; port 0: any free one, printed)"},
 	                {"--demo", "", "serve the browser demo (examples/live/index.html) at /"},
@@ -183,8 +183,7 @@ int runServe(const std::vector<std::string>& argv) {
 	securityOptions(args, o);
 	limitOptions(args, o);
 	o.handleSignals = true;
-	if (!args.get("--model")) ensureDefaultFace(false);
-	const FaceModel model = loadRenderModel(args.get("--model", ""));
+	const FaceModel model = loadRenderModel(faceOrModel(args.get("--face"), args.get("--model"), "serve", false));
 	const Face face(model, coarticulation);
 	Server server(face, o);
 	// The port line is the contract with scripts and tests (port 0 picks a free one).
@@ -228,8 +227,7 @@ int runLive(const std::vector<std::string>& argv) {
 	std::int64_t total = sessionScript.end;
 	if (auto n = args.get("--frames-total")) total = std::int64_t(args.number("--frames-total", 0, 1, 1e7));
 	if (total < 0) throw Error(script, 0, "no end line ({\"type\": \"end\", \"frame\": N}): give --frames-total N");
-	if (!args.get("--model")) ensureDefaultFace(false);
-	const FaceModel model = loadRenderModel(args.get("--model", ""));
+	const FaceModel model = loadRenderModel(faceOrModel(args.get("--face"), args.get("--model"), "live", false));
 	const Face face(model, coarticulation);
 	LiveSession session(face, o);
 	const StreamInfo& info = session.info();

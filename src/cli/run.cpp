@@ -9,12 +9,15 @@
 #include "base/atomic_file.h"
 #include "base/data_dirs.h"
 #include "base/error.h"
+#include "base/progress.h"
 #include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "corpus/build.h"
+#include "model/faces.h"
 #include "model/model_file.h"
 #include "synth_corpus.h"
+#include "track/face_build.h"
 
 namespace talkhead::cli {
 
@@ -101,6 +104,37 @@ void ensureDefaultFace(bool quiet) {
 	if (!quiet)
 		std::fprintf(stderr, "talkhead: the default face is ready (%.0f s): %s\n",
 		             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), made.string().c_str());
+}
+
+const char* const kSyntheticFace = "synthetic";
+
+std::string shippedFaceModel(const std::string& name, bool quiet) {
+	if (name == kSyntheticFace) {
+		ensureDefaultFace(quiet);
+		return "";
+	}
+	const ShippedFace face = shippedFace(name);
+	if (auto built = builtShippedFace(face)) return *built;
+	const auto t0 = std::chrono::steady_clock::now();
+	const std::string where = shippedFaceModelPath(face);
+	if (!quiet)
+		std::fprintf(stderr, "talkhead: the face '%s' is built once from its %s clips into %s (about half a minute on 2 cores)\n", name.c_str(),
+		             std::to_string(readTakeList(face.takes).size()).c_str(), where.empty() ? "the cache" : std::filesystem::path(where).parent_path().c_str());
+	ProgressBar bar(quiet);
+	const std::string model = ensureShippedFace(face, bar);
+	bar.finish();
+	if (!quiet)
+		std::fprintf(stderr, "talkhead: the face '%s' is ready (%.0f s): %s\n", name.c_str(),
+		             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), model.c_str());
+	return model;
+}
+
+std::string faceOrModel(const std::optional<std::string>& face, const std::optional<std::string>& model, const std::string& command, bool quiet) {
+	if (face && model) throw UsageError(command + ": give --face NAME or --model M.thm, not both");
+	if (face) return shippedFaceModel(*face, quiet);
+	if (model) return *model;
+	ensureDefaultFace(quiet);
+	return "";
 }
 
 }  // namespace talkhead::cli

@@ -2,6 +2,7 @@
 #pragma once
 // Running talkhead's commands in process: what `talkhead ARGS…` does, for the executable and for
 // programs that embed the commands (the Python module, issue 33).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,5 +31,15 @@ FrameSink* extraFrameSink();
 // cache folder — the same synthetic corpus and build as the build tree's, byte for byte — saying so on
 // stderr unless `quiet`. Does nothing when one is found or no cache folder is known.
 void ensureDefaultFace(bool quiet);
+
+// Issue 48: the face a command's `--face NAME` names, as a model path — "synthetic" is the default face
+// ("" after ensureDefaultFace), a shipped face (model/faces.h) is built on first use into the cache with a
+// progress bar and a line saying so unless `quiet`. Throws Error for an unknown name.
+std::string shippedFaceModel(const std::string& name, bool quiet);
+// A command's --face and --model: the model path ("" = the default face, made if need be). UsageError
+// when both are given.
+std::string faceOrModel(const std::optional<std::string>& face, const std::optional<std::string>& model, const std::string& command, bool quiet);
+// The name `--face` takes for the synthetic default face.
+extern const char* const kSyntheticFace;
 
 }  // namespace talkhead::cli

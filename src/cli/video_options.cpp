@@ -4,6 +4,7 @@
 #include "cli/video_options.h"
 
 #include "cli/run.h"
+#include "model/faces.h"
 
 #include <tuple>
 #include <unistd.h>
@@ -173,10 +174,15 @@ std::vector<OptionSpec> drawingOptionSpecs() {
 	        {"--au-appearance", "on|learned|off", "with action units, change the skin too (furrows, wrinkles; models/au-appearance.bin): on (default; a face other than the default one keeps its own skin, deepened where the lines form), learned (the lines as learned on the default face, on any face) or off (the shape alone)"}};
 }
 
+OptionSpec faceOption() {
+	return {"--face", "NAME", "a face that ships with talkhead, by name ('talkhead faces' lists them): a real person's, built from the clips on first use, or synthetic (the default face)"};
+}
+
 std::vector<OptionSpec> videoOptionSpecs() {
 	std::vector<OptionSpec> specs = {genericVisemesOption(),
 	        {"--emotion", "LABEL[:I]", "one of the 23 emotion labels or an alias (default neutral); :I sets its intensity, 0 (neutral) to 1 (the corpus, default), up to 1.5"},
-	        {"--model", "M.thm", "face model (default: the embedded default face)"},
+	        faceOption(),
+	        {"--model", "M.thm", "face model file (default: the embedded default face)"},
 	        {"--fps", "RATE", "frame rate: 30 (default), 25, 29.97 (= 30000/1001), 30.0, 12.5 or a fraction like 30000/1001"},
 	        {"--size", "WxH", "output size (default: the model's frame size)"},
 	        {"--fit", "MODE", "when --size has another aspect than the model: face (default: fill as far as the whole face still fits, cut around it, pad the rest), crop (fill, cut the overflow evenly), pad (fit inside, extend the edges) or stretch"},
@@ -350,6 +356,9 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.noAudio = args.has("--no-audio");
 	c.expression = parseEmotionOption(args, command);
 	c.modelPath = args.get("--model", "");
+	c.faceName = args.get("--face");
+	if (c.faceName && args.has("--model")) throw UsageError(command + ": give --face NAME or --model M.thm, not both");
+	if (c.faceName && *c.faceName != kSyntheticFace) shippedFace(*c.faceName);  // an unknown name fails before any work
 	c.pauses = parsePausesOption(args, command);
 	parseDrawingOptions(args, command, c.render.synth);
 	c.modulation = parseModulation(args, command);
@@ -394,9 +403,10 @@ std::shared_ptr<const CoarticulationModel> parseCoarticulation(const Args& args)
 VideoFace loadVideoFace(const VideoCommand& cmd) {
 	using Clock = std::chrono::steady_clock;
 	const auto tLoad = Clock::now();
-	if (cmd.modelPath.empty()) ensureDefaultFace(cmd.quiet);
+	const std::string modelPath = cmd.faceName ? shippedFaceModel(*cmd.faceName, cmd.quiet) : cmd.modelPath;
+	if (modelPath.empty()) ensureDefaultFace(cmd.quiet);
 	VideoFace f;
-	f.model = std::make_unique<FaceModel>(loadRenderModel(cmd.modelPath, cmd.components));
+	f.model = std::make_unique<FaceModel>(loadRenderModel(modelPath, cmd.components));
 	f.face = std::make_unique<Face>(*f.model, cmd.coarticulation);
 	f.seconds = std::chrono::duration<double>(Clock::now() - tLoad).count();
 	return f;

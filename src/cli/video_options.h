@@ -37,6 +37,7 @@ PauseStyle parsePausesOption(const Args& args, const std::string& command);
 struct VideoCommand : VideoJob {
 	std::string command;                 // "render" or "say", for messages
 	std::string modelPath;               // empty = the default face
+	std::optional<std::string> faceName; // --face NAME: a shipped face (built on first use) or "synthetic"
 	Expression expression;               // --emotion LABEL:INTENSITY
 	FrameRate rate;
 	PauseStyle pauses = PauseStyle::Natural;
@@ -100,6 +101,8 @@ std::string defaultLanguageFor(const std::string& transcriptPath, const std::str
 std::string languageOptionHelp(const std::string& what);
 // --generic-visemes (also in videoOptionSpecs).
 OptionSpec genericVisemesOption();
+// --face NAME (issue 48): a face that ships with talkhead (`talkhead faces`), built on first use.
+OptionSpec faceOption();
 
 // Reads and checks every shared option (and that the output folders exist and are writable) before any
 // work is done; throws UsageError / Error. `outputRequired`: -o must be given.

@@ -53,7 +53,7 @@ const std::vector<Column>& columns() {
 	    {"lead-in", true, true, true}, {"tail", true, true, true},             {"av-offset", true, true, true},
 	    {"components", true, true, true}, {"drive", true, false, true}, {"drive-mouth", false, false, true},
 	    {"timing-text", true, false, true}, {"condition", false, true, true}, {"resampling", true, true, true},
-	    {"au-appearance", true, true, true}, {"coarticulation", true, true, true}};
+	    {"au-appearance", true, true, true}, {"coarticulation", true, true, true}, {"face", true, true, true}};
 	return c;
 }
 const Column* findColumn(const std::string& name) {
@@ -148,7 +148,7 @@ const std::string kVersus = "versus:";
 bool versusColumn(const std::string& c) {
 	static const std::set<std::string> allowed = {"model", "emotion", "intensity", "trajectory", "dissolve", "warp", "pauses", "blinks", "head-motion",
 	                                              "speech-brows", "emotion-source", "controls", "seed", "components",
-	                                              "resampling", "au-appearance"};
+	                                              "resampling", "au-appearance", "face"};
 	return allowed.count(c) > 0;
 }
 
@@ -178,6 +178,7 @@ std::string rowJob(const std::map<std::string, std::string>& fields, const fs::p
 		if (dm == "yes" || dm == "true" || dm == "1") driveMouth = true;
 		else if (dm != "no" && dm != "false" && dm != "0") fail("drive-mouth", "'" + get("drive-mouth") + "' is not yes or no");
 	}
+	if (!get("face").empty() && fields.count("model")) fail("face", "a row names its face or its model, not both");
 	if (driveMouth && !drive) fail("drive-mouth", "needs a drive video");
 	if (driveMouth && (text || transcript)) fail("drive-mouth", "takes the mouth from the drive video: no text or transcript");
 	if (!text && !transcript && !driveMouth) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
@@ -283,13 +284,21 @@ Manifest parseManifest(const std::string& text, const std::string& path) {
 
 Manifest loadManifest(const std::string& path) { return parseManifest(readTextFile(path), path); }
 
-void checkManifestModels(const Manifest& m) {
+void checkManifestModels(const Manifest& m, const std::function<std::string(const std::string&)>& faceModel) {
 	std::vector<std::string> errors;
 	std::map<std::string, std::vector<std::string>> regionsOf;  // model path ("" = default) → region names
 	for (const BatchRow& row : m.rows) {
 		auto comps = row.fields.find("components");
 		if (comps == row.fields.end()) continue;
-		const std::string model = jobValue(row.job, "model").value_or("");
+		std::string model = jobValue(row.job, "model").value_or("");
+		if (auto face = jobValue(row.job, "face"); face && faceModel) {
+			try {
+				model = faceModel(*face);
+			} catch (const Error& e) {
+				errors.push_back(m.path + ":" + std::to_string(row.line) + ":face: " + e.what());
+				continue;
+			}
+		}
 		auto it = regionsOf.find(model);
 		if (it == regionsOf.end()) {
 			std::vector<std::string> names;

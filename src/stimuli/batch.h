@@ -8,6 +8,7 @@
 #include "perform/job.h"
 #include "phonetics/emotion.h"
 #include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -61,8 +62,9 @@ struct ManifestErrors : Error {
 Manifest parseManifest(const std::string& text, const std::string& path);
 Manifest loadManifest(const std::string& path);
 // What needs the models: every `components` region exists in its row's model (each model's render parts
-// loaded once). Throws ManifestErrors.
-void checkManifestModels(const Manifest& m);
+// loaded once; a row's `face` is a model through faceModel, the caller's: built if need be). Throws
+// ManifestErrors.
+void checkManifestModels(const Manifest& m, const std::function<std::string(const std::string&)>& faceModel = {});
 
 // Blind IDs: "S" + 6 base-32 characters per row, from the seed and the row's position only (never from
 // its conditions), all distinct.

@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "model/faces.h"
+
+#include <filesystem>
+
+#include "base/data_dirs.h"
+#include "base/error.h"
+#include "base/text.h"
+#include "base/tsv.h"
+
+namespace fs = std::filesystem;
+
+namespace talkhead {
+
+namespace {
+
+// Bumped when what builds a shipped face changes its bytes (frame choice, colours, the builder): the faces
+// built before are then built again.
+const char* const kShippedFaceBuilder = "talkhead shipped face 1: the take list planned and built as from-video and build do (D91)\n";
+
+std::vector<std::string> splitComma(const std::string& s) {
+	std::vector<std::string> out;
+	std::string cur;
+	for (char c : s) {
+		if (c == ',') {
+			out.push_back(cur);
+			cur.clear();
+		} else {
+			cur += c;
+		}
+	}
+	if (!cur.empty()) out.push_back(cur);
+	return out;
+}
+
+}  // namespace
+
+std::vector<ShippedFace> shippedFaces() {
+	const auto registry = findDataFile("models/faces/faces.tsv");
+	if (!registry) return {};
+	const TsvTable tab = readTsv(*registry);
+	const std::size_t cn = tab.column("name"), cs = tab.column("size"), cl = tab.column("lang"), ce = tab.column("emotions"), cli = tab.column("licence"),
+	                  cso = tab.column("source"), ct = tab.column("takes");
+	const fs::path folder = fs::path(*registry).parent_path();
+	std::vector<ShippedFace> out;
+	for (const auto& r : tab.rows) {
+		ShippedFace f;
+		f.name = r.fields[cn];
+		const std::string& size = r.fields[cs];
+		const auto x = size.find('x');
+		try {
+			if (x == std::string::npos) throw std::invalid_argument(size);
+			f.width = std::stoi(size.substr(0, x));
+			f.height = std::stoi(size.substr(x + 1));
+		} catch (const std::exception&) {
+			throw Error(*registry, r.line, "size '" + size + "' is not WIDTHxHEIGHT");
+		}
+		f.lang = r.fields[cl];
+		f.emotions = splitComma(r.fields[ce]);
+		f.licence = r.fields[cli];
+		f.source = r.fields[cso];
+		f.takes = (folder / r.fields[ct]).string();
+		if (f.name.empty() || f.emotions.empty()) throw Error(*registry, r.line, "a face needs a name and its recorded emotions");
+		out.push_back(std::move(f));
+	}
+	return out;
+}
+
+ShippedFace shippedFace(const std::string& name) {
+	std::string names;
+	for (auto& f : shippedFaces()) {
+		if (f.name == name) return f;
+		names += (names.empty() ? "" : ", ") + f.name;
+	}
+	throw Error("no face named '" + safeLine(name, 80) + "' ships with talkhead (" + (names.empty() ? "none is installed" : "the faces: " + names + ", synthetic") + ")");
+}
+
+std::string shippedFaceModelPath(const ShippedFace& face) {
+	const std::string cache = userCacheDir();
+	if (cache.empty()) return "";
+	return (fs::path(cache) / "models" / "faces" / (face.name + ".thm")).string();
+}
+
+std::string shippedFaceRecipe(const ShippedFace& face) {
+	std::string recipe = kShippedFaceBuilder;
+	recipe += "face " + face.name + " " + face.lang + "\n";
+	const std::string list = readTextFile(face.takes);
+	recipe += list;
+	// Each file the list names (any field that is a file beside it), by name and size.
+	const TsvTable tab = parseTsv(list, face.takes);
+	const fs::path folder = fs::path(face.takes).parent_path();
+	for (const auto& r : tab.rows)
+		for (const std::string& field : r.fields) {
+			std::error_code ec;
+			const fs::path p = folder / field;
+			if (field.empty() || !fs::is_regular_file(p, ec)) continue;
+			recipe += field + " " + std::to_string(fs::file_size(p, ec)) + "\n";
+		}
+	return recipe;
+}
+
+std::optional<std::string> builtShippedFace(const ShippedFace& face) {
+	const std::string model = shippedFaceModelPath(face);
+	if (model.empty()) return std::nullopt;
+	std::error_code ec;
+	if (!fs::is_regular_file(model, ec)) return std::nullopt;
+	std::string stamp;
+	try {
+		stamp = readTextFile(fs::path(model).replace_extension(".recipe").string());
+	} catch (const std::exception&) {
+		return std::nullopt;
+	}
+	if (stamp != shippedFaceRecipe(face)) return std::nullopt;
+	return model;
+}
+
+}  // namespace talkhead
