@@ -6,6 +6,7 @@ namespace talkhead::cli {
 const std::vector<Command>& commands() {
 	static const std::vector<Command> c = {
 	    {"build", "build a face model (.thm) from an annotated image corpus", runBuild},
+	    {"face", "'face create VIDEO… -o me.thm': your own face from videos of you, in one command, with a report", runFace},
 	    {"faces", "the faces that ship with talkhead (real people and the synthetic default) and whether they are built", runFaces},
 	    {"inspect", "summarise a face model, draw it (-o DIR), measure reconstruction (--recon)", runInspect},
 	    {"corpus", "corpus tools: 'synth' (synthetic corpus), 'landmarks' (track a video), 'from-video' (corpus from a video)", runCorpus},

@@ -103,6 +103,7 @@ public:
 	bool detectFace(const Image8& grey, const FaceBox* near, FaceBox& out) {
 		for (int up = upsample_; up <= 1; ++up) {
 			auto faces = lm_.detect(grey, up);
+			lastFaces_ = int(faces.size());
 			if (!faces.empty()) {
 				if (up > upsample_) upsample_ = up;
 				out = faces.front();
@@ -131,7 +132,9 @@ public:
 		if (!ok) {
 			FaceBox box;
 			FaceBox prevBox = havePrev_ ? boxFrom(prev_, rel_) : FaceBox{};
-			if (detectFace(grey, havePrev_ ? &prevBox : nullptr, box)) {
+			const bool found = detectFace(grey, havePrev_ ? &prevBox : nullptr, box);
+			f.faces = lastFaces_;
+			if (found) {
 				lastDetect_ = f.time;
 				// Learn where dlib's box sits on this face, then fit from the box.
 				const Points first = lm_.fit(grey, box);
@@ -168,6 +171,7 @@ private:
 	Points prev_;
 	Ticks lastDetect_{0};
 	int upsample_ = 0;
+	int lastFaces_ = 0;
 };
 
 // One-euro smoothing over a track segment, in eye distances.

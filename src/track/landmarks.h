@@ -89,6 +89,7 @@ struct FrameLandmarks {
 	bool found = false;      // false: the face was lost in this frame (no points)
 	bool detected = false;   // the detector ran and found the face in this frame
 	double confidence = 0;   // 0–1: agreement of two predictor fits from slightly different boxes
+	int faces = -1;          // faces the detector found when it ran on this frame (−1: it did not run)
 	Points points;           // 68 × 2 (smoothed when smoothing is on), pixels; empty when !found
 	Points raw;              // the unsmoothed fit
 	std::string name;        // folder input: the image's file name

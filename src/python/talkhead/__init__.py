@@ -9,6 +9,7 @@ same files, frames and messages), with the GIL released while it works::
     for t, image in talkhead.frames(transcript="s.TextGrid", lang="en-US"):   # numpy H×W×3 uint8 (RGB)
         ...
     talkhead.say("Hello there.", "hello.mp4", lang="en-US")
+    talkhead.say("Hello there.", "real.mp4", lang="en-US", face="grid-s4")   # a real face that ships (`talkhead faces`)
     talkhead.visemes("s.TextGrid", lang="en-US")   # [{'start': 0.0, 'end': 0.12, 'phone': '_', 'cdv': 'sil', ...}, ...]
 
 Keyword options are the command's fields — its long options by name: ``head_motion="off"`` is the field
@@ -80,22 +81,24 @@ class Model:
         return f"talkhead.Model({self.path!r})"
 
 
-def _video_job(transcript, audio, text, emotion, controls, model, lang, options, *extra):
+def _video_job(transcript, audio, text, emotion, controls, model, face, lang, options, *extra):
     return _job("render", ("transcript", transcript), ("text", text), ("audio", audio), ("emotion", emotion), ("controls", controls),
-                ("model", model), ("lang", lang), *options.items(), *extra)
+                ("model", model), ("face", face), ("lang", lang), *options.items(), *extra)
 
 
-def render(output, *, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, lang=None, progress=None, **options):
-    """Renders a video (``talkhead render``): MP4 by default, y4m with ``format="y4m"``."""
-    _run_job(_video_job(transcript, audio, text, emotion, controls, model, lang, options, ("output", output)), progress)
+def render(output, *, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, face=None, lang=None, progress=None,
+           **options):
+    """Renders a video (``talkhead render``): MP4 by default, y4m with ``format="y4m"``. ``face="grid-s4"``
+    names a face that ships with talkhead (``talkhead faces``; built on first use), ``model=`` a model file."""
+    _run_job(_video_job(transcript, audio, text, emotion, controls, model, face, lang, options, ("output", output)), progress)
 
 
-def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, lang=None, **options):
+def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, face=None, lang=None, **options):
     """The frames a render draws, as ``(seconds, image)`` pairs in order: ``image`` is a numpy array of
     shape (height, width, 3), uint8 RGB, equal byte for byte to the PNGs of ``render --frames``; with
     ``background="transparent"``, (height, width, 4) RGBA, the face's matte as alpha. Frames are drawn a few
     ahead on another thread; leaving the loop stops the render."""
-    stream = FrameStream.of_job(_video_job(transcript, audio, text, emotion, controls, model, lang, options, ("format", "none"), ("quiet", True)))
+    stream = FrameStream.of_job(_video_job(transcript, audio, text, emotion, controls, model, face, lang, options, ("format", "none"), ("quiet", True)))
     try:
         for _, seconds, image in stream:
             yield seconds, image
@@ -103,10 +106,10 @@ def frames(*, transcript=None, audio=None, text=None, emotion=None, controls=Non
         stream.close()
 
 
-def say(text, output=None, *, lang=None, emotion=None, voice=None, model=None, progress=None, **options):
-    """Speaks text with espeak-ng and renders the face saying it (``talkhead say``)."""
-    _run_job(_job("say", ("text", text), ("lang", lang), ("emotion", emotion), ("voice", voice), ("model", model), ("output", output), *options.items()),
-             progress)
+def say(text, output=None, *, lang=None, emotion=None, voice=None, model=None, face=None, progress=None, **options):
+    """Speaks text with espeak-ng and renders the face saying it (``talkhead say``); ``face=`` as render's."""
+    _run_job(_job("say", ("text", text), ("lang", lang), ("emotion", emotion), ("voice", voice), ("model", model), ("face", face), ("output", output),
+                  *options.items()), progress)
 
 
 def visemes(transcript, *, lang=None, **options):
