@@ -481,13 +481,6 @@ MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, 
 
 namespace {
 constexpr double kPeakShare = 0.87;
-// D93: a regression's predictions are shrunk towards their mean (the shipped model's fit r on its training
-// keyposes is 0.775): their spread around the utterance's mean is restored by 1/r (variance matching), and
-// a face's unit is at most a typical speaker's: the median over the 95 training clips of the speaker's 90th
-// percentile of the opening in speech, 0.148 eye distances — a face drawn to open wider (the synthetic
-// face's widest sample is 0.292) speaks like a person, not like its widest viseme.
-constexpr double kSpreadRestore = 1 / 0.775;
-constexpr double kSpeakerP90 = 0.148;
 double mouthCost(const MouthPool& pool, const MouthSize& m, double opening, double width) {
 	const double dOpen = (m.opening - opening) / pool.scale, dWidth = (m.width - width) / pool.widthSpread;
 	return dOpen * dOpen + kWidthWeight * dWidth * dWidth;
@@ -522,10 +515,6 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 		return pools.emplace(e, mouthPool(model, size, e)).first->second;
 	};
 	std::size_t chosen = 0;
-	double mean = 0, n = 0;  // the utterance's mean predicted opening (speech, bilabials aside)
-	for (const Keypose& k : keys)
-		if (k.mouthOpening && k.sample < 0 && !bilabial(k.cdv.label()) && k.cdv.label() != "sil") mean += *k.mouthOpening, ++n;
-	if (n > 0) mean /= n;
 	for (Keypose& k : keys) {
 		if (!k.mouthOpening || k.sample >= 0) continue;
 		std::string e = k.emotion.value_or(emotion).label();
@@ -556,8 +545,7 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 			// a speaker's widest, and the GRID speakers' 90th percentile is kPeakShare of their widest (median
 			// over the 95 clips the shipped model learned from). The 90th percentile of the samples was the
 			// unit before: a face with few open samples (a short take, a small corpus) never reached them (D90).
-			const double unit = std::min(kPeakShare * pool.widest, kSpeakerP90);
-			const double target = std::max(0.0, mean + (*k.mouthOpening - mean) * kSpreadRestore) * unit;
+			const double target = *k.mouthOpening * kPeakShare * pool.widest;
 			// The predicted width is the speakers' relative to their median; the face's is taken relative to
 			// its usual width at the target opening (D90), so a face whose open mouths are all wider than its
 			// median (franck) still opens.

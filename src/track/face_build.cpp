@@ -83,6 +83,29 @@ private:
 	int fd_;
 };
 
+// The takes written as one corpus in `scratch` (made here, removed after), built with `build`'s defaults.
+FaceModel buildFromPlans(const std::vector<TakePlan>& plans, std::size_t base, const fs::path& scratch, ProgressSink& progress, double from,
+                         std::vector<ColourMatch>* colours = nullptr) {
+	std::error_code ec;
+	fs::remove_all(scratch, ec);
+	struct Remove {
+		fs::path p;
+		~Remove() {
+			std::error_code e;
+			fs::remove_all(p, e);
+		}
+	} remove{scratch};
+	fs::create_directories(scratch, ec);
+	if (ec) throw Error(scratch.string(), 0, "cannot make the scratch folder for the face (" + ec.message() + ")");
+	progress.report(from, "writing the corpus");
+	std::vector<ColourMatch> m = writeTakesCorpus(plans, base, scratch.string());
+	if (colours) *colours = std::move(m);
+	const Corpus corpus = loadCorpus((scratch / "corpus.csv").string());
+	const Scheme scheme = corpusScheme(corpus, corpus.schemeName);
+	SubProgress sub(progress, from, 1.0, "");
+	return buildFaceModel(corpus, scheme, BuildOptions{}, sub);
+}
+
 }  // namespace
 
 TakePlan planVideoTake(const VideoTake& take, const Language& lang, const FromVideoOptions& options, bool byShape, const std::string& landmarksTsv,
@@ -142,23 +165,7 @@ std::string ensureShippedFace(const ShippedFace& face, ProgressSink& progress) {
 		                "take " + std::to_string(plans.size() + 1) + " of " + std::to_string(takes.size()) + ": ");
 		plans.push_back(planVideoTake(take, lang, FromVideoOptions{}, byShape, "", sub));
 	}
-	const fs::path corpusDir = folder / (face.name + "-corpus.tmp");
-	fs::remove_all(corpusDir, ec);
-	struct Remove {
-		fs::path p;
-		~Remove() {
-			std::error_code e;
-			fs::remove_all(p, e);
-		}
-	} remove{corpusDir};
-	fs::create_directories(corpusDir, ec);
-	if (ec) throw Error(corpusDir.string(), 0, "cannot make the scratch folder for the face '" + face.name + "' (" + ec.message() + ")");
-	progress.report(trackShare, "writing the corpus");
-	writeTakesCorpus(plans, basefaceTake(plans), corpusDir.string());
-	const Corpus corpus = loadCorpus((corpusDir / "corpus.csv").string());
-	const Scheme scheme = corpusScheme(corpus, corpus.schemeName);
-	SubProgress sub(progress, trackShare, 1.0, "");
-	const FaceModel m = buildFaceModel(corpus, scheme, BuildOptions{}, sub);
+	const FaceModel m = buildFromPlans(plans, basefaceTake(plans), folder / (face.name + "-corpus.tmp"), progress, trackShare);
 	const fs::path recipe = fs::path(model).replace_extension(".recipe");
 	fs::remove(recipe, ec);  // a model never stands beside another recipe's stamp
 	saveModel(m, model);
@@ -314,25 +321,9 @@ FaceCreateReport createFace(const std::vector<VideoTake>& takes, const FaceCreat
 		            "): record 20 s or more of varied speech");
 	// The corpus in a scratch folder beside the model, built, saved; the folder goes.
 	const fs::path out(modelPath);
-	const fs::path scratch = (out.parent_path().empty() ? fs::path(".") : out.parent_path()) / (out.filename().string() + ".corpus.tmp");
-	std::error_code ec;
-	fs::remove_all(scratch, ec);
-	struct Remove {
-		fs::path p;
-		~Remove() {
-			std::error_code e;
-			fs::remove_all(p, e);
-		}
-	} remove{scratch};
-	fs::create_directories(scratch, ec);
-	if (ec) throw Error(scratch.string(), 0, "cannot make the scratch folder for the face (" + ec.message() + ")");
-	progress.report(trackShare, "writing the corpus");
 	report.baseTake = basefaceTake(plans);
-	report.colours = writeTakesCorpus(plans, report.baseTake, scratch.string());
-	const Corpus corpus = loadCorpus((scratch / "corpus.csv").string());
-	const Scheme scheme = corpusScheme(corpus, corpus.schemeName);
-	SubProgress sub(progress, trackShare, 1.0, "");
-	const FaceModel m = buildFaceModel(corpus, scheme, BuildOptions{}, sub);
+	const FaceModel m = buildFromPlans(plans, report.baseTake, (out.parent_path().empty() ? fs::path(".") : out.parent_path()) / (out.filename().string() + ".corpus.tmp"),
+	                                   progress, trackShare, &report.colours);
 	saveModel(m, modelPath);
 	report.samples = m.sampleCount();
 	// What would make it better.
