@@ -26,6 +26,15 @@ set +e
 set -e
 [ $rc = 2 ] && grep -q "give --face NAME or --model M.thm, not both" "$T/err"
 [ ! -e "$T/x.mp4" ] && [ ! -e "$FACES" ]
+set +e
+"$TH" serve --listen 127.0.0.1:0 --face nobody 2>"$T/err"; rc=$?
+set -e
+[ $rc = 1 ] && grep -q "no face named 'nobody'" "$T/err"
+set +e
+"$TH" serve --listen 127.0.0.1:0 --face grid-s4 --model "$T/m.thm" 2>"$T/err"; rc=$?
+set -e
+[ $rc = 2 ] && grep -q "serve: give --face NAME or --model M.thm, not both" "$T/err"
+[ ! -e "$FACES" ]
 
 # First use builds the face once, saying so; the second run finds it.
 "$TH" say "Don't forget a jacket" --lang en-US --face crema-1001 --emotion joy --format y4m -o "$T/a.y4m" --no-audio 2>"$T/log1"
