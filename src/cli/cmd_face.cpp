@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "base/atomic_file.h"
 #include "base/error.h"
 #include "base/progress.h"
 #include "base/text.h"
@@ -14,6 +15,8 @@
 #include "cli/output_dir.h"
 #include "cli/run.h"
 #include "cli/video_options.h"
+#include "model/faces.h"
+#include "model/model_file.h"
 #include "phonetics/emotion.h"
 #include "phonetics/labels.h"
 #include "track/face_build.h"
@@ -63,7 +66,8 @@ int runFaceCreate(const std::vector<std::string>& argv) {
 	Args args("face create",
 	          "talkhead face create VIDEO[:EMOTION]… [--text \"…\" | --transcript T] [--lang L] -o ME.thm\n"
 	          "       talkhead face create --takes LIST.tsv [--lang L] -o ME.thm",
-	          {{"--output", "ME.thm", "the face model to write (required)", "-o"},
+	          {{"--output", "ME.thm", "the face model to write (or --name)", "-o"},
+	           {"--name", "NAME", "keep the face under this name in the cache instead: 'talkhead faces' lists it, --face NAME uses it"},
 	           {"--takes", "LIST.tsv", "the takes as a list: columns video, emotion [start, duration, transcript, text, audio]"},
 	           {"--text", "TEXT", "the words spoken (aligned to each video's audio): frames chosen by phone"},
 	           {"--text-file", "F", "the same, from a file"},
@@ -81,7 +85,17 @@ int runFaceCreate(const std::vector<std::string>& argv) {
 	          "most of the time. VIDEO:EMOTION names a take's emotion (default neutral): one video per emotion makes\n"
 	          "a face with those emotions recorded (the others are drawn from action units).");
 	if (!args.parse(argv)) return 0;
-	const std::string out = args.required("--output", "-o ME.thm is required");
+	if (args.has("--output") == args.has("--name")) throw UsageError("face create: give -o ME.thm or --name NAME (one of them)");
+	std::string out = args.get("--output", "");
+	if (auto name = args.get("--name")) {
+		checkOwnFaceName(*name);
+		const std::string dir = ownFacesDir();
+		if (dir.empty()) throw Error("face create: no cache folder to keep the face in (set XDG_CACHE_HOME or HOME)");
+		std::error_code ec;
+		fs::create_directories(dir, ec);
+		if (ec) throw Error(dir, 0, "cannot make the folder for your faces (" + ec.message() + ")");
+		out = (fs::path(dir) / (*name + ".thm")).string();
+	}
 	const bool quiet = args.has("--quiet");
 	if (int(args.has("--transcript")) + int(args.has("--text")) + int(args.has("--text-file")) > 1)
 		throw UsageError("face create: give one of --transcript, --text and --text-file");
@@ -115,6 +129,15 @@ int runFaceCreate(const std::vector<std::string>& argv) {
 		throw;
 	}
 	bar.finish();
+	if (args.has("--name")) {  // what `talkhead faces` lists
+		std::string emotions, sources;
+		for (const auto& e : report.emotions)
+			if (emotions.find(e) == std::string::npos) emotions += (emotions.empty() ? "" : ",") + e;
+		for (const auto& t : takes) sources += (sources.empty() ? "" : ", ") + fs::path(t.video).filename().string();
+		const FaceModel m = loadModel(out, ModelParts::Render);
+		writeFileAtomically(fs::path(out).replace_extension(".info").string(), "size\t" + std::to_string(m.width) + "x" + std::to_string(m.height) +
+		                                                                          "\nemotions\t" + emotions + "\nsource\tface create: " + sources + "\n");
+	}
 	if (!quiet) printReport(report, out, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 	return 0;
 }

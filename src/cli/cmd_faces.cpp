@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "base/data_dirs.h"
+#include "base/text.h"
 #include "cli/args.h"
 #include "cli/commands.h"
 #include "cli/run.h"
@@ -36,6 +37,12 @@ std::vector<FaceRow> faceRows() {
 		if (rec < all) emotions += ", " + std::to_string(all - rec) + " from action units";
 		rows.push_back({f.name, std::to_string(f.width) + "x" + std::to_string(f.height), emotions, f.licence,
 		                builtShippedFace(f) ? "yes" : "no (built on first use)", f.source});
+	}
+	for (const OwnFace& f : ownFaces()) {  // `face create --name`
+		const auto recorded = f.emotions.empty() ? std::vector<std::string>{} : split(f.emotions, ',');
+		std::string emotions = f.emotions.empty() ? "?" : std::to_string(recorded.size()) + " recorded (" + join(recorded, ", ") + ")";
+		if (!recorded.empty() && recorded.size() < all) emotions += ", " + std::to_string(all - recorded.size()) + " from action units";
+		rows.push_back({f.name, f.size.empty() ? "?" : f.size, emotions, "yours", "yes", f.source.empty() ? "face create" : f.source});
 	}
 	return rows;
 }

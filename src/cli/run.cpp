@@ -113,6 +113,7 @@ std::string shippedFaceModel(const std::string& name, bool quiet) {
 		ensureDefaultFace(quiet);
 		return "";
 	}
+	if (auto own = ownFace(name)) return own->model;  // made with `face create --name`
 	const ShippedFace face = shippedFace(name);
 	if (auto built = builtShippedFace(face)) return *built;
 	const auto t0 = std::chrono::steady_clock::now();

@@ -358,7 +358,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.modelPath = args.get("--model", "");
 	c.faceName = args.get("--face");
 	if (c.faceName && args.has("--model")) throw UsageError(command + ": give --face NAME or --model M.thm, not both");
-	if (c.faceName && *c.faceName != kSyntheticFace) shippedFace(*c.faceName);  // an unknown name fails before any work
+	if (c.faceName && *c.faceName != kSyntheticFace && !ownFace(*c.faceName)) shippedFace(*c.faceName);  // an unknown name fails before any work
 	c.pauses = parsePausesOption(args, command);
 	parseDrawingOptions(args, command, c.render.synth);
 	c.modulation = parseModulation(args, command);

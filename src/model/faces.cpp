@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "model/faces.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 #include "base/data_dirs.h"
@@ -112,6 +114,53 @@ std::optional<std::string> builtShippedFace(const ShippedFace& face) {
 	}
 	if (stamp != shippedFaceRecipe(face)) return std::nullopt;
 	return model;
+}
+
+std::string ownFacesDir() {
+	const std::string cache = userCacheDir();
+	return cache.empty() ? "" : (fs::path(cache) / "models" / "faces" / "own").string();
+}
+
+std::vector<OwnFace> ownFaces() {
+	std::vector<OwnFace> out;
+	const std::string dir = ownFacesDir();
+	std::error_code ec;
+	if (dir.empty() || !fs::is_directory(dir, ec)) return out;
+	for (const auto& e : fs::directory_iterator(dir, ec)) {
+		if (e.path().extension() != ".thm" || !e.is_regular_file(ec)) continue;
+		OwnFace f;
+		f.name = e.path().stem().string();
+		f.model = e.path().string();
+		try {
+			for (const std::string& line : split(readTextFile(fs::path(e.path()).replace_extension(".info").string()), '\n')) {
+				const auto tab = line.find('\t');
+				if (tab == std::string::npos) continue;
+				const std::string k = line.substr(0, tab), v = line.substr(tab + 1);
+				if (k == "size") f.size = v;
+				else if (k == "emotions") f.emotions = v;
+				else if (k == "source") f.source = v;
+			}
+		} catch (const std::exception&) {  // no .info: listed with what is known
+		}
+		out.push_back(std::move(f));
+	}
+	std::sort(out.begin(), out.end(), [](const OwnFace& a, const OwnFace& b) { return a.name < b.name; });
+	return out;
+}
+
+std::optional<OwnFace> ownFace(const std::string& name) {
+	for (auto& f : ownFaces())
+		if (f.name == name) return f;
+	return std::nullopt;
+}
+
+void checkOwnFaceName(const std::string& name) {
+	const bool chars = !name.empty() && name.size() <= 40 && name[0] != '.' &&
+	                   std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'; });
+	if (!chars) throw Error("'" + safeLine(name, 60) + "' cannot name a face: 1–40 letters, digits, '.', '_' and '-', not starting with '.'");
+	if (name == "synthetic") throw Error("'synthetic' is the default face's name: choose another");
+	for (const auto& f : shippedFaces())
+		if (f.name == name) throw Error("'" + name + "' is a face that ships with talkhead: choose another name");
 }
 
 }  // namespace talkhead

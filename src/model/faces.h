@@ -32,4 +32,16 @@ std::string shippedFaceRecipe(const ShippedFace& face);
 // The model's path when it is built from the current recipe; nullopt when it must be built.
 std::optional<std::string> builtShippedFace(const ShippedFace& face);
 
+// Faces people made themselves (`face create --name NAME`, issue 48 part 3): NAME.thm in
+// <cache>/models/faces/own/ with NAME.info beside it (size, emotions, source: one "key\tvalue" a line).
+struct OwnFace {
+	std::string name, model, size, emotions, source;
+};
+std::string ownFacesDir();  // "" when no cache folder is known
+std::vector<OwnFace> ownFaces();  // sorted by name
+std::optional<OwnFace> ownFace(const std::string& name);
+// A name `face create --name` may take: 1–40 of [A-Za-z0-9._-], not starting with '.', not a shipped
+// face's or "synthetic". Throws Error saying why not.
+void checkOwnFaceName(const std::string& name);
+
 }  // namespace talkhead

@@ -48,7 +48,22 @@ refused blurred "too blurred"
 set +e
 "$TH" face create "$T/black.mp4" 2>"$T/err"; rc=$?
 set -e
-[ $rc = 2 ] && grep -q "\-o ME.thm is required" "$T/err"
+[ $rc = 2 ] && grep -q "give -o ME.thm or --name NAME (one of them)" "$T/err"
+
+# --name: kept in the cache, listed by `talkhead faces` as yours, used with --face; a shipped face's name or
+# a path refused.
+export XDG_CACHE_HOME=$T/cache
+"$TH" face create "$G/s4hq_pbbc4a.mpg" --transcript "$G/s4_pbbc4a.align" --name me -q
+"$TH" faces --format tsv | grep -qP '^me\t720x576\t1 recorded \(neutral\), 22 from action units\tyours\tyes\tface create: s4hq_pbbc4a.mpg$'
+"$TH" say "Hello" --lang en-US --face me --format y4m -o "$T/me.y4m" -q --no-audio
+head -c 80 "$T/me.y4m" | grep -q "W720 H576"
+for bad in grid-s4 synthetic "a/b"; do
+	set +e
+	"$TH" face create "$G/s4hq_pbbc4a.mpg" --name "$bad" 2>"$T/err"; rc=$?
+	set -e
+	[ $rc = 1 ] && grep -qE "choose another|cannot name a face" "$T/err"
+done
+test "$(ls "$T/cache/talkhead/models/faces/own")" = "$(printf 'me.info\nme.thm')"
 
 # franck: 20 s by mouth shape, every viseme covered, his own blinks.
 if [ -n "$DATA" ] && [ -f "$DATA/franck/franck.mp4" ]; then
