@@ -20,29 +20,25 @@ struct FaceRow {
 	std::string name, size, emotions, licence, built, source;
 };
 
-std::string join(const std::vector<std::string>& v, const char* sep) {
-	std::string s;
-	for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
-	return s;
+// "2 recorded (neutral, joy), 21 from action units"; "?" when unknown.
+std::string emotionsCell(const std::vector<std::string>& recorded) {
+	if (recorded.empty()) return "?";
+	const std::size_t all = Emotion::count();
+	std::string cell = std::to_string(recorded.size()) + " recorded";
+	if (recorded.size() < all) cell += " (" + joined(recorded) + "), " + std::to_string(all - recorded.size()) + " from action units";
+	return cell;
 }
 
 std::vector<FaceRow> faceRows() {
-	const std::size_t all = Emotion::count();
 	std::vector<FaceRow> rows;
-	rows.push_back({kSyntheticFace, "1280x720", std::to_string(all) + " recorded", "GPL-3.0-or-later", findDefaultModel() ? "yes" : "no (made on first use)",
+	rows.push_back({kSyntheticFace, "1280x720", std::to_string(Emotion::count()) + " recorded", "GPL-3.0-or-later", findDefaultModel() ? "yes" : "no (made on first use)",
 	                "talkhead's synthetic corpus (a drawn face): the default"});
 	for (const ShippedFace& f : shippedFaces()) {
-		const std::size_t rec = f.emotions.size();
-		std::string emotions = std::to_string(rec) + " recorded (" + join(f.emotions, ", ") + ")";
-		if (rec < all) emotions += ", " + std::to_string(all - rec) + " from action units";
-		rows.push_back({f.name, std::to_string(f.width) + "x" + std::to_string(f.height), emotions, f.licence,
+		rows.push_back({f.name, std::to_string(f.width) + "x" + std::to_string(f.height), emotionsCell(f.emotions), f.licence,
 		                builtShippedFace(f) ? "yes" : "no (built on first use)", f.source});
 	}
 	for (const OwnFace& f : ownFaces()) {  // `face create --name`
-		const auto recorded = f.emotions.empty() ? std::vector<std::string>{} : split(f.emotions, ',');
-		std::string emotions = f.emotions.empty() ? "?" : std::to_string(recorded.size()) + " recorded (" + join(recorded, ", ") + ")";
-		if (!recorded.empty() && recorded.size() < all) emotions += ", " + std::to_string(all - recorded.size()) + " from action units";
-		rows.push_back({f.name, f.size.empty() ? "?" : f.size, emotions, "yours", "yes", f.source.empty() ? "face create" : f.source});
+		rows.push_back({f.name, f.size.empty() ? "?" : f.size, emotionsCell(f.emotions.empty() ? std::vector<std::string>{} : split(f.emotions, ',')), "yours", "yes", f.source.empty() ? "face create" : f.source});
 	}
 	return rows;
 }
@@ -75,8 +71,8 @@ int runFaces(const std::vector<std::string>& argv) {
 	const std::vector<std::string> header = {"name", "size", "emotions", "licence", "built", "source"};
 	auto fields = [](const FaceRow& r) { return std::vector<std::string>{r.name, r.size, r.emotions, r.licence, r.built, r.source}; };
 	if (format == "tsv") {
-		std::printf("%s\n", join(header, "\t").c_str());
-		for (const auto& r : rows) std::printf("%s\n", join(fields(r), "\t").c_str());
+		std::printf("%s\n", joined(header, "\t").c_str());
+		for (const auto& r : rows) std::printf("%s\n", joined(fields(r), "\t").c_str());
 		return 0;
 	}
 	std::vector<std::size_t> width(header.size());

@@ -20,21 +20,6 @@ namespace {
 // built before are then built again.
 const char* const kShippedFaceBuilder = "talkhead shipped face 1: the take list planned and built as from-video and build do (D91)\n";
 
-std::vector<std::string> splitComma(const std::string& s) {
-	std::vector<std::string> out;
-	std::string cur;
-	for (char c : s) {
-		if (c == ',') {
-			out.push_back(cur);
-			cur.clear();
-		} else {
-			cur += c;
-		}
-	}
-	if (!cur.empty()) out.push_back(cur);
-	return out;
-}
-
 }  // namespace
 
 std::vector<ShippedFace> shippedFaces() {
@@ -58,7 +43,7 @@ std::vector<ShippedFace> shippedFaces() {
 			throw Error(*registry, r.line, "size '" + size + "' is not WIDTHxHEIGHT");
 		}
 		f.lang = r.fields[cl];
-		f.emotions = splitComma(r.fields[ce]);
+		f.emotions = split(r.fields[ce], ',');
 		f.licence = r.fields[cli];
 		f.source = r.fields[cso];
 		f.takes = (folder / r.fields[ct]).string();
