@@ -16,7 +16,7 @@ namespace talkhead {
 
 namespace {
 
-std::optional<int> exact(std::string_view label) {
+std::optional<int> exactCdv(std::string_view label) {
 	const auto& t = visemeLabels();
 	for (std::size_t i = 0; i < t.size(); ++i)
 		if (t[i].label == label) return int(i);
@@ -52,7 +52,7 @@ Cdv Cdv::parse(std::string_view name) {
 }
 
 Cdv Cdv::of(std::string_view canonicalLabel) {
-	if (auto i = exact(canonicalLabel)) return Cdv(*i);
+	if (auto i = exactCdv(canonicalLabel)) return Cdv(*i);
 	throw std::logic_error("'" + std::string(canonicalLabel) + "' is not a canonical viseme label of phonetics/visemes.tsv");
 }
 

@@ -19,7 +19,7 @@ const std::vector<EmotionLabel>& table() {
 	return t;
 }
 
-std::optional<int> exact(std::string_view label) {
+std::optional<int> exactEmotion(std::string_view label) {
 	const auto& t = table();
 	for (std::size_t i = 0; i < t.size(); ++i)
 		if (t[i].label == label) return int(i);
@@ -45,7 +45,7 @@ Emotion Emotion::parse(std::string_view nameOrAlias) {
 }
 
 Emotion Emotion::of(std::string_view canonicalLabel) {
-	if (auto i = exact(canonicalLabel)) return Emotion(*i);
+	if (auto i = exactEmotion(canonicalLabel)) return Emotion(*i);
 	throw std::logic_error("'" + std::string(canonicalLabel) + "' is not a canonical emotion label of phonetics/emotions.tsv");
 }
 

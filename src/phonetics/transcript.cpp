@@ -630,7 +630,7 @@ Transcript readTimit(const std::string& text, const std::string& path, int sampl
 }
 
 // ---- plain TSV: start end label in seconds -----------------------------------------------------------
-Transcript readTsv(const std::string& text, const std::string& path, const std::string& timingText) {
+Transcript readTimingTsv(const std::string& text, const std::string& path, const std::string& timingText) {
 	Transcript tr;
 	tr.format = "tsv";
 	bool first = true;
@@ -890,7 +890,7 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	else if (format == "grid") tr = readGrid(text, path);
 	else if (format == "timit") tr = readTimit(text, path, o.sampleRate);
 	else if (format == "marks") tr = readMarks(text, path);
-	else if (format == "tsv") tr = readTsv(text, path, o.timingText);
+	else if (format == "tsv") tr = readTimingTsv(text, path, o.timingText);
 	else if (format == "rhubarb-tsv") tr = readRhubarbTsv(text, path);
 	else if (format == "rhubarb-json") tr = readRhubarbJson(text, path);
 	else if (format == "srt" || format == "vtt") tr = readSubtitles(text, path);

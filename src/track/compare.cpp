@@ -13,7 +13,7 @@ namespace talkhead {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 // Linear interpolation of the frames' values at time t (NaN across gaps or outside the frames).
 struct Interpolator {
@@ -23,11 +23,11 @@ struct Interpolator {
 	double at(double t) {
 		const auto& f = track.frames;
 		while (i + 1 < f.size() && toSeconds(f[i + 1].time) <= t) ++i;
-		if (f.empty() || t < toSeconds(f[0].time) - 0.05) return kNaN;
-		if (i + 1 >= f.size()) return t - toSeconds(f[i].time) <= 0.05 && f[i].found ? v[i] : kNaN;
+		if (f.empty() || t < toSeconds(f[0].time) - 0.05) return kNoValue;
+		if (i + 1 >= f.size()) return t - toSeconds(f[i].time) <= 0.05 && f[i].found ? v[i] : kNoValue;
 		const double t0 = toSeconds(f[i].time), t1 = toSeconds(f[i + 1].time);
-		if (t1 - t0 > 0.2 + 1e-9) return kNaN;
-		if (t < t0) return f[i].found ? v[i] : kNaN;
+		if (t1 - t0 > 0.2 + 1e-9) return kNoValue;
+		if (t < t0) return f[i].found ? v[i] : kNoValue;
 		const double w = (t - t0) / (t1 - t0);
 		return (1 - w) * v[i] + w * v[i + 1];  // NaN when either is lost
 	}
@@ -52,9 +52,9 @@ double pearson(const std::vector<double>& a, const std::vector<double>& b, int l
 		const double x = a[std::size_t(i)], y = b[std::size_t(j)];
 		sa += x, sb += y, saa += x * x, sbb += y * y, sab += x * y, ++n;
 	}
-	if (n < 3) return kNaN;
+	if (n < 3) return kNoValue;
 	const double va = saa - sa * sa / double(n), vb = sbb - sb * sb / double(n);
-	if (va <= 1e-15 || vb <= 1e-15) return kNaN;
+	if (va <= 1e-15 || vb <= 1e-15) return kNoValue;
 	return (sab - sa * sb / double(n)) / std::sqrt(va * vb);
 }
 
@@ -84,7 +84,7 @@ LipSyncReport compareLipSync(const LandmarkTrack& synth, const LandmarkTrack& re
 	// LMD: per-frame normalised mouths, resampled point by point.
 	std::vector<std::vector<double>> ma(40), mb(40);
 	auto mouthSignals = [&](const LandmarkTrack& t, std::vector<std::vector<double>>& out) {
-		std::vector<std::vector<double>> perFrame(40, std::vector<double>(t.frames.size(), kNaN));
+		std::vector<std::vector<double>> perFrame(40, std::vector<double>(t.frames.size(), kNoValue));
 		for (std::size_t f = 0; f < t.frames.size(); ++f) {
 			if (!t.frames[f].found) continue;
 			const Points m = normalisedMouth(t.frames[f].points);

@@ -31,9 +31,9 @@ namespace {
 constexpr int kMeasures = 4;
 
 // Eye-line frame: rotation by −roll, scaled by the eye distance.
-struct EyeFrame {
+struct TakeEyeFrame {
 	double c = 1, s = 0, iod = 1;
-	explicit EyeFrame(const Points& p) {
+	explicit TakeEyeFrame(const Points& p) {
 		const double ex = p(45, 0) - p(36, 0), ey = p(45, 1) - p(36, 1);
 		iod = std::max(1e-9, std::hypot(ex, ey));
 		c = ex / iod, s = ey / iod;
@@ -156,7 +156,7 @@ std::string frameName(std::int64_t frame) {
 double headRoll(const Points& p) { return std::atan2(p(45, 1) - p(36, 1), p(45, 0) - p(36, 0)); }
 
 double headYaw(const Points& p) {
-	const EyeFrame e(p);
+	const TakeEyeFrame e(p);
 	return e.x(p, 30) - 0.5 * (e.x(p, 36) + e.x(p, 45));
 }
 
@@ -170,7 +170,7 @@ double eyeAspect(const Points& p) {
 }
 
 double cornerLift(const Points& p) {
-	const EyeFrame e(p);
+	const TakeEyeFrame e(p);
 	const double centre = (e.y(p, 61) + e.y(p, 62) + e.y(p, 63) + e.y(p, 65) + e.y(p, 66) + e.y(p, 67)) / 6;
 	return centre - 0.5 * (e.y(p, 48) + e.y(p, 54));
 }
@@ -208,7 +208,7 @@ double UsualLift::at(double opening) const {
 }
 
 Points normalisedMouth(const Points& p) {
-	const EyeFrame e(p);
+	const TakeEyeFrame e(p);
 	Points m(20, 2);
 	for (int i = 0; i < 20; ++i) m(i, 0) = e.x(p, 48 + i), m(i, 1) = e.y(p, 48 + i);
 	const double cx = m.col(0).mean(), cy = m.col(1).mean();
@@ -219,7 +219,7 @@ Points normalisedMouth(const Points& p) {
 
 MouthMeasures mouthMeasures(const Points& p) {
 	if (p.rows() != kIbugPoints) throw std::logic_error("mouthMeasures: 68 points expected");
-	const EyeFrame e(p);
+	const TakeEyeFrame e(p);
 	MouthMeasures m;
 	m.opening = (std::max(0.0, e.y(p, 67) - e.y(p, 61)) + std::max(0.0, e.y(p, 66) - e.y(p, 62)) + std::max(0.0, e.y(p, 65) - e.y(p, 63))) / 3;
 	m.width = std::hypot(e.x(p, 54) - e.x(p, 48), e.y(p, 54) - e.y(p, 48));
