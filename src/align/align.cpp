@@ -405,6 +405,11 @@ void addWords(Alignment& al, const Rendition& ref, const std::vector<RenditionRe
 
 }  // namespace
 
+VoiceActivity detectVoiceActivity(const std::vector<float>& levels, const AlignTuning& tuning) {
+	Activity a = detectSpeech(levels, tuning);
+	return {std::move(a.speech), a.first, a.last};
+}
+
 Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& o) {
 	if (trim(text).empty()) throw Error("the text is empty: nothing to align");
 	if (audio.sampleRate <= 0 || audio.frameCount() == 0) throw Error("no speech in the audio: it is empty");

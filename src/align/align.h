@@ -77,6 +77,15 @@ struct Alignment {
 // audio (confidence 0.12)") unless options.mismatchBelow is 0.
 Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& options = {});
 
+// Voice activity over 10-ms frames of `levels` (align::frameLevels: dBFS of 25-ms windows): which frames
+// are speech, and the first and last. Throws Error "no speech in the audio: …" for silence, a steady sound
+// and audio shorter than one frame.
+struct VoiceActivity {
+	std::vector<bool> speech;
+	int first = -1, last = -1;
+};
+VoiceActivity detectVoiceActivity(const std::vector<float>& levels, const AlignTuning& tuning = {});
+
 // Sentence-level cues (subtitles, aeneas fragments, utterance tiers: word-level intervals of several words)
 // aligned each to its own stretch of `audio` (issue 29): a phone-level transcript in canonical IPA over
 // the cues' span, pauses where the cues are silent or empty. Errors name `audioName` and the cue's line.

@@ -25,7 +25,7 @@ std::vector<OptionSpec> renderOptionSpecs() {
 	    {"--transcript", "FILE", "timed transcript (TextGrid, .pho, HTK, GRID, speech marks, TSV, Rhubarb; - = stdin)"},
 	    {"--text", "TEXT", "instead of --transcript: what --audio says, aligned to it (as 'talkhead align' does)"},
 	    {"--text-file", "F", "the same, read from a file"},
-	    {"--audio", "FILE", "speech audio (any format libav reads); the video lasts as long as it"},
+	    {"--audio", "FILE", "speech audio (any format libav reads); the video lasts as long as it. Alone (no --transcript or --text) its phones are recognised from the sound (en-US phone recogniser, PocketSphinx)"},
 	    {"--lang", "LANG", languageOptionHelp("language of the transcript")},
 	    {"--transcript-format", "FORMAT", "transcript format if detection fails"},
 	    {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier, else the word tier)"},
@@ -53,12 +53,14 @@ SpeechSource parseSpeechSource(const Args& args, const Driving& drive) {
 	const auto transcript = args.get("--transcript"), text = args.get("--text"), textFile = args.get("--text-file");
 	if (text && textFile) throw UsageError("render: give --text or --text-file, not both");
 	if (transcript && (text || textFile)) throw UsageError("render: give --transcript or --text, not both");
-	if (!transcript && !text && !textFile && !drive.mouth) throw UsageError("render: --transcript FILE (or --audio A with --text) is required");
+	if (!transcript && !text && !textFile && !drive.mouth && !s.audio)
+		throw UsageError("render: --transcript FILE, --audio A with --text, or --audio A alone (its phones recognised) is required");
 	if ((text || textFile) && !s.audio)
 		throw UsageError(drive.video ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
 		                             : "render: --text needs --audio (the speech to align the text to)");
 	if (transcript) s.kind = SpeechSource::Kind::Transcript, s.transcript = *transcript;
 	else if (text || textFile) s.kind = SpeechSource::Kind::AlignedText, s.text = text.value_or(""), s.textName = textFile.value_or("text");
+	else if (!drive.mouth) s.kind = SpeechSource::Kind::RecognizedAudio;  // audio alone: its phones recognised
 	return s;
 }
 
@@ -66,7 +68,7 @@ SpeechSource parseSpeechSource(const Args& args, const Driving& drive) {
 
 int runRender(const std::vector<std::string>& argv) {
 	const std::vector<OptionSpec> options = renderOptionSpecs();
-	Args args("render", "talkhead render (--transcript T [--audio A] | --audio A --text \"…\") [--emotion LABEL] -o OUT.mp4 [options]", options,
+	Args args("render", "talkhead render (--transcript T [--audio A] | --audio A [--text \"…\"]) [--emotion LABEL] -o OUT.mp4 [options]", options,
 	          "Renders a talking-head video (Costa 2015 §5): one keypose per phone at its midpoint (pauses: rest, then\n"
 	          "a breath before speech; --pauses thesis for the thesis rule), its appearance\n"
 	          "from the face model for (emotion, context-dependent viseme), feature points moving on zero-tangent\n"

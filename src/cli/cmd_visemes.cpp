@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// talkhead visemes TRANSCRIPT
+// talkhead visemes TRANSCRIPT | --audio A
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +16,7 @@
 #include "cli/commands.h"
 #include "cli/video_options.h"
 #include "phonetics/language.h"
+#include "perform/plan.h"
 #include "phonetics/writers.h"
 
 namespace talkhead::cli {
@@ -35,8 +36,9 @@ void writeOutput(const std::string& path, const std::string& text) {
 }  // namespace
 
 int runVisemes(const std::vector<std::string>& argv) {
-	Args args("visemes", "talkhead visemes TRANSCRIPT|- [options]",
+	Args args("visemes", "talkhead visemes (TRANSCRIPT|- | --audio A) [options]",
 	          {{"--lang", "LANG", languageOptionHelp("language of the phones")},
+	           {"--audio", "FILE", "no transcript: recognise the phones of this speech (any format libav reads) with PocketSphinx's en-US phone recogniser; the output gets a confidence column"},
 	           genericVisemesOption(),
 	           {"--format", "FORMAT", "input format (default: detected): " + joined(transcriptFormats())},
 	           {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier — named like phones, or labels that are phones —, else the word tier)"},
@@ -55,7 +57,9 @@ int runVisemes(const std::vector<std::string>& argv) {
 	          "marks, TextGrid word or utterance tiers) is phonemised with espeak-ng; viseme-level input (Polly\n"
 	          "visemes, Rhubarb cues) maps directly.");
 	if (!args.parse(argv)) return 0;
-	args.onePositional("expected one TRANSCRIPT argument (or - for standard input)");
+	const auto audio = args.get("--audio");
+	if (audio && !args.positionals().empty()) throw UsageError("visemes: give a TRANSCRIPT or --audio, not both");
+	if (!audio) args.onePositional("expected one TRANSCRIPT argument (or - for standard input), or --audio A");
 	TranscriptOptions to = parseTranscriptOptions(args, "visemes", "--format");
 	ReadOptions& ro = to.read;
 	const std::string outFormat = args.get("--out-format", "tsv");
@@ -67,6 +71,18 @@ int runVisemes(const std::vector<std::string>& argv) {
 	const auto pauses = parsePauseStyle(args.get("--pauses", "natural"));
 	if (!pauses) throw UsageError("visemes: --pauses takes natural, still or thesis");
 	const Notation notation = to.notation;
+	if (audio) {
+		// Recognised phones (perform's speechFromAudio: the same as render's), each with its confidence.
+		const Language& lang = languageOption(args, "en-US");
+		const TimedSpeech speech = speechFromAudio(*audio, lang);
+		for (const std::string& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
+		for (const std::string& n : speech.notes) std::fprintf(stderr, "talkhead: %s: %s\n", audio->c_str(), n.c_str());
+		std::vector<double> confidence;
+		for (const PhoneSegment& p : speech.phones) confidence.push_back(speech.confidenceAt(p.start + (p.end - p.start) / 2));
+		const std::vector<Keypose> keys = keyposes(speech.phones, rate->frameLength(), *pauses);
+		writeOutput(args.get("--output", "-"), formatVisemes(speech.phones, keys, outFormat, lang.tag(), *audio, "ipa", &confidence));
+		return 0;
+	}
 	const Language& lang = languageOption(args, defaultLanguageFor(args.positionals()[0], ro.format));
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 

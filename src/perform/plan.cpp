@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "align/align.h"
+#include "align/recognize.h"
 #include "base/error.h"
 #include "base/text.h"
 
@@ -54,6 +55,37 @@ TimedSpeech speechFromText(const std::string& text, const std::string& audioPath
 	s.read = al.phones;
 	s.words = al.words.intervals;
 	s.phones = phoneSegments(al.phones, language, unknown, Notation::Ipa);
+	return s;
+}
+
+double TimedSpeech::confidenceAt(Ticks t) const {
+	if (confidence.size() != read.intervals.size()) return 1.0;
+	for (std::size_t i = 0; i < read.intervals.size(); ++i)
+		if (read.intervals[i].start <= t && t < read.intervals[i].end) return confidence[i];
+	return 1.0;
+}
+
+TimedSpeech speechFromAudio(const std::string& audioPath, const Language& language) {
+	TimedSpeech s;
+	s.name = audioPath;
+	Recognition rec = recognizePhonesFile(audioPath);
+	s.warnings = rec.warnings;
+	s.notes.push_back(recognitionSummary(rec));
+	if (language.tag() != "en-US") {
+		// The recogniser knows en-US phones: each becomes the language's own spelling of it, else its nearest.
+		int moved = 0;
+		for (Interval& iv : rec.phones.intervals) {
+			if (iv.label.empty() || language.normalize(iv.label, Notation::Ipa)) continue;
+			const auto near = language.nearest(iv.label, Notation::Ipa);
+			iv.label = near && !near->empty() ? near->front() : "";
+			++moved;
+		}
+		s.notes.push_back("the phones are en-US's (the only phone recogniser talkhead has); " + std::to_string(moved) +
+		                  " without a " + language.tag() + " spelling took the nearest " + language.tag() + " phone");
+	}
+	s.read = rec.phones;
+	s.confidence = rec.confidence;
+	s.phones = phoneSegments(rec.phones, language, UnknownPhone::Silence, Notation::Ipa);
 	return s;
 }
 

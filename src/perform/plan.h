@@ -34,6 +34,9 @@ struct TimedSpeech {
 	Transcript read;                  // the transcript as read (its level, format, tier and why)
 	std::optional<SsmlText> ssml;     // espeak-ng's SSML text (its events: say's blinks, brows, emotions, marks)
 	std::vector<Ticks> eventTimes;    // per SSML event (espeakSpeakSsml)
+	// Recognised speech (speechFromAudio): each interval of `read` has its confidence; 1 elsewhere.
+	std::vector<double> confidence;
+	double confidenceAt(Ticks t) const;
 };
 
 // A timed transcript in any format talkhead reads. Words are phonemised in `language`; sentence-level
@@ -46,6 +49,10 @@ TimedSpeech speechFromTranscript(const std::string& path, const ReadOptions& rea
                                  const std::function<void(const Transcript&)>& onRead = {});
 // What `audioPath` says, given as text: forced alignment (align/align.h).
 TimedSpeech speechFromText(const std::string& text, const std::string& audioPath, const Language& language, UnknownPhone unknown = UnknownPhone::Error);
+// What `audioPath` says, recognised from the sound alone (align/recognize.h): the en-US phone recogniser's
+// phones, in `language` (another language's nearest phones, said in a note). Notes say the timing was
+// recognised and its mean confidence; doubtful recognition and silence are warnings.
+TimedSpeech speechFromAudio(const std::string& audioPath, const Language& language);
 // espeak-ng's speech (say): its phones (names it has that the tables lack take the nearest known phone).
 TimedSpeech speechFromEspeak(const Speech& speech, const Language& language);
 

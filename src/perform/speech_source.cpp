@@ -16,6 +16,9 @@ TimedSpeech loadSpeech(const SpeechSource& source, const Language& language, con
 	case SpeechSource::Kind::AlignedText:
 		if (!source.audio) throw FieldError("audio", fieldRef("text") + " needs " + fieldRef("audio") + " (the speech to align the text to)");
 		return speechFromText(source.text, *source.audio, language, source.unknown);
+	case SpeechSource::Kind::RecognizedAudio:
+		if (!source.audio) throw FieldError("audio", "no " + fieldRef("audio") + " to recognise the speech of");
+		return speechFromAudio(*source.audio, language);
 	case SpeechSource::Kind::SpokenText: {
 		if (source.audio) throw FieldError("audio", "espeak-ng makes the sound of spoken text: no " + fieldRef("audio") + " with it");
 		SpokenText spoken = speakWithEvents(source.text, source.textName, source.voice, source.rateWpm, source.pitch);

@@ -19,12 +19,13 @@ struct SpeechSource {
 		Transcript,   // a timed transcript in any format talkhead reads, with `audio` when there is a sound
 		AlignedText,  // `text` is what `audio` says: forced alignment (align/align.h)
 		SpokenText,   // `text` (plain or SSML) spoken by espeak-ng in one pass: its phones and its sound
+		RecognizedAudio,  // no timing and no text: `audio`'s phones recognised from the sound (align/recognize.h)
 	};
 	Kind kind = Kind::None;
 	std::string transcript;               // Transcript: its path ("-": standard input)
 	std::string text;                     // AlignedText, SpokenText
 	std::string textName = "text";        // the text in messages (its file's path when it came from one)
-	std::optional<std::string> audio;     // the sound's path: optional for Transcript and None, required for AlignedText
+	std::optional<std::string> audio;     // the sound's path: optional for Transcript and None, required for AlignedText and RecognizedAudio
 	// Transcript: how it is read.
 	ReadOptions read;
 	UnknownPhone unknown = UnknownPhone::Error;

@@ -76,19 +76,33 @@ constexpr JsonLayout kMemberLines{"\n  ", ",\n  ", "\n"};
 constexpr JsonLayout kItemLines{"\n    ", ",\n    ", "\n  "};
 
 std::string formatVisemes(const std::vector<PhoneSegment>& ph, const std::vector<Keypose>& keys, const std::string& format,
-                          const std::string& lang, const std::string& source, const std::string& notation) {
+                          const std::string& lang, const std::string& source, const std::string& notation, const std::vector<double>* confidence) {
+	if (confidence && confidence->size() != ph.size()) throw std::logic_error("formatVisemes: one confidence per phone");
+	const auto conf = [&](std::size_t i) {
+		char b[16];
+		std::snprintf(b, sizeof b, "%.2f", (*confidence)[i]);
+		return std::string(b);
+	};
 	std::ostringstream o;
 	const auto kt = keyTimes(ph, keys);
 	const Ticks end = ph.empty() ? Ticks(0) : ph.back().end;
 	if (format == "tsv") {
-		o << "start\tend\tphone\tcdv\tkeypose\n";
-		for (std::size_t i = 0; i < ph.size(); ++i)
-			o << sec(ph[i].start) << '\t' << sec(ph[i].end) << '\t' << ph[i].phone << '\t' << ph[i].cdv.label() << '\t' << (kt[i].empty() ? "-" : kt[i]) << '\n';
+		o << "start\tend\tphone\tcdv\tkeypose" << (confidence ? "\tconfidence" : "") << '\n';
+		for (std::size_t i = 0; i < ph.size(); ++i) {
+			o << sec(ph[i].start) << '\t' << sec(ph[i].end) << '\t' << ph[i].phone << '\t' << ph[i].cdv.label() << '\t' << (kt[i].empty() ? "-" : kt[i]);
+			if (confidence) o << '\t' << conf(i);
+			o << '\n';
+		}
 	} else if (format == "json") {
 		JsonArray phones, keyposes;
 		for (std::size_t i = 0; i < ph.size(); ++i)
-			phones.raw(JsonObject().raw("start", sec(ph[i].start)).raw("end", sec(ph[i].end)).add("label", ph[i].label).add("phone", ph[i].phone)
-			               .add("cdv", ph[i].cdv.label()).raw("keypose", kt[i].empty() ? "null" : kt[i]).str());
+		{
+			JsonObject one;
+			one.raw("start", sec(ph[i].start)).raw("end", sec(ph[i].end)).add("label", ph[i].label).add("phone", ph[i].phone)
+			    .add("cdv", ph[i].cdv.label()).raw("keypose", kt[i].empty() ? "null" : kt[i]);
+			if (confidence) one.raw("confidence", conf(i));
+			phones.raw(one.str());
+		}
 		for (const Keypose& k : keys) {
 			JsonObject key;
 			key.raw("time", sec(k.time)).add("cdv", k.cdv.label());
