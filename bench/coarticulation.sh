@@ -34,6 +34,10 @@ if [ -n "${FACES:-}" ]; then read -r -a faces <<<"$FACES"; else
 	faces=(default); [ -f "$MODEL" ] && faces+=(franck) || echo "coarticulation.sh: FRANCK_MODEL not set: no franck" >&2
 	faces+=(grid-s4 crema-1001)
 fi
+# WAYS: how each clip's speech is given (default: thesis learned) — thesis (aligned words, --coarticulation
+# off), learned (aligned words, the default), words (GRID's official word alignment, the default mouth),
+# audio (the audio alone: its phones recognised, issue 49).
+read -r -a ways <<<"${WAYS:-thesis learned}"
 mkdir -p "$OUT/clips"
 source "$root/examples/real-face/grid-words.sh"
 speaker_of() {  # grid/ clip base name → its GRID speaker
@@ -51,6 +55,8 @@ for clip in "$DATA"/grid/*.mpg; do
 		"$TH" align "$clip" --text "$(grid_words "$name")" --lang en-US -o "$c.TextGrid" 2>/dev/null
 	fi
 	[ -f "$c.real/landmarks.tsv" ] || "$TH" corpus landmarks "$clip" -o "$c.real" --no-pts -q
+	# The clip's true phones (its aligned words), where the bilabials are scored.
+	[ -f "$c.timeline.json" ] || "$TH" visemes "$c.TextGrid" --lang en-US --out-format json -o "$c.timeline.json"
 	# The model: the shipped one, or the same clips without this speaker.
 	model=on
 	if grep -qx "$s" <<<"$trained"; then
@@ -60,20 +66,24 @@ for clip in "$DATA"/grid/*.mpg; do
 	printf '%s\t%s\t%s\n' "$base" "$s" "$model" >>"$OUT/clips.tsv"
 	for face in "${faces[@]}"; do
 		case $face in default) fm=(--model "$DEFAULT") ;; franck) fm=(--model "$MODEL") ;; *) fm=(--face "$face") ;; esac
-		for way in thesis learned; do
-			co=(); [ "$way" = thesis ] && co=(--coarticulation off); [ "$way" = learned ] && [ "$model" != on ] && co=(--coarticulation "$model")
-			common=("${fm[@]}" --transcript "$c.TextGrid" --audio "$clip" --lang en-US --head-motion off --blinks off --no-audio "${co[@]}")
-			"$TH" render -q "${common[@]}" --fps 100 --format y4m -o /dev/null --landmarks-out "$c.$face.$way.points.tsv" --timeline-out "$c.timeline.json"
+		for way in "${ways[@]}"; do
+			co=(); [ "$way" = thesis ] && co=(--coarticulation off); [ "$way" != thesis ] && [ "$model" != on ] && co=(--coarticulation "$model")
+			speech=(--transcript "$c.TextGrid")
+			[ "$way" = words ] && speech=(--transcript "$(ls "$DATA/open-av/grid/labels-for-shared-grid/"*"_${name}.align")")
+			[ "$way" = audio ] && speech=()
+			common=("${fm[@]}" "${speech[@]}" --audio "$clip" --lang en-US --head-motion off --blinks off --no-audio "${co[@]}")
+			"$TH" render -q "${common[@]}" --fps 100 --format y4m -o /dev/null --landmarks-out "$c.$face.$way.points.tsv"
 			"$TH" render -q "${common[@]}" --fps 25 --size 640x360 -o "$c.$face.$way.mp4"
 			rm -rf "$c.$face.$way.pixels"
 			"$TH" corpus landmarks "$c.$face.$way.mp4" -o "$c.$face.$way.pixels" --no-pts -q
 		done
 	done
 done
-/usr/bin/python3 - "$OUT" "${faces[@]}" <<'PY'
-import json, sys
+WAYS="${ways[*]}" /usr/bin/python3 - "$OUT" "${faces[@]}" <<'PY'
+import json, os, sys
 import numpy as np
 out, faces = sys.argv[1], sys.argv[2:]
+way_names = os.environ["WAYS"].split()
 
 def table(path):
     rows = [l.rstrip("\n").split("\t") for l in open(path)]
@@ -97,7 +107,7 @@ def r(a, b):
     a = a - a.mean(); b = b - b.mean()
     return float((a * b).sum() / np.sqrt((a * a).sum() * (b * b).sum()))
 
-ways = [(f, w, m) for f in faces for w in ("thesis", "learned") for m in ("points", "pixels")]
+ways = [(f, w, m) for f in faces for w in way_names for m in ("points", "pixels")]
 lip = {k: [] for k in ways}; rng = {k: [] for k in ways + ["real"]}; shut = {k: [0, 0] for k in ways}; still = {k: [] for k in ways + ["real"]}
 clips = [l.rstrip("\n").split("\t") for l in open(f"{out}/clips.tsv")][1:]
 print("clip\tspeaker\tmodel\t" + "\t".join(f"{f}:{w}:{m}" for f, w, m in ways))

@@ -377,7 +377,19 @@ Recognition recognizePhonesFile(const std::string& path, const RecognizeOptions&
 
 Recognition recognizePhonesClip(const AudioClip& clip, const std::string& name, const RecognizeOptions& options) {
 	const AudioClip at16 = clipAt16k(clip);
-	return recognizePhones([&] { return clipSource(at16); }, name, options);
+	Recognition r = recognizePhones([&] { return clipSource(at16); }, name, options);
+	// The clip's own length (resampling rounds it to a whole 16-kHz sample).
+	const Ticks exact = clip.duration();
+	if (!r.phones.intervals.empty() && r.duration != exact) {
+		auto& iv = r.phones.intervals;
+		while (iv.size() > 1 && iv.back().start >= exact) {
+			iv.pop_back();
+			r.confidence.pop_back();
+		}
+		iv.back().end = exact;
+		r.duration = exact;
+	}
+	return r;
 }
 
 std::string recognitionSummary(const Recognition& r) {
