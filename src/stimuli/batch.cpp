@@ -152,7 +152,7 @@ bool versusColumn(const std::string& c) {
 	return allowed.count(c) > 0;
 }
 
-// A row's command ("say" or "render"; "" when it has neither text nor transcript) and its arguments, from
+// A row's command ("say" or "render"; "" when it has no text, transcript or audio) and its arguments, from
 // its fields; every problem goes to fail(column, what). Files resolve against the manifest's folder.
 template <class Fail>
 std::string rowJob(const std::map<std::string, std::string>& fields, const fs::path& dir, std::vector<JobField>& job, std::string& canonical,
@@ -181,10 +181,11 @@ std::string rowJob(const std::map<std::string, std::string>& fields, const fs::p
 	if (!get("face").empty() && fields.count("model")) fail("face", "a row names its face or its model, not both");
 	if (driveMouth && !drive) fail("drive-mouth", "needs a drive video");
 	if (driveMouth && (text || transcript)) fail("drive-mouth", "takes the mouth from the drive video: no text or transcript");
-	if (!text && !transcript && !driveMouth) fail("text", "a stimulus needs text (spoken by espeak-ng) or a transcript");
+	if (!text && !transcript && !driveMouth && !audio)
+		fail("text", "a stimulus needs text (spoken by espeak-ng), a transcript, or audio (its phones recognised)");
 	if (text && transcript) fail("transcript", "text and transcript both given: one or the other");
 	if (!get("timing-text").empty() && !transcript) fail("timing-text", "the text of a timing file, but the row has no transcript");
-	const std::string command = transcript || driveMouth || drive || (text && audio) ? "render" : "say";
+	const std::string command = transcript || driveMouth || drive || audio ? "render" : "say";  // audio alone: recognised
 	if (driveMouth) job.push_back({"drive-mouth", std::nullopt});
 	if (text) job.push_back({"text", get("text")});
 	// Emotion (and intensity).
@@ -220,7 +221,7 @@ std::string rowJob(const std::map<std::string, std::string>& fields, const fs::p
 		else if (command == "render" && !c->render) fail(k, "only for a stimulus spoken from text (say)");
 		else job.push_back({k, resolved.count(k) ? resolved.at(k) : v});
 	}
-	return (!text && !transcript && !driveMouth) ? std::string() : command;
+	return (!text && !transcript && !driveMouth && !audio) ? std::string() : command;
 }
 
 }  // namespace

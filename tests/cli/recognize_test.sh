@@ -39,6 +39,13 @@ grep -q 'aligned' "$T/t.err"
 "$TH" visemes --audio "$T/speech.wav" --lang pt-BR -o /dev/null 2>"$T/pt.err"
 grep -q "the phones are en-US's" "$T/pt.err"
 
+# A batch row with audio alone is rendered from it, as render --audio is.
+printf 'audio,emotion,muted,size,lang\nspeech.wav,joy,yes,160x90,en-US\n' >"$T/m.csv"
+"$TH" batch "$T/m.csv" -o "$T/b" -q
+test "$(grep -c ',ok,' "$T/b/key.csv")" = 1
+"$TH" render --audio "$T/speech.wav" --emotion joy --no-audio --size 160x90 --lang en-US -o "$T/b1.mp4" -q
+test -s "$(ls "$T/b"/*.mp4 | head -1)"
+
 # Silence: a still face and a warning, exit 0.
 ff -f lavfi -i anullsrc=r=16000:cl=mono -t 2 "$T/quiet.wav"
 "$TH" render --audio "$T/quiet.wav" -o "$T/q.mp4" --size 320x180 2>"$T/q.err"

@@ -150,6 +150,21 @@ def test_a_shipped_face_by_name(tmp_path, monkeypatch):
         talkhead.say("Hello.", tmp_path / "n.y4m", face="nobody", format="y4m")
 
 
+def test_speech_audio_alone(tmp_path):
+    # Issue 49: audio with no timing and no text — its phones recognised, as `visemes --audio` and `render --audio`.
+    clip = ROOT / "models" / "faces" / "grid-s4" / "s4hq_pbbc4a.mpg"
+    phones = talkhead.visemes(audio=clip)
+    spoken = [p for p in phones if p["phone"] != "_"]
+    assert len(spoken) >= 10 and all(0 <= p["confidence"] <= 1 for p in phones)
+    assert any(p["cdv"] in ("p1", "p2") for p in spoken)
+    talkhead.render(tmp_path / "a.y4m", audio=clip, lang="en-US", format="y4m", size="320x180", quiet=True, head_motion="off")
+    subprocess.run([TH, "render", "--audio", str(clip), "--lang", "en-US", "--format", "y4m", "--size", "320x180", "-q", "--head-motion", "off",
+                    "-o", str(tmp_path / "cli.y4m")], check=True)
+    assert (tmp_path / "a.y4m").read_bytes() == (tmp_path / "cli.y4m").read_bytes()
+    with pytest.raises(talkhead.Error, match="a transcript or audio="):
+        talkhead.visemes()
+
+
 def test_the_examples_run_headless(tmp_path):
     env = dict(os.environ)
     subprocess.run(["/usr/bin/python3", str(ROOT / "examples" / "python" / "stimulus_list.py"), "--headless", str(tmp_path / "log.tsv")],

@@ -89,7 +89,9 @@ def _video_job(transcript, audio, text, emotion, controls, model, face, lang, op
 def render(output, *, transcript=None, audio=None, text=None, emotion=None, controls=None, model=None, face=None, lang=None, progress=None,
            **options):
     """Renders a video (``talkhead render``): MP4 by default, y4m with ``format="y4m"``. ``face="grid-s4"``
-    names a face that ships with talkhead (``talkhead faces``; built on first use), ``model=`` a model file."""
+    names a face that ships with talkhead (``talkhead faces``; built on first use), ``model=`` a model file.
+    The speech: ``transcript=`` (with ``audio=``), ``audio=`` with ``text=`` (aligned), or ``audio=`` alone
+    (its phones recognised from the sound)."""
     _run_job(_video_job(transcript, audio, text, emotion, controls, model, face, lang, options, ("output", output)), progress)
 
 
@@ -112,12 +114,16 @@ def say(text, output=None, *, lang=None, emotion=None, voice=None, model=None, f
                   *options.items()), progress)
 
 
-def visemes(transcript, *, lang=None, **options):
+def visemes(transcript=None, *, audio=None, lang=None, **options):
     """The phones of a timed transcript with their visemes and keyposes, as a list of dicts
-    (``talkhead visemes --out-format json``): start, end, phone, cdv, keypose (seconds)."""
+    (``talkhead visemes --out-format json``): start, end, phone, cdv, keypose (seconds). With ``audio=``
+    instead of a transcript, the phones recognised from the sound, each with its confidence."""
+    if (transcript is None) == (audio is None):
+        raise Error("visemes: give a transcript or audio=, one of them")
     with tempfile.TemporaryDirectory(prefix="talkhead-") as d:
         out = os.path.join(d, "visemes.json")
-        _run_job(_job("visemes", ("transcript", transcript), ("out-format", "json"), ("output", out), ("lang", lang), *options.items()))
+        _run_job(_job("visemes", ("transcript", transcript), ("audio", audio), ("out-format", "json"), ("output", out), ("lang", lang),
+                      *options.items()))
         with open(out, encoding="utf-8") as f:
             data = json.load(f)
     return data["phones"] if isinstance(data, dict) and "phones" in data else data
