@@ -65,28 +65,52 @@ double TimedSpeech::confidenceAt(Ticks t) const {
 	return 1.0;
 }
 
+namespace {
+
+// Recognised en-US phones in `language`: each takes the language's spelling of it, else its nearest phone.
+void inLanguage(Recognition& rec, const Language& language, std::vector<std::string>& notes) {
+	if (language.tag() == "en-US") return;
+	int moved = 0;
+	for (Interval& iv : rec.phones.intervals) {
+		if (iv.label.empty() || language.normalize(iv.label, Notation::Ipa)) continue;
+		const auto near = language.nearest(iv.label, Notation::Ipa);
+		iv.label = near && !near->empty() ? near->front() : "";
+		++moved;
+	}
+	notes.push_back("the phones are en-US's (the only phone recogniser talkhead has); " + std::to_string(moved) + " without a " + language.tag() +
+	                " spelling took the nearest " + language.tag() + " phone");
+}
+
+}  // namespace
+
 TimedSpeech speechFromAudio(const std::string& audioPath, const Language& language) {
 	TimedSpeech s;
 	s.name = audioPath;
 	Recognition rec = recognizePhonesFile(audioPath);
 	s.warnings = rec.warnings;
 	s.notes.push_back(recognitionSummary(rec));
-	if (language.tag() != "en-US") {
-		// The recogniser knows en-US phones: each becomes the language's own spelling of it, else its nearest.
-		int moved = 0;
-		for (Interval& iv : rec.phones.intervals) {
-			if (iv.label.empty() || language.normalize(iv.label, Notation::Ipa)) continue;
-			const auto near = language.nearest(iv.label, Notation::Ipa);
-			iv.label = near && !near->empty() ? near->front() : "";
-			++moved;
-		}
-		s.notes.push_back("the phones are en-US's (the only phone recogniser talkhead has); " + std::to_string(moved) +
-		                  " without a " + language.tag() + " spelling took the nearest " + language.tag() + " phone");
-	}
+	inLanguage(rec, language, s.notes);
 	s.read = rec.phones;
 	s.confidence = rec.confidence;
 	s.phones = phoneSegments(rec.phones, language, UnknownPhone::Silence, Notation::Ipa);
 	return s;
+}
+
+std::vector<PhoneSegment> recognizedPhones(const AudioClip& audio, const std::string& name, const Language& language,
+                                           std::vector<std::string>& notes, std::vector<std::string>& warnings) {
+	Recognition rec = recognizePhonesClip(audio, name);
+	for (const std::string& w : rec.warnings) warnings.push_back(w);
+	notes.push_back(recognitionSummary(rec));
+	inLanguage(rec, language, notes);
+	return phoneSegments(rec.phones, language, UnknownPhone::Silence, Notation::Ipa);
+}
+
+std::vector<PhoneSegment> alignedPhones(const AudioClip& audio, const std::string& text, const Language& language, std::vector<std::string>& warnings) {
+	AlignOptions ao;
+	ao.languageTag = language.tag();
+	const Alignment al = alignSpeech(audio, text, ao);
+	for (const std::string& w : al.warnings) warnings.push_back(w);
+	return phoneSegments(al.phones, language, UnknownPhone::Error, Notation::Ipa);
 }
 
 TimedSpeech speechFromEspeak(const Speech& speech, const Language& language) {

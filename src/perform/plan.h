@@ -53,6 +53,13 @@ TimedSpeech speechFromText(const std::string& text, const std::string& audioPath
 // phones, in `language` (another language's nearest phones, said in a note). Notes say the timing was
 // recognised and its mean confidence; doubtful recognition and silence are warnings.
 TimedSpeech speechFromAudio(const std::string& audioPath, const Language& language);
+// The same for a sound in memory (a live `speak` with no timing): its phones in `language`; what a user
+// should know goes to `notes` (the summary, a language note) and `warnings` (silence, doubtful recognition).
+std::vector<PhoneSegment> recognizedPhones(const AudioClip& audio, const std::string& name, const Language& language,
+                                           std::vector<std::string>& notes, std::vector<std::string>& warnings);
+// `text` aligned to a sound in memory (a live `speak` with its text): its phones; the alignment's warnings
+// go to `warnings`. Throws Error when the text does not match the audio.
+std::vector<PhoneSegment> alignedPhones(const AudioClip& audio, const std::string& text, const Language& language, std::vector<std::string>& warnings);
 // espeak-ng's speech (say): its phones (names it has that the tables lack take the nearest known phone).
 TimedSpeech speechFromEspeak(const Speech& speech, const Language& language);
 

@@ -12,6 +12,7 @@
 #include "base/interrupt.h"
 #include "base/json.h"
 #include "base/text.h"
+#include "perform/plan.h"
 #include "phonetics/labels.h"
 #include "phonetics/language.h"
 #include "phonetics/timing_formats.h"
@@ -131,12 +132,18 @@ LiveRequest parseLiveRequest(const std::string& json) {
 		const JsonValue* visemes = v.find("visemes");
 		// ElevenLabs answers with both; either may be given (normalized_alignment spells numbers out).
 		const JsonValue* alignment = v.find("alignment") ? v.find("alignment") : v.find("normalized_alignment");
-		if (int(v.find("transcript") != nullptr) + int(visemes != nullptr) + int(alignment != nullptr) != 1)
-			throw Error("a speak request gives its timing as one of 'transcript', 'visemes' (Azure) or 'alignment' / 'normalized_alignment' (ElevenLabs)");
+		const JsonValue* text = v.find("text");
+		if (int(v.find("transcript") != nullptr) + int(visemes != nullptr) + int(alignment != nullptr) + int(text != nullptr) > 1)
+			throw Error("a speak request gives its timing as at most one of 'transcript', 'text' (aligned to the audio), 'visemes' (Azure) or "
+			            "'alignment' / 'normalized_alignment' (ElevenLabs); with none, the phones are recognised from the audio");
 		// The same readers as the command line's (phonetics/timing_formats.h).
 		if (visemes) r.timing = azureVisemes(*visemes, "visemes");
 		else if (alignment) r.timing = characterAlignment(*alignment, v.find("alignment") ? "alignment" : "normalized_alignment");
-		else r.transcript = stringMember(v, "transcript", true);
+		else if (text) {
+			r.text = stringMember(v, "text", true);
+			if (r.text.size() > 100000) throw Error("'text' is longer than 100 000 bytes");
+			if (trim(r.text).empty()) throw Error("'text' is empty");
+		} else if (v.find("transcript")) r.transcript = stringMember(v, "transcript", true);
 	}
 	return r;
 }
@@ -177,7 +184,11 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 			if (done != r.audio.size()) throw Error("cannot write the audio to a temporary file");
 			// The limit bounds decoding itself (issue 45): a small compressed file may hold hours.
 			u = utteranceFromAudio(path, r.timing ? std::string() : r.transcript, "transcript", lang, sampleRate, limits.maxSeconds);
-			if (r.timing) {
+			if (!r.timing && r.transcript.empty()) {
+				// Text aligned to the audio, or (no timing at all) the phones recognised from it (issue 49).
+				std::vector<std::string> notes;
+				u.phones = r.text.empty() ? recognizedPhones(u.audio, "audio", lang, notes, u.warnings) : alignedPhones(u.audio, r.text, lang, u.warnings);
+			} else if (r.timing) {
 				Transcript t = *r.timing;
 				// The last viseme until the sound ends, and pauses between words and to the sound's end.
 				if (t.level == LabelLevel::Viseme) t.intervals.back().end = std::max(t.intervals.back().end, std::max(u.audio.duration(), t.intervals.back().start + ticksFromSeconds(0.05)));
@@ -210,7 +221,7 @@ std::string requestForRecord(const std::string& json, const LiveRequest& r) {
 	std::vector<std::string> keys = {"type", "id", "emotion", "intensity", "ramp"};
 	if (r.kind == LiveRequest::Kind::Say) keys.insert(keys.end(), {"text", "lang", "voice", "rate", "pitch"});
 	if (r.kind == LiveRequest::Kind::Speak)
-		keys.insert(keys.end(), {"audio", "lang", "encoding", "sample_rate", "channels", "transcript", "visemes", "alignment", "normalized_alignment"});
+		keys.insert(keys.end(), {"audio", "lang", "encoding", "sample_rate", "channels", "transcript", "text", "visemes", "alignment", "normalized_alignment"});
 	return jsonKeepMembers(json, keys);
 }
 

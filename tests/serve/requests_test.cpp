@@ -3,8 +3,14 @@
 // character timestamps.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "base/error.h"
 #include "base/json.h"
+#include "base/text.h"
+#include "media/audio.h"
+#include "perform/plan.h"
+#include "phonetics/language.h"
 #include "serve/access.h"
 #include "serve/server.h"
 #include "test_support.h"
@@ -26,7 +32,13 @@ TEST(LiveRequest, parsesEachTypeAndRefusesWhatIsWrong) {
 	EXPECT_NE(errorOf([] { parseLiveRequest(R"({"type": "say", "text": "x", "rate": 9000})"); }).find("'rate' must be from 80 to 450"), std::string::npos);
 	EXPECT_NE(errorOf([] { parseLiveRequest(R"([1, 2])"); }).find("a JSON object"), std::string::npos);
 	EXPECT_NE(errorOf([] { parseLiveRequest(R"({"type": "speak", "audio": "!!!", "transcript": ""})"); }).find("not base64"), std::string::npos);
-	EXPECT_NE(errorOf([] { parseLiveRequest(R"({"type": "speak", "audio": "AAAA"})"); }).find("one of 'transcript', 'visemes'"), std::string::npos);
+	// Issue 49: speak's timing is at most one member; with none the phones are recognised, with `text` aligned.
+	EXPECT_NE(errorOf([] { parseLiveRequest(R"({"type": "speak", "audio": "AAAA", "transcript": "x", "text": "y"})"); }).find("at most one of 'transcript', 'text'"),
+	          std::string::npos);
+	EXPECT_NE(errorOf([] { parseLiveRequest(R"({"type": "speak", "audio": "AAAA", "text": "  "})"); }).find("'text' is empty"), std::string::npos);
+	const LiveRequest alone = parseLiveRequest(R"({"type": "speak", "audio": "AAAA"})");
+	EXPECT_TRUE(alone.transcript.empty() && alone.text.empty() && !alone.timing);
+	EXPECT_EQ(parseLiveRequest(R"({"type": "speak", "audio": "AAAA", "text": "bin blue"})").text, "bin blue");
 	EXPECT_NE(errorOf([] { parseLiveRequest(R"({"type": "speak", "audio": "AAAA", "visemes": [{"id": 22, "offset_ms": 0}]})"); }).find("id 22 is not 0-21"),
 	          std::string::npos);
 	EXPECT_NE(errorOf([] { parseLiveRequest(R"({"type": "speak", "audio": "AAAA", "visemes": [{"id": 1, "offset_ms": 90}, {"id": 2, "offset_ms": 10}]})"); })
@@ -174,4 +186,31 @@ TEST(LiveRequest, speakErrorsSpeakToTheClientNotTheCommandLine) {
 	r.lang = "xx-YY";
 	const std::string l = errorOf([&] { prepareUtterance(r, "en-US", 22050); });
 	EXPECT_EQ(l.find("--"), std::string::npos) << l;
+}
+
+// Issue 49: a speak with its text gives the phones `render --audio A --text T` gives, within a frame; with
+// no timing, the phones recognised from its audio (the shipped GRID clip's, as a WAV in memory).
+TEST(LiveRequest, speakWithTextAlignsAndSpeakAloneRecognises) {
+	const std::string clip = std::string(TALKHEAD_TEST_DATA_DIR) + "/../../models/faces/grid-s4/s4hq_pbbc4a.mpg";
+	const std::string wavPath = test::tempDir("speak-text") + "/s.wav";
+	writeWav(wavPath, decodeAudio(clip, 22050));
+	const std::string text = "place blue by c four again";
+	LiveRequest r;
+	r.kind = LiveRequest::Kind::Speak;
+	r.audio = readTextFile(wavPath);
+	r.lang = "en-US";
+	r.text = text;
+	const Utterance u = prepareUtterance(r, "en-US", 48000);
+	const TimedSpeech offline = speechFromText(text, wavPath, Language::get("en-US"));
+	ASSERT_EQ(u.phones.size(), offline.phones.size());
+	for (std::size_t k = 0; k < u.phones.size(); ++k) {
+		EXPECT_EQ(u.phones[k].phone, offline.phones[k].phone) << k;
+		EXPECT_LE(std::abs(toSeconds(u.phones[k].start - offline.phones[k].start)), 1.0 / 30) << k;
+	}
+	r.text.clear();
+	const Utterance heard = prepareUtterance(r, "en-US", 48000);
+	int spoken = 0;
+	for (const PhoneSegment& p : heard.phones) spoken += p.cdv.label() != "sil";
+	EXPECT_GE(spoken, 10);
+	EXPECT_EQ(heard.phones.back().end, heard.audio.duration());
 }

@@ -53,7 +53,7 @@ TEST(Batch, manifestRowsBecomeCommandsAndEveryErrorIsNamedAtOnce) {
 	EXPECT_EQ(errors[1], "m.csv:2:model: no such file 'nofile.thm'");
 	EXPECT_EQ(errors[2].rfind("m.csv:2:emotion: unknown emotion 'glee' (known: neutral, joy, ", 0), 0u);
 	EXPECT_EQ(errors[3], "m.csv:2:muted: 'maybe' is not yes or no");
-	EXPECT_EQ(errors[4], "m.csv:3:text: a stimulus needs text (spoken by espeak-ng) or a transcript");
+	EXPECT_EQ(errors[4], "m.csv:3:text: a stimulus needs text (spoken by espeak-ng), a transcript, or audio (its phones recognised)");
 	EXPECT_EQ(errorsOf("text,voice\nOi.,pt\n", "m.csv").size(), 0u);
 	// The text of a timing file goes with a transcript, resolved against the manifest's folder.
 	const std::string timing = std::string(TALKHEAD_TEST_DATA_DIR) + "/timing/";
