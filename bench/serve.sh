@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # talkhead serve (issue 16): latency and pace, measured side by side with and without a competing process
-# on one core. Per run: a 20 s session with four say requests and one speak request (audio + TextGrid).
+# on one core. Per run: a 29 s session with four say requests and three speak requests (audio with a TextGrid, with
+# its text only (issue 49: aligned by the server), and alone (its phones recognised)).
 #   say -> start frame:   from the request's arrival to the encoded frame where the mouth starts moving
 #                         (the server's latency_ms; goal <= 200 ms), and as the client sees it (send to the
 #                         utterance_started event)
-#   speak -> frames:      the same for a speak request (goal <= 100 ms)
+#   speak -> frames:      the same for a speak request (goal <= 100 ms; with text <= 150 ms, alone <= 300 ms)
 #   late frames:          frames sent more than one frame after their time (goal: none at 30 fps, 1280x720)
 # Then (issue 28):
 #   capacity:             N sessions at once, each speaking (all at the same moments: the worst case); how
@@ -38,6 +39,10 @@ import base64, json, sys
 t = sys.argv[1]
 json.dump({'type': 'speak', 'id': 'speak', 'lang': 'en-US', 'audio': base64.b64encode(open(f'{t}/a.wav', 'rb').read()).decode(),
            'transcript': open(f'{t}/a.TextGrid').read()}, open(f'{t}/speak.json', 'w'))
+# Issue 49: the same sound with its text only (aligned by the server), and alone (its phones recognised).
+a = base64.b64encode(open(f'{t}/a.wav', 'rb').read()).decode()
+json.dump({'type': 'speak', 'id': 'text', 'lang': 'en-US', 'audio': a, 'text': 'Good morning, how can I help you today?'}, open(f'{t}/speak-text.json', 'w'))
+json.dump({'type': 'speak', 'id': 'heard', 'lang': 'en-US', 'audio': a}, open(f'{t}/speak-heard.json', 'w'))
 PY
 run() {  # SIZE LOAD(0|1) NAME
 	local size=$1 load=$2 name=$3 loader=0
@@ -48,12 +53,12 @@ run() {  # SIZE LOAD(0|1) NAME
 	local port
 	port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/$name.out")
 	if [ "$load" = 1 ]; then /usr/bin/python3 -c 'while True: pass' & loader=$!; pids+=("$loader"); fi
-	"$CLIENT" "$port" "$T/$name" 20 \
+	"$CLIENT" "$port" "$T/$name" 29 \
 		'1000:{"type":"say","id":"s1","text":"Hello, nice to meet you."}' \
 		'5000:{"type":"say","id":"s2","text":"The weather is lovely today, is it not?"}' \
 		'9000:{"type":"say","id":"s3","text":"I can talk for as long as you like."}' \
 		'13000:{"type":"say","id":"s4","text":"Thank you, and goodbye!"}' \
-		"17000:@$T/speak.json"
+		"17000:@$T/speak.json" "21000:@$T/speak-text.json" "25000:@$T/speak-heard.json"
 	[ "$loader" = 0 ] || kill "$loader"
 	sleep 0.5
 	kill "$server"; wait "$server" 2>/dev/null || true
@@ -64,7 +69,7 @@ for line in open(sys.argv[1]):
     ms, text = line.rstrip('\n').split('\t', 1)
     if text.startswith('>'):
         try: sent[json.loads(text[1:])['id']] = float(ms)
-        except Exception: sent['speak'] = float(ms)
+        except Exception: sent['speak'] = float(ms)  # a speak request (its id is not parsed from the long line)
         continue
     e = json.loads(text)
     if e['type'] == 'utterance_started' and 'latency_ms' in e:
@@ -73,7 +78,7 @@ says = [server[k] for k in ('s1', 's2', 's3', 's4') if k in server]
 csays = [client[k] for k in ('s1', 's2', 's3', 's4') if k in client]
 stats = re.search(r'(\d+) frames, ([\d.]+) ms each to draw and encode, (\d+) late by more than a frame \(latest (\d+) ms', open(sys.argv[2]).read())
 print(f"{sys.argv[3]:<26} say {statistics.median(says):6.1f} ms (max {max(says):6.1f}; client {statistics.median(csays):6.1f})"
-      f"   speak {server.get('speak', float('nan')):6.1f} ms   frames {stats.group(1)}, {stats.group(2)} ms each, {stats.group(3)} late (latest {stats.group(4)} ms)")
+      f"   speak {server.get('speak', float('nan')):6.1f} ms (with text {server.get('text', float('nan')):6.1f}, alone {server.get('heard', float('nan')):6.1f})   frames {stats.group(1)}, {stats.group(2)} ms each, {stats.group(3)} late (latest {stats.group(4)} ms)")
 PY
 }
 serve_on() {  # NAME ARGS…: a server on a free port; sets $port, $server

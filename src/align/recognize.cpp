@@ -370,6 +370,11 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 	return rec;
 }
 
+void warmRecognizer(const RecognizeOptions& o) {
+	const int threads = o.threads > 0 ? o.threads : int(std::min(2u, std::max(1u, std::thread::hardware_concurrency())));
+	for (int t = 0; t < threads; ++t) sphinxHandle(o, t);
+}
+
 Recognition recognizePhonesFile(const std::string& path, const RecognizeOptions& options) {
 	if (!std::filesystem::exists(path)) throw Error(path + ": no such file");
 	return recognizePhones([&] { return openAudioFile(path, kSphinxRate); }, path, options);

@@ -57,6 +57,10 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 Recognition recognizePhonesFile(const std::string& path, const RecognizeOptions& options = {});
 Recognition recognizePhonesClip(const AudioClip& clip, const std::string& name, const RecognizeOptions& options = {});
 
+// Loads the plugin and opens the decoders now (~1 s), so that the first recognition does not wait for them
+// (a server calls it as it starts). Throws Error as recognition would (no plugin, no model).
+void warmRecognizer(const RecognizeOptions& options = {});
+
 // One line for a command's summary: "recognised (no timing given): 41 phones, speech 0.49–2.21 s, mean
 // confidence 0.71".
 std::string recognitionSummary(const Recognition& recognition);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The Server facade: forwards to the network plugin (libtalkhead-serve.so, serve_module.h), loaded once.
+#include "align/recognize.h"
 #include "base/error.h"
 #include "base/plugin.h"
 #include "media/video_writer.h"
@@ -34,6 +35,12 @@ Server::Server(const Face& face, ServeOptions options) : module_(&serveModule())
 	// The encoder's plugin loaded now: loaded later, it could meet a process out of file descriptors, and
 	// one of libav's libraries (libgcrypt, through libssh) aborts the process in its initialiser then.
 	loadVideoPlugin();
+	// A speak with no timing recognises its phones (issue 49): the recogniser's plugin and model loaded now,
+	// not in the first such request (~1 s). Without them that request gets the error; the server runs.
+	try {
+		warmRecognizer();
+	} catch (const Error&) {
+	}
 	ServeHost host{makeWorker, lateRecently};
 	if (options.maxLoad > 0) host.sessionLoad = measureSessionLoad(face, options);
 	std::string error;

@@ -36,6 +36,10 @@ w = open(f'{t}/a.wav', 'rb').read()
 pcm = w[w.index(b'data') + 8:]
 json.dump({'type': 'speak', 'id': 'pcm', 'lang': 'pt-BR', 'encoding': 'pcm_s16le', 'sample_rate': 22050, 'audio': base64.b64encode(pcm).decode(),
            'transcript': open(f'{t}/a.TextGrid').read()}, open(f'{t}/speak-pcm.json', 'w'))
+# Issue 49: the same sound with only its text (aligned by the server), and with no timing at all (recognised).
+a = base64.b64encode(open(f'{t}/a.wav', 'rb').read()).decode()
+json.dump({'type': 'speak', 'id': 'text', 'lang': 'pt-BR', 'audio': a, 'text': 'Bom dia, tudo bem?'}, open(f'{t}/speak-text.json', 'w'))
+json.dump({'type': 'speak', 'id': 'heard', 'lang': 'pt-BR', 'audio': a}, open(f'{t}/speak-heard.json', 'w'))
 bad = {'type': 'speak', 'id': 'noise', 'audio': base64.b64encode(b'\x13\x37' * 3000).decode(), 'transcript': open(f'{t}/a.TextGrid').read()}
 open(f'{t}/bad-audio.json', 'w').write(json.dumps(bad))
 with open(f'{t}/huge.json', 'w') as f:  # 100 MB
@@ -61,6 +65,13 @@ for s in s1 s2; do
 	grep -q '"type": "utterance_ended"' "$T/$s.events"
 	! grep -q '"type": "error"' "$T/$s.events"
 done
+# A speak with its text, then one with its audio alone: each starts and ends, no error; the recognised one
+# says its phones are en-US's in a pt-BR session only through its mouth (no error, no warning needed).
+"$CLIENT" "$port" "$T/s3" 5 "100:@$T/speak-text.json" "200:@$T/speak-heard.json"
+grep -q '"type": "utterance_started", "frame": [0-9]*, "time": [0-9.]*, "id": "text"' "$T/s3.events"
+grep -q '"type": "utterance_started", "frame": [0-9]*, "time": [0-9.]*, "id": "heard"' "$T/s3.events"
+test "$(grep -c '"type": "utterance_ended"' "$T/s3.events")" = 2
+! grep -q '"type": "error"' "$T/s3.events"
 # Offline: the records replayed give the frames each stream had, bit for bit.
 sleep 0.3  # the sessions write their end lines as they close
 for n in 1 2; do
