@@ -25,6 +25,7 @@ std::vector<OptionSpec> renderOptionSpecs() {
 	    {"--transcript", "FILE", "timed transcript (TextGrid, .pho, HTK, GRID, speech marks, TSV, Rhubarb; - = stdin)"},
 	    {"--text", "TEXT", "instead of --transcript: what --audio says, aligned to it (as 'talkhead align' does)"},
 	    {"--text-file", "F", "the same, read from a file"},
+	    {"--dialog", "TEXT", "with --audio: what it probably says (Rhubarb's name): aligned as --text is, but when it does not match the audio, the phones are recognised from the audio instead (a warning, not an error)"},
 	    {"--audio", "FILE", "speech audio (any format libav reads); the video lasts as long as it. Alone (no --transcript or --text) its phones are recognised from the sound (en-US phone recogniser, PocketSphinx)"},
 	    {"--lang", "LANG", languageOptionHelp("language of the transcript")},
 	    {"--transcript-format", "FORMAT", "transcript format if detection fails"},
@@ -50,7 +51,10 @@ SpeechSource parseSpeechSource(const Args& args, const Driving& drive) {
 	SpeechSource s;
 	s.audio = args.get("--audio");
 	if (!s.audio && drive.hasAudio()) s.audio = *drive.video;
-	const auto transcript = args.get("--transcript"), text = args.get("--text"), textFile = args.get("--text-file");
+	const auto transcript = args.get("--transcript"), dialog = args.get("--dialog");
+	const auto text = dialog ? dialog : args.get("--text"), textFile = args.get("--text-file");
+	if (dialog && (args.get("--text") || textFile)) throw UsageError("render: give --dialog or --text, not both");
+	s.textIsHint = bool(dialog);
 	if (text && textFile) throw UsageError("render: give --text or --text-file, not both");
 	if (transcript && (text || textFile)) throw UsageError("render: give --transcript or --text, not both");
 	if (!transcript && !text && !textFile && !drive.mouth && !s.audio)
@@ -59,7 +63,7 @@ SpeechSource parseSpeechSource(const Args& args, const Driving& drive) {
 		throw UsageError(drive.video ? "render: --text needs speech to align to, and the --drive video has no audio: give --audio"
 		                             : "render: --text needs --audio (the speech to align the text to)");
 	if (transcript) s.kind = SpeechSource::Kind::Transcript, s.transcript = *transcript;
-	else if (text || textFile) s.kind = SpeechSource::Kind::AlignedText, s.text = text.value_or(""), s.textName = textFile.value_or("text");
+	else if (text || textFile) s.kind = SpeechSource::Kind::AlignedText, s.text = text.value_or(""), s.textName = dialog ? "dialog" : textFile.value_or("text");
 	else if (!drive.mouth) s.kind = SpeechSource::Kind::RecognizedAudio;  // audio alone: its phones recognised
 	return s;
 }

@@ -15,7 +15,14 @@ TimedSpeech loadSpeech(const SpeechSource& source, const Language& language, con
 		return speechFromTranscript(source.transcript, source.read, language, source.unknown, source.notation, source.audio, source.wantWords, onRead);
 	case SpeechSource::Kind::AlignedText:
 		if (!source.audio) throw FieldError("audio", fieldRef("text") + " needs " + fieldRef("audio") + " (the speech to align the text to)");
-		return speechFromText(source.text, *source.audio, language, source.unknown);
+		if (!source.textIsHint) return speechFromText(source.text, *source.audio, language, source.unknown);
+		try {
+			return speechFromText(source.text, *source.audio, language, source.unknown);
+		} catch (const Error& e) {
+			TimedSpeech s = speechFromAudio(*source.audio, language);
+			s.warnings.insert(s.warnings.begin(), std::string(e.what()) + ": the " + source.textName + " was a hint; the phones were recognised from the audio instead");
+			return s;
+		}
 	case SpeechSource::Kind::RecognizedAudio:
 		if (!source.audio) throw FieldError("audio", "no " + fieldRef("audio") + " to recognise the speech of");
 		return speechFromAudio(*source.audio, language);

@@ -26,6 +26,9 @@ struct SpeechSource {
 	std::string text;                     // AlignedText, SpokenText
 	std::string textName = "text";        // the text in messages (its file's path when it came from one)
 	std::optional<std::string> audio;     // the sound's path: optional for Transcript and None, required for AlignedText and RecognizedAudio
+	// AlignedText: the text is a hint (Rhubarb's dialog): when it does not match the audio, the phones are
+	// recognised from the audio instead, with a warning, rather than an error.
+	bool textIsHint = false;
 	// Transcript: how it is read.
 	ReadOptions read;
 	UnknownPhone unknown = UnknownPhone::Error;

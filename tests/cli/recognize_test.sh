@@ -35,6 +35,16 @@ grep -q '"cdv": "p1"\|"cdv": "p2"' "$T/r.json"
 "$TH" render --audio "$T/speech.wav" --text "place blue by c four again" --lang en-US -o "$T/t.mp4" --size 320x180 2>"$T/t.err"
 ! grep -q 'recognised from the audio' "$T/t.err"
 grep -q 'aligned' "$T/t.err"
+# --dialog (Rhubarb's): a hint — aligned when it matches; when it does not, recognised with a warning.
+"$TH" visemes --audio "$T/speech.wav" -o "$T/heard.tsv" 2>/dev/null
+"$TH" render --audio "$T/speech.wav" --dialog "place blue by c four again" --lang en-US -o "$T/d.mp4" --size 320x180 2>"$T/d.err"
+grep -q 'aligned' "$T/d.err"
+"$TH" render --audio "$T/speech.wav" --dialog "My grandmother baked fresh bread every Sunday morning." --lang en-US -o "$T/d2.mp4" --size 320x180 \
+	--timeline-out "$T/d2.json" 2>"$T/d2.err"
+cat "$T/d2.err"
+grep -q "warning: .*the text does not match the audio.*the dialog was a hint; the phones were recognised from the audio instead" "$T/d2.err"
+grep -q 'recognised from the audio (no timing given)' "$T/d2.err"
+test -s "$T/d2.mp4"
 # Another language: en-US's phones, said in one line.
 "$TH" visemes --audio "$T/speech.wav" --lang pt-BR -o /dev/null 2>"$T/pt.err"
 grep -q "the phones are en-US's" "$T/pt.err"
