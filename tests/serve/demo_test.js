@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The live demo page (issue 16) in headless Chromium: it connects, a sentence is sent, the video element
 // plays (Media Source Extensions, H.264 + AAC), its currentTime advances, and the events arrive.
-// usage: node demo_test.js URL [FRAGMENT]   (NODE_PATH holds playwright-core; FRAGMENT e.g. token=… for a
-// server that asks for a token)
+// usage: node demo_test.js URL [FRAGMENT [WAV]]   (NODE_PATH holds playwright-core; FRAGMENT e.g. token=… for a
+// server that asks for a token, '' for none; WAV: a sound file to speak with the page's "speak a WAV")
 'use strict';
 const { chromium } = require('playwright-core');
 (async () => {
@@ -31,6 +31,18 @@ const { chromium } = require('playwright-core');
   const ev = await page.evaluate(() => window.events.map((e) => e.type));
   for (const need of ['hello', 'emotion', 'utterance_started', 'viseme', 'utterance_ended'])
     if (!ev.includes(need)) throw new Error('no ' + need + ' event (got ' + [...new Set(ev)].join(', ') + ')');
+  // Issue 49: "speak a WAV" — a sound file alone (the server recognises its phones), then with the text.
+  const wav = process.argv[4];
+  if (wav) {
+    await page.setInputFiles('#wav', wav);
+    await page.click('#speakwav');
+    await page.waitForFunction(() => window.events.some((e) => e.type === 'utterance_ended' && e.id === 'w2'), null, { timeout: 30000 });
+    await page.fill('#text', 'Good morning, how can I help you today?');
+    await page.check('#wavtext');
+    await page.click('#speakwav');
+    await page.waitForFunction(() => window.events.some((e) => e.type === 'utterance_ended' && e.id === 'w3'), null, { timeout: 30000 });
+    if (await page.evaluate(() => window.events.some((e) => e.type === 'error'))) throw new Error('an error event after speaking the WAV');
+  }
   const size = await page.evaluate(() => [document.querySelector('#face').videoWidth, document.querySelector('#face').videoHeight]);
   await browser.close();
   if (errors.length) throw new Error(errors.join('; '));

@@ -16,7 +16,9 @@ port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/out")
 # Self-contained: no external script, stylesheet or font.
 curl -sf "http://127.0.0.1:$port/" >"$T/index.html"
 ! grep -Eq 'https?://|<script src|<link ' "$T/index.html"
-NODE_PATH="$PLAYWRIGHT_MODULES" timeout 180 node "$HERE/demo_test.js" "http://127.0.0.1:$port/"
+# A WAV for the page's "speak a WAV" (issue 49): espeak-ng's sound, spoken back alone and with its text.
+"$TH" say "Good morning, how can I help you today?" --lang en-US -q --size 160x90 --no-audio -o "$T/x.mp4" --save-audio "$T/speech.wav"
+NODE_PATH="$PLAYWRIGHT_MODULES" timeout 180 node "$HERE/demo_test.js" "http://127.0.0.1:$port/" "" "$T/speech.wav"
 
 # Cross-site control (issue 28): a page of another site cannot open a session; a loopback page can.
 pageport=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
