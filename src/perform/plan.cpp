@@ -105,6 +105,8 @@ std::vector<PhoneSegment> recognizedPhones(const AudioClip& audio, const std::st
 	return phoneSegments(rec.phones, language, UnknownPhone::Silence, Notation::Ipa);
 }
 
+void prepareSpeechRecognition() { warmRecognizer(); }
+
 std::vector<PhoneSegment> alignedPhones(const AudioClip& audio, const std::string& text, const Language& language, std::vector<std::string>& warnings) {
 	AlignOptions ao;
 	ao.languageTag = language.tag();

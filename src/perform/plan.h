@@ -57,6 +57,9 @@ TimedSpeech speechFromAudio(const std::string& audioPath, const Language& langua
 // should know goes to `notes` (the summary, a language note) and `warnings` (silence, doubtful recognition).
 std::vector<PhoneSegment> recognizedPhones(const AudioClip& audio, const std::string& name, const Language& language,
                                            std::vector<std::string>& notes, std::vector<std::string>& warnings);
+// Loads the speech recogniser now (its plugin and decoders, ~1 s) rather than in the first recognition: a
+// server calls it as it starts. Throws Error when it cannot (no pocketsphinx, no model).
+void prepareSpeechRecognition();
 // `text` aligned to a sound in memory (a live `speak` with its text): its phones; the alignment's warnings
 // go to `warnings`. Throws Error when the text does not match the audio.
 std::vector<PhoneSegment> alignedPhones(const AudioClip& audio, const std::string& text, const Language& language, std::vector<std::string>& warnings);

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The Server facade: forwards to the network plugin (libtalkhead-serve.so, serve_module.h), loaded once.
-#include "align/recognize.h"
 #include "base/error.h"
 #include "base/plugin.h"
 #include "media/video_writer.h"
+#include "perform/plan.h"
 #include "render/live.h"
 #include "serve/serve_module.h"
 #include "serve/server.h"
@@ -38,7 +38,7 @@ Server::Server(const Face& face, ServeOptions options) : module_(&serveModule())
 	// A speak with no timing recognises its phones (issue 49): the recogniser's plugin and model loaded now,
 	// not in the first such request (~1 s). Without them that request gets the error; the server runs.
 	try {
-		warmRecognizer();
+		prepareSpeechRecognition();
 	} catch (const Error&) {
 	}
 	ServeHost host{makeWorker, lateRecently};

@@ -62,6 +62,14 @@ ff -f lavfi -i anullsrc=r=16000:cl=mono -t 2 "$T/quiet.wav"
 grep -q 'warning: .*quiet.wav: no speech in the audio: it is silent.*the face stays still' "$T/q.err"
 test -s "$T/q.mp4"
 
+# A melody of steady notes is not speech: its phones are left out (a still face), with a warning.
+ff -f lavfi -i "sine=f=440:d=6" -f lavfi -i "sine=f=660:d=6" -filter_complex "[0][1]amix=2,volume='if(lt(mod(t,0.6),0.35),1,0.02)':eval=frame" \
+	-ar 22050 -ac 1 "$T/melody.wav"
+"$TH" visemes --audio "$T/melody.wav" -o "$T/melody.tsv" 2>"$T/melody.err"
+cat "$T/melody.err"
+grep -q 'warning: .*melody.wav: [0-9]* phones left out where the sound does not change as speech does' "$T/melody.err"
+test "$(awk -F'\t' 'NR > 1 && $3 != "_"' "$T/melody.tsv" | wc -l)" = 0
+
 # Bad input: one line naming the file, non-zero exit, no output.
 : >"$T/empty.wav"
 if "$TH" render --audio "$T/empty.wav" -o "$T/e.mp4" 2>"$T/e.err"; then echo "an empty file rendered"; exit 1; fi
