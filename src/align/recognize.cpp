@@ -54,7 +54,10 @@ struct SphinxDecoder {
 // Decoder `slot` (one per thread) for these settings.
 void* sphinxHandle(const RecognizeOptions& o, int slot) {
 	static std::mutex mutex;
-	static std::vector<std::pair<int, SphinxDecoder>> open;  // kept for the process, as the plugin is
+	// Kept for the process, as the plugin is; never destroyed, so that the handles stay reachable at exit
+	// (a destroyed list would leave them to LeakSanitizer as leaks).
+	static auto* const decoders = new std::vector<std::pair<int, SphinxDecoder>>();
+	auto& open = *decoders;
 	const std::lock_guard<std::mutex> lock(mutex);
 	SphinxConfig c;
 	c.modelDir = sphinxModelDir(o);

@@ -40,6 +40,24 @@ std::string secondsText(double s) {
 class AudioDecoder {
 public:
 	AudioDecoder(const std::string& path, int outRate, double maxSeconds) : path_(path), rate_(outRate), maxSeconds_(maxSeconds) {
+		// A constructor that throws runs no destructor: what was opened before the throw is released here
+		// (a malformed file leaked its demuxer's memory on every refusal; found by the recognize fuzz target).
+		try {
+			open(path, outRate);
+		} catch (...) {
+			release();
+			throw;
+		}
+	}
+	~AudioDecoder() { release(); }
+	void release() {
+		av_packet_free(&pkt_);
+		av_frame_free(&frame_);
+		swr_free(&swr_);
+		avcodec_free_context(&ctx_);
+		avformat_close_input(&fmt_);
+	}
+	void open(const std::string& path, int outRate) {
 		if (!std::filesystem::exists(path)) throw Error(path, 0, "audio file not found");
 		av_log_set_level(AV_LOG_FATAL);  // problems are reported through return codes, as one error line
 		checkAv(avformat_open_input(&fmt_, path.c_str(), nullptr, nullptr), path, "cannot open audio");
@@ -51,6 +69,9 @@ public:
 		ctx_ = avcodec_alloc_context3(dec);
 		checkAv(avcodec_parameters_to_context(ctx_, fmt_->streams[stream_]->codecpar), path, "bad audio parameters");
 		checkAv(avcodec_open2(ctx_, dec, nullptr), path, "cannot open the audio decoder");
+		// An absurd rate (a damaged header: 1.8 GHz) would make the resampler's filters take gigabytes.
+		if (ctx_->sample_rate < 0 || ctx_->sample_rate > 768000)
+			throw Error(path, 0, "the audio's sample rate (" + std::to_string(ctx_->sample_rate) + " Hz) is not plausible: a damaged header?");
 		if (ctx_->ch_layout.nb_channels <= 0) av_channel_layout_default(&ctx_->ch_layout, 1);
 		channels_ = std::min(2, ctx_->ch_layout.nb_channels);
 		if (rate_ <= 0) rate_ = outRate = ctx_->sample_rate > 0 ? ctx_->sample_rate : 48000;  // 0: keep the file's rate
@@ -61,13 +82,6 @@ public:
 		checkAv(swr_init(swr_), path, "cannot set up resampling");
 		pkt_ = av_packet_alloc();
 		frame_ = av_frame_alloc();
-	}
-	~AudioDecoder() {
-		av_packet_free(&pkt_);
-		av_frame_free(&frame_);
-		swr_free(&swr_);
-		avcodec_free_context(&ctx_);
-		avformat_close_input(&fmt_);
 	}
 	int channels() const { return channels_; }
 	int rate() const { return rate_; }
