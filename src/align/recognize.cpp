@@ -74,6 +74,20 @@ void* sphinxHandle(const RecognizeOptions& o, int slot) {
 	return h;
 }
 
+// How many decoders run at once: as asked, else up to 2 as the machine has cores.
+int decoderCount(const RecognizeOptions& o) {
+	return o.threads > 0 ? o.threads : int(std::min(2u, std::max(1u, std::thread::hardware_concurrency())));
+}
+
+// `frames` interleaved sample frames of `channels` channels, averaged into `out`.
+void mixDown(const float* in, std::size_t frames, int channels, float* out) {
+	for (std::size_t i = 0; i < frames; ++i) {
+		double s = 0;
+		for (int c = 0; c < channels; ++c) s += in[i * std::size_t(channels) + std::size_t(c)];
+		out[i] = float(s / channels);
+	}
+}
+
 // A source's samples as mono at 16 kHz, a block at a time.
 class MonoStream {
 public:
@@ -86,11 +100,7 @@ public:
 	std::size_t read(float* out, std::size_t n) {
 		buffer_.resize(n * std::size_t(channels_));
 		const std::size_t got = source_->read(buffer_.data(), n);
-		for (std::size_t i = 0; i < got; ++i) {
-			double s = 0;
-			for (int c = 0; c < channels_; ++c) s += buffer_[i * std::size_t(channels_) + std::size_t(c)];
-			out[i] = float(s / channels_);
-		}
+		mixDown(buffer_.data(), got, channels_, out);
 		return got;
 	}
 
@@ -198,11 +208,7 @@ AudioClip clipAt16k(const AudioClip& clip) {
 	if (clip.sampleRate <= 0 || clip.channels <= 0) throw Error("the audio has no sample rate");
 	const std::size_t n = clip.frameCount();
 	std::vector<float> mono(n);
-	for (std::size_t i = 0; i < n; ++i) {
-		double s = 0;
-		for (int c = 0; c < clip.channels; ++c) s += clip.samples[i * std::size_t(clip.channels) + std::size_t(c)];
-		mono[i] = float(s / clip.channels);
-	}
+	mixDown(clip.samples.data(), n, clip.channels, mono.data());
 	const double ratio = double(clip.sampleRate) / kSphinxRate;         // input samples per output sample
 	const double cutoff = 0.45 * std::min(1.0, 1.0 / ratio);            // of the input rate
 	const int half = int(std::ceil(16 / (2 * cutoff)));                 // taps each side, in input samples
@@ -264,7 +270,7 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 	rec.utterances = int(utterances.size());
 	// Pass 2: the utterances read in order and decoded as they arrive, on up to `threads` decoders (each
 	// utterance alone: the result does not depend on which decoder took it or what it decoded before).
-	const int threads = std::max(1, std::min<int>(int(utterances.size()), o.threads > 0 ? o.threads : std::min(2u, std::max(1u, std::thread::hardware_concurrency()))));
+	const int threads = std::max(1, std::min<int>(int(utterances.size()), decoderCount(o)));
 	std::vector<void*> decoders;
 	for (int t = 0; t < threads; ++t) decoders.push_back(sphinxHandle(o, t));
 	std::vector<std::vector<SphinxPhone>> decoded(utterances.size());
@@ -406,7 +412,7 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 }
 
 void warmRecognizer(const RecognizeOptions& o) {
-	const int threads = o.threads > 0 ? o.threads : int(std::min(2u, std::max(1u, std::thread::hardware_concurrency())));
+	const int threads = decoderCount(o);
 	for (int t = 0; t < threads; ++t) sphinxHandle(o, t);
 }
 
