@@ -41,7 +41,9 @@ int runVisemes(const std::vector<std::string>& argv) {
 	           {"--audio", "FILE", "no transcript: recognise the phones of this speech (any format libav reads) with PocketSphinx's en-US phone recogniser; the output gets a confidence column"},
 	           genericVisemesOption(),
 	           {"--format", "FORMAT", "input format (default: detected): " + joined(transcriptFormats())},
-	           {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier — named like phones, or labels that are phones —, else the word tier)"},
+	           {"--tier", "NAME|N", "TextGrid tier, by name or 1-based number (default: the phone tier — named like phones, or labels that are phones —, else the word tier); in files of several speakers, channels or ELAN tiers: the one to read"},
+	           {"--speaker", "NAME", "the speaker (channel, voice, ELAN tier) to read from a file of several (the same as --tier)"},
+	           {"--verbose", "", "also say which format was read and what the plausibility gate checked (units, rates, duration)", "-v"},
 	           {"--timing-text", "FILE", "the text a timing file refers to but does not hold: for an aeneas SMIL or TSV sync map, the XHTML or aeneas's parsed (id|text) or plain (a fragment a line) text; for Google Text-to-Speech timepoints, the SSML with the <mark>s"},
 	           {"--level", "LEVEL", "what the labels are: auto (default: from tier names and labels), phones, or words (phonemised with espeak-ng)"},
 	           {"--sample-rate", "HZ", "TIMIT .phn: the sample rate its times count in (default 16000)"},
@@ -88,6 +90,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 
 	const std::string path = args.positionals()[0];
 	Transcript tr = readTranscript(path, ro);
+	if (args.has("--verbose")) std::fprintf(stderr, "talkhead: %s: %s (%s)\n", path.c_str(), shownLine(tr.verdict).c_str(), tr.format.c_str());
 	for (const std::string& w : tr.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(path + ": " + w).c_str());
 	noteWordLanguage(args, tr, lang, path);
 	// The notation is decided once, here, so the evidence for it can be printed.

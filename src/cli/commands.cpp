@@ -15,6 +15,7 @@ const std::vector<Command>& commands() {
 	    {"align", "forced alignment: speech audio (or video) + its text -> TextGrid of words and phones", runAlign},
 	    {"compare", "lip-sync measures of a synthesized video against a real speaker's video", runCompare},
 	    {"track", "a person's head motion, brows, eyes and blinks from a video, as a control track", runTrack},
+	    {"formats", "the timing formats talkhead reads (what writes them, their units, what is taken from the file)", runFormats},
 	    {"visemes", "map a timed transcript (TextGrid, .pho, HTK, GRID, speech marks, …), or speech audio alone, to visemes and keyposes", runVisemes},
 	    {"batch", "perceptual-test stimuli from a manifest: blind IDs, key, balanced orders, resumable, shards", runBatch},
 	    {"serve", "live streams for chatbots and voice assistants: WebSocket in, fragmented MP4 + JSON events out", runServe},

@@ -24,6 +24,7 @@ int runServe(const std::vector<std::string>& args);
 int runLive(const std::vector<std::string>& args);
 int runJob(const std::vector<std::string>& args);
 int runFaces(const std::vector<std::string>& args);
+int runFormats(const std::vector<std::string>& args);
 int runFace(const std::vector<std::string>& args);
 
 // A job's command line (cmd_job.cpp): its command, each field as that command's long option (a switch

@@ -115,6 +115,10 @@ TranscriptOptions parseTranscriptOptions(const Args& args, const std::string& co
 	if (const auto& f = transcriptFormats(); !ro.format.empty() && std::find(f.begin(), f.end(), ro.format) == f.end())
 		throw UsageError(command + ": unknown " + formatOption + " '" + ro.format + "' (" + joined(f) + ")");
 	ro.tier = args.get("--tier", "");
+	if (args.has("--speaker")) {
+		if (args.has("--tier")) throw UsageError(command + ": --tier and --speaker name the same choice: give one");
+		ro.tier = args.get("--speaker", "");
+	}
 	ro.timingText = args.get("--timing-text", "");
 	if (const std::string level = args.get("--level", "auto"); level == "words") ro.level = LabelLevel::Word;
 	else if (level == "phones") ro.level = LabelLevel::Phone;
@@ -134,6 +138,8 @@ TranscriptOptions parseTranscriptOptions(const Args& args, const std::string& co
 void reportSpeech(const VideoCommand& cmd, const TimedSpeech& speech) {
 	if (!cmd.quiet)
 		for (const std::string& n : speech.notes) std::fprintf(stderr, "%s\n", shownLine(n).c_str());
+	if (cmd.verbose && !speech.read.verdict.empty())
+		std::fprintf(stderr, "talkhead: %s: %s\n", shownLine(speech.name).c_str(), shownLine(speech.read.verdict).c_str());
 	for (const std::string& w : speech.warnings) std::fprintf(stderr, "talkhead: warning: %s\n", shownLine(w).c_str());
 }
 
@@ -213,6 +219,7 @@ std::vector<OptionSpec> videoOptionSpecs() {
 	        {"--json-progress", "", "machine-readable progress lines on stderr"},
 	        {"--timing", "", "print the time of each stage (load, keyposes, warps, blend, encode) on stderr"},
 	        {"--quiet", "", "no progress and no summary", "-q"},
+	        {"--verbose", "", "also say what the timing's plausibility gate checked (units, rates, duration)", "-v"},
 	        {"--output", "OUT", "the video to write (- with --format y4m: standard output)", "-o"}};
 	for (auto& d : drawingOptionSpecs()) specs.push_back(d);
 	return specs;
@@ -387,6 +394,7 @@ VideoCommand parseVideoCommand(const Args& args, const std::string& command, boo
 	c.render.debugOverlay = args.has("--debug-overlay");
 	c.render.threads = unsigned(args.number("--threads", 0, 0, 256));
 	c.quiet = args.has("--quiet");
+	c.verbose = args.has("--verbose");
 	c.jsonProgress = args.has("--json-progress");
 	c.timing = args.has("--timing");
 	if (!c.modelPath.empty() && ::access(c.modelPath.c_str(), R_OK) != 0) throw Error(c.modelPath, 0, std::string("cannot open model: ") + std::strerror(errno));

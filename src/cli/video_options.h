@@ -46,6 +46,7 @@ struct VideoCommand : VideoJob {
 	std::optional<ControlTrack> controls;  // --controls F (read and checked with the options)
 	std::shared_ptr<const CoarticulationModel> coarticulation;  // --coarticulation F (D62)
 	bool quiet = false, jsonProgress = false, timing = false;
+	bool verbose = false;  // -v: the timing's plausibility verdict (issue 50)
 	std::optional<std::string> timelineOut;    // --timeline-out F.json
 	ComponentLevels components;                // --components REGION=N,… (Appendix C reductions)
 };

@@ -31,6 +31,7 @@ public:
 	int channels() const override { return clip_.channels; }
 	std::size_t read(float* out, std::size_t frames) override {
 		const std::size_t n = std::min(frames, clip_.frameCount() - pos_);
+		if (n == 0) return 0;  // an empty clip has no data() to copy from
 		std::memcpy(out, clip_.samples.data() + pos_ * std::size_t(clip_.channels), n * std::size_t(clip_.channels) * sizeof(float));
 		pos_ += n;
 		return n;

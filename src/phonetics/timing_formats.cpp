@@ -13,6 +13,8 @@
 #include "base/error.h"
 #include "base/text.h"
 #include "phonetics/espeak.h"
+#include "phonetics/plausibility.h"
+#include "phonetics/timing_readers.h"
 
 namespace talkhead {
 
@@ -281,23 +283,9 @@ bool anyHas(const JsonValue& list, const char* key) {
 	return std::any_of(list.array.begin(), list.array.end(), [&](const JsonValue& e) { return e.kind == JsonValue::Kind::Object && e.find(key); });
 }
 
-std::string languageTag(std::string l) {
-	l = toLower(std::string(trim(l)));
-	static const std::pair<const char*, const char*> names[] = {
-	    {"en", "en-US"}, {"eng", "en-US"}, {"english", "en-US"}, {"en-us", "en-US"}, {"fr", "fr"}, {"fra", "fr"}, {"fre", "fr"}, {"french", "fr"},
-	    {"de", "de"}, {"deu", "de"}, {"ger", "de"}, {"german", "de"}, {"es", "es"}, {"spa", "es"}, {"spanish", "es"}, {"it", "it"}, {"ita", "it"},
-	    {"italian", "it"}, {"pt", "pt-BR"}, {"por", "pt-BR"}, {"portuguese", "pt-BR"}, {"pt-br", "pt-BR"}};
-	for (const auto& [k, tag] : names)
-		if (l == k) return tag;
-	return "";
-}
 
 }  // namespace
 
-const std::vector<std::string>& jsonTimingFormats() {
-	static const std::vector<std::string> f = {"whisper", "openai", "deepgram", "gentle", "aeneas", "mfa-json", "azure", "azure-words", "elevenlabs", "google"};
-	return f;
-}
 
 Transcript azureVisemes(const JsonValue& list, const std::string& where) {
 	if (list.kind != JsonValue::Kind::Array || list.array.empty()) throw Error(where + ": viseme events must be a non-empty array of {id, offset_ms}");
@@ -653,26 +641,10 @@ Transcript googleTimepoints(const JsonValue& v, const std::string& path, const s
 	return tr;
 }
 
-Transcript readJsonTiming(const std::string& text, const std::string& path, const std::string& format, const ReadOptions& o) {
-	const JsonValue v = parseJson(text, path);
-	std::string f = format;
+namespace {
+
+Transcript readJsonValue(const JsonValue& v, const std::string& path, const std::string& f, const ReadOptions& o) {
 	const bool object = v.kind == JsonValue::Kind::Object;
-	if (f.empty()) {
-		if (object && arrayAt(v, "segments") && !arrayAt(v, "words")) f = "whisper";
-		else if (object && arrayAt(v, "words") && (anyHas(*arrayAt(v, "words"), "alignedWord") || anyHas(*arrayAt(v, "words"), "case"))) f = "gentle";
-		else if (object && arrayAt(v, "words") && (v.find("task") || v.find("duration") || arrayAt(v, "segments"))) f = "openai";
-		else if (object && arrayAt(v, "words")) f = "openai";
-		else if (object && v.find("results") && v.find("metadata")) f = "deepgram";
-		else if (object && arrayAt(v, "fragments")) f = "aeneas";
-		else if (object && v.find("tiers")) f = "mfa-json";
-		else if (object && (v.find("alignment") || v.find("normalized_alignment") || v.find("characters"))) f = "elevenlabs";
-		else if (object && arrayAt(v, "visemes")) f = "azure";
-		else if (v.kind == JsonValue::Kind::Array && (anyHas(v, "VisemeId") || anyHas(v, "offset_ms") && anyHas(v, "id"))) f = "azure";
-		else if (v.kind == JsonValue::Kind::Array && (anyHas(v, "Text") || anyHas(v, "text")) && (anyHas(v, "AudioOffset") || anyHas(v, "offset_ms"))) f = "azure-words";
-		else if (object && arrayAt(v, "timepoints")) f = "google";
-		else
-			throw Error(path, 0, "JSON of no timing format talkhead reads (known: Whisper/WhisperX/faster-whisper segments[].words[], OpenAI verbose_json words[], Deepgram, Gentle, aeneas fragments[], MFA 3.x tiers, Azure viseme events or word boundaries, ElevenLabs alignment, Rhubarb mouthCues, Polly speech marks)");
-	}
 	Transcript tr;
 	auto need = [&](bool ok, const char* what) {
 		if (!ok) throw Error(path, 0, std::string("not a ") + f + " file: " + what);
@@ -692,8 +664,110 @@ Transcript readJsonTiming(const std::string& text, const std::string& path, cons
 	} else
 		throw Error("unknown JSON timing format '" + f + "'");
 	tr.path = path;
+	tr.format = f;
+	if (object) {
+		if (const std::string* l = stringOf(v.find("language"))) tr.language = *l;
+		if (const auto d = numberOf(v.find("duration")); d && f == "openai") tr.statedDuration = *d;
+	}
 	if (tr.intervals.empty()) throw Error(path, 0, "the " + f + " file holds no timed " + (tr.level == LabelLevel::Phone ? "phone" : "word"));
 	return tr;
+}
+
+const JsonValue* objectJson(const TimingSample& s) {
+	const JsonValue* j = s.json();
+	return j && j->kind == JsonValue::Kind::Object ? j : nullptr;
+}
+
+// A JSON format's registry entry: the value parsed once by the sample.
+TimingFormat jsonFormat(std::string name, std::string title, std::string level, std::string takes, int confidence, std::function<bool(const JsonValue&)> sig) {
+	TimingFormat f;
+	f.name = name;
+	f.title = std::move(title);
+	f.extensions = {".json"};
+	f.level = std::move(level);
+	f.takes = std::move(takes);
+	f.confidence = confidence;
+	f.signature = [sig](const TimingSample& s) { return s.json() && sig(*s.json()); };
+	f.read = [name](const TimingSample& s, const ReadOptions& o) {
+		if (!s.json()) throw Error(s.jsonError().empty() ? s.path() + ": not JSON" : s.jsonError());
+		return readJsonValue(*s.json(), s.path(), name, o);
+	};
+	return f;
+}
+
+bool isObject(const JsonValue& v) { return v.kind == JsonValue::Kind::Object; }
+
+}  // namespace
+
+void registerServiceTimingFormats(std::vector<TimingFormat>& v) {
+	using timing::allHave;
+	v.push_back(jsonFormat("whisper", "Whisper family JSON: openai-whisper, whisper-timestamped, WhisperX, faster-whisper (segments[].words[])", "words",
+	                       "times in s; language", 2, [](const JsonValue& j) {
+		                       const JsonValue* seg = arrayAt(j, "segments");
+		                       return isObject(j) && seg && !arrayAt(j, "words") && !j.find("transcription") &&
+		                              (allHave(*seg, {"start", "end"}) || (seg->array.empty() && j.find("text")));
+	                       }));
+	v.push_back(jsonFormat("openai", "OpenAI transcription verbose_json (words[])", "words", "times in s; language; duration", 2, [](const JsonValue& j) {
+		const JsonValue* w = arrayAt(j, "words");
+		if (!isObject(j) || !w || !allHave(*w, {"start", "end"})) return false;
+		return std::all_of(w->array.begin(), w->array.end(), [](const JsonValue& e) { return e.find("word") || e.find("text"); });
+	}));
+	v.push_back(jsonFormat("gentle", "Gentle forced aligner JSON", "phones", "phones with durations; English", 3, [](const JsonValue& j) {
+		const JsonValue* w = arrayAt(j, "words");
+		return isObject(j) && w && (anyHas(*w, "alignedWord") || anyHas(*w, "case"));
+	}));
+	v.push_back(jsonFormat("deepgram", "Deepgram pre-recorded answer (results.channels[])", "words", "times in s; speakers (diarize); language", 3, [](const JsonValue& j) {
+		const JsonValue* r = timing::object(j, "results");
+		return r && arrayAt(*r, "channels");
+	}));
+	v.push_back(jsonFormat("aeneas", "aeneas sync map JSON (fragments[])", "sentences", "times in s; language", 3,
+	                       [](const JsonValue& j) { return isObject(j) && arrayAt(j, "fragments") && allHave(*arrayAt(j, "fragments"), {"begin", "end"}); }));
+	v.push_back(jsonFormat("mfa-json", "Montreal Forced Aligner 3.x JSON (tiers)", "phones or words", "times in s", 3,
+	                       [](const JsonValue& j) { return timing::object(j, "tiers") != nullptr; }));
+	v.push_back(jsonFormat("azure", "Azure Speech viseme events", "visemes (Azure's 0–21)", "offset_ms, or AudioOffset in 100 ns (the SDK)", 3, [](const JsonValue& j) {
+		if (isObject(j)) return arrayAt(j, "visemes") != nullptr;
+		return j.kind == JsonValue::Kind::Array && (anyHas(j, "VisemeId") || (anyHas(j, "offset_ms") && anyHas(j, "id")));
+	}));
+	v.push_back(jsonFormat("azure-words", "Azure Speech SDK word boundaries (AudioOffset in 100 ns)", "words", "times in 100 ns (AudioOffset), Duration as a time span or 100 ns", 3,
+	                       [](const JsonValue& j) {
+		                       if (j.kind != JsonValue::Kind::Array || !(anyHas(j, "Text") || anyHas(j, "text"))) return false;
+		                       if (anyHas(j, "offset_ms")) return true;
+		                       if (!anyHas(j, "AudioOffset")) return false;
+		                       // The SDK's events carry a BoundaryType, or their Duration as a time span ("00:00:00.3"); the batch
+		                       // synthesis files (milliseconds) neither.
+		                       return anyHas(j, "BoundaryType") || std::any_of(j.array.begin(), j.array.end(), [](const JsonValue& e) {
+			                              return isObject(e) && stringOf(e.find("Duration"));
+		                              });
+	                       }));
+	v.push_back(jsonFormat("elevenlabs", "ElevenLabs text-to-speech with timestamps (character alignment)", "words", "times in s (characters grouped into words)", 3,
+	                       [](const JsonValue& j) {
+		                       if (!isObject(j)) return false;
+		                       if (timing::object(j, "alignment") || timing::object(j, "normalized_alignment")) return true;
+		                       return arrayAt(j, "characters") && arrayAt(j, "character_start_times_seconds");
+	                       }));
+	v.push_back(jsonFormat("google", "Google Cloud Text-to-Speech timepoints (with the SSML, {{timing-text}})", "words", "times in s; the marks' SSML", 3,
+	                       [](const JsonValue& j) { return isObject(j) && arrayAt(j, "timepoints"); }));
+	v.push_back({"srt", "SubRip subtitles", {".srt"}, "words or cues (sentences)", "times hh:mm:ss,mmm", 2,
+	             [](const TimingSample& s) { return !startsWith(s.trimmed(), "WEBVTT") && looksLikeSubtitles(s.text()); },
+	             [](const TimingSample& s, const ReadOptions& o) { return readSubtitles(s.text(), s.path(), o); }, ""});
+	v.push_back({"vtt", "WebVTT captions (YouTube's inline word times, Teams' <v> voices)", {".vtt"}, "words or cues (sentences)",
+	             "times; inline word times; language (Language:); voices as speakers", 3, [](const TimingSample& s) { return startsWith(s.trimmed(), "WEBVTT"); },
+	             [](const TimingSample& s, const ReadOptions& o) { return readSubtitles(s.text(), s.path(), o); }, ""});
+	v.push_back({"ctm", "NIST/Kaldi CTM (sclite, Kaldi, NeMo forced aligner)", {".ctm"}, "words or phones", "times in s; recordings and channels as speakers; alternations (first)",
+	             2, [](const TimingSample& s) { return !s.looksLikeJson() && looksLikeCtm(s.text()); },
+	             [](const TimingSample& s, const ReadOptions& o) { return readCtm(s.text(), s.path(), o); }, ""});
+	v.push_back({"festival", "Festival utterance (EST_File utterance)", {".utt"}, "phones", "the Segment relation's end times", 3,
+	             [](const TimingSample& s) { return startsWith(s.trimmed(), "EST_File utterance"); },
+	             [](const TimingSample& s, const ReadOptions&) { return readFestivalUtterance(s.text(), s.path()); }, ""});
+	v.push_back({"smil", "aeneas SMIL sync map (with its text, {{timing-text}})", {".smil"}, "sentences", "clip times", 3,
+	             [](const TimingSample& s) { return s.xmlRoot() == "smil"; },
+	             [](const TimingSample& s, const ReadOptions& o) { return readSmil(s.text(), s.path(), o.timingText); }, ""});
+}
+
+Transcript readJsonTiming(const std::string& text, const std::string& path, const std::string& format, const ReadOptions& o) {
+	ReadOptions ro = o;
+	ro.format = format;
+	return readTimingSample(TimingSample(text, path), ro);
 }
 
 // ---- Subtitles ------------------------------------------------------------------------------------------
@@ -761,41 +835,148 @@ bool looksLikeSubtitles(const std::string& text) {
 	return false;
 }
 
-Transcript readSubtitles(const std::string& text, const std::string& path) {
+namespace {
+
+// "<00:05:04.199>" tags inside a cue line: the line's words, each from its tag (the first from `from`).
+struct TimedPiece {
+	double start;
+	std::string text;
+};
+std::vector<TimedPiece> inlineTimes(const std::string& line, double from) {
+	std::vector<TimedPiece> out{{from, ""}};
+	for (std::size_t i = 0; i < line.size();) {
+		if (line[i] == '<') {
+			const std::size_t e = line.find('>', i);
+			if (e == std::string::npos) break;
+			if (const auto t = cueTime(std::string_view(line).substr(i + 1, e - i - 1))) out.push_back({*t, ""});
+			i = e + 1;
+			continue;
+		}
+		out.back().text += line[i++];
+	}
+	return out;
+}
+
+bool hasInlineTime(const std::string& line) {
+	for (std::size_t p = 0; (p = line.find('<', p)) != std::string::npos; ++p) {
+		const std::size_t e = line.find('>', p);
+		if (e != std::string::npos && cueTime(std::string_view(line).substr(p + 1, e - p - 1))) return true;
+	}
+	return false;
+}
+
+// A WebVTT voice: "<v Anna>" or "<v.loud Anna>".
+std::string voiceOf(const std::string& body) {
+	const auto p = body.find("<v");
+	if (p == std::string::npos || p + 2 >= body.size() || (body[p + 2] != ' ' && body[p + 2] != '.')) return "";
+	const auto e = body.find('>', p);
+	if (e == std::string::npos) return "";
+	std::string inside = body.substr(p + 2, e - p - 2);
+	if (!inside.empty() && inside[0] == '.') inside = inside.substr(std::min(inside.size(), inside.find(' ')));
+	return std::string(trim(inside));
+}
+
+}  // namespace
+
+Transcript readSubtitles(const std::string& text, const std::string& path, const ReadOptions& o) {
 	Transcript tr;
 	const bool vtt = startsWith(trim(text), "WEBVTT");
 	tr.format = vtt ? "vtt" : "srt";
 	tr.level = LabelLevel::Word;
-	const std::vector<std::string> ls = split(text, '\n');
-	bool sentences = false;
-	for (std::size_t i = 0; i < ls.size(); ++i) {
-		std::string l = ls[i];
+	std::vector<std::string> ls = split(text, '\n');
+	for (std::string& l : ls)
 		if (!l.empty() && l.back() == '\r') l.pop_back();
+	struct Cue {
+		double a, b;
+		std::vector<std::string> lines;
+		long no;
+	};
+	std::vector<Cue> cues;
+	auto timing = [&](const std::string& l, long no) -> std::optional<std::pair<double, double>> {
 		const auto arrow = l.find("-->");
-		if (arrow == std::string::npos) continue;
-		const long no = long(i + 1);
+		if (arrow == std::string::npos) return std::nullopt;
 		const auto a = cueTime(std::string_view(l).substr(0, arrow));
-		std::string rest = l.substr(arrow + 3);
-		rest = std::string(trim(rest));
+		std::string rest(trim(std::string_view(l).substr(arrow + 3)));
 		const auto sp = rest.find_first_of(" \t");  // WebVTT cue settings after the end time
 		const auto b = cueTime(sp == std::string::npos ? std::string_view(rest) : std::string_view(rest).substr(0, sp));
 		if (!a || !b) throw Error(path, no, "expected 'START --> END' cue times (00:00:01,660 or 00:01.660), found '" + safeQuote(l) + "'");
 		if (*b < *a) throw Error(path, no, "the cue ends before it starts");
 		if (*b > kMaxSeconds) throw Error(path, no, "a cue after 86400 s (a day)");
-		std::string body;
+		return std::make_pair(*a, *b);
+	};
+	for (std::size_t i = 0; i < ls.size(); ++i) {
+		const auto t = timing(ls[i], long(i + 1));
+		if (!t) continue;
+		Cue c{t->first, t->second, {}, long(i + 1)};
 		std::size_t j = i + 1;
-		for (; j < ls.size(); ++j) {
-			std::string t = ls[j];
-			if (!t.empty() && t.back() == '\r') t.pop_back();
-			if (trim(t).empty()) break;
-			body += (body.empty() ? "" : " ") + t;
-		}
-		body = cueText(body);
-		sentences |= body.find(' ') != std::string::npos;
-		tr.intervals.push_back({ticksFromSeconds(*a), ticksFromSeconds(*b), body, no});
-		i = j;
+		// The body ends at a blank line — or at the next timing line, which some writers put right after it.
+		for (; j < ls.size() && !trim(ls[j]).empty() && ls[j].find("-->") == std::string::npos; ++j) c.lines.push_back(ls[j]);
+		cues.push_back(std::move(c));
+		i = (j < ls.size() && ls[j].find("-->") != std::string::npos) ? j - 1 : j;
 	}
-	if (tr.intervals.empty()) throw Error(path, 0, std::string("no cues ('START --> END' lines) in this ") + (vtt ? "WebVTT" : "SubRip") + " file");
+	if (cues.empty()) throw Error(path, 0, std::string("no cues ('START --> END' lines) in this ") + (vtt ? "WebVTT" : "SubRip") + " file");
+
+	// Voices (<v Name>, Teams and others): the speakers.
+	std::vector<std::string> voices;
+	for (const Cue& c : cues)
+		for (const std::string& l : c.lines)
+			if (const std::string v = voiceOf(l); !v.empty() && std::find(voices.begin(), voices.end(), v) == voices.end()) voices.push_back(v);
+	tr.speakers = voices;
+	tr.speaker = timing::chooseSpeaker(voices, o, path, "voice");
+
+	const bool inlineTimed = std::any_of(cues.begin(), cues.end(), [](const Cue& c) { return std::any_of(c.lines.begin(), c.lines.end(), hasInlineTime); });
+	bool sentences = false;
+	if (inlineTimed) {
+		// Rolling auto-captions (YouTube): a line with inline word times holds new words, each from its time to
+		// the next; lines that repeat what was shown before are left out.
+		std::string last;
+		std::size_t repeats = 0;
+		for (const Cue& c : cues) {
+			for (const std::string& l : c.lines) {
+				const std::string plain = cueText(l);
+				if (plain.empty()) continue;
+				if (plain == last) {
+					++repeats;
+					continue;
+				}
+				if (hasInlineTime(l)) {
+					const auto pieces = inlineTimes(l, c.a);
+					for (std::size_t k = 0; k < pieces.size(); ++k) {
+						const std::string w = cueText(pieces[k].text);
+						if (w.empty()) continue;
+						const double end = k + 1 < pieces.size() ? pieces[k + 1].start : c.b;
+						tr.intervals.push_back({ticksFromSeconds(pieces[k].start), ticksFromSeconds(std::max(end, pieces[k].start)), w, c.no});
+					}
+				} else {
+					tr.intervals.push_back({ticksFromSeconds(c.a), ticksFromSeconds(c.b), plain, c.no});
+					sentences |= plain.find(' ') != std::string::npos;
+				}
+				last = plain;
+			}
+		}
+		// A cue's last word ends where the cue does, which may be where it starts: it lasts until the next word
+		// (at most 0.4 s).
+		for (std::size_t k = 0; k < tr.intervals.size(); ++k) {
+			Interval& iv = tr.intervals[k];
+			if (iv.end > iv.start) continue;
+			const Ticks cap = iv.start + Ticks(kTicksPerSecond * 4 / 10);
+			iv.end = k + 1 < tr.intervals.size() ? std::min(cap, std::max(iv.start, tr.intervals[k + 1].start)) : cap;
+		}
+		if (repeats) tr.warnings.push_back(std::to_string(repeats) + " repeated caption line" + (repeats > 1 ? "s" : "") + " (rolling captions) left out; words timed by their inline times");
+	} else {
+		for (const Cue& c : cues) {
+			std::string body;
+			std::string voice;
+			for (const std::string& l : c.lines) {
+				if (const std::string v = voiceOf(l); !v.empty()) voice = v;
+				body += (body.empty() ? "" : " ") + l;
+			}
+			if (!tr.speaker.empty() && voice != tr.speaker) continue;
+			body = cueText(body);
+			sentences |= body.find(' ') != std::string::npos;
+			tr.intervals.push_back({ticksFromSeconds(c.a), ticksFromSeconds(c.b), body, c.no});
+		}
+	}
 	// Cues overlapping (karaoke-style rolling captions) cannot be one mouth: the later starts where the earlier ends.
 	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& x, const Interval& y) { return x.start < y.start; });
 	for (std::size_t k = 1; k < tr.intervals.size(); ++k)
@@ -824,16 +1005,25 @@ struct CtmRow {
 	long line = 0;
 };
 
-std::optional<CtmRow> ctmRow(const std::string& line, long no) {
+// A CTM row: "utterance channel start duration label [confidence [type [speaker …]]]" (NeMo adds columns
+// and writes NA for a missing confidence). sclite's alternations ("* * <ALT_BEGIN>") come back with
+// `alternation` set.
+std::optional<CtmRow> ctmRow(const std::string& line, long no, bool* alternation = nullptr) {
 	const auto f = splitWhitespace(line);
-	if (f.size() < 5 || f.size() > 8) return std::nullopt;
+	if (alternation) *alternation = false;
+	if (f.size() < 5 || f.size() > 10) return std::nullopt;
 	CtmRow r;
 	double d;
-	if (parseDouble(f[0], d)) return std::nullopt;  // an utterance id, not a number
-	if (!parseDouble(f[2], r.start) || !parseDouble(f[3], r.duration)) return std::nullopt;
 	long long ch;
+	if (parseDouble(f[0], d) && f[0].find('.') != std::string::npos) return std::nullopt;  // a time, not an id
 	if (!parseInt(f[1], ch) && !(f[1].size() == 1 && std::isalpha(static_cast<unsigned char>(f[1][0])))) return std::nullopt;
-	if (f.size() >= 6 && !parseDouble(f[5], d) && f[5] != "-") return std::nullopt;  // confidence
+	if (f[2] == "*" && f[3] == "*" && (f[4] == "<ALT_BEGIN>" || f[4] == "<ALT>" || f[4] == "<ALT_END>")) {
+		if (alternation) *alternation = true;
+		r.utterance = f[0], r.channel = f[1], r.label = f[4], r.line = no;
+		return r;
+	}
+	if (!parseDouble(f[2], r.start) || !parseDouble(f[3], r.duration)) return std::nullopt;
+	if (f.size() >= 6 && !parseDouble(f[5], d) && f[5] != "-" && f[5] != "NA") return std::nullopt;  // confidence
 	r.utterance = f[0], r.channel = f[1], r.label = f[4], r.line = no;
 	return r;
 }
@@ -847,12 +1037,14 @@ bool looksLikeCtm(const std::string& text) {
 	bool sameUtterance = true, wordLabels = true;
 	std::string utterance;
 	long no = 0;
-	for (const std::string& l : split(text, '\n')) {
+	for (const std::string& l : split(text.substr(0, 100000), '\n')) {
 		++no;
 		const std::string_view t = trim(l);
 		if (t.empty() || t[0] == ';' || t[0] == '#') continue;
-		const auto r = ctmRow(std::string(t), no);
+		bool alt = false;
+		const auto r = ctmRow(std::string(t), no, &alt);
 		if (!r) return false;
+		if (alt) continue;
 		double d;
 		wordLabels &= !parseDouble(r->label, d);
 		sameUtterance &= rows == 0 || r->utterance == utterance;
@@ -865,24 +1057,45 @@ bool looksLikeCtm(const std::string& text) {
 Transcript readCtm(const std::string& text, const std::string& path, const ReadOptions& o) {
 	std::vector<CtmRow> rows;
 	long no = 0;
+	int alternations = 0;
+	enum { Outside, First, Other } alt = Outside;
 	for (const std::string& l : split(text, '\n')) {
 		++no;
 		const std::string_view t = trim(l);
 		if (t.empty() || t[0] == ';' || t[0] == '#') continue;
-		const auto r = ctmRow(std::string(t), no);
+		bool isAlt = false;
+		const auto r = ctmRow(std::string(t), no, &isAlt);
 		if (!r) throw Error(path, no, "expected 'utterance channel start duration label [confidence]', found '" + safeQuote(std::string(t)) + "'");
+		if (isAlt) {
+			// sclite alternations: the first alternative is read, the others left out.
+			if (r->label == "<ALT_BEGIN>") alt = First, ++alternations;
+			else if (r->label == "<ALT>") alt = Other;
+			else alt = Outside;
+			continue;
+		}
+		if (alt == Other) continue;
 		if (!std::isfinite(r->start) || !std::isfinite(r->duration) || r->start < 0 || r->duration < 0)
 			throw Error(path, no, "start and duration must be numbers from 0 (seconds)");
 		rows.push_back(*r);
 	}
 	if (rows.empty()) throw Error(path, 0, "no CTM rows");
+	// Recordings and channels: each "recording channel" pair is a speaker to choose.
+	std::vector<std::string> speakers;
 	for (const CtmRow& r : rows) {
-		if (r.utterance != rows[0].utterance)
-			throw Error(path, r.line, "a second recording '" + safeQuote(r.utterance) + "' after '" + safeQuote(rows[0].utterance) + "': give one recording's rows");
-		if (r.channel != rows[0].channel) throw Error(path, r.line, "a second channel '" + safeQuote(r.channel) + "': give one channel's rows");
+		const std::string name = r.utterance + " " + r.channel;
+		if (std::find(speakers.begin(), speakers.end(), name) == speakers.end()) speakers.push_back(name);
 	}
 	Transcript tr;
 	tr.format = "ctm";
+	tr.speakers = speakers.size() > 1 ? speakers : std::vector<std::string>{};
+	ReadOptions pick = o;
+	// A channel alone ("A") picks it when there is one recording; "2347:A" and "2347/A" as "2347 A".
+	for (char sep : {':', '/', '_'})
+		if (const auto p = pick.tier.find(sep); p != std::string::npos) pick.tier[p] = ' ';
+	if (!pick.tier.empty() && pick.tier.find(' ') == std::string::npos)
+		for (const std::string& s : speakers)
+			if (s.substr(s.find(' ') + 1) == pick.tier && rows[0].utterance == s.substr(0, s.find(' '))) pick.tier = s;
+	if (speakers.size() > 1 || !o.tier.empty()) tr.speaker = timing::chooseSpeaker(speakers, pick, path, "recording and channel");
 	// Phones when the labels are (Kaldi's phone CTMs carry position suffixes: AH1_I), else words.
 	int phones = 0, total = 0;
 	for (CtmRow& r : rows) {
@@ -894,33 +1107,23 @@ Transcript readCtm(const std::string& text, const std::string& path, const ReadO
 	tr.level = total > 0 && phones * 4 >= total * 3 ? LabelLevel::Phone : LabelLevel::Word;
 	tr.levelGuessed = true;
 	for (const CtmRow& r : rows) {
+		if (!tr.speaker.empty() && r.utterance + " " + r.channel != tr.speaker) continue;
 		if (r.start + r.duration > kMaxSeconds) throw Error(path, r.line, "a time after 86400 s (a day)");
-		tr.intervals.push_back({ticksFromSeconds(r.start), ticksFromSeconds(r.start + r.duration), r.label, r.line});
+		// sclite escapes a ';' in a word as "\;".
+		std::string label = r.label;
+		for (std::size_t p; (p = label.find("\\;")) != std::string::npos;) label.replace(p, 2, ";");
+		tr.intervals.push_back({ticksFromSeconds(r.start), ticksFromSeconds(r.start + r.duration), label, r.line});
 	}
+	if (alternations) tr.warnings.push_back(std::to_string(alternations) + " alternation" + (alternations > 1 ? "s" : "") + " (<ALT_BEGIN>): the first alternative read");
 	return tr;
 }
 
 std::optional<std::string> timingFileLanguage(const std::string& text) {
-	const std::string_view t = trim(text);
-	if (t.empty() || (t.front() != '{' && t.front() != '[')) return std::nullopt;
-	JsonValue v;
-	try {
-		v = parseJson(text, "", 1, 2000000);
-	} catch (const Error&) {
-		return std::nullopt;
-	}
-	if (v.kind != JsonValue::Kind::Object) return std::nullopt;
-	if (const JsonValue* w = arrayAt(v, "words"); w && anyHas(*w, "alignedWord")) return std::string("en-US");  // Gentle aligns English only
-	if (const std::string* l = stringOf(v.find("language"))) {
-		const std::string tag = languageTag(*l);
-		return tag.empty() ? std::nullopt : std::optional<std::string>(tag);
-	}
-	if (const JsonValue* f = arrayAt(v, "fragments"); f && !f->array.empty())
-		if (const std::string* l = stringOf(f->array[0].find("language"))) {
-			const std::string tag = languageTag(*l);
-			if (!tag.empty()) return tag;
-		}
-	return std::nullopt;
+	const TimingSample sample(text, "");
+	const std::string stated = statedLanguage(sample);
+	if (stated.empty()) return std::nullopt;
+	const std::string tag = languageTagOf(stated);
+	return tag.empty() ? std::nullopt : std::optional<std::string>(tag);
 }
 
 }  // namespace talkhead

@@ -22,12 +22,10 @@ namespace talkhead {
 // detect it from the members.
 // Deepgram's diarized words of several speakers: --tier (ReadOptions::tier) names the speaker.
 Transcript readJsonTiming(const std::string& text, const std::string& path, const std::string& format = "", const ReadOptions& options = {});
-// The JSON formats readJsonTiming knows, for --format and messages.
-const std::vector<std::string>& jsonTimingFormats();
 
 // SubRip (.srt) and WebVTT (.vtt) cues: each cue's text (tags and inline timestamps removed) over its
 // interval, at word level; a cue of several words is one "word" interval spread by espeak-ng's durations.
-Transcript readSubtitles(const std::string& text, const std::string& path);
+Transcript readSubtitles(const std::string& text, const std::string& path, const ReadOptions& o = {});
 bool looksLikeSubtitles(const std::string& text);
 
 // NIST CTM ("utterance channel start duration label [confidence]"), as Kaldi, NeMo's forced aligner and

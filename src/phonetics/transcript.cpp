@@ -3,6 +3,8 @@
 // and MLF, GRID .align, speech-marks JSON lines (Polly), plain TSV, Rhubarb mouth cues (TSV and JSON).
 #include "phonetics/transcript.h"
 #include "phonetics/timing_formats.h"
+#include "phonetics/plausibility.h"
+#include "phonetics/timing_readers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,8 +23,9 @@ namespace talkhead {
 
 const std::vector<std::string>& transcriptFormats() {
 	static const std::vector<std::string> f = [] {
-		std::vector<std::string> v = {"textgrid", "pho", "htk", "grid", "timit", "xlabel", "marks", "tsv", "rhubarb-tsv", "rhubarb-json", "srt", "vtt", "ctm", "festival", "smil"};
-		for (const std::string& j : jsonTimingFormats()) v.push_back(j);
+		std::vector<std::string> v;
+		for (const TimingFormat& t : timingFormats())
+			if (t.read) v.push_back(t.name);
 		return v;
 	}();
 	return f;
@@ -778,128 +781,199 @@ bool isPauseLabel(std::string_view label) {
 	// h#: TIMIT's and EMU/MRPA's (H#) silence.
 	if (l.empty() || l == "_" || l == "#" || l == "sil" || l == "sp" || l == "spn" || l == "pau" || l == "h#") return true;
 	// Noise and non-speech tags: <unk> <noise> <sil> <p:> (MFA, Kaldi, WebMAUS), {LG} {NS} (Buckeye, MFA).
-	return l.size() >= 3 && ((l.front() == '<' && l.back() == '>') || (l.front() == '{' && l.back() == '}'));
+	// [SIL] [NOISE] (Charsiu, wav2vec2 aligners).
+	return l.size() >= 3 && ((l.front() == '<' && l.back() == '>') || (l.front() == '{' && l.back() == '}') || (l.front() == '[' && l.back() == ']'));
 }
 
-std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
-	const std::string text = decodeText(raw);
-	std::string_view t = trim(text);
-	if (t.empty()) return std::nullopt;
-	if (t.find("ooTextFile") != std::string_view::npos && t.find("TextGrid") != std::string_view::npos) return "textgrid";
-	if (startsWith(t, "#!MLF!#")) return "htk";
-	if (t.front() == '{' || t.front() == '[') {
-		if (t.find("\"mouthCues\"") != std::string_view::npos) return "rhubarb-json";
-		if (t.find("\"time\"") != std::string_view::npos && t.find("\"type\"") != std::string_view::npos && t.find("\"value\"") != std::string_view::npos) return "marks";
-		return "json";  // one of the JSON timing formats (timing_formats.h), told apart by their members
-	}
-	if (startsWith(t, "<?xml") || startsWith(t, "<smil") || t.find("<smil") < 200) return "smil";
-	if (startsWith(t, "EST_File utterance")) return "festival";
-	if (looksLikeSubtitles(text)) return startsWith(t, "WEBVTT") ? "vtt" : "srt";
-	if (looksLikeCtm(text)) return "ctm";
-	// xlabel (festvox/EHMM .lab): header lines, a line "#", then "end_time [color] label" lines.
-	{
-		const std::vector<Line> ls = lines(text);
-		double d;
-		for (std::size_t i = 1; i < ls.size() && i < 40; ++i) {
-			const auto f = splitWhitespace(ls[i - 1].text);
-			if (!f.empty() && parseDouble(f[0], d)) break;  // data before any "#": not xlabel
-			if (ls[i].text != "#") continue;
-			for (std::size_t j = i + 1; j < ls.size(); ++j)
-				if (!ls[j].text.empty()) {
-					const auto g = splitWhitespace(ls[j].text);
-					if (g.size() >= 2 && parseDouble(g[0], d)) return "xlabel";
-					break;
-				}
-			break;
-		}
-	}
-	// Line formats: look at the first data line (and the largest time for HTK vs GRID).
+namespace {
+
+// The line formats' shape: the first data line's fields, the largest second field of integer lines, whether
+// every data line is "integer integer label", and whether there are ';' comment lines.
+struct LineShape {
 	std::vector<std::string> first;
 	long long maxEnd = 0;
 	bool intsOnly = true, semicolon = false;
+	int dataLines = 0;
+};
+LineShape lineShape(const std::string& text) {
+	LineShape sh;
 	for (const Line& l : lines(text)) {
 		if (l.text.empty()) continue;
 		if (l.text[0] == ';') {
-			semicolon = true;
+			sh.semicolon = true;
 			continue;
 		}
 		if (l.text[0] == '#') continue;
 		auto f = splitWhitespace(l.text);
-		if (first.empty()) first = f;
+		++sh.dataLines;
+		if (sh.first.empty()) sh.first = f;
 		long long v;
 		if (f.size() >= 3 && allIntegers(f, 2)) {
-			if (parseInt(f[1], v)) maxEnd = std::max(maxEnd, v);
+			if (parseInt(f[1], v)) sh.maxEnd = std::max(sh.maxEnd, v);
 		} else if (f.size() >= 3 || !allIntegers(f, f.size() - 1)) {
-			intsOnly = false;  // (a lone label, or times without a label, is a broken line the reader names)
+			sh.intsOnly = false;  // (a lone label, or times without a label, is a broken line the reader names)
 		}
+		if (sh.dataLines >= 400) break;
 	}
-	if (first.empty()) return semicolon ? std::optional<std::string>("pho") : std::nullopt;
-	if (fullContextCentre(first.back())) return "htk";  // HTS full-context labels, timed or not (the reader says)
-	double d;
-	if (first.size() == 2 && parseDouble(first[0], d) && first[1].size() == 1 && std::string("ABCDEFGHX").find(first[1]) != std::string::npos)
-		return "rhubarb-tsv";
-	if (first.size() >= 2 && !parseDouble(first[0], d) && parseDouble(first[1], d)) return "pho";
-	// Integer times: the unit is the format's (GRID 1/25000 s, TIMIT samples, HTK 100 ns) and is never
-	// guessed from magnitudes alone. TIMIT starts with h#, GRID with sil; HTK times are 100-ns units
-	// (a second is 10⁷). Anything else: nullopt, and the error asks for --format.
-	if (first.size() >= 3 && allIntegers(first, 2) && intsOnly) {
-		if (first[2] == "h#") return "timit";
-		if (maxEnd >= 1'000'000) return "htk";
-		if (first[2] == "sil") return "grid";
-		return std::nullopt;
-	}
-	if (first.size() >= 2 && parseDouble(first[0], d)) return "tsv";
-	if (first.size() >= 2 && !parseDouble(first[0], d)) return "tsv";  // a header line
-	return std::nullopt;
+	return sh;
 }
 
-namespace {
-std::string joinedFormats() {
-	std::string k;
-	for (const std::string& f : transcriptFormats()) k += (k.empty() ? "" : ", ") + f;
-	return k;
+bool integerLines(const LineShape& sh) { return sh.first.size() >= 3 && allIntegers(sh.first, 2) && sh.intsOnly && !fullContextCentre(sh.first.back()); }
+
+bool isXlabel(const std::string& text) {
+	// xlabel (festvox/EHMM .lab): header lines, a line "#", then "end_time [color] label" lines.
+	const std::vector<Line> ls = lines(text.substr(0, 8000));
+	double d;
+	for (std::size_t i = 1; i < ls.size() && i < 40; ++i) {
+		const auto f = splitWhitespace(ls[i - 1].text);
+		if (!f.empty() && parseDouble(f[0], d)) return false;  // data before any "#": not xlabel
+		if (ls[i].text != "#") continue;
+		for (std::size_t j = i + 1; j < ls.size(); ++j)
+			if (!ls[j].text.empty()) {
+				const auto g = splitWhitespace(ls[j].text);
+				return g.size() >= 2 && parseDouble(g[0], d);
+			}
+		return false;
+	}
+	return false;
 }
+
+// Every data line "phone duration [position pitch]…" (numbers after the phone, an even count of them).
+bool isPho(const std::string& text) {
+	int data = 0;
+	bool comment = false;
+	for (const Line& l : lines(text)) {
+		if (!l.text.empty() && l.text[0] == ';') {
+			comment = true;
+			continue;
+		}
+		const auto f = splitWhitespace(l.text.substr(0, l.text.find(';')));
+		if (f.empty()) continue;
+		double d;
+		if (f.size() < 2 || f.size() % 2 != 0 || parseDouble(f[0], d)) return false;
+		for (std::size_t i = 1; i < f.size(); ++i)
+			if (!parseDouble(f[i], d)) return false;
+		if (++data >= 400) break;
+	}
+	return data > 0 || comment;
+}
+
+// "start end label" (tab- or space-separated, seconds) on the first data line, or a header naming start and end.
+bool isTimingTsv(const std::string& text) {
+	for (const Line& l : lines(text.substr(0, 8000))) {
+		if (l.text.empty() || l.text[0] == '#') continue;
+		auto f = split(l.text, '\t');
+		if (f.size() == 1) f = splitWhitespace(l.text);
+		double a, b;
+		if (f.size() >= 2 && f.size() <= 3 && parseDouble(f[0], a) && parseDouble(f[1], b)) return true;
+		const std::string low = toLower(l.text);
+		return f.size() >= 2 && low.find("start") != std::string::npos && low.find("end") != std::string::npos;
+	}
+	return false;
+}
+
+bool isRhubarbTsv(const std::string& text) {
+	int n = 0;
+	for (const Line& l : lines(text.substr(0, 20000))) {
+		if (l.text.empty()) continue;
+		const auto f = splitWhitespace(l.text);
+		double d;
+		if (f.size() != 2 || !parseDouble(f[0], d) || f[1].size() != 1 || std::string("ABCDEFGHX").find(f[1]) == std::string::npos) return false;
+		++n;
+	}
+	return n > 0;
+}
+
+// Amazon Polly's speech marks: JSON objects (lines, or one array) each with a numeric "time", a "type" of
+// Polly's four and a "value".
+bool isMarks(const TimingSample& s) {
+	auto mark = [](const JsonValue& m) {
+		const JsonValue* type = m.kind == JsonValue::Kind::Object ? m.find("type") : nullptr;
+		const JsonValue* t = m.kind == JsonValue::Kind::Object ? m.find("time") : nullptr;
+		if (!type || type->kind != JsonValue::Kind::String || !t || t->kind != JsonValue::Kind::Number || !m.find("value")) return false;
+		return type->string == "word" || type->string == "sentence" || type->string == "viseme" || type->string == "ssml";
+	};
+	if (const JsonValue* j = s.json()) {
+		if (j->kind == JsonValue::Kind::Object) return mark(*j);
+		return j->kind == JsonValue::Kind::Array && !j->array.empty() && std::all_of(j->array.begin(), j->array.end(), mark);
+	}
+	const auto& st = s.jsonStream();
+	return !st.empty() && std::all_of(st.begin(), st.end(), [&](const auto& p) { return mark(p.second); });
+}
+
 }  // namespace
+
+void registerClassicTimingFormats(std::vector<TimingFormat>& v) {
+	v.push_back({"textgrid", "Praat TextGrid (long or short text; MFA, Charsiu, WebMAUS, praatio)", {".textgrid"}, "phones or words (the tier)",
+	             "tiers (the phone tier, else the word tier; {{tier}} picks one); spoken noise", 3,
+	             [](const TimingSample& s) {
+		             const std::string_view t = s.trimmed().substr(0, 400);
+		             return t.find("ooTextFile") != std::string_view::npos && t.find("TextGrid") != std::string_view::npos;
+	             },
+	             [](const TimingSample& s, const ReadOptions& o) { return readTextGrid(s.text(), s.path(), o); }, ""});
+	v.push_back({"htk", "HTK label file or MLF; HTS full-context labels", {".lab", ".mlf"}, "phones", "times in 100 ns; MLF utterances ({{utterance}})", 2,
+	             [](const TimingSample& s) {
+		             if (startsWith(s.trimmed(), "#!MLF!#")) return true;
+		             const LineShape sh = lineShape(s.text());
+		             if (!sh.first.empty() && fullContextCentre(sh.first.back())) return true;
+		             if (!integerLines(sh) || s.extension() == ".align" || s.extension() == ".phn" || s.extension() == ".wrd") return false;
+		             return s.extension() == ".lab" || s.extension() == ".mlf" || (sh.maxEnd >= 1'000'000 && sh.first[2] != "h#");
+	             },
+	             [](const TimingSample& s, const ReadOptions& o) { return readHtk(s.text(), s.path(), o); }, ""});
+	v.push_back({"grid", "GRID corpus .align", {".align"}, "words", "times in 1/25000 s; English", 2,
+	             [](const TimingSample& s) {
+		             const LineShape sh = lineShape(s.text());
+		             if (!integerLines(sh) || s.extension() == ".lab" || s.extension() == ".mlf" || s.extension() == ".phn") return false;
+		             return s.extension() == ".align" || (sh.first[2] == "sil" && sh.maxEnd < 1'000'000);
+	             },
+	             [](const TimingSample& s, const ReadOptions&) { return readGrid(s.text(), s.path()); }, ""});
+	v.push_back({"timit", "TIMIT .phn", {".phn"}, "phones", "times in samples at {{sample-rate}} (16 kHz)", 2,
+	             [](const TimingSample& s) {
+		             const LineShape sh = lineShape(s.text());
+		             return integerLines(sh) && (s.extension() == ".phn" || sh.first[2] == "h#");
+	             },
+	             [](const TimingSample& s, const ReadOptions& o) { return readTimit(s.text(), s.path(), o.sampleRate); }, ""});
+	v.push_back({"xlabel", "ESPS xlabel (festvox, EHMM .lab)", {".lab"}, "phones", "end times in s", 2,
+	             [](const TimingSample& s) { return isXlabel(s.text()); },
+	             [](const TimingSample& s, const ReadOptions&) { return readXlabel(s.text(), s.path()); }, ""});
+	v.push_back({"pho", "MBROLA .pho (espeak-ng, MaryTTS)", {".pho"}, "phones", "durations in ms", 2, [](const TimingSample& s) { return !s.looksLikeJson() && isPho(s.text()); },
+	             [](const TimingSample& s, const ReadOptions&) { return readPho(s.text(), s.path()); }, ""});
+	v.push_back({"marks", "Amazon Polly speech marks (JSON lines)", {".marks", ".json", ".jsonl"}, "visemes or words", "times in ms", 3, isMarks,
+	             [](const TimingSample& s, const ReadOptions&) { return readMarks(s.text(), s.path()); }, ""});
+	v.push_back({"tsv", "start, end, label (TSV or spaces, seconds; aeneas TSV with {{timing-text}})", {".tsv", ".txt"}, "phones or words", "times in s", 1,
+	             [](const TimingSample& s) { return !s.looksLikeJson() && !s.looksLikeXml() && isTimingTsv(s.text()); },
+	             [](const TimingSample& s, const ReadOptions& o) { return readTimingTsv(s.text(), s.path(), o.timingText); }, ""});
+	v.push_back({"rhubarb-tsv", "Rhubarb Lip Sync TSV", {".tsv", ".txt"}, "visemes (Rhubarb's A–H, X)", "times in s", 2, [](const TimingSample& s) { return isRhubarbTsv(s.text()); },
+	             [](const TimingSample& s, const ReadOptions&) { return readRhubarbTsv(s.text(), s.path()); }, ""});
+	// Integer times whose unit no extension or label settles: named and refused (the unit is never guessed).
+	v.push_back({"integer-times", "start, end, label lines with integer times (HTK, GRID or TIMIT without its extension)", {}, "", "", 2,
+	             [](const TimingSample& s) {
+		             if (!integerLines(lineShape(s.text()))) return false;
+		             for (const char* unitFormat : {"htk", "grid", "timit"})
+			             if (findTimingFormat(unitFormat)->signature(s)) return false;
+		             return true;
+	             },
+	             nullptr,
+	             "integer times have no unit of their own; name it with {{format}}: timit (16-kHz samples, {{sample-rate}}), grid (1/25000 s) or htk (100 ns)"});
+	v.push_back({"rhubarb-json", "Rhubarb Lip Sync JSON", {".json"}, "visemes (Rhubarb's A–H, X)", "times in s; metadata.duration", 3,
+	             [](const TimingSample& s) { return s.json() && timing::array(*s.json(), "mouthCues"); },
+	             [](const TimingSample& s, const ReadOptions&) { return readRhubarbJson(s.text(), s.path()); }, ""});
+}
+
+std::optional<std::string> detectTranscriptFormat(const std::string& raw) {
+	const TimingSample s(decodeText(raw), "");
+	return detectTimingFormat(s);
+}
+
 
 Transcript parseTranscript(const std::string& bytes, const std::string& path, const ReadOptions& o) {
 	const std::string text = decodeText(bytes);
 	if (trim(text).empty()) throw Error(path, 0, "empty transcript");
 	if (const auto z = text.find('\0'); z != std::string::npos)
 		throw Error(path, 0, "NUL bytes (the first at byte " + std::to_string(z) + "): not a text transcript (UTF-8 and UTF-16 are read)");
-	std::string format = o.format;
-	if (format.empty()) {
-		auto f = detectTranscriptFormat(text);
-		if (endsWith(toLower(path), ".phn") && (!f || *f == "grid" || *f == "htk" || *f == "timit")) f = "timit";
-		if (!f && endsWith(toLower(path), ".align")) f = "grid";
-		if (!f && endsWith(toLower(path), ".lab")) f = "htk";
-		if (!f)
-			throw Error(path, 0, "cannot tell the transcript format (integer times have no unit of their own); name it with {{format}}: timit (16-kHz samples, {{sample-rate}}), grid (1/25000 s), htk (100 ns), or " +
-			                         joinedFormats());
-		format = *f;
-		// Integer "start end word" files are HTK or GRID; the extension settles it where it can.
-		if ((format == "htk" || format == "grid") && !startsWith(trim(text), "#!MLF!#")) {
-			if (endsWith(toLower(path), ".align")) format = "grid";
-			else if (endsWith(toLower(path), ".lab") || endsWith(toLower(path), ".mlf")) format = "htk";
-		}
-	}
-	Transcript tr;
-	if (format == "textgrid") tr = readTextGrid(text, path, o);
-	else if (format == "pho") tr = readPho(text, path);
-	else if (format == "xlabel") tr = readXlabel(text, path);
-	else if (format == "htk") tr = readHtk(text, path, o);
-	else if (format == "grid") tr = readGrid(text, path);
-	else if (format == "timit") tr = readTimit(text, path, o.sampleRate);
-	else if (format == "marks") tr = readMarks(text, path);
-	else if (format == "tsv") tr = readTimingTsv(text, path, o.timingText);
-	else if (format == "rhubarb-tsv") tr = readRhubarbTsv(text, path);
-	else if (format == "rhubarb-json") tr = readRhubarbJson(text, path);
-	else if (format == "srt" || format == "vtt") tr = readSubtitles(text, path);
-	else if (format == "ctm") tr = readCtm(text, path, o);
-	else if (format == "json") tr = readJsonTiming(text, path, "", o);
-	else if (std::find(jsonTimingFormats().begin(), jsonTimingFormats().end(), format) != jsonTimingFormats().end()) tr = readJsonTiming(text, path, format, o);
-	else if (format == "festival") tr = readFestivalUtterance(text, path);
-	else if (format == "smil") tr = readSmil(text, path, o.timingText);
-	else throw Error("unknown transcript format '" + format + "' (known: " + joinedFormats() + ")");
+	const TimingSample sample(text, path);
+	Transcript tr = readTimingSample(sample, o);
+	const std::string& format = tr.format;
 	tr.path = path;
 	// --level: phones or words for a transcript of either (a TextGrid has chosen its tier by it); visemes stay.
 	if (o.level && *o.level != tr.level) {
@@ -907,6 +981,8 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 		tr.level = *o.level;
 	}
 
+	// Labels that are not speech (sound events, speaker labels, tone numbers) never reach the phonemiser.
+	cleanSpeechLabels(tr);
 	// Validation: sort, reject overlaps, drop zero-length intervals, fill gaps with pauses (withPauses).
 	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& a, const Interval& b) { return a.start < b.start; });
 	std::vector<Interval> clean;
@@ -925,6 +1001,8 @@ Transcript parseTranscript(const std::string& bytes, const std::string& path, co
 	}
 	if (clean.empty()) throw Error(path, 0, "the transcript has no interval of non-zero length");
 	tr.intervals = withPauses(clean);
+	// The plausibility gate (issue 50): units, rates, the stated duration; an Error naming what is wrong.
+	tr.verdict = checkTimingPlausibility(tr);
 	return tr;
 }
 

@@ -40,11 +40,23 @@ struct Transcript {
 	// What the reader did that a user should know (words without times left out, spoken noise read from
 	// the words tier, sentences spread over their span): one line each, for stderr.
 	std::vector<std::string> warnings;
+	// What the file itself says (issue 50): its language as written ("zho", "en_us", "English"; empty when
+	// it names none), the duration it states (seconds), its speakers and the one read (empty: one speaker),
+	// and the unit its times were written in ("s", "ms", "samples at 20000 Hz", "100 ns") — the gate's
+	// messages name it.
+	std::string language;
+	std::optional<double> statedDuration;
+	std::vector<std::string> speakers;
+	std::string speaker;
+	std::string unit = "s";
+	// The plausibility gate's verdict (plausibility.h): what was checked and passed, one line for -v.
+	std::string verdict;
 };
 
 struct ReadOptions {
 	std::string format;     // empty = detect from the content
-	std::string tier;       // TextGrid tier name or 1-based number (empty = the phone tier, else the word tier)
+	std::string tier;       // TextGrid tier name or 1-based number (empty = the phone tier, else the word tier);
+	                        // a speaker, channel or ELAN tier in files of several (--tier, --speaker)
 	std::string utterance;  // HTK MLF utterance name or 1-based index (empty = the first)
 	int sampleRate = 16000; // TIMIT .phn: times are sample numbers at this rate
 	// Phone or Word level as the user said (--level); nullopt = decided from tier names and labels.
