@@ -89,7 +89,7 @@ int runRender(const std::vector<std::string>& argv) {
 	const VideoCommand cmd = parseVideoCommand(args, "render");
 	if (drive.video && cmd.controls && !cmd.controls->curves.empty())
 		throw UsageError("render: --controls " + cmd.controls->path + " has curves and --drive gives them too: give one");
-	const Language& lang = languageOption(args, defaultLanguageFor(source.transcript, args.get("--transcript-format", "")));
+	const Language& lang = transcriptLanguage(args, source.transcript, args.get("--transcript-format", ""));
 	if (auto f = args.get("--text-file")) source.text = readTextFile(*f);
 	to.read.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 	source.read = to.read, source.unknown = to.unknown, source.notation = to.notation, source.wantWords = bool(cmd.timelineOut);

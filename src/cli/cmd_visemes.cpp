@@ -85,7 +85,7 @@ int runVisemes(const std::vector<std::string>& argv) {
 		writeOutput(args.get("--output", "-"), formatVisemes(speech.phones, keys, outFormat, lang.tag(), *audio, "ipa", &confidence));
 		return 0;
 	}
-	const Language& lang = languageOption(args, defaultLanguageFor(args.positionals()[0], ro.format));
+	const Language& lang = transcriptLanguage(args, args.positionals()[0], ro.format);
 	ro.knownPhone = [&lang](const std::string& label) { return lang.normalize(label).has_value(); };
 
 	const std::string path = args.positionals()[0];

@@ -98,6 +98,16 @@ const Language& languageOption(const Args& args, const std::string& defaultTag) 
 	return lang;
 }
 
+const Language& transcriptLanguage(const Args& args, const std::string& path, const std::string& format) {
+	const std::string tag = defaultLanguageFor(path, format);
+	if (args.has("--lang") || tag == "pt-BR") return languageOption(args, tag);
+	try {
+		return languageOption(args, tag);
+	} catch (const Error& e) {
+		throw Error(path, 0, "the file states its language as '" + tag + "': " + e.what() + "; or {{lang}} to read it as another language");
+	}
+}
+
 void noteWordLanguage(const Args& args, const Transcript& tr, const Language& lang, const std::string& path) {
 	if (tr.level != LabelLevel::Word || args.has("--lang") || tr.format == "grid" || tr.format == "gentle") return;
 	try {

@@ -94,6 +94,9 @@ std::vector<SideOutput> timelineOutput(const VideoCommand& cmd, const Performanc
 // --generic-visemes, a language without a table maps IPA through phonetics/generic, with one warning line
 // on stderr. Throws Error ("no viseme table for language …") otherwise.
 const Language& languageOption(const Args& args, const std::string& defaultTag = "pt-BR");
+// The language of a transcript: --lang, else the one the file states (an error naming the file when talkhead
+// has no table for it), else the default.
+const Language& transcriptLanguage(const Args& args, const std::string& transcriptPath, const std::string& format);
 // Words are phonemised in one language: when neither --lang nor the file named it, a warning says which.
 void noteWordLanguage(const Args& args, const Transcript& transcript, const Language& language, const std::string& path);
 // pt-BR, or en-US for a GRID .align (English by definition), for a transcript without --lang.

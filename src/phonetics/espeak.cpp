@@ -159,7 +159,12 @@ bool isPause(const std::string& ipa) { return ipa.empty() || ipa == "_" || ipa =
 
 }  // namespace
 
-std::string espeakVoiceFor(const std::string& tag) { return toLower(tag); }
+std::string espeakVoiceFor(const std::string& tag) {
+	// espeak-ng names Mandarin cmn (its "zh" is a language of that voice, not a voice name).
+	const std::string t = toLower(tag);
+	if (t == "zh" || t == "zh-cn" || t == "zh-hans" || t == "zho") return "cmn";
+	return t;
+}
 
 std::string checkedEspeakVoice(const std::string& voice) {
 	std::lock_guard<std::mutex> lock(espeakMutex());

@@ -74,7 +74,7 @@ struct Bounds {
 Bounds boundsFor(LabelLevel level) {
 	switch (level) {
 		case LabelLevel::Phone: return {0.012, 1.0, 50, "phone"};
-		case LabelLevel::Word: return {0.030, 5.0, 25, "word"};
+		case LabelLevel::Word: return {0.020, 5.0, 25, "word"};
 		case LabelLevel::Viseme: return {0.012, 2.0, 50, "viseme"};
 	}
 	return {0.012, 1.0, 50, "phone"};
@@ -173,14 +173,22 @@ std::size_t speakerPrefix(const std::string& label) {
 	return colon + 1;
 }
 
-// Removes [..], (..) and {..} spans; returns how many.
+// Removes [..], (..) and {..} spans of words ("[Applause.]", "(laughs)", "{\an8}"); a span with a digit
+// ("(444) 814-9913", a phone number) is speech: only its brackets go. Returns how many spans were removed.
 int dropBracketed(std::string& s) {
 	int n = 0;
 	for (const auto& [open, close] : {std::pair<char, char>{'[', ']'}, {'(', ')'}, {'{', '}'}}) {
-		for (std::size_t a; (a = s.find(open)) != std::string::npos;) {
+		for (std::size_t from = 0, a; (a = s.find(open, from)) != std::string::npos;) {
 			const std::size_t b = s.find(close, a + 1);
 			if (b == std::string::npos) break;
+			const std::string inside = s.substr(a + 1, b - a - 1);
+			if (std::any_of(inside.begin(), inside.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+				s.replace(a, b - a + 1, inside);
+				from = a + inside.size();
+				continue;
+			}
 			s.replace(a, b - a + 1, " ");
+			from = a + 1;
 			++n;
 		}
 	}

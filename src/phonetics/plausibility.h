@@ -8,7 +8,7 @@
 namespace talkhead {
 
 // The plausibility gate every timed transcript passes before anything is rendered, whatever its reader
-// (issue 50, D96): the median length of a phone (12 ms – 1 s), a word (30 ms – 5 s) or a viseme; the most
+// (issue 50, D96): the median length of a phone (12 ms – 1 s), a word (20 ms – 5 s) or a viseme; the most
 // phones (words) in any 2 s of speech (at most 50 phones, 25 words — from the fastest real files on hand,
 // see docs/decisions.md D96); the end within 10 % (+0.5 s) of a duration the file or the audio states.
 // A transcript that fails but passes with its times ×1000, ÷1000, ÷10⁷ or ÷ a sample rate is an Error that
