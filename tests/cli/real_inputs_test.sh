@@ -75,12 +75,39 @@ in/deepgram_nova3_callcenter.json | --lang en-US --tier 0 | phones: h a j _ θ �
 EOF
 )
 
+# Timing files of more speech tools (issue 50; real-inputs-4/SOURCES.tsv): the fifth field, where given, is
+# the first spoken phone's start and the last one's end (seconds, within 2 ms): the unit and the words'
+# times read as the tool meant them.
+TABLE4=$(cat <<'EOF'
+in/aeneas_sonnet001.ttml | | phones: w ʌ n f ɹ ʌ m f | cues hold several words | 0.000 53.240
+in/assemblyai_calvin_test.json | | phones: ð ɪ s _ ɪ z _ æ | ^$ | 1.437 4.887
+in/aws_transcribe_tscribe_01_plain.json | --lang en-US | phones: ʃ i w ʌ z g ɔ n | ^$ | 0.490 141.540
+in/aws_transcribe_tscribe_01_plain.json | | phones: ʃ ɪ w a s g o n | its words are read as pt-BR \(the default; the file names no language\)
+in/bas_partitur_emuR_msajc022.par | --lang en-US | phones: _ ɪ tʃ ɪ z ə ɔ w | phones read as SAMPA | 0.290 2.470
+in/bas_partitur_emuR_msajc022.par | | error: :33: unknown pt-BR phone 'eI' |
+in/charsiu_timit_SA1_short.TextGrid | --lang en-US | phones: _ ʃ i h æ d j ɹ | phones read as ARPAbet | 0.100 3.430
+in/elan_nzilbb_test_utterance.eaf | | error: words of 2 tiers \(I, P\); the face is one of them: choose with --tier NAME$ |
+in/elan_nzilbb_test_utterance.eaf | --speaker participant | phones: ɹ ɛ s t ʌ v ð æ | 12 bracketed sound events | 4.675 320.757
+in/elevenlabs_scribe_zh_heal-jimaku.json | | error: the file states its language as 'zh': no viseme table for language 'zh' .*--generic-visemes |
+in/google_stt_v1_longrunning_rest_heroic_test_16000.json | --lang en-US | phones: h a w ɑ ɹ j u t | ^$ | 2.800 12.300
+in/revai_muhammad_ali_speech.json | | error: words of 3 speakers \(0, 1, 2\); the face is one of them: choose with --tier SPEAKER$ |
+in/revai_muhammad_ali_speech.json | --speaker 0 --lang en-US | phones: a j w ɪ l b i _ | ^$ | 0.270 329.300
+in/rhubarb_xml_bannerlord_sturgian_male_earnest_101.xml | | phones: X F B G C B E X | ^$ | 0.000 2.050
+in/sclite_testdata_lvc_hypc_2ch_conf.ctm | | error: words of 4 recording and channels \(2347 A, 2347 B, 3129 A, 3129 B\) |
+in/sclite_testdata_lvc_hypc_2ch_conf.ctm | --tier 2347:A --lang en-US | phones: ð e j _ p ɹ a j | 3 alternations | 0.050 299.090
+in/vosk_test_simple_stdout_eddie_likes_pi.json | --lang en-US | phones: ɛ d i l a j k s | ^$ | 2.700 4.620
+in/whisper_cli_stdout_nzilbb_test.wt | --lang en-US | phones: ð ə ɹ ɛ s t ʌ v | segments hold several words | 0.000 331.800
+in/whispercpp_ojf_base_en_video-toolkit.json | | phones: ʌ m _ j u n o w | ^$ | 0.010 13.830
+in/youtube_autocaption_webvtt-py_youtube_dl.vtt | | phones: j ɛ h w ʌ t ð ɪ | 2 repeated caption lines | 286.070 305.469
+EOF
+)
+
 trim() { sed 's/^ *//; s/ *$//'; }
 fail=0 rows=0
 check_table() {  # DATA TABLE
 local DATA=$1 TABLE=$2
-while IFS='|' read -r file opts expect stderrRe; do
-	file=$(trim <<<"$file"); opts=$(trim <<<"$opts"); expect=$(trim <<<"$expect"); stderrRe=$(trim <<<"$stderrRe")
+while IFS='|' read -r file opts expect stderrRe times; do
+	file=$(trim <<<"$file"); opts=$(trim <<<"$opts"); expect=$(trim <<<"$expect"); stderrRe=$(trim <<<"$stderrRe"); times=$(trim <<<"${times:-}")
 	[ -e "$DATA/$file" ] || { echo "note: $file not in $DATA (row skipped)"; continue; }
 	rows=$((rows + 1))
 	rc=0
@@ -95,6 +122,11 @@ while IFS='|' read -r file opts expect stderrRe; do
 			echo "FAIL $file $opts: exit $rc, phones '$got', wanted '$want'; stderr: $(cat "$T/err")"; fail=1
 		elif ! grep -Eq "$stderrRe" "$T/err" && ! { [ "$stderrRe" = '^$' ] && [ ! -s "$T/err" ]; }; then
 			echo "FAIL $file $opts: stderr does not match /$stderrRe/: $(cat "$T/err")"; fail=1
+		elif [ -n "$times" ]; then
+			got=$(awk -F'\t' 'NR > 1 && $3 != "_" { if (!seen) { first = $1; seen = 1 } last = $2 } END { printf "%.3f %.3f", first, last }' "$T/out")
+			if ! awk -v a="$got" -v b="$times" 'BEGIN { split(a, x, " "); split(b, y, " "); exit !((x[1] - y[1])^2 < 4e-6 && (x[2] - y[2])^2 < 4e-6) }'; then
+				echo "FAIL $file $opts: first spoken start and last end '$got', wanted '$times'"; fail=1
+			fi
 		fi ;;
 	error:*)
 		pattern=${expect#error: }
@@ -119,6 +151,8 @@ done
 }
 check_table "$DATA" "$TABLE"
 if [ -d "$DATA3/in" ]; then check_table "$DATA3" "$TABLE3"; else echo "note: $DATA3 not found: its rows skipped"; fi
+DATA4=$2/real-inputs-4
+if [ -d "$DATA4/in" ]; then check_table "$DATA4" "$TABLE4"; else echo "note: $DATA4 not found: its rows skipped"; fi
 [ "$fail" = 0 ] || exit 1
 echo "real inputs ok ($rows rows)"
 
