@@ -40,7 +40,7 @@ Transcript wordTranscript(std::vector<AsrWord> words, const std::string& path, c
 	tr.speakers = speakers;
 	tr.speaker = timing::chooseSpeaker(speakers, o, path, what);
 	for (const AsrWord& w : words) {
-		if (!tr.speaker.empty() && w.speaker != tr.speaker) continue;
+		if ((speakers.size() > 1 || !o.tier.empty()) && w.speaker != tr.speaker) continue;
 		const std::string where = "word " + std::to_string(w.index + 1) + " ('" + safeQuote(w.text, 30) + "')";
 		if (w.end < w.start) throw Error(path, 0, where + " ends before it starts");
 		tr.intervals.push_back({timing::secondsAt(w.start, path, where), timing::secondsAt(w.end, path, where), std::string(trim(w.text)), w.index + 1});

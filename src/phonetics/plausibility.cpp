@@ -123,14 +123,15 @@ std::string checkTimingPlausibility(const Transcript& tr, std::optional<double> 
 		double factor;
 		std::string name;
 	};
-	std::vector<Scale> scales = {{1e-3, "milliseconds"}, {1e3, "kiloseconds (seconds read as milliseconds)"}, {1e-7, "100-ns ticks"}};
-	for (int rate : {8000, 16000, 20000, 22050, 44100, 48000}) scales.push_back({1.0 / rate, "samples at " + std::to_string(rate) + " Hz"});
 	const std::string as = tr.unit == "s" ? "seconds" : tr.unit;
+	std::vector<Scale> scales = {{1e-3, tr.unit == "s" ? "milliseconds" : "1000 times too long for " + as},
+	                             {1e3, tr.unit == "ms" ? "seconds" : "1000 times too short for " + as + " (seconds where milliseconds were expected?)"},
+	                             {1e-7, "100-ns ticks"}};
+	for (int rate : {8000, 16000, 20000, 22050, 44100, 48000}) scales.push_back({1.0 / rate, "samples at " + std::to_string(rate) + " Hz"});
 	for (const Scale& s : scales) {
 		const Measure scaled = measure(tr, s.factor);
 		if (!implausible(scaled, b, duration, from).empty()) continue;
-		std::string name = s.name;
-		if (s.factor == 1e3) name = "seconds where " + as + " were expected (×1000)";
+		const std::string& name = s.name;
 		throw Error(tr.path, 0, "times read as " + as + " are not speech: " + why + "; they look like " + name + " (the median " + b.unit + " then lasts " +
 		                            std::to_string(int(std::lround(scaled.median * 1000))) + " ms): export the file in its tool's own unit, or name the format with {{format}}");
 	}
@@ -182,7 +183,8 @@ int dropBracketed(std::string& s) {
 			const std::size_t b = s.find(close, a + 1);
 			if (b == std::string::npos) break;
 			const std::string inside = s.substr(a + 1, b - a - 1);
-			if (std::any_of(inside.begin(), inside.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+			const bool code = open == '{' && !inside.empty() && inside[0] == '\\';  // {\an8}: an override code
+			if (!code && std::any_of(inside.begin(), inside.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
 				s.replace(a, b - a + 1, inside);
 				from = a + inside.size();
 				continue;
@@ -215,7 +217,14 @@ void cleanSpeechLabels(Transcript& tr) {
 	const bool pinyin = words >= 2 && syllables * 2 > words;
 	for (Interval& iv : tr.intervals) {
 		std::string l = iv.label;
-		if (l.empty() || isPauseLabel(l)) continue;
+		if (l.empty()) continue;
+		if (isPauseLabel(l)) {
+			// A whole label in brackets of words ("[Applause.]", "(laughs)"): a sound event, a pause.
+			const char f = l.front();
+			if ((f == '[' || f == '(') && std::any_of(l.begin(), l.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)); })) ++events;
+			iv.label = "";
+			continue;
+		}
 		if (const std::size_t p = speakerPrefix(l)) {
 			l = l.substr(p);
 			++speakers;

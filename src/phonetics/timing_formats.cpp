@@ -704,8 +704,11 @@ void registerServiceTimingFormats(std::vector<TimingFormat>& v) {
 	v.push_back(jsonFormat("whisper", "Whisper family JSON: openai-whisper, whisper-timestamped, WhisperX, faster-whisper (segments[].words[])", "words",
 	                       "times in s; language", 2, [](const JsonValue& j) {
 		                       const JsonValue* seg = arrayAt(j, "segments");
-		                       return isObject(j) && seg && !arrayAt(j, "words") && !j.find("transcription") &&
-		                              (allHave(*seg, {"start", "end"}) || (seg->array.empty() && j.find("text")));
+		                       if (!isObject(j) || !seg || arrayAt(j, "words") || j.find("transcription")) return false;
+		                       if (seg->array.empty()) return j.find("text") != nullptr;
+		                       return std::all_of(seg->array.begin(), seg->array.end(), [](const JsonValue& e) {
+			                       return isObject(e) && (e.find("text") || (e.find("start") && e.find("end")));
+		                       });
 	                       }));
 	v.push_back(jsonFormat("openai", "OpenAI transcription verbose_json (words[])", "words", "times in s; language; duration", 2, [](const JsonValue& j) {
 		const JsonValue* w = arrayAt(j, "words");
@@ -971,7 +974,7 @@ Transcript readSubtitles(const std::string& text, const std::string& path, const
 				if (const std::string v = voiceOf(l); !v.empty()) voice = v;
 				body += (body.empty() ? "" : " ") + l;
 			}
-			if (!tr.speaker.empty() && voice != tr.speaker) continue;
+			if ((voices.size() > 1 || !o.tier.empty()) && voice != tr.speaker) continue;
 			body = cueText(body);
 			sentences |= body.find(' ') != std::string::npos;
 			tr.intervals.push_back({ticksFromSeconds(c.a), ticksFromSeconds(c.b), body, c.no});

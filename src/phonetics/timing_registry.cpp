@@ -249,7 +249,7 @@ std::string looksLike(const TimingSample& s) {
 					members += ", …";
 					break;
 				}
-				members += (members.empty() ? "" : ", ") + safeQuote(k, 30);
+				members += (members.empty() ? "" : ", ") + ("'" + safeQuote(k, 30) + "'");
 			}
 			return "JSON whose members are " + (members.empty() ? std::string("none") : members);
 		}

@@ -157,7 +157,11 @@ TEST(TimingFormats, subtitlesAndCtm) {
 	const Transcript p = read("phones.ctm", en);
 	EXPECT_EQ(p.level, LabelLevel::Phone);
 	EXPECT_EQ(shape(p), "HH@0.100-0.200 AH0@0.200-0.400 L@0.400-0.500 OW1@0.500-0.700");
-	EXPECT_NE(errorOf([] { read("two_utterances.ctm"); }).find("two_utterances.ctm:2: a second recording 'utt2' after 'utt1'"), std::string::npos);
+	// Two recordings (or channels) are two speakers to choose from (issue 50).
+	EXPECT_NE(errorOf([] { read("two_utterances.ctm"); }).find("two_utterances.ctm: words of 2 recording and channels (utt1 1, utt2 1)"), std::string::npos);
+	ReadOptions second;
+	second.tier = "utt2 1";
+	EXPECT_EQ(shape(read("two_utterances.ctm", second)), "world@0.500-1.000");
 	// Never read as MBROLA .pho (issue 29 item 3), never with the utterance id as a word.
 	EXPECT_EQ(detectTranscriptFormat("utt1 1 0.10 0.40 hello\n").value_or(""), "ctm");
 	EXPECT_EQ(detectTranscriptFormat("a 100 50 120\n").value_or(""), "pho");
@@ -168,7 +172,7 @@ TEST(TimingFormats, errorsSayWhatToGiveInstead) {
 	EXPECT_NE(err(R"({"timepoints": [{"markName": "a", "timeSeconds": 0.1}]})", "g.json").find("Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from ({{timing-text}} FILE)"),
 	          std::string::npos);
 	const std::string unknown = err(R"({"foo": 1})", "x.json");
-	EXPECT_NE(unknown.find("JSON of no timing format talkhead reads (known: Whisper"), std::string::npos) << unknown;
+	EXPECT_NE(unknown.find("no timing format talkhead reads matches this file (JSON whose members are 'foo'); formats read: textgrid"), std::string::npos) << unknown;
 	EXPECT_EQ(unknown.find("integer"), std::string::npos);
 	EXPECT_NE(err(R"({"segments": [{"text": "hi"}]})", "w.json").find("without word timestamps"), std::string::npos);
 	EXPECT_NE(err("WEBVTT\n\n00:01.000 --> 00:00.500\nx\n", "b.vtt").find("b.vtt:3: the cue ends before it starts"), std::string::npos);
