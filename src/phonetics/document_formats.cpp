@@ -36,15 +36,19 @@ pugi::xml_document parseXml(const TimingSample& s) {
 	return doc;
 }
 
+// Elements nested deeper than this are an error (the readers walk the tree recursively).
+constexpr int kMaxXmlDepth = 64;
+
 // All text below a node, white space collapsed.
-std::string textOf(const pugi::xml_node& n) {
+std::string textOf(const pugi::xml_node& n, int depth = 0) {
 	std::string out;
+	if (depth > kMaxXmlDepth) throw Error("XML elements nested deeper than " + std::to_string(kMaxXmlDepth));
 	for (const pugi::xml_node& c : n.children()) {
 		if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) out += std::string(" ") + c.value() + " ";
 		else if (c.type() == pugi::node_element) {
 			const std::string name = localName(c.name());
 			if (name == "br") out += " ";
-			else out += textOf(c);
+			else out += textOf(c, depth + 1);
 		}
 	}
 	std::string collapsed;
@@ -96,7 +100,8 @@ Transcript ttml(const TimingSample& s, const ReadOptions&) {
 	tr.level = LabelLevel::Word;
 	bool sentences = false;
 	// Times are relative to the parent's begin (timeContainer par, the default).
-	std::function<void(const pugi::xml_node&, double)> walk = [&](const pugi::xml_node& n, double offset) {
+	std::function<void(const pugi::xml_node&, double, int)> walk = [&](const pugi::xml_node& n, double offset, int depth) {
+		if (depth > kMaxXmlDepth) throw Error(s.path(), 0, "TTML elements nested deeper than " + std::to_string(kMaxXmlDepth));
 		for (const pugi::xml_node& c : n.children()) {
 			if (c.type() != pugi::node_element) continue;
 			const std::string name = localName(c.name());
@@ -109,7 +114,7 @@ Transcript ttml(const TimingSample& s, const ReadOptions&) {
 				bool timedSpans = false;
 				for (const pugi::xml_node& sp : c.children("span")) timedSpans |= !sp.attribute("begin").empty();
 				if (name == "p" && timedSpans) {
-					walk(c, offset + (b ? *b : 0));
+					walk(c, offset + (b ? *b : 0), depth + 1);
 					continue;
 				}
 				if (!b || !e) throw Error(s.path(), 0, "<" + name + "> '" + safeQuote(textOf(c), 30) + "' has no begin and end (or dur)");
@@ -118,10 +123,10 @@ Transcript ttml(const TimingSample& s, const ReadOptions&) {
 				tr.intervals.push_back(timed(offset + *b, offset + *e, text, s.path(), "<" + name + " begin=" + c.attribute("begin").value() + ">"));
 				continue;
 			}
-			walk(c, offset + (b ? *b : 0));
+			walk(c, offset + (b ? *b : 0), depth + 1);
 		}
 	};
-	walk(tt, 0);
+	walk(tt, 0, 0);
 	if (tr.intervals.empty()) throw Error(s.path(), 0, "a TTML document with no timed <p> or <span>");
 	if (sentences)
 		tr.warnings.push_back("cues hold several words: each cue's phones are spread by espeak-ng's durations (approximate; word-level cues, or talkhead align on the audio, time them)");
@@ -265,7 +270,7 @@ Transcript basPartitur(const TimingSample& s, const ReadOptions&) {
 		                             (kan ? ": run WebMAUS with output format 'par' (or export a TextGrid), which holds MAU" : ""));
 	for (const auto& [line, f] : mau) {
 		long long b, d;
-		if (f.size() < 4 || !parseInt(f[0], b) || !parseInt(f[1], d) || b < 0 || d < 0)
+		if (f.size() < 4 || !parseInt(f[0], b) || !parseInt(f[1], d) || b < 0 || d < 0 || b > 1'000'000'000'000LL || d > 1'000'000'000'000LL)
 			throw Error(s.path(), line, "expected 'MAU: begin duration word phone' (samples), found '" + safeQuote(joined(f, " ")) + "'");
 		// Duration is the last sample's offset: the segment covers d + 1 samples.
 		tr.intervals.push_back(timed(double(b) / rate, double(b + d + 1) / rate, f[3] == "<p:>" || f[3] == "<p>" ? "" : f[3], s.path(), "MAU", line));

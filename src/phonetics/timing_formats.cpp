@@ -1040,7 +1040,8 @@ bool looksLikeCtm(const std::string& text) {
 	bool sameUtterance = true, wordLabels = true;
 	std::string utterance;
 	long no = 0;
-	for (const std::string& l : split(text.substr(0, 100000), '\n')) {
+	const std::size_t cut = text.size() <= 100000 ? text.size() : text.rfind('\n', 100000);
+	for (const std::string& l : split(std::string_view(text).substr(0, cut == std::string::npos ? 0 : cut), '\n')) {
 		++no;
 		const std::string_view t = trim(l);
 		if (t.empty() || t[0] == ';' || t[0] == '#') continue;

@@ -311,8 +311,15 @@ Transcript readTimingSample(const TimingSample& sample, const ReadOptions& o) {
 		}
 		f = findTimingFormat(*name);
 	}
-	if (!f->read) throw Error(sample.path(), 0, "a " + f->title + " file: " + f->refusal);
-	Transcript tr = f->read(sample, o);
+	if (!f->read) throw Error(sample.path(), 0, f->title + ": " + f->refusal);
+	Transcript tr;
+	try {
+		tr = f->read(sample, o);
+	} catch (const Error& e) {
+		// Every message names the file.
+		if (!sample.path().empty() && !startsWith(e.what(), sample.path())) throw Error(sample.path(), 0, e.what());
+		throw;
+	}
 	if (tr.format.empty()) tr.format = f->name;
 	return tr;
 }

@@ -787,6 +787,13 @@ bool isPauseLabel(std::string_view label) {
 
 namespace {
 
+// The first `n` bytes of a text, cut after its last whole line: a signature never sees a line cut in two.
+std::string headLines(const std::string& text, std::size_t n) {
+	if (text.size() <= n) return text;
+	const auto nl = text.rfind('\n', n);
+	return nl == std::string::npos ? std::string() : text.substr(0, nl + 1);
+}
+
 // The line formats' shape: the first data line's fields, the largest second field of integer lines, whether
 // every data line is "integer integer label", and whether there are ';' comment lines.
 struct LineShape {
@@ -797,7 +804,7 @@ struct LineShape {
 };
 LineShape lineShape(const std::string& text) {
 	LineShape sh;
-	for (const Line& l : lines(text)) {
+	for (const Line& l : lines(headLines(text, 256 * 1024))) {
 		if (l.text.empty()) continue;
 		if (l.text[0] == ';') {
 			sh.semicolon = true;
@@ -822,7 +829,7 @@ bool integerLines(const LineShape& sh) { return sh.first.size() >= 3 && allInteg
 
 bool isXlabel(const std::string& text) {
 	// xlabel (festvox/EHMM .lab): header lines, a line "#", then "end_time [color] label" lines.
-	const std::vector<Line> ls = lines(text.substr(0, 8000));
+	const std::vector<Line> ls = lines(headLines(text, 8000));
 	double d;
 	for (std::size_t i = 1; i < ls.size() && i < 40; ++i) {
 		const auto f = splitWhitespace(ls[i - 1].text);
@@ -842,7 +849,7 @@ bool isXlabel(const std::string& text) {
 bool isPho(const std::string& text) {
 	int data = 0;
 	bool comment = false;
-	for (const Line& l : lines(text)) {
+	for (const Line& l : lines(headLines(text, 256 * 1024))) {
 		if (!l.text.empty() && l.text[0] == ';') {
 			comment = true;
 			continue;
@@ -860,7 +867,7 @@ bool isPho(const std::string& text) {
 
 // "start end label" (tab- or space-separated, seconds) on the first data line, or a header naming start and end.
 bool isTimingTsv(const std::string& text) {
-	for (const Line& l : lines(text.substr(0, 8000))) {
+	for (const Line& l : lines(headLines(text, 8000))) {
 		if (l.text.empty() || l.text[0] == '#') continue;
 		auto f = split(l.text, '\t');
 		if (f.size() == 1) f = splitWhitespace(l.text);
@@ -874,7 +881,7 @@ bool isTimingTsv(const std::string& text) {
 
 bool isRhubarbTsv(const std::string& text) {
 	int n = 0;
-	for (const Line& l : lines(text.substr(0, 20000))) {
+	for (const Line& l : lines(headLines(text, 20000))) {
 		if (l.text.empty()) continue;
 		const auto f = splitWhitespace(l.text);
 		double d;
