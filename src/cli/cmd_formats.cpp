@@ -28,8 +28,9 @@ int runFormats(const std::vector<std::string>& argv) {
 	const std::string format = args.get("--format", "table");
 	if (format == "tsv" || format == "markdown") {
 		// Each line worded for the command line (a message's fields as flags); the table keeps its lines.
-		for (const std::string& line : split(formatsTable(format == "markdown"), '\n'))
-			if (!line.empty()) std::printf("%s\n", shownLine(line).c_str());
+		// Tabs kept (shownLine would escape them); the fields still worded as flags.
+		const auto flag = [](const std::string& f) { return std::optional<std::string>(cliField(f)); };
+		std::fputs(wordFields(formatsTable(format == "markdown"), flag).c_str(), stdout);
 		return 0;
 	}
 	if (format != "table") throw UsageError("formats: --format is table, tsv or markdown, not '" + format + "'");

@@ -82,16 +82,42 @@ void untimedWarning(Transcript& tr, int untimed, const char* what) {
 		                      (untimed > 1 ? "are" : "is") + " left out: the mouth rests there");
 }
 
-Transcript whisper(const JsonValue& v, const std::string& path) {
+// WhisperX's diarized speaker of a word (its own "speaker", else its segment's); empty when none.
+std::string whisperSpeaker(const JsonValue& word, const JsonValue& segment) {
+	if (const std::string* w = stringOf(word.find("speaker"))) return *w;
+	if (const std::string* g = stringOf(segment.find("speaker"))) return *g;
+	return "";
+}
+
+Transcript whisper(const JsonValue& v, const std::string& path, const ReadOptions& o) {
 	Transcript tr;
 	tr.format = "whisper";
 	tr.level = LabelLevel::Word;
 	int untimed = 0;
 	const JsonValue* segments = arrayAt(v, "segments");
+	// WhisperX with diarization: words of several speakers; one is read (--speaker), as for Deepgram.
+	std::vector<std::string> speakers;
+	for (const JsonValue& seg : segments->array)
+		if (const JsonValue* words = arrayAt(seg, "words"))
+			for (const JsonValue& w : words->array)
+				if (const std::string sp = whisperSpeaker(w, seg); !sp.empty() && std::find(speakers.begin(), speakers.end(), sp) == speakers.end()) speakers.push_back(sp);
+	const bool choose = speakers.size() > 1 || !o.tier.empty();
+	if (choose) tr.speaker = timing::chooseSpeaker(speakers, o, path, "speaker");
+	tr.speakers = speakers;
 	long s = 0;
 	for (const JsonValue& seg : segments->array) {
 		const std::string where = "segments[" + std::to_string(s++) + "].words";
-		if (const JsonValue* words = arrayAt(seg, "words")) addWords(tr, *words, {"text", "word"}, path, where, untimed);
+		const JsonValue* words = arrayAt(seg, "words");
+		if (!words) continue;
+		if (!choose) {
+			addWords(tr, *words, {"text", "word"}, path, where, untimed);
+			continue;
+		}
+		JsonValue mine;
+		mine.kind = JsonValue::Kind::Array;
+		for (const JsonValue& w : words->array)
+			if (whisperSpeaker(w, seg) == tr.speaker) mine.array.push_back(w);
+		addWords(tr, mine, {"text", "word"}, path, where, untimed);
 	}
 	if (tr.intervals.empty() && untimed == 0)
 		throw Error(path, 0, "a Whisper JSON without word timestamps (segments[].words[]): run it with word timestamps (whisper --word_timestamps True, whisper-timestamped, WhisperX, faster-whisper word_timestamps=True)");
@@ -649,7 +675,7 @@ Transcript readJsonValue(const JsonValue& v, const std::string& path, const std:
 	auto need = [&](bool ok, const char* what) {
 		if (!ok) throw Error(path, 0, std::string("not a ") + f + " file: " + what);
 	};
-	if (f == "whisper") need(object && arrayAt(v, "segments"), "no segments[]"), tr = whisper(v, path);
+	if (f == "whisper") need(object && arrayAt(v, "segments"), "no segments[]"), tr = whisper(v, path, o);
 	else if (f == "openai") need(object && arrayAt(v, "words"), "no words[] (ask for timestamp_granularities[]=word)"), tr = openai(v, path);
 	else if (f == "deepgram") need(object, "not an object"), tr = deepgram(v, path, o);
 	else if (f == "gentle") need(object && arrayAt(v, "words"), "no words[]"), tr = gentle(v, path);

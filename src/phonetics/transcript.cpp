@@ -711,6 +711,8 @@ Transcript readRhubarbJson(const std::string& text, const std::string& path) {
 		tr.intervals.push_back({boundedSeconds(a, path, 0, "mouth cue " + std::to_string(k) + " start"),
 		                        boundedSeconds(b, path, 0, "mouth cue " + std::to_string(k) + " end"), v->string, k});
 	}
+	if (const JsonValue* m = doc.find("metadata"); m && m->kind == JsonValue::Kind::Object)
+		if (const JsonValue* d = m->find("duration"); d && d->kind == JsonValue::Kind::Number) tr.statedDuration = d->number;
 	return tr;
 }
 

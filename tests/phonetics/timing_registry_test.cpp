@@ -222,6 +222,13 @@ TEST(TimingReaders, servicesAsTheirWritersWriteThem) {
 	                            "az.json");
 	EXPECT_EQ(az.format, "azure-stt");
 	EXPECT_EQ(shape(az), "hello@0.500-0.800 there@0.800-1.200");
+	// WhisperX diarized: a speaker to choose, by its own words' or its segment's speaker.
+	const std::string wx = R"({"segments": [{"start": 0.1, "end": 1.0, "speaker": "SPEAKER_00", "words": [{"word": "Hello", "start": 0.1, "end": 0.5}, {"word": "there", "start": 0.5, "end": 1.0}]},
+	  {"start": 1.2, "end": 2.0, "words": [{"word": "Hi", "start": 1.2, "end": 1.6, "speaker": "SPEAKER_01"}]}], "word_segments": []})";
+	EXPECT_NE(err(wx, "wx.json").find("words of 2 speakers (SPEAKER_00, SPEAKER_01)"), std::string::npos) << err(wx, "wx.json");
+	ReadOptions one;
+	one.tier = "SPEAKER_01";
+	EXPECT_EQ(shape(parse(wx, "wx.json", one)), "Hi@1.200-1.600");
 	// NeMo's forced aligner: 8 columns, NA confidences.
 	const Transcript nemo = parse("utt1 1 0.40 0.16 hello NA lex NA\nutt1 1 0.56 0.30 world NA lex NA\n", "n.ctm", [] {
 		ReadOptions o;
