@@ -219,10 +219,13 @@ void cleanSpeechLabels(Transcript& tr) {
 		std::string l = iv.label;
 		if (l.empty()) continue;
 		if (isPauseLabel(l)) {
-			// A whole label in brackets of words ("[Applause.]", "(laughs)"): a sound event, a pause.
+			// A whole label in brackets of words ("[Applause.]", "(laughs)"): a sound event, a pause. Pause words
+			// (sil, sp, <unk>, {LG}, [SIL]) stay as written.
 			const char f = l.front();
-			if ((f == '[' || f == '(') && std::any_of(l.begin(), l.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)); })) ++events;
-			iv.label = "";
+			if (f == '(' || (f == '[' && std::any_of(l.begin(), l.end(), [](char c) { return std::islower(static_cast<unsigned char>(c)); }))) {
+				++events;
+				iv.label = "";
+			}
 			continue;
 		}
 		if (const std::size_t p = speakerPrefix(l)) {

@@ -48,30 +48,30 @@ EOF
 # Timing files of today's speech pipelines (issue 29; real-inputs-3/SOURCES.tsv): Whisper family, SRT/VTT,
 # aeneas, Gentle, MFA 3.x with spoken noise, Festival, HTS, OpenAI, Deepgram.
 TABLE3=$(cat <<'EOF'
-in/wts_bonjour_vous_allez_bien.words.json | | phones: b ɔ̃ ʒ u ʁ ɛ s k | ^$
+in/wts_bonjour_vous_allez_bien.words.json | | phones: b ɔ̃ ʒ u ʁ ɛ s k | ^$ | 0.420 35.860
 in/wts_bonjour_vous_allez_bien.words.srt | --lang fr | phones: b ɔ̃ ʒ u ʁ ɛ s k | ^$
 in/wts_bonjour_vous_allez_bien.words.srt | | phones: b o ŋ ʒ o w ɾ e | words are read as pt-BR \(the default; the file names no language\): --lang for another$
-in/wts_gaenswein15_de.words.json | | phones: d i v i d ɐ t s | ^$
-in/wts_punctuations_fr.words.json | | phones: d i m w a _ ɛ s | ^$
-in/wts_empty_hallucination.words.json | | phones: θ æ ŋ k s f ɔ ɹ | ^$
-in/wts_laugh1.words.json | | phones: h æ h ɐ h ɑ h ə | ^$
-in/wts_radio_short.words.vtt | --lang fr | phones: t ʁ w a _ d ø _ | ^$
-in/aeneas_sonnet001.json | | phones: w ʌ n f ɹ ʌ m f | times sentences, not words
+in/wts_gaenswein15_de.words.json | | phones: d i v i d ɐ t s | ^$ | 0.840 15.480
+in/wts_punctuations_fr.words.json | | phones: d i m w a _ ɛ s | ^$ | 0.380 2.760
+in/wts_empty_hallucination.words.json | | phones: θ æ ŋ k s f ɔ ɹ | ^$ | 0.000 2.520
+in/wts_laugh1.words.json | | phones: h æ h ɐ h ɑ h ə | ^$ | 0.320 1.580
+in/wts_radio_short.words.vtt | --lang fr | phones: t ʁ w a _ d ø _ | ^$ | 0.040 139.700
+in/aeneas_sonnet001.json | | phones: w ʌ n f ɹ ʌ m f | times sentences, not words | 0.000 53.240
 in/aeneas_sonnet001.srt | --lang en-US | phones: w ʌ n f ɹ ʌ m f | cues hold several words
 in/aeneas_sonnet001.vtt | --lang en-US | phones: w ʌ n f ɹ ʌ m f | cues hold several words
 in/aeneas_sonnet001_short.TextGrid | --lang en-US | phones: w ʌ n f ɹ ʌ m f | tier 'Token' \(words\)$
 in/aeneas_sonnet001.tsv | | error: :1: the labels are aeneas fragment ids \('f000001'\), not text | 
 in/aeneas_sonnet001.smil | | error: a SMIL sync map .* names its text only by reference | 
-in/gentle_harvard_list30_s01.json | | phones: ð i m j u t _ m | phones read as ARPAbet
-in/gentle_lucier_golden.json | | phones: a j _ æ m ɹ ʌ k | 30 words of the transcript Gentle did not find in the audio left out
-in/mfa3_hari_isle02.TextGrid | --lang en-US | phones: _ a j s ɛ d n u | is spoken noise \(spn, <unk>\) for 1.5 of its 1.6 s of speech: the words of tier 'words' are read instead
+in/gentle_harvard_list30_s01.json | | phones: ð i m j u t _ m | phones read as ARPAbet | 0.340 3.640
+in/gentle_lucier_golden.json | | phones: a j _ æ m ɹ ʌ k | 30 words of the transcript Gentle did not find in the audio left out | 0.000 96.130
+in/mfa3_hari_isle02.TextGrid | --lang en-US | phones: _ a j s ɛ d n u | is spoken noise \(spn, <unk>\) for 1.5 of its 1.6 s of speech: the words of tier 'words' are read instead | 0.620 2.180
 in/mfa3_hari_F2BJRLP1.TextGrid | --lang en-US | error: :200: tier 'phones' has no phones to show: 100 % of its speech is spoken noise \(spn\) or <unk>, and most of the words under it are <unk> | 
 in/mfa3_isle01_all_unk.TextGrid | --lang en-US | error: :10: tier 'words' has no words to show: 100 % of its speech is spoken noise | 
-in/festival_merlin_testutt_002.utt | --lang en-US | phones: _ s ɪ n s a j w | phones read as ARPAbet
-in/hts_merlin_testutt_002_full.lab | --lang en-US | phones: _ s ɪ n s a j w | phones read as ARPAbet
+in/festival_merlin_testutt_002.utt | --lang en-US | phones: _ s ɪ n s a j w | phones read as ARPAbet | 0.220 6.386
+in/hts_merlin_testutt_002_full.lab | --lang en-US | phones: _ s ɪ n s a j w | phones read as ARPAbet | 0.220 6.386
 in/openai_verbose_json_words_docexample.json | | error: :12: malformed JSON: column 5 | 
 in/deepgram_nova3_callcenter.json | --lang en-US | error: words of 2 speakers \(Deepgram diarization\) in one channel; the face is one of them: choose with --tier SPEAKER \(0, 1\) | 
-in/deepgram_nova3_callcenter.json | --lang en-US --tier 0 | phones: h a j _ θ æ ŋ k | ^$
+in/deepgram_nova3_callcenter.json | --lang en-US --tier 0 | phones: h a j _ θ æ ŋ k | ^$ | 0.000 460.622
 EOF
 )
 

@@ -301,7 +301,12 @@ TEST(Espeak, gridWordsExpandToPhonesInsideEachWord) {
 TEST(Cdv, aHundredSecondWordKeepsItsPhonesInOrder) {
 	// A valid GRID file with one 100-s word: span × duration once overflowed 64 bits and the phone times
 	// ran backwards and negative with exit 0 (issue 15 item 3).
-	Transcript t = parseTranscript("0 25000 sil\n25000 2525000 set\n2525000 2550000 sil\n", "long.align");
+	// The plausibility gate (issue 50) refuses such a file now; the word is stretched after reading.
+	Transcript t = parseTranscript("0 25000 sil\n25000 35000 set\n35000 60000 sil\n", "long.align");
+	ASSERT_EQ(t.intervals.size(), 3u);
+	t.intervals[1].end = Ticks(2525000 * (kTicksPerSecond / 25000));
+	t.intervals[2].start = t.intervals[1].end;
+	t.intervals[2].end = Ticks(2550000 * (kTicksPerSecond / 25000));
 	auto phones = phoneSegments(t, Language::get("en-US"));
 	ASSERT_GE(phones.size(), 5u);
 	for (std::size_t i = 0; i < phones.size(); ++i) {

@@ -388,7 +388,7 @@ TEST(UnknownPhones, nearestIsTheClosestSpellingNeverAPrefixOrAPause) {
 	EXPECT_NE(e.find("emu.tsv:2: unknown en-US phone 'ai'"), std::string::npos) << e;
 	EXPECT_EQ(e.find("silence"), std::string::npos) << e;
 	// aeneas fragment ids are not phones with a stress digit (issue 29 item 2): f000001 is unknown, not f.
-	Transcript ids = parseTranscript("0.000\t2.680\ta\n2.680\t5.880\tf000002\n", "ids.tsv");
+	Transcript ids = parseTranscript("0.000\t0.080\ta\n0.080\t0.160\tf000002\n", "ids.tsv");
 	EXPECT_NE(errorOf([&] { phoneSegments(ids, en); }).find("unknown en-US phone 'f000002'"), std::string::npos);
 	EXPECT_NE(errorOf([] { parseTranscript("0.000\t2.680\tf000001\n2.680\t5.880\tf000002\n", "sync.tsv"); }).find("sync.tsv:1: the labels are aeneas fragment ids"),
 	          std::string::npos);
