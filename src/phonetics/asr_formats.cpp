@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 
 #include "base/error.h"
@@ -150,6 +151,12 @@ Transcript revai(const TimingSample& s, const ReadOptions& o) {
 }
 
 // ---- Vosk: {"result": [{conf, start, end, word}], "text"} objects, partials between them -------------
+// Vosk with SetMaxAlternatives: {"alternatives": [{"confidence", "result": […], "text"}]}: the first is read.
+const JsonValue* voskBest(const JsonValue& v) {
+	if (const JsonValue* alts = array(v, "alternatives"); alts && !alts->array.empty() && isObjectPtr(&alts->array[0])) return &alts->array[0];
+	return &v;
+}
+
 Transcript vosk(const TimingSample& s, const ReadOptions& o) {
 	std::vector<const JsonValue*> objects;
 	if (s.json()) {
@@ -161,7 +168,7 @@ Transcript vosk(const TimingSample& s, const ReadOptions& o) {
 	std::vector<AsrWord> words;
 	long k = 0;
 	for (const JsonValue* v : objects) {
-		const JsonValue* r = isObjectPtr(v) ? array(*v, "result") : nullptr;
+		const JsonValue* r = isObjectPtr(v) ? array(*voskBest(*v), "result") : nullptr;
 		if (!r) continue;  // {"partial": …}, {"text": ""}
 		for (const JsonValue& w : r->array) {
 			const auto a = number(w.find("start")), b = number(w.find("end"));
@@ -174,8 +181,9 @@ Transcript vosk(const TimingSample& s, const ReadOptions& o) {
 	return wordTranscript(words, s.path(), o);
 }
 
-bool voskObject(const JsonValue& v) {
-	if (v.kind != JsonValue::Kind::Object) return false;
+bool voskObject(const JsonValue& v0) {
+	if (v0.kind != JsonValue::Kind::Object) return false;
+	const JsonValue& v = *voskBest(v0);
 	if (const JsonValue* r = array(v, "result")) return allHave(*r, {"word", "start", "end"});
 	return (v.find("partial") || v.find("text")) && v.object.size() <= 3;
 }
@@ -330,6 +338,85 @@ Transcript azureRecognition(const TimingSample& s, const ReadOptions& o) {
 	return tr;
 }
 
+// ---- YouTube's timed text JSON (json3, as youtube-dl/yt-dlp save it): events[] with tStartMs/dDurationMs and
+// segs[] with utf8 and tOffsetMs (auto-captions: one word a seg) -----------------------------------------------
+Transcript youtubeJson3(const TimingSample& s, const ReadOptions& o) {
+	std::vector<AsrWord> words;
+	long k = 0;
+	for (const JsonValue& e : array(root(s), "events")->array) {
+		const JsonValue* segs = array(e, "segs");
+		const auto start = number(e.find("tStartMs"));
+		if (!segs || !start) continue;  // window and style events carry no text
+		const double dur = number(e.find("dDurationMs")).value_or(0);
+		std::vector<std::pair<double, std::string>> pieces;
+		for (const JsonValue& g : segs->array) {
+			const std::string* t = string(g.find("utf8"));
+			if (!t || trim(*t).empty()) continue;  // "\n" between lines
+			pieces.emplace_back(*start + number(g.find("tOffsetMs")).value_or(0), std::string(trim(*t)));
+		}
+		for (std::size_t i = 0; i < pieces.size(); ++i) {
+			const double end = i + 1 < pieces.size() ? pieces[i + 1].first : *start + dur;
+			words.push_back({pieces[i].first / 1000, std::max(end, pieces[i].first) / 1000, pieces[i].second, "", k++});
+		}
+	}
+	Transcript tr = wordTranscript(words, s.path(), o);
+	tr.unit = "ms";
+	// Rolling auto-captions repeat a line in an event that lasts as long as the next: only new words are here.
+	for (std::size_t i = 0; i + 1 < tr.intervals.size(); ++i)
+		if (tr.intervals[i].end > tr.intervals[i + 1].start) tr.intervals[i].end = std::max(tr.intervals[i].start, tr.intervals[i + 1].start);
+	return tr;
+}
+
+// ---- IBM Watson Speech to Text: results[].alternatives[0].timestamps [["word", start, end], …] -------------
+Transcript watson(const TimingSample& s, const ReadOptions& o) {
+	std::vector<AsrWord> words;
+	long k = 0;
+	std::map<long, std::string> speakerAt;  // speaker_labels: {from, to, speaker}, keyed by the word's start in ms
+	if (const JsonValue* labels = array(root(s), "speaker_labels"))
+		for (const JsonValue& l : labels->array)
+			if (const auto from = number(l.find("from"))) speakerAt[std::lround(*from * 1000)] = speakerName(l.find("speaker"));
+	for (const JsonValue& r : array(root(s), "results")->array) {
+		const JsonValue* alts = array(r, "alternatives");
+		const JsonValue* ts = alts && !alts->array.empty() ? array(alts->array[0], "timestamps") : nullptr;
+		if (!ts) continue;
+		for (const JsonValue& t : ts->array) {
+			const std::string* w = t.kind == JsonValue::Kind::Array && t.array.size() == 3 ? string(&t.array[0]) : nullptr;
+			const auto a = w ? number(&t.array[1]) : std::nullopt, b = w ? number(&t.array[2]) : std::nullopt;
+			if (!w || !a || !b) throw Error(s.path(), 0, "a timestamp of results[].alternatives[0] is not [\"word\", start, end]");
+			const auto sp = speakerAt.find(std::lround(*a * 1000));
+			words.push_back({*a, *b, *w, sp == speakerAt.end() ? "" : sp->second, k++});
+		}
+	}
+	if (words.empty()) throw Error(s.path(), 0, "a Watson answer without word times: ask for timestamps=true");
+	return wordTranscript(words, s.path(), o);
+}
+
+// ---- Azure Speech SDK detailed results: {"NBest": [{"Words": [{"Word", "Offset", "Duration"}]}], "Offset"} in
+// 100-ns units (one result, or an array of them as a script collects them) ------------------------------------
+Transcript azureDetailed(const TimingSample& s, const ReadOptions& o) {
+	std::vector<const JsonValue*> results;
+	if (s.json()->kind == JsonValue::Kind::Array)
+		for (const JsonValue& r : s.json()->array) results.push_back(&r);
+	else results.push_back(s.json());
+	std::vector<AsrWord> words;
+	long k = 0;
+	for (const JsonValue* r : results) {
+		const JsonValue* best = isObjectPtr(r) ? array(*r, "NBest") : nullptr;
+		const JsonValue* ws = best && !best->array.empty() ? array(best->array[0], "Words") : nullptr;
+		if (!ws) continue;
+		for (const JsonValue& w : ws->array) {
+			const std::string* t = string(w.find("Word"));
+			const auto a = number(w.find("Offset")), d = number(w.find("Duration"));
+			if (!t || !a || !d) throw Error(s.path(), 0, "a word of NBest[0].Words needs Word, Offset and Duration (100 ns)");
+			words.push_back({*a / 1e7, (*a + *d) / 1e7, *t, "", k++});
+		}
+	}
+	if (words.empty()) throw Error(s.path(), 0, "Azure results without word times: set the output format to detailed with word-level timestamps (RequestWordLevelTimestamps)");
+	Transcript tr = wordTranscript(words, s.path(), o);
+	tr.unit = "100 ns";
+	return tr;
+}
+
 TimingFormat jsonEntry(std::string name, std::string title, std::string level, std::string takes, int confidence, std::function<bool(const TimingSample&)> sig,
                        std::function<Transcript(const TimingSample&, const ReadOptions&)> read) {
 	TimingFormat f;
@@ -391,7 +478,7 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      bool words = false;
 		                      auto one = [&](const JsonValue& x) {
 			                      if (!voskObject(x)) return false;
-			                      words |= array(x, "result") != nullptr;
+			                      words |= array(*voskBest(x), "result") != nullptr;
 			                      return true;
 		                      };
 		                      if (const JsonValue* j = s.json()) {
@@ -437,6 +524,31 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      });
 	                      },
 	                      azureBatchWords));
+	v.push_back(jsonEntry("youtube-json3", "YouTube timed text JSON (json3: events[].segs[])", "words", "times in ms (tStartMs, tOffsetMs)", 3,
+	                      [](const TimingSample& s) {
+		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* e = j ? array(*j, "events") : nullptr;
+		                      return e && anyHave(*e, "tStartMs");
+	                      },
+	                      youtubeJson3));
+	v.push_back(jsonEntry("watson", "IBM Watson Speech to Text (results[].alternatives[].timestamps)", "words", "times in s; speaker_labels", 3,
+	                      [](const TimingSample& s) {
+		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* r = j ? array(*j, "results") : nullptr;
+		                      if (!r || r->array.empty()) return false;
+		                      for (const JsonValue& x : r->array)
+			                      if (const JsonValue* a = array(x, "alternatives"); a && anyHave(*a, "timestamps")) return true;
+		                      return false;
+	                      },
+	                      watson));
+	v.push_back(jsonEntry("azure-detailed", "Azure Speech SDK detailed recognition results (NBest[].Words[], 100 ns)", "words", "times in 100 ns (Offset, Duration)", 3,
+	                      [](const TimingSample& s) {
+		                      const JsonValue* j = s.json();
+		                      if (!j) return false;
+		                      if (j->kind == JsonValue::Kind::Array) return anyHave(*j, "NBest");
+		                      return j->kind == JsonValue::Kind::Object && array(*j, "NBest");
+	                      },
+	                      azureDetailed));
 	v.push_back(jsonEntry("azure-stt", "Azure Speech batch transcription (recognizedPhrases[])", "words", "times in 100 ns (offsetInTicks); speakers; channels", 3,
 	                      [](const TimingSample& s) {
 		                      const JsonValue* j = jsonObjectOf(s);

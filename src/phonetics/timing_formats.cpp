@@ -993,6 +993,12 @@ Transcript readSubtitles(const std::string& text, const std::string& path, const
 		}
 		if (repeats) tr.warnings.push_back(std::to_string(repeats) + " repeated caption line" + (repeats > 1 ? "s" : "") + " (rolling captions) left out; words timed by their inline times");
 	} else {
+		// whisper --highlight_words: each word's cue repeats its segment with the word in <u>…</u>, and the cues
+		// between words hold the segment without one. The underlined word is what is said then.
+		const bool highlighted = std::any_of(cues.begin(), cues.end(), [](const Cue& c) {
+			return std::any_of(c.lines.begin(), c.lines.end(), [](const std::string& l) { return l.find("<u>") != std::string::npos; });
+		});
+		std::size_t gaps = 0;
 		for (const Cue& c : cues) {
 			std::string body;
 			std::string voice;
@@ -1001,10 +1007,27 @@ Transcript readSubtitles(const std::string& text, const std::string& path, const
 				body += (body.empty() ? "" : " ") + l;
 			}
 			if ((voices.size() > 1 || !o.tier.empty()) && voice != tr.speaker) continue;
+			if (highlighted) {
+				std::string words;
+				for (std::size_t p = 0; (p = body.find("<u>", p)) != std::string::npos;) {
+					const auto e = body.find("</u>", p);
+					if (e == std::string::npos) break;
+					words += (words.empty() ? "" : " ") + body.substr(p + 3, e - p - 3);
+					p = e;
+				}
+				if (words.empty()) {
+					++gaps;
+					continue;
+				}
+				body = words;
+			}
 			body = cueText(body);
 			sentences |= body.find(' ') != std::string::npos;
 			tr.intervals.push_back({ticksFromSeconds(c.a), ticksFromSeconds(c.b), body, c.no});
 		}
+		if (highlighted)
+			tr.warnings.push_back("words highlighted with <u> (whisper --highlight_words): each underlined word over its cue; " + std::to_string(gaps) +
+			                      " cue" + (gaps == 1 ? "" : "s") + " between words left out");
 	}
 	// Cues overlapping (karaoke-style rolling captions) cannot be one mouth: the later starts where the earlier ends.
 	std::stable_sort(tr.intervals.begin(), tr.intervals.end(), [](const Interval& x, const Interval& y) { return x.start < y.start; });

@@ -229,6 +229,31 @@ TEST(TimingReaders, servicesAsTheirWritersWriteThem) {
 	ReadOptions one;
 	one.tier = "SPEAKER_01";
 	EXPECT_EQ(shape(parse(wx, "wx.json", one)), "Hi@1.200-1.600");
+	// YouTube json3 auto-captions: a word a seg at tStartMs + tOffsetMs; the next event's repeat left out.
+	const Transcript yt = parse(R"({"wireMagic": "pb3", "events": [{"tStartMs": 0, "dDurationMs": 5000, "id": 1, "wpWinPosId": 1},
+	  {"tStartMs": 1000, "dDurationMs": 2000, "wWinId": 1, "segs": [{"utf8": "hello", "acAsrConf": 0}, {"utf8": " world", "tOffsetMs": 400}]},
+	  {"tStartMs": 2500, "dDurationMs": 1000, "wWinId": 1, "aAppend": 1, "segs": [{"utf8": "\n"}]}]})",
+	                            "yt.json3");
+	EXPECT_EQ(yt.format, "youtube-json3");
+	EXPECT_EQ(shape(yt), "hello@1.000-1.400 world@1.400-3.000");
+	const Transcript ibm = parse(R"({"result_index": 0, "results": [{"final": true, "alternatives": [{"transcript": "hello world ", "confidence": 0.9,
+	  "timestamps": [["hello", 0.1, 0.5], ["world", 0.5, 0.9]]}]}]})",
+	                             "w.json");
+	EXPECT_EQ(ibm.format, "watson");
+	EXPECT_EQ(shape(ibm), "hello@0.100-0.500 world@0.500-0.900");
+	const Transcript det = parse(R"({"Id": "x", "RecognitionStatus": "Success", "Offset": 5000000, "Duration": 7000000, "DisplayText": "Hello world.",
+	  "NBest": [{"Confidence": 0.9, "Lexical": "hello world", "Words": [{"Word": "hello", "Offset": 5000000, "Duration": 3000000}, {"Word": "world", "Offset": 8000000, "Duration": 4000000}]}]})",
+	                             "d.json");
+	EXPECT_EQ(det.format, "azure-detailed");
+	EXPECT_EQ(shape(det), "hello@0.500-0.800 world@0.800-1.200");
+	const Transcript alt = parse(R"({"alternatives": [{"confidence": 300.1, "result": [{"end": 0.9, "start": 0.5, "word": "one"}, {"end": 1.4, "start": 0.9, "word": "two"}], "text": "one two"}]})",
+	                             "v.json");
+	EXPECT_EQ(alt.format, "vosk");
+	EXPECT_EQ(shape(alt), "one@0.500-0.900 two@0.900-1.400");
+	// whisper --highlight_words: the underlined word over its cue, the cues between words left out.
+	const Transcript hl = parse("WEBVTT\n\n00:00.000 --> 00:00.400\n<u>Hello</u> world\n\n00:00.400 --> 00:00.500\nHello world\n\n00:00.500 --> 00:00.900\nHello <u>world</u>\n",
+	                            "hl.vtt");
+	EXPECT_EQ(shape(hl), "Hello@0.000-0.400 @0.400-0.500 world@0.500-0.900");
 	// NeMo's forced aligner: 8 columns, NA confidences.
 	const Transcript nemo = parse("utt1 1 0.40 0.16 hello NA lex NA\nutt1 1 0.56 0.30 world NA lex NA\n", "n.ctm", [] {
 		ReadOptions o;
