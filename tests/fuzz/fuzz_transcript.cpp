@@ -21,7 +21,7 @@ namespace {
 void checkTranscript(const Transcript& t) {
 	constexpr std::int64_t kLimit = (86400 + 60) * kTicksPerSecond;  // a day (the readers' limit) + slack for a last mark
 	TALKHEAD_FUZZ_CHECK(!t.intervals.empty(), "");
-	// "json" reads the JSON timing format the members say (whisper, gentle, …); "srt" reads WebVTT too.
+	// "srt" reads WebVTT too (json_timing detects among every format, as transcript_detect does, from JSON seeds).
 	const std::string want = TALKHEAD_FUZZ_FORMAT;
 	if (!want.empty() && want != "json" && want != "srt") TALKHEAD_FUZZ_CHECK(t.format == want, t.format);
 	for (std::size_t i = 0; i < t.intervals.size(); ++i) {
