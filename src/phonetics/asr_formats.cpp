@@ -82,9 +82,19 @@ Transcript assemblyai(const TimingSample& s, const ReadOptions& o) {
 
 // ---- Amazon Transcribe: results.items[] (pronunciation/punctuation), times as strings in seconds ------
 Transcript amazon(const TimingSample& s, const ReadOptions& o) {
-	const JsonValue& items = *array(*object(root(s), "results"), "items");
+	const JsonValue& results = *object(root(s), "results");
+	const JsonValue& items = *array(results, "items");
 	std::vector<AsrWord> words;
 	long k = 0;
+	// Older jobs name the speakers in results.speaker_labels.segments[].items[] (start_time → speaker_label).
+	std::map<std::string, std::string> speakerAt;
+	if (const JsonValue* sl = object(results, "speaker_labels"))
+		if (const JsonValue* segs = array(*sl, "segments"))
+			for (const JsonValue& g : segs->array)
+				if (const JsonValue* its = array(g, "items"))
+					for (const JsonValue& it : its->array)
+						if (const std::string* t = string(it.find("start_time")))
+							if (const std::string* l = string(it.find("speaker_label"))) speakerAt[*t] = *l;
 	for (const JsonValue& it : items.array) {
 		++k;
 		const std::string* type = string(it.find("type"));
@@ -93,7 +103,10 @@ Transcript amazon(const TimingSample& s, const ReadOptions& o) {
 		const std::string* text = alts && !alts->array.empty() ? string(alts->array[0].find("content")) : nullptr;
 		const auto a = number(it.find("start_time")), b = number(it.find("end_time"));
 		if (!text || !a || !b) throw Error(s.path(), 0, "results.items[" + std::to_string(k - 1) + "] needs start_time, end_time and alternatives[0].content");
-		words.push_back({*a, *b, *text, speakerName(it.find("speaker_label")), k - 1});
+		std::string speaker = speakerName(it.find("speaker_label"));
+		if (speaker.empty())
+			if (const std::string* t = string(it.find("start_time")); t && speakerAt.count(*t)) speaker = speakerAt[*t];
+		words.push_back({*a, *b, *text, speaker, k - 1});
 	}
 	return wordTranscript(words, s.path(), o);
 }

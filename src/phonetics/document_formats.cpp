@@ -436,6 +436,140 @@ Transcript sbv(const TimingSample& s, const ReadOptions&) {
 	return tr;
 }
 
+// ---- openai-whisper's TSV and whisper.cpp's CSV: "start end text" with a header, times in integer ms --------
+bool msTable(const TimingSample& s, char sep) {
+	const auto& l = s.firstLines();
+	if (l.empty()) return false;
+	const auto h = split(l[0], sep);
+	if (h.size() != 3 || toLower(trim(h[0])) != "start" || toLower(trim(h[1])) != "end" || toLower(trim(h[2])) != "text") return false;
+	for (std::size_t i = 1; i < l.size() && i < 50; ++i) {
+		if (l[i].empty()) continue;
+		const auto f = split(l[i], sep);
+		long long a, b;
+		if (f.size() < 3 || !parseInt(trim(f[0]), a) || !parseInt(trim(f[1]), b)) return false;
+	}
+	return l.size() > 1;
+}
+
+Transcript msTableRead(const TimingSample& s, char sep) {
+	Transcript tr;
+	tr.level = LabelLevel::Word;
+	long no = 0;
+	bool sentences = false;
+	for (const std::string& raw : split(s.text(), '\n')) {
+		++no;
+		std::string l(trim(raw));
+		if (no == 1 || l.empty()) continue;
+		std::vector<std::string> f = sep == ',' ? splitCsvRecord(l) : split(l, sep);
+		long long a, b;
+		if (f.size() < 3 || !parseInt(trim(f[0]), a) || !parseInt(trim(f[1]), b) || a < 0 || b < 0 || b > 86'400'000LL)
+			throw Error(s.path(), no, "expected 'start end text' in milliseconds, found '" + safeQuote(l) + "'");
+		std::string text = f[2];
+		for (std::size_t k = 3; k < f.size(); ++k) text += std::string(1, sep) + f[k];
+		text = std::string(trim(text));
+		sentences |= text.find(' ') != std::string::npos;
+		tr.intervals.push_back(timed(double(a) / 1000, double(b) / 1000, text, s.path(), "line " + std::to_string(no), no));
+	}
+	tr.unit = "ms";
+	if (sentences)
+		tr.warnings.push_back("segments hold several words: each segment's phones are spread by espeak-ng's durations (approximate; word timestamps, or talkhead align on the audio, time them)");
+	return tr;
+}
+
+// ---- LRC lyrics ("[mm:ss.xx] line"; whisper.cpp -olrc): each line until the next ------------------------
+std::optional<std::pair<double, std::string>> lrcLine(std::string_view l) {
+	if (l.size() < 7 || l[0] != '[') return std::nullopt;
+	const auto close = l.find(']');
+	if (close == std::string_view::npos) return std::nullopt;
+	const auto t = clockTime(l.substr(1, close - 1));
+	if (!t) return std::nullopt;
+	return std::make_pair(*t, std::string(trim(l.substr(close + 1))));
+}
+
+bool isLrc(const TimingSample& s) {
+	int timed = 0;
+	for (const std::string& l : s.firstLines()) {
+		if (l.empty()) continue;
+		if (lrcLine(l)) {
+			++timed;
+			continue;
+		}
+		// Tags ([ar:…], [by:…], [length: 03:20]) are allowed; anything else is not LRC.
+		if (l[0] != '[' || l.find(':') == std::string::npos || l.back() != ']') return false;
+	}
+	return timed >= 2;
+}
+
+Transcript lrc(const TimingSample& s, const ReadOptions&) {
+	std::vector<std::pair<double, std::pair<std::string, long>>> lines;
+	long no = 0;
+	for (const std::string& raw : split(s.text(), '\n')) {
+		++no;
+		if (const auto x = lrcLine(trim(raw))) lines.push_back({x->first, {x->second, no}});
+	}
+	Transcript tr;
+	tr.level = LabelLevel::Word;
+	for (std::size_t i = 0; i + 1 < lines.size(); ++i)
+		tr.intervals.push_back(timed(lines[i].first, lines[i + 1].first, lines[i].second.first, s.path(), "line", lines[i].second.second));
+	tr.warnings.push_back("lines hold several words: each line's phones are spread by espeak-ng's durations until the next line (approximate)");
+	// LRC times starts only: the last line ends 0.35 s a word later (a typical speaking rate), said in a warning.
+	if (!lines.empty() && !lines.back().second.first.empty()) {
+		const double words = double(splitWhitespace(lines.back().second.first).size());
+		tr.intervals.push_back(timed(lines.back().first, lines.back().first + std::max(1.0, 0.35 * words), lines.back().second.first, s.path(), "line", lines.back().second.second));
+		tr.warnings.push_back("the last line has no end (LRC gives starts only): it lasts 0.35 s a word");
+	}
+	return tr;
+}
+
+// ---- EXMARaLDA basic transcription (.exb): a common timeline of points, events per speaker tier ------------
+Transcript exmaralda(const TimingSample& s, const ReadOptions& o) {
+	const pugi::xml_document doc = parseXml(s);
+	const pugi::xml_node bt = doc.child("basic-transcription");
+	std::map<std::string, double> points;
+	for (const pugi::xml_node& t : bt.child("basic-body").child("common-timeline").children("tli"))
+		if (!t.attribute("time").empty()) points[t.attribute("id").value()] = t.attribute("time").as_double();
+	std::map<std::string, std::string> abbreviations;
+	for (const pugi::xml_node& sp : bt.child("head").child("speakertable").children("speaker"))
+		abbreviations[sp.attribute("id").value()] = sp.child_value("abbreviation");
+	struct Tier {
+		std::string name;
+		std::vector<Interval> intervals;
+	};
+	std::vector<Tier> tiers;
+	for (const pugi::xml_node& t : bt.child("basic-body").children("tier")) {
+		if (std::string(t.attribute("type").value()) != "t") continue;  // annotation (a) and description (d) tiers are no speech
+		std::string name = t.attribute("speaker").value();
+		if (abbreviations.count(name) && !abbreviations[name].empty()) name = abbreviations[name];
+		if (name.empty()) name = t.attribute("id").value();
+		Tier tier{name, {}};
+		std::string text;
+		double start = -1, end = -1;
+		for (const pugi::xml_node& e : t.children("event")) {
+			const auto a = points.find(e.attribute("start").value()), b = points.find(e.attribute("end").value());
+			// Events between points without a time join the timed ones around them.
+			if (a != points.end() && start < 0) start = a->second;
+			text += e.child_value();
+			if (b != points.end()) {
+				end = b->second;
+				if (start >= 0) tier.intervals.push_back(timed(start, end, std::string(trim(text)), s.path(), "an event of " + name));
+				text.clear();
+				start = -1;
+			}
+		}
+		if (!tier.intervals.empty()) tiers.push_back(std::move(tier));
+	}
+	if (tiers.empty()) throw Error(s.path(), 0, "an EXMARaLDA transcription with no timed event in a transcription (type t) tier");
+	std::vector<std::string> names;
+	for (const Tier& t : tiers) names.push_back(t.name);
+	Transcript tr;
+	tr.level = LabelLevel::Word;
+	tr.speakers = names;
+	tr.speaker = timing::chooseSpeaker(names, o, s.path(), "speaker");
+	for (const Tier& t : tiers)
+		if (t.name == tr.speaker) tr.intervals = t.intervals;
+	return tr;
+}
+
 TimingFormat entry(std::string name, std::string title, std::vector<std::string> ext, std::string level, std::string takes, int confidence,
                    std::function<bool(const TimingSample&)> sig, std::function<Transcript(const TimingSample&, const ReadOptions&)> read, std::string refusal = "") {
 	TimingFormat f;
@@ -483,7 +617,20 @@ void registerDocumentTimingFormats(std::vector<TimingFormat>& v) {
 		                  return false;
 	                  },
 	                  sbv));
+	v.push_back(entry("whisper-tsv", "openai-whisper TSV (start, end, text in ms)", {".tsv"}, "sentences (segments)", "times in ms", 2,
+	                  [](const TimingSample& s) { return msTable(s, '\t'); }, [](const TimingSample& s, const ReadOptions&) { return msTableRead(s, '\t'); }));
+	v.push_back(entry("whispercpp-csv", "whisper.cpp CSV (whisper-cli -ocsv: start, end, text in ms)", {".csv"}, "sentences (segments)", "times in ms", 2,
+	                  [](const TimingSample& s) { return msTable(s, ','); }, [](const TimingSample& s, const ReadOptions&) { return msTableRead(s, ','); }));
+	v.push_back(entry("lrc", "LRC lyrics ([mm:ss.xx] line; whisper-cli -olrc)", {".lrc"}, "sentences (lines)", "start times mm:ss.xx; each line until the next", 3, isLrc, lrc));
+	v.push_back(entry("exmaralda", "EXMARaLDA basic transcription (.exb)", {".exb"}, "sentences (events)", "a common timeline in s; speakers (tiers of type t)", 3,
+	                  [](const TimingSample& s) { return s.xmlRoot() == "basic-transcription"; }, exmaralda));
 	// Named and refused: formats people try that hold no timing of speech talkhead can use.
+	v.push_back(entry("microdvd", "MicroDVD subtitles ({start frame}{end frame}text)", {".sub"}, "", "", 3,
+	                  [](const TimingSample& s) {
+		                  const auto& l = s.firstLines();
+		                  return !l.empty() && l[0].size() > 4 && l[0][0] == '{' && std::isdigit(static_cast<unsigned char>(l[0][1])) && l[0].find("}{") != std::string::npos;
+	                  },
+	                  nullptr, "not read: its times are frame numbers of a video; export SRT or WebVTT (Subtitle Edit, Aegisub)"));
 	v.push_back(entry("ass", "Advanced SubStation Alpha subtitles (.ass/.ssa)", {".ass", ".ssa"}, "", "", 3,
 	                  [](const TimingSample& s) { return startsWith(s.trimmed(), "[Script Info]"); }, nullptr,
 	                  "not read: export SRT or WebVTT from the subtitle editor (Aegisub: File > Export Subtitles)"));

@@ -206,6 +206,8 @@ bool toneSyllable(const std::string& w) {
 
 }  // namespace
 
+std::size_t speakerLabelLength(const std::string& label) { return speakerPrefix(label); }
+
 void cleanSpeechLabels(Transcript& tr) {
 	if (tr.level != LabelLevel::Word) return;
 	int events = 0, speakers = 0, tones = 0, syllables = 0, words = 0;

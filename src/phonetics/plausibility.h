@@ -22,6 +22,10 @@ std::string checkTimingPlausibility(const Transcript& tr, std::optional<double> 
 // most words carry one. Each kind is counted in one warning on the transcript.
 void cleanSpeechLabels(Transcript& tr);
 
+// The length of a speaker label at the start of a cue ("Anna Smith: …", ">> ANNA: …", "The First Minister
+// (Nicola Sturgeon): …"; the colon included), 0 when there is none.
+std::size_t speakerLabelLength(const std::string& label);
+
 // A language name as timing files write it (ISO 639-1 "fr", ISO 639-3 "zho", BCP 47 "en-US"/"en_us", or an
 // English name "english") as talkhead's tag: one of Language::available() ("en-US", "fr"), else the
 // primary subtag in ISO 639-1 ("zh") so that Language::get names the language it has no table for; empty

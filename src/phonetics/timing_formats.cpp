@@ -945,11 +945,30 @@ Transcript readSubtitles(const std::string& text, const std::string& path, const
 	}
 	if (cues.empty()) throw Error(path, 0, std::string("no cues ('START --> END' lines) in this ") + (vtt ? "WebVTT" : "SubRip") + " file");
 
-	// Voices (<v Name>, Teams and others): the speakers.
+	// Voices (<v Name>, Teams and others): the speakers. Zoom and others write "Name: text" instead: when most
+	// cues start so and two names or more do, those are the speakers (the name is not spoken).
 	std::vector<std::string> voices;
 	for (const Cue& c : cues)
 		for (const std::string& l : c.lines)
 			if (const std::string v = voiceOf(l); !v.empty() && std::find(voices.begin(), voices.end(), v) == voices.end()) voices.push_back(v);
+	std::vector<std::string> named(cues.size());
+	if (voices.empty()) {
+		std::size_t labelled = 0;
+		std::vector<std::string> names;
+		for (std::size_t k = 0; k < cues.size(); ++k) {
+			if (cues[k].lines.empty()) continue;
+			const std::string first = cueText(cues[k].lines.front());
+			if (const std::size_t n = speakerLabelLength(first)) {
+				std::string name(trim(std::string_view(first).substr(0, n - 1)));
+				if (startsWith(name, ">>")) name = std::string(trim(std::string_view(name).substr(2)));
+				named[k] = name;
+				++labelled;
+				if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+			}
+		}
+		if (names.size() >= 2 && labelled * 2 >= cues.size()) voices = names;
+		else named.assign(cues.size(), "");
+	}
 	tr.speakers = voices;
 	tr.speaker = timing::chooseSpeaker(voices, o, path, "voice");
 
@@ -999,9 +1018,10 @@ Transcript readSubtitles(const std::string& text, const std::string& path, const
 			return std::any_of(c.lines.begin(), c.lines.end(), [](const std::string& l) { return l.find("<u>") != std::string::npos; });
 		});
 		std::size_t gaps = 0;
-		for (const Cue& c : cues) {
+		for (std::size_t ci = 0; ci < cues.size(); ++ci) {
+			const Cue& c = cues[ci];
 			std::string body;
-			std::string voice;
+			std::string voice = named[ci];
 			for (const std::string& l : c.lines) {
 				if (const std::string v = voiceOf(l); !v.empty()) voice = v;
 				body += (body.empty() ? "" : " ") + l;

@@ -169,13 +169,16 @@ TEST(TimingLabels, speakersSoundEventsAndToneNumbersAreNotSpoken) {
 	const Transcript t = parse(
 	    "1\n00:00:01,000 --> 00:00:03,000\nThe First Minister (Nicola Sturgeon): Thank you very much\n\n"
 	    "2\n00:00:03,000 --> 00:00:04,000\n[Applause.]\n\n"
-	    "3\n00:00:04,000 --> 00:00:06,000\n>> ANNA: my number is (444) 814\n\n"
+	    "3\n00:00:04,000 --> 00:00:06,000\nmy number is (444) 814\n\n"
 	    "4\n00:00:06,000 --> 00:00:07,000\n{\\an8}- Yes, it is\n",
 	    "s.srt");
 	EXPECT_EQ(shape(t), "Thank you very much@1.000-3.000 @3.000-4.000 my number is 444 814@4.000-6.000 Yes, it is@6.000-7.000");
 	ASSERT_GE(t.warnings.size(), 2u);
 	EXPECT_NE(joined(t.warnings, "|").find("2 bracketed sound events"), std::string::npos) << joined(t.warnings, "|");
-	EXPECT_NE(joined(t.warnings, "|").find("2 speaker labels"), std::string::npos) << joined(t.warnings, "|");
+	EXPECT_NE(joined(t.warnings, "|").find("1 speaker label"), std::string::npos) << joined(t.warnings, "|");
+	// ">> NAME:" (broadcast captions) is a label too.
+	EXPECT_EQ(speakerLabelLength(">> ANNA: my number"), std::string(">> ANNA:").size());
+	EXPECT_EQ(speakerLabelLength("what she said: go home"), 0u);
 	// "Note: this" is a sentence, not a speaker, when nothing after the colon would be left… it is a label by
 	// form; a lower-case start is never one.
 	EXPECT_EQ(shape(parse("1\n00:00:01,000 --> 00:00:02,000\nwhat she said: go home\n", "n.srt")), "what she said: go home@1.000-2.000");
@@ -285,6 +288,30 @@ TEST(TimingReaders, documentsAndCaptions) {
 	const Transcript tt = parse(R"(<tt xmlns="http://www.w3.org/ns/ttml"><body><div><p begin="10s" end="12s"><span begin="0s" end="0.5s">hello</span> <span begin="0.5s" end="1.2s">world</span></p></div></body></tt>)",
 	                            "x.ttml");
 	EXPECT_EQ(shape(tt), "hello@10.000-10.500 world@10.500-11.200");
+	// openai-whisper's TSV and whisper.cpp's CSV: milliseconds, by their header and integer times.
+	const Transcript wtsv = parse("start\tend\ttext\n0\t1500\tHello there.\n1500\t2600\tGeneral Kenobi.\n", "a.tsv");
+	EXPECT_EQ(wtsv.format, "whisper-tsv");
+	EXPECT_EQ(shape(wtsv), "Hello there.@0.000-1.500 General Kenobi.@1.500-2.600");
+	const Transcript csv = parse("start,end,text\n0,1500,\" Hello, there.\"\n", "a.csv");
+	EXPECT_EQ(csv.format, "whispercpp-csv");
+	EXPECT_EQ(shape(csv), "Hello, there.@0.000-1.500");
+	const Transcript lyrics = parse("[ar:someone]\n[00:01.00] hello there\n[00:02.50] general Kenobi\n", "a.lrc");
+	EXPECT_EQ(lyrics.format, "lrc");
+	EXPECT_EQ(shape(lyrics), "hello there@1.000-2.500 general Kenobi@2.500-3.500");
+	const Transcript exb = parse(R"(<?xml version="1.0"?><basic-transcription><head><speakertable><speaker id="SPK0"><abbreviation>A</abbreviation></speaker></speakertable></head>
+<basic-body><common-timeline><tli id="T0" time="0.5"/><tli id="T1"/><tli id="T2" time="2.0"/></common-timeline>
+<tier id="TIE0" speaker="SPK0" category="v" type="t"><event start="T0" end="T1">hello </event><event start="T1" end="T2">there</event></tier>
+<tier id="TIE1" speaker="SPK0" category="en" type="d"><event start="T0" end="T2">((laughs))</event></tier></basic-body></basic-transcription>)",
+	                             "a.exb");
+	EXPECT_EQ(exb.format, "exmaralda");
+	EXPECT_EQ(shape(exb), "hello there@0.500-2.000");
+	EXPECT_NE(err("{0}{25}Hello\n{25}{50}there\n", "a.sub").find("frame numbers of a video"), std::string::npos);
+	// Zoom: "Name: text" on every cue names the speakers.
+	const std::string zoom = "WEBVTT\n\n1\n00:00:01.000 --> 00:00:02.000\nAnna Smith: Hello Bob\n\n2\n00:00:02.000 --> 00:00:03.500\nBob Jones: Hi Anna\n";
+	EXPECT_NE(err(zoom, "z.vtt").find("words of 2 voices (Anna Smith, Bob Jones)"), std::string::npos) << err(zoom, "z.vtt");
+	ReadOptions anna;
+	anna.tier = "Anna Smith";
+	EXPECT_EQ(shape(parse(zoom, "z.vtt", anna)), "Hello Bob@1.000-2.000");
 	// Teams: <v> voices are speakers.
 	const std::string teams = "WEBVTT\n\n1\n00:00:01.000 --> 00:00:02.000\n<v Anna Smith>Hello Bob</v>\n\n2\n00:00:02.000 --> 00:00:03.500\n<v Bob Jones>Hi Anna</v>\n";
 	EXPECT_NE(err(teams, "t.vtt").find("words of 2 voices (Anna Smith, Bob Jones)"), std::string::npos) << err(teams, "t.vtt");
