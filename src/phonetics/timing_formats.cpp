@@ -1046,7 +1046,7 @@ Transcript readSubtitles(const std::string& text, const std::string& path, const
 			tr.intervals.push_back({ticksFromSeconds(c.a), ticksFromSeconds(c.b), body, c.no});
 		}
 		if (highlighted)
-			tr.warnings.push_back("words highlighted with <u> (whisper --highlight_words): each underlined word over its cue; " + std::to_string(gaps) +
+			tr.warnings.push_back("words highlighted with <u> (whisper's highlight_words): each underlined word over its cue; " + std::to_string(gaps) +
 			                      " cue" + (gaps == 1 ? "" : "s") + " between words left out");
 	}
 	// Cues overlapping (karaoke-style rolling captions) cannot be one mouth: the later starts where the earlier ends.
