@@ -989,6 +989,8 @@ Transcript readSubtitles(const std::string& text, const std::string& path, const
 				}
 				if (hasInlineTime(l)) {
 					const auto pieces = inlineTimes(l, c.a);
+					for (const TimedPiece& p : pieces)
+						if (p.start > kMaxSeconds) throw Error(path, c.no, "an inline word time after 86400 s (a day)");
 					for (std::size_t k = 0; k < pieces.size(); ++k) {
 						const std::string w = cueText(pieces[k].text);
 						if (w.empty()) continue;
