@@ -114,8 +114,10 @@ std::string checkTimingPlausibility(const Transcript& tr, std::optional<double> 
 	const std::string why = implausible(m, b, duration, from);
 	char verdict[300];
 	if (why.empty()) {
+		char within[80] = "";
+		if (duration) std::snprintf(within, sizeof within, ", within the %s's %g s", from, *duration);
 		std::snprintf(verdict, sizeof verdict, "plausible: %d %ss over %.2f s (median %.0f ms, at most %.0f in any 2 s)%s", m.units, b.unit, m.end, m.median * 1000,
-		              m.densest, duration ? (", within the " + std::string(from) + "'s " + std::to_string(int(std::lround(*duration * 1000)) / 1000.0).substr(0, 6) + " s").c_str() : "");
+		              m.densest, within);
 		return verdict;
 	}
 	// The unit the times look like: the first scale under which they pass.
