@@ -430,44 +430,29 @@ Transcript azureDetailed(const TimingSample& s, const ReadOptions& o) {
 	return tr;
 }
 
-TimingFormat jsonEntry(std::string name, std::string title, std::string level, std::string takes, int confidence, std::function<bool(const TimingSample&)> sig,
-                       std::function<Transcript(const TimingSample&, const ReadOptions&)> read) {
-	TimingFormat f;
-	f.name = std::move(name);
-	f.title = std::move(title);
-	f.extensions = {".json"};
-	f.level = std::move(level);
-	f.takes = std::move(takes);
-	f.confidence = confidence;
-	f.signature = std::move(sig);
-	f.read = std::move(read);
-	return f;
-}
-
-const JsonValue* jsonObjectOf(const TimingSample& s) { return isObjectPtr(s.json()) ? s.json() : nullptr; }
 
 }  // namespace
 
 void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
-	v.push_back(jsonEntry("assemblyai", "AssemblyAI transcript (GET /v2/transcript)", "words", "times in ms; audio_duration; language_code; speakers", 3,
+	v.push_back(timing::makeFormat("assemblyai", "AssemblyAI transcript (GET /v2/transcript)", {".json"}, "words", "times in ms; audio_duration; language_code; speakers", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      if (!j || !array(*j, "words")) return false;
 		                      return j->find("audio_duration") || j->find("acoustic_model") || j->find("language_model") || j->find("audio_url") || j->find("speech_model");
 	                      },
 	                      assemblyai));
-	v.push_back(jsonEntry("amazon", "Amazon Transcribe job output (results.items[])", "words", "times in s (strings); speakers (speaker_label)", 3,
+	v.push_back(timing::makeFormat("amazon", "Amazon Transcribe job output (results.items[])", {".json"}, "words", "times in s (strings); speakers (speaker_label)", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      const JsonValue* r = j ? object(*j, "results") : nullptr;
 		                      const JsonValue* items = r ? array(*r, "items") : nullptr;
 		                      return items && allHave(*items, {"type", "alternatives"});
 	                      },
 	                      amazon));
-	v.push_back(jsonEntry("google-stt", "Google Cloud Speech-to-Text v1/v2 (results[].alternatives[].words[])", "words",
+	v.push_back(timing::makeFormat("google-stt", "Google Cloud Speech-to-Text v1/v2 (results[].alternatives[].words[])", {".json"}, "words",
 	                      "times as \"1.200s\" strings; languageCode; speakerTag", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      if (j && object(*j, "response")) j = object(*j, "response");
 		                      const JsonValue* r = j ? array(*j, "results") : nullptr;
 		                      if (!r || !allHave(*r, {"alternatives"})) return false;
@@ -479,14 +464,14 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      return anyHave(*r, "resultEndTime") || anyHave(*r, "resultEndOffset");
 	                      },
 	                      googleStt));
-	v.push_back(jsonEntry("revai", "Rev.ai transcript (monologues[].elements[])", "words", "times in s; speakers (monologues)", 3,
+	v.push_back(timing::makeFormat("revai", "Rev.ai transcript (monologues[].elements[])", {".json"}, "words", "times in s; speakers (monologues)", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      const JsonValue* m = j ? array(*j, "monologues") : nullptr;
 		                      return m && allHave(*m, {"elements"});
 	                      },
 	                      revai));
-	v.push_back(jsonEntry("vosk", "Vosk recogniser results ({\"result\": [{word, start, end, conf}]}, one or a stream)", "words", "times in s", 3,
+	v.push_back(timing::makeFormat("vosk", "Vosk recogniser results ({\"result\": [{word, start, end, conf}]}, one or a stream)", {".json"}, "words", "times in s", 3,
 	                      [](const TimingSample& s) {
 		                      bool words = false;
 		                      auto one = [&](const JsonValue& x) {
@@ -502,24 +487,24 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      return !st.empty() && std::all_of(st.begin(), st.end(), [&](const auto& p) { return one(p.second); });
 	                      },
 	                      vosk));
-	v.push_back(jsonEntry("speechmatics", "Speechmatics json-v2 transcript (results[] of words)", "words", "times in s; language; speakers", 3,
+	v.push_back(timing::makeFormat("speechmatics", "Speechmatics json-v2 transcript (results[] of words)", {".json"}, "words", "times in s; language; speakers", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      const JsonValue* r = j ? array(*j, "results") : nullptr;
 		                      return r && allHave(*r, {"type", "start_time", "end_time"}) && anyHave(*r, "alternatives");
 	                      },
 	                      speechmatics));
-	v.push_back(jsonEntry("whispercpp", "whisper.cpp JSON (whisper-cli -oj / -ojf: transcription[], offsets in ms)", "words (tokens) or segments",
+	v.push_back(timing::makeFormat("whispercpp", "whisper.cpp JSON (whisper-cli -oj / -ojf: transcription[], offsets in ms)", {".json"}, "words (tokens) or segments",
 	                      "times in ms (offsets); result.language", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      const JsonValue* t = j ? array(*j, "transcription") : nullptr;
 		                      return t && allHave(*t, {"offsets"});
 	                      },
 	                      whispercpp));
-	v.push_back(jsonEntry("scribe", "ElevenLabs Speech-to-Text (Scribe) answer", "words", "times in s; language_code; speaker_id; audio events as pauses", 3,
+	v.push_back(timing::makeFormat("scribe", "ElevenLabs Speech-to-Text (Scribe) answer", {".json"}, "words", "times in s; language_code; speaker_id; audio events as pauses", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      const JsonValue* w = j ? array(*j, "words") : nullptr;
 		                      if (!w || !allHave(*w, {"type", "start", "end"})) return false;
 		                      return std::all_of(w->array.begin(), w->array.end(), [](const JsonValue& e) {
@@ -528,7 +513,7 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      });
 	                      },
 	                      scribe));
-	v.push_back(jsonEntry("azure-batch-words", "Azure batch synthesis word boundaries ([n].word.json, milliseconds)", "words", "times in ms (AudioOffset, Duration)", 3,
+	v.push_back(timing::makeFormat("azure-batch-words", "Azure batch synthesis word boundaries ([n].word.json, milliseconds)", {".json"}, "words", "times in ms (AudioOffset, Duration)", 3,
 	                      [](const TimingSample& s) {
 		                      const JsonValue* j = s.json();
 		                      if (!j || !allHave(*j, {"Text", "AudioOffset", "Duration"}) || anyHave(*j, "BoundaryType")) return false;
@@ -537,16 +522,16 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      });
 	                      },
 	                      azureBatchWords));
-	v.push_back(jsonEntry("youtube-json3", "YouTube timed text JSON (json3: events[].segs[])", "words", "times in ms (tStartMs, tOffsetMs)", 3,
+	v.push_back(timing::makeFormat("youtube-json3", "YouTube timed text JSON (json3: events[].segs[])", {".json"}, "words", "times in ms (tStartMs, tOffsetMs)", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      const JsonValue* e = j ? array(*j, "events") : nullptr;
 		                      return e && anyHave(*e, "tStartMs");
 	                      },
 	                      youtubeJson3));
-	v.push_back(jsonEntry("watson", "IBM Watson Speech to Text (results[].alternatives[].timestamps)", "words", "times in s; speaker_labels", 3,
+	v.push_back(timing::makeFormat("watson", "IBM Watson Speech to Text (results[].alternatives[].timestamps)", {".json"}, "words", "times in s; speaker_labels", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      const JsonValue* r = j ? array(*j, "results") : nullptr;
 		                      if (!r || r->array.empty()) return false;
 		                      for (const JsonValue& x : r->array)
@@ -554,7 +539,7 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      return false;
 	                      },
 	                      watson));
-	v.push_back(jsonEntry("azure-detailed", "Azure Speech SDK detailed recognition results (NBest[].Words[], 100 ns)", "words", "times in 100 ns (Offset, Duration)", 3,
+	v.push_back(timing::makeFormat("azure-detailed", "Azure Speech SDK detailed recognition results (NBest[].Words[], 100 ns)", {".json"}, "words", "times in 100 ns (Offset, Duration)", 3,
 	                      [](const TimingSample& s) {
 		                      const JsonValue* j = s.json();
 		                      if (!j) return false;
@@ -562,9 +547,9 @@ void registerAsrTimingFormats(std::vector<TimingFormat>& v) {
 		                      return j->kind == JsonValue::Kind::Object && array(*j, "NBest");
 	                      },
 	                      azureDetailed));
-	v.push_back(jsonEntry("azure-stt", "Azure Speech batch transcription (recognizedPhrases[])", "words", "times in 100 ns (offsetInTicks); speakers; channels", 3,
+	v.push_back(timing::makeFormat("azure-stt", "Azure Speech batch transcription (recognizedPhrases[])", {".json"}, "words", "times in 100 ns (offsetInTicks); speakers; channels", 3,
 	                      [](const TimingSample& s) {
-		                      const JsonValue* j = jsonObjectOf(s);
+		                      const JsonValue* j = timing::jsonObject(s);
 		                      return j && array(*j, "recognizedPhrases");
 	                      },
 	                      azureRecognition));

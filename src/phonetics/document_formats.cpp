@@ -285,7 +285,7 @@ std::optional<double> clockTime(std::string_view v) {
 	if (parts.size() < 2 || parts.size() > 3) return std::nullopt;
 	double h = 0, m, sec;
 	if (parts.size() == 3 && !parseDouble(parts[0], h)) return std::nullopt;
-	if (!parseDouble(parts[parts.size() - 2], m) || !parseDouble(parts.back(), sec) || sec >= 60 || m >= 60 && parts.size() == 3) return std::nullopt;
+	if (!parseDouble(parts[parts.size() - 2], m) || !parseDouble(parts.back(), sec) || sec >= 60 || (m >= 60 && parts.size() == 3)) return std::nullopt;
 	return h * 3600 + m * 60 + sec;
 }
 
@@ -570,33 +570,18 @@ Transcript exmaralda(const TimingSample& s, const ReadOptions& o) {
 	return tr;
 }
 
-TimingFormat entry(std::string name, std::string title, std::vector<std::string> ext, std::string level, std::string takes, int confidence,
-                   std::function<bool(const TimingSample&)> sig, std::function<Transcript(const TimingSample&, const ReadOptions&)> read, std::string refusal = "") {
-	TimingFormat f;
-	f.name = std::move(name);
-	f.title = std::move(title);
-	f.extensions = std::move(ext);
-	f.level = std::move(level);
-	f.takes = std::move(takes);
-	f.confidence = confidence;
-	f.signature = std::move(sig);
-	f.read = std::move(read);
-	f.refusal = std::move(refusal);
-	return f;
-}
-
 }  // namespace
 
 void registerDocumentTimingFormats(std::vector<TimingFormat>& v) {
-	v.push_back(entry("ttml", "TTML / IMSC captions (aeneas, broadcasters)", {".ttml", ".dfxp", ".xml"}, "sentences or words (timed spans)",
+	v.push_back(timing::makeFormat("ttml", "TTML / IMSC captions (aeneas, broadcasters)", {".ttml", ".dfxp", ".xml"}, "sentences or words (timed spans)",
 	                  "begin/end/dur clock and offset times; xml:lang", 3, [](const TimingSample& s) { return s.xmlRoot() == "tt"; }, ttml));
-	v.push_back(entry("elan", "ELAN annotation document (.eaf)", {".eaf"}, "sentences (annotations)", "time slots in ms; tiers as speakers ({{tier}}); LANG_REF", 3,
+	v.push_back(timing::makeFormat("elan", "ELAN annotation document (.eaf)", {".eaf"}, "sentences (annotations)", "time slots in ms; tiers as speakers ({{tier}}); LANG_REF", 3,
 	                  [](const TimingSample& s) { return s.xmlRoot() == "ANNOTATION_DOCUMENT"; }, elan));
-	v.push_back(entry("transcriber", "Transcriber (.trs)", {".trs"}, "sentences (turns between syncs)", "times in s; speakers; events as pauses", 3,
+	v.push_back(timing::makeFormat("transcriber", "Transcriber (.trs)", {".trs"}, "sentences (turns between syncs)", "times in s; speakers; events as pauses", 3,
 	                  [](const TimingSample& s) { return s.xmlRoot() == "Trans"; }, transcriber));
-	v.push_back(entry("rhubarb-xml", "Rhubarb Lip Sync XML", {".xml"}, "visemes (Rhubarb's A–H, X)", "times in s; metadata/duration", 3,
+	v.push_back(timing::makeFormat("rhubarb-xml", "Rhubarb Lip Sync XML", {".xml"}, "visemes (Rhubarb's A–H, X)", "times in s; metadata/duration", 3,
 	                  [](const TimingSample& s) { return s.xmlRoot() == "rhubarbResult"; }, rhubarbXml));
-	v.push_back(entry("bas-partitur", "BAS Partitur (WebMAUS .par)", {".par"}, "phones (SAMPA)", "MAU tier in samples at SAM: Hz", 3,
+	v.push_back(timing::makeFormat("bas-partitur", "BAS Partitur (WebMAUS .par)", {".par"}, "phones (SAMPA)", "MAU tier in samples at SAM: Hz", 3,
 	                  [](const TimingSample& s) {
 		                  const auto& l = s.firstLines();
 		                  if (!l.empty() && startsWith(l[0], "LHD:")) return true;
@@ -606,35 +591,35 @@ void registerDocumentTimingFormats(std::vector<TimingFormat>& v) {
 		                  return keys >= 3 && std::any_of(l.begin(), l.end(), [](const std::string& x) { return startsWith(x, "SAM:"); });
 	                  },
 	                  basPartitur));
-	v.push_back(entry("whisper-console", "openai-whisper console output ([mm:ss.mmm --> mm:ss.mmm]  text)", {".wt", ".txt", ".log"}, "sentences (segments)",
+	v.push_back(timing::makeFormat("whisper-console", "openai-whisper console output ([mm:ss.mmm --> mm:ss.mmm]  text)", {".wt", ".txt", ".log"}, "sentences (segments)",
 	                  "times mm:ss.mmm", 3, isWhisperConsole, whisperConsole));
-	v.push_back(entry("chat", "CLAN CHAT (.cha) with media bullets", {".cha"}, "sentences (utterances)", "bullets in ms; speakers (*SPK:); @Languages", 3,
+	v.push_back(timing::makeFormat("chat", "CLAN CHAT (.cha) with media bullets", {".cha"}, "sentences (utterances)", "bullets in ms; speakers (*SPK:); @Languages", 3,
 	                  [](const TimingSample& s) { return startsWith(s.trimmed(), "@UTF8") || startsWith(s.trimmed(), "@Begin"); }, chat));
-	v.push_back(entry("sbv", "YouTube SubViewer (.sbv)", {".sbv"}, "sentences (cues)", "times h:mm:ss.mmm", 2,
+	v.push_back(timing::makeFormat("sbv", "YouTube SubViewer (.sbv)", {".sbv"}, "sentences (cues)", "times h:mm:ss.mmm", 2,
 	                  [](const TimingSample& s) {
 		                  for (const std::string& l : s.firstLines())
 			                  if (!l.empty()) return sbvTimes(l).has_value();
 		                  return false;
 	                  },
 	                  sbv));
-	v.push_back(entry("whisper-tsv", "openai-whisper TSV (start, end, text in ms)", {".tsv"}, "sentences (segments)", "times in ms", 2,
+	v.push_back(timing::makeFormat("whisper-tsv", "openai-whisper TSV (start, end, text in ms)", {".tsv"}, "sentences (segments)", "times in ms", 2,
 	                  [](const TimingSample& s) { return msTable(s, '\t'); }, [](const TimingSample& s, const ReadOptions&) { return msTableRead(s, '\t'); }));
-	v.push_back(entry("whispercpp-csv", "whisper.cpp CSV (whisper-cli -ocsv: start, end, text in ms)", {".csv"}, "sentences (segments)", "times in ms", 2,
+	v.push_back(timing::makeFormat("whispercpp-csv", "whisper.cpp CSV (whisper-cli -ocsv: start, end, text in ms)", {".csv"}, "sentences (segments)", "times in ms", 2,
 	                  [](const TimingSample& s) { return msTable(s, ','); }, [](const TimingSample& s, const ReadOptions&) { return msTableRead(s, ','); }));
-	v.push_back(entry("lrc", "LRC lyrics ([mm:ss.xx] line; whisper-cli -olrc)", {".lrc"}, "sentences (lines)", "start times mm:ss.xx; each line until the next", 3, isLrc, lrc));
-	v.push_back(entry("exmaralda", "EXMARaLDA basic transcription (.exb)", {".exb"}, "sentences (events)", "a common timeline in s; speakers (tiers of type t)", 3,
+	v.push_back(timing::makeFormat("lrc", "LRC lyrics ([mm:ss.xx] line; whisper-cli -olrc)", {".lrc"}, "sentences (lines)", "start times mm:ss.xx; each line until the next", 3, isLrc, lrc));
+	v.push_back(timing::makeFormat("exmaralda", "EXMARaLDA basic transcription (.exb)", {".exb"}, "sentences (events)", "a common timeline in s; speakers (tiers of type t)", 3,
 	                  [](const TimingSample& s) { return s.xmlRoot() == "basic-transcription"; }, exmaralda));
 	// Named and refused: formats people try that hold no timing of speech talkhead can use.
-	v.push_back(entry("microdvd", "MicroDVD subtitles ({start frame}{end frame}text)", {".sub"}, "", "", 3,
+	v.push_back(timing::makeFormat("microdvd", "MicroDVD subtitles ({start frame}{end frame}text)", {".sub"}, "", "", 3,
 	                  [](const TimingSample& s) {
 		                  const auto& l = s.firstLines();
 		                  return !l.empty() && l[0].size() > 4 && l[0][0] == '{' && std::isdigit(static_cast<unsigned char>(l[0][1])) && l[0].find("}{") != std::string::npos;
 	                  },
 	                  nullptr, "not read: its times are frame numbers of a video; export SRT or WebVTT (Subtitle Edit, Aegisub)"));
-	v.push_back(entry("ass", "Advanced SubStation Alpha subtitles (.ass/.ssa)", {".ass", ".ssa"}, "", "", 3,
+	v.push_back(timing::makeFormat("ass", "Advanced SubStation Alpha subtitles (.ass/.ssa)", {".ass", ".ssa"}, "", "", 3,
 	                  [](const TimingSample& s) { return startsWith(s.trimmed(), "[Script Info]"); }, nullptr,
 	                  "not read: export SRT or WebVTT from the subtitle editor (Aegisub: File > Export Subtitles)"));
-	v.push_back(entry("praat-collection", "Praat binary or collection file", {".textgrid", ".collection"}, "", "", 3,
+	v.push_back(timing::makeFormat("praat-collection", "Praat binary or collection file", {".textgrid", ".collection"}, "", "", 3,
 	                  [](const TimingSample& s) { return startsWith(s.trimmed(), "ooBinaryFile") || (s.trimmed().substr(0, 200).find("Collection") != std::string_view::npos && startsWith(s.trimmed(), "File type")); },
 	                  nullptr, "not read: save the TextGrid as a text file from Praat (Save as text file…)"));
 }

@@ -150,9 +150,11 @@ bool isUpperStart(const std::string& w) {
 	return std::isupper(c) || c == '(' || c >= 0xC3;  // accented capitals: trusted as names
 }
 
+}  // namespace
+
 // "NAME:" at the start of a cue: 1–6 capitalised words (or words in parentheses), the colon right after the
 // name, and text after it. Returns the length to drop, 0 when there is none.
-std::size_t speakerPrefix(const std::string& label) {
+std::size_t speakerLabelLength(const std::string& label) {
 	std::size_t start = 0;
 	if (startsWith(label, ">>")) start = 2;
 	const auto colon = label.find(':', start);
@@ -162,19 +164,19 @@ std::size_t speakerPrefix(const std::string& label) {
 	if (name.find_first_of(".?!,;\"") != std::string::npos) return 0;
 	const auto words = splitWhitespace(name);
 	if (words.size() > 6) return 0;
-	int upper = 0, paren = 0;
+	int upper = 0;
 	for (const std::string& w : words) {
 		if (std::any_of(w.begin(), w.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) return 0;
-		paren += w.find('(') != std::string::npos || w.find(')') != std::string::npos;
 		upper += isUpperStart(w);
 	}
 	const std::string after(trim(std::string_view(label).substr(colon + 1)));
 	if (splitWhitespace(after).size() < 1) return 0;
 	// Capitalised name words, a lower-case particle or two allowed ("Leader of the Opposition").
 	if (upper == 0 || upper * 2 < int(words.size())) return 0;
-	(void)paren;
 	return colon + 1;
 }
+
+namespace {
 
 // Removes [..], (..) and {..} spans of words ("[Applause.]", "(laughs)", "{\an8}"); a span with a digit
 // ("(444) 814-9913", a phone number) is speech: only its brackets go. Returns how many spans were removed.
@@ -208,8 +210,6 @@ bool toneSyllable(const std::string& w) {
 
 }  // namespace
 
-std::size_t speakerLabelLength(const std::string& label) { return speakerPrefix(label); }
-
 void cleanSpeechLabels(Transcript& tr) {
 	if (tr.level != LabelLevel::Word) return;
 	int events = 0, speakers = 0, tones = 0, syllables = 0, words = 0;
@@ -232,15 +232,11 @@ void cleanSpeechLabels(Transcript& tr) {
 			}
 			continue;
 		}
-		if (const std::size_t p = speakerPrefix(l)) {
+		if (const std::size_t p = speakerLabelLength(l)) {
 			l = l.substr(p);
 			++speakers;
 		}
-		if (l.find_first_of("[({") != std::string::npos) {
-			std::string before = l;
-			const int n = dropBracketed(l);
-			if (n > 0) events += n;
-		}
+		if (l.find_first_of("[({") != std::string::npos) events += dropBracketed(l);
 		if (startsWith(trim(l), "- ")) l = std::string(trim(l)).substr(2);  // a dialogue dash
 		if (pinyin) {
 			std::string out;

@@ -22,36 +22,11 @@ namespace {
 
 constexpr double kMaxSeconds = 86400;
 
-Ticks at(double seconds, const std::string& path, const std::string& where) {
-	if (!std::isfinite(seconds) || seconds < 0 || seconds > kMaxSeconds) {
-		char b[160];
-		std::snprintf(b, sizeof b, "%s: time %g is not from 0 to 86400 s", where.c_str(), seconds);
-		throw Error(path, 0, b);
-	}
-	return ticksFromSeconds(seconds);
-}
-
 // Kaldi's word-position suffix of a phone (ah_B, dh_I, t_E, ay_S; Gentle and Kaldi CTMs) dropped.
 std::string withoutPositionSuffix(std::string label) {
 	const auto u = label.rfind('_');
 	if (u != std::string::npos && u + 2 == label.size() && std::string("BIES").find(label[u + 1]) != std::string::npos) label.resize(u);
 	return label;
-}
-
-// A number, or a string holding one (aeneas writes "2.680").
-std::optional<double> numberOf(const JsonValue* v) {
-	if (!v) return std::nullopt;
-	if (v->kind == JsonValue::Kind::Number) return v->number;
-	double d;
-	if (v->kind == JsonValue::Kind::String && parseDouble(std::string(trim(v->string)), d)) return d;
-	return std::nullopt;
-}
-
-const std::string* stringOf(const JsonValue* v) { return v && v->kind == JsonValue::Kind::String ? &v->string : nullptr; }
-
-const JsonValue* arrayAt(const JsonValue& v, const char* key) {
-	const JsonValue* a = v.find(key);
-	return a && a->kind == JsonValue::Kind::Array ? a : nullptr;
 }
 
 // Words with start/end seconds and a text under one of `textKeys`. Words without times (WhisperX leaves
@@ -64,15 +39,15 @@ void addWords(Transcript& tr, const JsonValue& words, const std::vector<const ch
 		if (w.kind != JsonValue::Kind::Object) throw Error(path, 0, here + " is not an object");
 		const std::string* text = nullptr;
 		for (const char* key : textKeys)
-			if ((text = stringOf(w.find(key)))) break;
+			if ((text = timing::string(w.find(key)))) break;
 		if (!text) throw Error(path, 0, here + " has no " + textKeys.front());
-		const auto s = numberOf(w.find("start")), e = numberOf(w.find("end"));
+		const auto s = timing::number(w.find("start")), e = timing::number(w.find("end"));
 		if (!s || !e) {
 			++untimed;
 			continue;
 		}
 		if (*e < *s) throw Error(path, 0, here + " ('" + safeQuote(*text) + "') ends before it starts");
-		tr.intervals.push_back({at(*s, path, here), at(*e, path, here), std::string(trim(*text)), k});
+		tr.intervals.push_back({timing::secondsAt(*s, path, here), timing::secondsAt(*e, path, here), std::string(trim(*text)), k});
 	}
 }
 
@@ -84,8 +59,8 @@ void untimedWarning(Transcript& tr, int untimed, const char* what) {
 
 // WhisperX's diarized speaker of a word (its own "speaker", else its segment's); empty when none.
 std::string whisperSpeaker(const JsonValue& word, const JsonValue& segment) {
-	if (const std::string* w = stringOf(word.find("speaker"))) return *w;
-	if (const std::string* g = stringOf(segment.find("speaker"))) return *g;
+	if (const std::string* w = timing::string(word.find("speaker"))) return *w;
+	if (const std::string* g = timing::string(segment.find("speaker"))) return *g;
 	return "";
 }
 
@@ -94,11 +69,11 @@ Transcript whisper(const JsonValue& v, const std::string& path, const ReadOption
 	tr.format = "whisper";
 	tr.level = LabelLevel::Word;
 	int untimed = 0;
-	const JsonValue* segments = arrayAt(v, "segments");
+	const JsonValue* segments = timing::array(v, "segments");
 	// WhisperX with diarization: words of several speakers; one is read (--speaker), as for Deepgram.
 	std::vector<std::string> speakers;
 	for (const JsonValue& seg : segments->array)
-		if (const JsonValue* words = arrayAt(seg, "words"))
+		if (const JsonValue* words = timing::array(seg, "words"))
 			for (const JsonValue& w : words->array)
 				if (const std::string sp = whisperSpeaker(w, seg); !sp.empty() && std::find(speakers.begin(), speakers.end(), sp) == speakers.end()) speakers.push_back(sp);
 	const bool choose = speakers.size() > 1 || !o.tier.empty();
@@ -107,7 +82,7 @@ Transcript whisper(const JsonValue& v, const std::string& path, const ReadOption
 	long s = 0;
 	for (const JsonValue& seg : segments->array) {
 		const std::string where = "segments[" + std::to_string(s++) + "].words";
-		const JsonValue* words = arrayAt(seg, "words");
+		const JsonValue* words = timing::array(seg, "words");
 		if (!words) continue;
 		if (!choose) {
 			addWords(tr, *words, {"text", "word"}, path, where, untimed);
@@ -130,24 +105,24 @@ Transcript openai(const JsonValue& v, const std::string& path) {
 	tr.format = "openai";
 	tr.level = LabelLevel::Word;
 	int untimed = 0;
-	addWords(tr, *arrayAt(v, "words"), {"word", "text"}, path, "words", untimed);
+	addWords(tr, *timing::array(v, "words"), {"word", "text"}, path, "words", untimed);
 	untimedWarning(tr, untimed, "word");
 	return tr;
 }
 
 Transcript deepgram(const JsonValue& v, const std::string& path, const ReadOptions& o) {
 	const JsonValue* results = v.find("results");
-	const JsonValue* channels = results ? arrayAt(*results, "channels") : nullptr;
+	const JsonValue* channels = results ? timing::array(*results, "channels") : nullptr;
 	if (!channels || channels->array.empty()) throw Error(path, 0, "a Deepgram answer without results.channels");
 	if (channels->array.size() > 1) throw Error(path, 0, "a Deepgram answer with " + std::to_string(channels->array.size()) + " channels: give one channel's");
-	const JsonValue* alts = arrayAt(channels->array[0], "alternatives");
+	const JsonValue* alts = timing::array(channels->array[0], "alternatives");
 	if (!alts || alts->array.empty()) throw Error(path, 0, "results.channels[0] has no alternatives");
-	const JsonValue* words = arrayAt(alts->array[0], "words");
+	const JsonValue* words = timing::array(alts->array[0], "words");
 	if (!words) throw Error(path, 0, "results.channels[0].alternatives[0] has no words");
 	// Diarized words of several speakers share one channel: the face is one of them (--tier SPEAKER).
 	std::vector<long> speakers;
 	for (const JsonValue& w : words->array)
-		if (const auto sp = numberOf(w.find("speaker")); sp && std::find(speakers.begin(), speakers.end(), long(*sp)) == speakers.end()) speakers.push_back(long(*sp));
+		if (const auto sp = timing::number(w.find("speaker")); sp && std::find(speakers.begin(), speakers.end(), long(*sp)) == speakers.end()) speakers.push_back(long(*sp));
 	std::sort(speakers.begin(), speakers.end());
 	JsonValue chosen = *words;
 	if (speakers.size() > 1 || !o.tier.empty()) {
@@ -161,7 +136,7 @@ Transcript deepgram(const JsonValue& v, const std::string& path, const ReadOptio
 		if (std::find(speakers.begin(), speakers.end(), want) == speakers.end()) throw Error(path, 0, "{{tier}} " + safeQuote(o.tier) + ": no such speaker (" + list + ")");
 		chosen.array.clear();
 		for (const JsonValue& w : words->array)
-			if (numberOf(w.find("speaker")) == std::optional<double>(double(want))) chosen.array.push_back(w);
+			if (timing::number(w.find("speaker")) == std::optional<double>(double(want))) chosen.array.push_back(w);
 	}
 	Transcript tr;
 	tr.format = "deepgram";
@@ -181,24 +156,24 @@ Transcript gentle(const JsonValue& v, const std::string& path) {
 	tr.level = LabelLevel::Phone;
 	int missing = 0;
 	long k = 0;
-	for (const JsonValue& w : arrayAt(v, "words")->array) {
+	for (const JsonValue& w : timing::array(v, "words")->array) {
 		const std::string here = "words[" + std::to_string(k++) + "]";
 		// "success", and "not-found-in-transcript" (spoken, with times and phones, but not in the text): both
 		// are speech; "not-found-in-audio" has no times.
-		const auto s = numberOf(w.find("start"));
-		const JsonValue* phones = arrayAt(w, "phones");
+		const auto s = timing::number(w.find("start"));
+		const JsonValue* phones = timing::array(w, "phones");
 		if (!s || !phones) {
 			++missing;
 			continue;
 		}
-		Ticks t = at(*s, path, here);
+		Ticks t = timing::secondsAt(*s, path, here);
 		long p = 0;
 		for (const JsonValue& ph : phones->array) {
-			const std::string* name = stringOf(ph.find("phone"));
-			const auto d = numberOf(ph.find("duration"));
+			const std::string* name = timing::string(ph.find("phone"));
+			const auto d = timing::number(ph.find("duration"));
 			if (!name || !d || *d < 0) throw Error(path, 0, here + ".phones[" + std::to_string(p) + "] needs phone and duration");
 			std::string label = withoutPositionSuffix(*name);
-			const Ticks e = t + at(*d, path, here);
+			const Ticks e = t + timing::secondsAt(*d, path, here);
 			// Gentle's ARPAbet, in the upper case that says so (lower-case "y" is also an espeak-ng or br1 phone).
 			for (char& ch : label) ch = char(std::toupper(static_cast<unsigned char>(ch)));
 			tr.intervals.push_back({t, e, label == "OOV" ? std::string() : label, k});
@@ -229,16 +204,16 @@ Transcript aeneas(const JsonValue& v, const std::string& path) {
 	tr.format = "aeneas";
 	tr.level = LabelLevel::Word;
 	long k = 0;
-	for (const JsonValue& f : arrayAt(v, "fragments")->array) {
+	for (const JsonValue& f : timing::array(v, "fragments")->array) {
 		const std::string here = "fragments[" + std::to_string(k++) + "]";
-		const auto b = numberOf(f.find("begin")), e = numberOf(f.find("end"));
+		const auto b = timing::number(f.find("begin")), e = timing::number(f.find("end"));
 		if (!b || !e) throw Error(path, 0, here + " needs begin and end");
 		std::string text;
-		if (const JsonValue* lines = arrayAt(f, "lines"))
+		if (const JsonValue* lines = timing::array(f, "lines"))
 			for (const JsonValue& l : lines->array)
 				if (l.kind == JsonValue::Kind::String) text += (text.empty() ? "" : " ") + l.string;
 		if (*e < *b) throw Error(path, 0, here + " ends before it begins");
-		tr.intervals.push_back({at(*b, path, here), at(*e, path, here), std::string(trim(text)), k});
+		tr.intervals.push_back({timing::secondsAt(*b, path, here), timing::secondsAt(*e, path, here), std::string(trim(text)), k});
 	}
 	if (k > 0) tr.warnings.push_back("an aeneas sync map times sentences, not words: each sentence's phones are spread by espeak-ng's durations (approximate; talkhead align times them from the audio)");
 	return tr;
@@ -255,7 +230,7 @@ Transcript mfaJson(const JsonValue& v, const std::string& path) {
 		for (const auto& [k, t] : tiers->object)
 			if (!chosen && toLower(k).find(want) != std::string::npos) chosen = &t, name = k, level = std::string(want) == "phones" ? LabelLevel::Phone : LabelLevel::Word;
 	if (!chosen) throw Error(path, 0, "MFA JSON without a phones or words tier");
-	const JsonValue* entries = arrayAt(*chosen, "entries");
+	const JsonValue* entries = timing::array(*chosen, "entries");
 	if (!entries) throw Error(path, 0, "tier '" + safeQuote(name) + "' has no entries");
 	Transcript tr;
 	tr.format = "mfa-json";
@@ -267,9 +242,9 @@ Transcript mfaJson(const JsonValue& v, const std::string& path) {
 		const std::string here = "tiers." + name + ".entries[" + std::to_string(k++) + "]";
 		if (e.kind != JsonValue::Kind::Array || e.array.size() != 3 || e.array[2].kind != JsonValue::Kind::String)
 			throw Error(path, 0, here + " must be [start, end, label]");
-		const auto s = numberOf(&e.array[0]), en = numberOf(&e.array[1]);
+		const auto s = timing::number(&e.array[0]), en = timing::number(&e.array[1]);
 		if (!s || !en) throw Error(path, 0, here + ": start and end must be numbers");
-		tr.intervals.push_back({at(*s, path, here), at(*en, path, here), e.array[2].string, k});
+		tr.intervals.push_back({timing::secondsAt(*s, path, here), timing::secondsAt(*en, path, here), e.array[2].string, k});
 	}
 	return tr;
 }
@@ -283,31 +258,28 @@ Transcript azureWords(const JsonValue& list, const std::string& path) {
 	long k = 0;
 	for (const JsonValue& w : list.array) {
 		const std::string here = "[" + std::to_string(k++) + "]";
-		const std::string* text = stringOf(w.find("Text"));
-		if (!text) text = stringOf(w.find("text"));
+		const std::string* text = timing::string(w.find("Text"));
+		if (!text) text = timing::string(w.find("text"));
 		std::optional<double> start, length;
-		if (const auto o = numberOf(w.find("AudioOffset"))) start = *o / 1e7;
-		else if (const auto m = numberOf(w.find("offset_ms"))) start = *m / 1000;
-		if (const auto d = numberOf(w.find("duration_ms"))) length = *d / 1000;
+		if (const auto o = timing::number(w.find("AudioOffset"))) start = *o / 1e7;
+		else if (const auto m = timing::number(w.find("offset_ms"))) start = *m / 1000;
+		if (const auto d = timing::number(w.find("duration_ms"))) length = *d / 1000;
 		else if (const JsonValue* d = w.find("Duration")) {
-			if (const auto n = numberOf(d)) length = *n / 1e7;
-			else if (const std::string* s = stringOf(d)) {  // "00:00:00.3500000"
+			if (const auto n = timing::number(d)) length = *n / 1e7;
+			else if (const std::string* s = timing::string(d)) {  // "00:00:00.3500000"
 				int h = 0, m = 0;
 				double sec = 0;
 				if (std::sscanf(s->c_str(), "%d:%d:%lf", &h, &m, &sec) == 3) length = h * 3600.0 + m * 60.0 + sec;
 			}
 		}
 		if (!text || !start || !length) throw Error(path, 0, here + " needs Text, AudioOffset and Duration (or text, offset_ms, duration_ms)");
-		const std::string* type = stringOf(w.find("BoundaryType"));
+		const std::string* type = timing::string(w.find("BoundaryType"));
 		if (type && *type != "WordBoundary" && *type != "Word") continue;  // punctuation and sentence boundaries
-		tr.intervals.push_back({at(*start, path, here), at(*start + *length, path, here), std::string(trim(*text)), k});
+		tr.intervals.push_back({timing::secondsAt(*start, path, here), timing::secondsAt(*start + *length, path, here), std::string(trim(*text)), k});
 	}
 	return tr;
 }
 
-bool anyHas(const JsonValue& list, const char* key) {
-	return std::any_of(list.array.begin(), list.array.end(), [&](const JsonValue& e) { return e.kind == JsonValue::Kind::Object && e.find(key); });
-}
 
 
 }  // namespace
@@ -329,8 +301,8 @@ Transcript azureVisemes(const JsonValue& list, const std::string& where) {
 		if (!id) id = e.find("VisemeId");
 		const JsonValue* ms = e.find("offset_ms");
 		const JsonValue* ticks = e.find("AudioOffset");
-		const auto idv = numberOf(id);
-		const auto time = ms ? numberOf(ms) : ticks ? std::optional<double>(numberOf(ticks).value_or(-1) / 1e4) : std::nullopt;
+		const auto idv = timing::number(id);
+		const auto time = ms ? timing::number(ms) : ticks ? std::optional<double>(timing::number(ticks).value_or(-1) / 1e4) : std::nullopt;
 		if (!idv || !time) throw Error(here + " needs 'id' and 'offset_ms' (or VisemeId and AudioOffset)");
 		if (*idv != std::floor(*idv) || *idv < 0 || *idv > 21) {
 			char b[96];
@@ -371,7 +343,7 @@ Transcript characterAlignment(const JsonValue& a, const std::string& where) {
 	for (std::size_t i = 0; i < n; ++i) {
 		if (chars->array[i].kind != JsonValue::Kind::String) throw Error(where + ".characters[" + std::to_string(i) + "] is not a string");
 		const std::string& c = chars->array[i].string;
-		const auto s = numberOf(&starts->array[i]), e = numberOf(&ends->array[i]);
+		const auto s = timing::number(&starts->array[i]), e = timing::number(&ends->array[i]);
 		if (!s || !e || !(*s >= 0 && *s <= kMaxSeconds) || !(*e >= 0 && *e <= kMaxSeconds))
 			throw Error(where + ": character " + std::to_string(i) + "'s times must be numbers from 0 (seconds)");
 		if (*e < *s) throw Error(where + ": character " + std::to_string(i) + " ends before it starts");
@@ -592,7 +564,7 @@ Transcript readSmil(const std::string& text, const std::string& path, const std:
 		if (!bs || !es) throw Error(path, here, "clipBegin '" + safeQuote(*b) + "' or clipEnd '" + safeQuote(*e) + "' is not a SMIL clock value");
 		if (*es < *bs) throw Error(path, here, "the clip ends before it begins");
 		const std::string where = "line " + std::to_string(here);
-		ids.intervals.push_back({at(*bs, path, where), at(*es, path, where), src->substr(src->find('#') + 1), here});
+		ids.intervals.push_back({timing::secondsAt(*bs, path, where), timing::secondsAt(*es, path, where), src->substr(src->find('#') + 1), here});
 	}
 	if (ids.intervals.empty()) throw Error(path, 0, "a SMIL file with no <par> (text and audio clip)");
 	if (textPath.empty())
@@ -606,12 +578,12 @@ Transcript googleTimepoints(const JsonValue& v, const std::string& path, const s
 		throw Error(path, 0, "Google Text-to-Speech timepoints hold only the times of your SSML <mark>s, not the words: give the SSML they came from ({{timing-text}} FILE), or the audio with its text (talkhead render {{audio}} A {{text}} T aligns it)");
 	std::map<std::string, double> time;
 	long k = 0;
-	for (const JsonValue& t : arrayAt(v, "timepoints")->array) {
+	for (const JsonValue& t : timing::array(v, "timepoints")->array) {
 		const std::string here = "timepoints[" + std::to_string(k++) + "]";
-		const std::string* name = stringOf(t.find("markName"));
-		const auto s = numberOf(t.find("timeSeconds"));
+		const std::string* name = timing::string(t.find("markName"));
+		const auto s = timing::number(t.find("timeSeconds"));
 		if (!name || !s) throw Error(path, 0, here + " needs markName and timeSeconds");
-		at(*s, path, here);
+		timing::secondsAt(*s, path, here);
 		time[*name] = *s;
 	}
 	// The SSML: its text between marks, every other tag dropped (its words kept).
@@ -661,7 +633,7 @@ Transcript googleTimepoints(const JsonValue& v, const std::string& path, const s
 			tr.warnings.push_back("the words after the last <mark> ('" + safeQuote(words) + "') have no end time: they last as long as espeak-ng says them (end the SSML with a <mark/>)");
 		}
 		if (end < t->second) throw Error(ssmlPath, pieces[i].line, "the timepoints of <mark name=\"" + safeQuote(pieces[i].mark) + "\"/> and the next mark go backwards");
-		tr.intervals.push_back({at(t->second, path, pieces[i].mark), at(end, path, pieces[i].mark), words, pieces[i].line});
+		tr.intervals.push_back({timing::secondsAt(t->second, path, pieces[i].mark), timing::secondsAt(end, path, pieces[i].mark), words, pieces[i].line});
 	}
 	if (tr.intervals.empty()) throw Error(ssmlPath, 0, "no words after the <mark>s");
 	return tr;
@@ -675,12 +647,12 @@ Transcript readJsonValue(const JsonValue& v, const std::string& path, const std:
 	auto need = [&](bool ok, const char* what) {
 		if (!ok) throw Error(path, 0, std::string("not a ") + f + " file: " + what);
 	};
-	if (f == "whisper") need(object && arrayAt(v, "segments"), "no segments[]"), tr = whisper(v, path, o);
-	else if (f == "openai") need(object && arrayAt(v, "words"), "no words[] (ask for timestamp_granularities[]=word)"), tr = openai(v, path);
+	if (f == "whisper") need(object && timing::array(v, "segments"), "no segments[]"), tr = whisper(v, path, o);
+	else if (f == "openai") need(object && timing::array(v, "words"), "no words[] (ask for timestamp_granularities[]=word)"), tr = openai(v, path);
 	else if (f == "deepgram") need(object, "not an object"), tr = deepgram(v, path, o);
-	else if (f == "gentle") need(object && arrayAt(v, "words"), "no words[]"), tr = gentle(v, path);
-	else if (f == "aeneas") need(object && arrayAt(v, "fragments"), "no fragments[]"), tr = aeneas(v, path);
-	else if (f == "google") need(object && arrayAt(v, "timepoints"), "no timepoints[]"), tr = googleTimepoints(v, path, o.timingText);
+	else if (f == "gentle") need(object && timing::array(v, "words"), "no words[]"), tr = gentle(v, path);
+	else if (f == "aeneas") need(object && timing::array(v, "fragments"), "no fragments[]"), tr = aeneas(v, path);
+	else if (f == "google") need(object && timing::array(v, "timepoints"), "no timepoints[]"), tr = googleTimepoints(v, path, o.timingText);
 	else if (f == "mfa-json") need(object, "not an object"), tr = mfaJson(v, path);
 	else if (f == "azure") tr = azureVisemes(object && v.find("visemes") ? *v.find("visemes") : v, path);
 	else if (f == "azure-words") need(v.kind == JsonValue::Kind::Array, "not an array"), tr = azureWords(v, path);
@@ -692,33 +664,21 @@ Transcript readJsonValue(const JsonValue& v, const std::string& path, const std:
 	tr.path = path;
 	tr.format = f;
 	if (object) {
-		if (const std::string* l = stringOf(v.find("language"))) tr.language = *l;
-		if (const auto d = numberOf(v.find("duration")); d && f == "openai") tr.statedDuration = *d;
+		if (const std::string* l = timing::string(v.find("language"))) tr.language = *l;
+		if (const auto d = timing::number(v.find("duration")); d && f == "openai") tr.statedDuration = *d;
 	}
 	if (tr.intervals.empty()) throw Error(path, 0, "the " + f + " file holds no timed " + (tr.level == LabelLevel::Phone ? "phone" : "word"));
 	return tr;
 }
 
-const JsonValue* objectJson(const TimingSample& s) {
-	const JsonValue* j = s.json();
-	return j && j->kind == JsonValue::Kind::Object ? j : nullptr;
-}
-
 // A JSON format's registry entry: the value parsed once by the sample.
 TimingFormat jsonFormat(std::string name, std::string title, std::string level, std::string takes, int confidence, std::function<bool(const JsonValue&)> sig) {
-	TimingFormat f;
-	f.name = name;
-	f.title = std::move(title);
-	f.extensions = {".json"};
-	f.level = std::move(level);
-	f.takes = std::move(takes);
-	f.confidence = confidence;
-	f.signature = [sig](const TimingSample& s) { return s.json() && sig(*s.json()); };
-	f.read = [name](const TimingSample& s, const ReadOptions& o) {
-		if (!s.json()) throw Error(s.jsonError().empty() ? s.path() + ": not JSON" : s.jsonError());
-		return readJsonValue(*s.json(), s.path(), name, o);
-	};
-	return f;
+	return timing::makeFormat(
+	    name, std::move(title), {".json"}, std::move(level), std::move(takes), confidence, [sig](const TimingSample& s) { return s.json() && sig(*s.json()); },
+	    [name](const TimingSample& s, const ReadOptions& o) {
+		    if (!s.json()) throw Error(s.jsonError().empty() ? s.path() + ": not JSON" : s.jsonError());
+		    return readJsonValue(*s.json(), s.path(), name, o);
+	    });
 }
 
 bool isObject(const JsonValue& v) { return v.kind == JsonValue::Kind::Object; }
@@ -729,53 +689,53 @@ void registerServiceTimingFormats(std::vector<TimingFormat>& v) {
 	using timing::allHave;
 	v.push_back(jsonFormat("whisper", "Whisper family JSON: openai-whisper, whisper-timestamped, WhisperX, faster-whisper (segments[].words[])", "words",
 	                       "times in s; language", 2, [](const JsonValue& j) {
-		                       const JsonValue* seg = arrayAt(j, "segments");
-		                       if (!isObject(j) || !seg || arrayAt(j, "words") || j.find("transcription")) return false;
+		                       const JsonValue* seg = timing::array(j, "segments");
+		                       if (!isObject(j) || !seg || timing::array(j, "words") || j.find("transcription")) return false;
 		                       if (seg->array.empty()) return j.find("text") != nullptr;
 		                       return std::all_of(seg->array.begin(), seg->array.end(), [](const JsonValue& e) {
 			                       return isObject(e) && (e.find("text") || (e.find("start") && e.find("end")));
 		                       });
 	                       }));
 	v.push_back(jsonFormat("openai", "OpenAI transcription verbose_json (words[])", "words", "times in s; language; duration", 2, [](const JsonValue& j) {
-		const JsonValue* w = arrayAt(j, "words");
+		const JsonValue* w = timing::array(j, "words");
 		if (!isObject(j) || !w || !allHave(*w, {"start", "end"})) return false;
 		return std::all_of(w->array.begin(), w->array.end(), [](const JsonValue& e) { return e.find("word") || e.find("text"); });
 	}));
 	v.push_back(jsonFormat("gentle", "Gentle forced aligner JSON", "phones", "phones with durations; English", 3, [](const JsonValue& j) {
-		const JsonValue* w = arrayAt(j, "words");
-		return isObject(j) && w && (anyHas(*w, "alignedWord") || anyHas(*w, "case"));
+		const JsonValue* w = timing::array(j, "words");
+		return isObject(j) && w && (timing::anyHave(*w, "alignedWord") || timing::anyHave(*w, "case"));
 	}));
 	v.push_back(jsonFormat("deepgram", "Deepgram pre-recorded answer (results.channels[])", "words", "times in s; speakers (diarize); language", 3, [](const JsonValue& j) {
 		const JsonValue* r = timing::object(j, "results");
-		return r && arrayAt(*r, "channels");
+		return r && timing::array(*r, "channels");
 	}));
 	v.push_back(jsonFormat("aeneas", "aeneas sync map JSON (fragments[])", "sentences", "times in s; language", 3,
-	                       [](const JsonValue& j) { return isObject(j) && arrayAt(j, "fragments") && allHave(*arrayAt(j, "fragments"), {"begin", "end"}); }));
+	                       [](const JsonValue& j) { return isObject(j) && timing::array(j, "fragments") && allHave(*timing::array(j, "fragments"), {"begin", "end"}); }));
 	v.push_back(jsonFormat("mfa-json", "Montreal Forced Aligner 3.x JSON (tiers)", "phones or words", "times in s", 3,
 	                       [](const JsonValue& j) { return timing::object(j, "tiers") != nullptr; }));
 	v.push_back(jsonFormat("azure", "Azure Speech viseme events", "visemes (Azure's 0–21)", "offset_ms, or AudioOffset in 100 ns (the SDK)", 3, [](const JsonValue& j) {
-		if (isObject(j)) return arrayAt(j, "visemes") != nullptr;
-		return j.kind == JsonValue::Kind::Array && (anyHas(j, "VisemeId") || (anyHas(j, "offset_ms") && anyHas(j, "id")));
+		if (isObject(j)) return timing::array(j, "visemes") != nullptr;
+		return j.kind == JsonValue::Kind::Array && (timing::anyHave(j, "VisemeId") || (timing::anyHave(j, "offset_ms") && timing::anyHave(j, "id")));
 	}));
 	v.push_back(jsonFormat("azure-words", "Azure Speech SDK word boundaries (AudioOffset in 100 ns)", "words", "times in 100 ns (AudioOffset), Duration as a time span or 100 ns", 3,
 	                       [](const JsonValue& j) {
-		                       if (j.kind != JsonValue::Kind::Array || !(anyHas(j, "Text") || anyHas(j, "text"))) return false;
-		                       if (anyHas(j, "offset_ms")) return true;
-		                       if (!anyHas(j, "AudioOffset")) return false;
+		                       if (j.kind != JsonValue::Kind::Array || !(timing::anyHave(j, "Text") || timing::anyHave(j, "text"))) return false;
+		                       if (timing::anyHave(j, "offset_ms")) return true;
+		                       if (!timing::anyHave(j, "AudioOffset")) return false;
 		                       // The SDK's events carry a BoundaryType, or their Duration as a time span ("00:00:00.3"); the batch
 		                       // synthesis files (milliseconds) neither.
-		                       return anyHas(j, "BoundaryType") || std::any_of(j.array.begin(), j.array.end(), [](const JsonValue& e) {
-			                              return isObject(e) && stringOf(e.find("Duration"));
+		                       return timing::anyHave(j, "BoundaryType") || std::any_of(j.array.begin(), j.array.end(), [](const JsonValue& e) {
+			                              return isObject(e) && timing::string(e.find("Duration"));
 		                              });
 	                       }));
 	v.push_back(jsonFormat("elevenlabs", "ElevenLabs text-to-speech with timestamps (character alignment)", "words", "times in s (characters grouped into words)", 3,
 	                       [](const JsonValue& j) {
 		                       if (!isObject(j)) return false;
 		                       if (timing::object(j, "alignment") || timing::object(j, "normalized_alignment")) return true;
-		                       return arrayAt(j, "characters") && arrayAt(j, "character_start_times_seconds");
+		                       return timing::array(j, "characters") && timing::array(j, "character_start_times_seconds");
 	                       }));
 	v.push_back(jsonFormat("google", "Google Cloud Text-to-Speech timepoints (with the SSML, {{timing-text}})", "words", "times in s; the marks' SSML", 3,
-	                       [](const JsonValue& j) { return isObject(j) && arrayAt(j, "timepoints"); }));
+	                       [](const JsonValue& j) { return isObject(j) && timing::array(j, "timepoints"); }));
 	v.push_back({"srt", "SubRip subtitles", {".srt"}, "words or cues (sentences)", "times hh:mm:ss,mmm", 2,
 	             [](const TimingSample& s) { return !startsWith(s.trimmed(), "WEBVTT") && looksLikeSubtitles(s.text()); },
 	             [](const TimingSample& s, const ReadOptions& o) { return readSubtitles(s.text(), s.path(), o); }, ""});

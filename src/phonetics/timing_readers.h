@@ -27,6 +27,13 @@ const JsonValue* object(const JsonValue& v, const char* key);
 // Every element of `list` is an object with all of `keys` (and the list is not empty).
 bool allHave(const JsonValue& list, std::initializer_list<const char*> keys);
 bool anyHave(const JsonValue& list, const char* key);
+// The sample's JSON when it is one object, else nullptr.
+const JsonValue* jsonObject(const TimingSample& s);
+// A registry entry (timing_registry.h's TimingFormat, field by field); `read` empty with a `refusal` for a
+// format named and not read.
+TimingFormat makeFormat(std::string name, std::string title, std::vector<std::string> extensions, std::string level, std::string takes, int confidence,
+                        std::function<bool(const TimingSample&)> signature, std::function<Transcript(const TimingSample&, const ReadOptions&)> read,
+                        std::string refusal = "");
 // The speakers of a file, and the one ReadOptions::tier chose: the chosen name, or an Error listing them
 // when the file holds several and none was chosen (or the name is not there).
 std::string chooseSpeaker(const std::vector<std::string>& speakers, const ReadOptions& o, const std::string& path, const std::string& what);

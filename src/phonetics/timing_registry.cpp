@@ -195,6 +195,27 @@ bool anyHave(const JsonValue& list, const char* key) {
 	       std::any_of(list.array.begin(), list.array.end(), [&](const JsonValue& e) { return e.kind == JsonValue::Kind::Object && e.find(key); });
 }
 
+const JsonValue* jsonObject(const TimingSample& s) {
+	const JsonValue* j = s.json();
+	return j && j->kind == JsonValue::Kind::Object ? j : nullptr;
+}
+
+TimingFormat makeFormat(std::string name, std::string title, std::vector<std::string> extensions, std::string level, std::string takes, int confidence,
+                        std::function<bool(const TimingSample&)> signature, std::function<Transcript(const TimingSample&, const ReadOptions&)> read,
+                        std::string refusal) {
+	TimingFormat f;
+	f.name = std::move(name);
+	f.title = std::move(title);
+	f.extensions = std::move(extensions);
+	f.level = std::move(level);
+	f.takes = std::move(takes);
+	f.confidence = confidence;
+	f.signature = std::move(signature);
+	f.read = std::move(read);
+	f.refusal = std::move(refusal);
+	return f;
+}
+
 std::string chooseSpeaker(const std::vector<std::string>& speakers, const ReadOptions& o, const std::string& path, const std::string& what) {
 	std::string list;
 	for (const std::string& s : speakers) list += (list.empty() ? "" : ", ") + safeQuote(s, 40);
