@@ -478,6 +478,20 @@ Alignment alignSpeech(const AudioClip& audio, const std::string& text, const Ali
 	return al;
 }
 
+std::vector<RenderedWord> renderedWords(const std::string& text, const AlignOptions& o, int rate) {
+	std::vector<RenderedWord> out;
+	if (trim(text).empty()) return out;
+	const Language& lang = Language::get(o.languageTag);
+	const Rendition r = renderText(text, o.voices.empty() ? defaultVoices(lang.tag())[0] : o.voices[0], rate, o.tuning);
+	Ticks first{-1};
+	for (const Rendition::Word& w : r.words) {
+		const Ticks a = r.phones.intervals[w.firstPhone].start, b = r.phones.intervals[w.lastPhone].end;
+		if (first < Ticks(0)) first = a;
+		out.push_back({w.text, a - first, b - first});
+	}
+	return out;
+}
+
 Alignment alignSpeechFile(const std::string& path, const std::string& text, const AlignOptions& options) {
 	const AudioClip clip = decodeAudio(path, 16000);
 	try {

@@ -77,6 +77,15 @@ struct Alignment {
 // audio (confidence 0.12)") unless options.mismatchBelow is 0.
 Alignment alignSpeech(const AudioClip& audio, const std::string& text, const AlignOptions& options = {});
 
+// The words of `text` as espeak-ng speaks them at `rate` words per minute in the language's first voice:
+// each as the text writes it, with its start and end from the first word's start (a streamed speak
+// estimates from them how many words the audio so far holds, perform/stream.h).
+struct RenderedWord {
+	std::string text;
+	Ticks start{0}, end{0};
+};
+std::vector<RenderedWord> renderedWords(const std::string& text, const AlignOptions& options = {}, int rate = 175);
+
 // Voice activity over 10-ms frames of `levels` (align::frameLevels: dBFS of 25-ms windows): which frames
 // are speech, and the first and last. Throws Error "no speech in the audio: …" for silence, a steady sound
 // and audio shorter than one frame.

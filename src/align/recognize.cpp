@@ -154,10 +154,15 @@ std::vector<std::pair<std::size_t, std::size_t>> utterancesOf(const std::vector<
 		if (!merged.empty() && r.first - merged.back().second < join) merged.back().second = r.second;
 		else merged.push_back(r);
 	}
-	const long longest = std::max(100L, std::lround(o.longestUtteranceSeconds / kFrameSeconds));
+	// The longest the next utterance may be: longestUtteranceSeconds, or (live) firstUtteranceSeconds doubling up to it.
+	const auto longestNext = [&](std::size_t made) {
+		double s = o.longestUtteranceSeconds;
+		if (o.firstUtteranceSeconds > 0) s = std::min(s, o.firstUtteranceSeconds * std::pow(2.0, double(std::min<std::size_t>(made, 16))));
+		return std::max(o.firstUtteranceSeconds > 0 ? 30L : 100L, std::lround(s / kFrameSeconds));
+	};
 	std::vector<std::pair<std::size_t, std::size_t>> out;
 	for (auto [a, b] : merged) {
-		while (b - a > longest) {
+		for (long longest = longestNext(out.size()); b - a > longest; longest = longestNext(out.size())) {
 			// The quietest frame in the last third of the allowed length.
 			long cut = a + longest, best = cut;
 			for (long k = a + longest * 2 / 3; k < a + longest; ++k)
@@ -275,6 +280,62 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 	for (int t = 0; t < threads; ++t) decoders.push_back(sphinxHandle(o, t));
 	std::vector<std::vector<SphinxPhone>> decoded(utterances.size());
 	std::vector<double> change(utterances.size(), 0.0);  // per utterance: median |Δ cepstrum| over its voice frames
+	const Language& en = Language::get("en-US");
+	const auto confidenceOf = [&](double rate) { return std::clamp((rate - o.unsureRate) / (o.sureRate - o.unsureRate), 0.0, 1.0); };
+	// One utterance's phones (absolute times, no pauses) and their confidence; the count of phones left out
+	// when it is not speech.
+	const auto phonesOf = [&](std::size_t u, std::vector<Interval>& spoken, std::vector<double>& spokenConfidence, double& confSum, double& confWeight) -> long {
+		const auto [first, last] = utterances[u];
+		const std::vector<SphinxPhone>& phones = decoded[u];
+		const long offset = long(first / kLevelHop);
+		// The utterance's rate: phones per second of its voice activity.
+		long voiced = 0, count = 0;
+		for (long k = offset; k < long(last / kLevelHop) && k < long(activity.speech.size()); ++k) voiced += activity.speech[std::size_t(k)];
+		for (const SphinxPhone& p : phones) count += !isPauseLabel(p.phone) && p.end > p.start;
+		const double byRate = confidenceOf(voiced > 0 ? double(count) / (double(voiced) * kFrameSeconds) : 0.0);
+		const double bySpectrum = std::clamp((change[u] - o.steadyChange) / (o.speechChange - o.steadyChange), 0.0, 1.0);
+		const double c = std::min(byRate, bySpectrum);
+		if (bySpectrum < o.dropBelow) return count;  // not speech (a melody, a noise): left out, the face stays still there
+		for (const SphinxPhone& p : phones) {
+			if (isPauseLabel(p.phone) || p.end <= p.start) continue;
+			const auto ipa = en.normalize(p.phone, Notation::Arpabet);
+			if (!ipa) continue;  // a filler the table does not know: a pause
+			const Ticks a = frameTicks(offset + p.start), b = std::min(rec.duration, frameTicks(offset + p.end));
+			if (b <= a) continue;
+			// A diphthong or affricate the table splits shares the phone's frames.
+			const std::int64_t parts = std::int64_t(ipa->size());
+			for (std::int64_t k = 0; k < parts; ++k) {
+				Interval iv;
+				iv.start = a + (b - a) * k / parts;
+				iv.end = a + (b - a) * (k + 1) / parts;
+				iv.label = (*ipa)[std::size_t(k)];
+				spoken.push_back(iv);
+				spokenConfidence.push_back(c);
+			}
+			const double w = toSeconds(b - a);
+			confSum += c * w;
+			confWeight += w;
+		}
+		return 0;
+	};
+	// Progress (a live speak): each utterance reported in order once it and those before it are decoded.
+	std::mutex progressMutex;
+	std::vector<char> decodedYet(utterances.size(), 0);
+	std::size_t reported = 0;
+	const auto report = [&](std::size_t u) -> bool {
+		if (!o.progress) return true;
+		const std::lock_guard<std::mutex> lock(progressMutex);
+		decodedYet[u] = 1;
+		for (; reported < utterances.size() && decodedYet[reported]; ++reported) {
+			std::vector<Interval> spoken;
+			std::vector<double> conf;
+			double sum = 0, weight = 0;
+			phonesOf(reported, spoken, conf, sum, weight);
+			const Ticks upTo = Ticks(std::int64_t(utterances[reported].second) * (kTicksPerSecond / kSphinxRate));
+			if (!o.progress(upTo, spoken, conf)) return false;
+		}
+		return true;
+	};
 	{
 		std::mutex m;
 		std::condition_variable changed;
@@ -303,6 +364,17 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 						return;
 					}
 					decoded[job.first] = std::move(phones);
+					bool goOn = false;
+					try {
+						goOn = report(job.first);
+					} catch (...) {
+					}
+					if (!goOn) {
+						const std::lock_guard<std::mutex> lock(m);
+						if (failure.empty()) failure = "stopped";
+						changed.notify_all();
+						return;
+					}
 				}
 			});
 		const auto finish = [&] {
@@ -347,49 +419,11 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 		finish();
 		if (!failure.empty()) throw Error(name + ": " + failure);
 	}
-	const Language& en = Language::get("en-US");
-	const auto confidenceOf = [&](double rate) { return std::clamp((rate - o.unsureRate) / (o.sureRate - o.unsureRate), 0.0, 1.0); };
 	std::vector<Interval> spoken;
 	std::vector<double> spokenConfidence;
 	double confSum = 0, confWeight = 0;
 	long dropped = 0;
-	for (std::size_t u = 0; u < utterances.size(); ++u) {
-		const auto [first, last] = utterances[u];
-		const std::vector<SphinxPhone>& phones = decoded[u];
-		const long offset = long(first / kLevelHop);
-		// The utterance's rate: phones per second of its voice activity.
-		long voiced = 0, count = 0;
-		for (long k = offset; k < long(last / kLevelHop) && k < long(activity.speech.size()); ++k) voiced += activity.speech[std::size_t(k)];
-		for (const SphinxPhone& p : phones) count += !isPauseLabel(p.phone) && p.end > p.start;
-		const double byRate = confidenceOf(voiced > 0 ? double(count) / (double(voiced) * kFrameSeconds) : 0.0);
-		const double bySpectrum = std::clamp((change[u] - o.steadyChange) / (o.speechChange - o.steadyChange), 0.0, 1.0);
-		const double c = std::min(byRate, bySpectrum);
-		if (bySpectrum < o.dropBelow) {
-			// Not speech (a melody, a noise): its phones are left out, the face stays still there.
-			dropped += count;
-			continue;
-		}
-		for (const SphinxPhone& p : phones) {
-			if (isPauseLabel(p.phone) || p.end <= p.start) continue;
-			const auto ipa = en.normalize(p.phone, Notation::Arpabet);
-			if (!ipa) continue;  // a filler the table does not know: a pause
-			const Ticks a = frameTicks(offset + p.start), b = std::min(rec.duration, frameTicks(offset + p.end));
-			if (b <= a) continue;
-			// A diphthong or affricate the table splits shares the phone's frames.
-			const std::int64_t parts = std::int64_t(ipa->size());
-			for (std::int64_t k = 0; k < parts; ++k) {
-				Interval iv;
-				iv.start = a + (b - a) * k / parts;
-				iv.end = a + (b - a) * (k + 1) / parts;
-				iv.label = (*ipa)[std::size_t(k)];
-				spoken.push_back(iv);
-				spokenConfidence.push_back(c);
-			}
-			const double w = toSeconds(b - a);
-			confSum += c * w;
-			confWeight += w;
-		}
-	}
+	for (std::size_t u = 0; u < utterances.size(); ++u) dropped += phonesOf(u, spoken, spokenConfidence, confSum, confWeight);
 	// Contiguous over the whole audio: pauses between.
 	rec.phones.intervals = withPauses(spoken, Ticks(0), rec.duration);
 	std::size_t k = 0;

@@ -29,6 +29,14 @@ struct RecognizeOptions {
 	double beam = 1e-10, phoneBeam = 1e-10, languageWeight = 2.0;
 	int threads = 0;                      // decoders run at once (0: up to 2, as the machine has cores)
 	double longestUtteranceSeconds = 30;  // longer speech is cut at its quietest frame
+	// Live (a server's speak): the first utterance at most this long (> 0), each next one at most twice the
+	// one before, up to longestUtteranceSeconds — so that the first phones of a long speech come quickly.
+	double firstUtteranceSeconds = 0;
+	// Called in order as soon as an utterance and those before it are decoded (on a decoder's thread): its
+	// phones (canonical en-US IPA, absolute times, no pauses; none when it is not speech), their confidence,
+	// and where the utterance ends — what comes later lies after it. Returning false stops the recognition
+	// (it then throws Error "…: stopped").
+	std::function<bool(Ticks upTo, const std::vector<Interval>& phones, const std::vector<double>& confidence)> progress;
 	double paddingSeconds = 0.2;          // audio kept before and after each stretch of speech
 	double joinPausesSeconds = 0.5;       // stretches of speech closer than this are one utterance
 	// Confidence. PocketSphinx's phone loop gives no posterior (every phone scores 1), and its acoustic

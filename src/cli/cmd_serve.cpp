@@ -240,11 +240,17 @@ int runLive(const std::vector<std::string>& argv) {
 	const bool quiet = args.has("--quiet");
 	std::vector<LiveEvent> events;
 	std::size_t next = 0;
+	std::unique_ptr<SpeechStream> stream;  // a streamed speak's, between its pieces
 	for (std::int64_t n = 0; n < total; ++n) {
 		for (; next < steps.size() && steps[next].frame <= n; ++next) {
 			const SessionScript::Step& s = steps[next];
 			try {
 				const LiveRequest r = parseLiveRequest(s.json);  // errors worded as a client reads them (serve/access.h)
+				if (r.kind == LiveRequest::Kind::Stop) stream.reset();  // a streamed speak under way ends
+				if (speaksInParts(r)) {
+					replaySpeakInParts(session, r, stream, lang);
+					continue;
+				}
 				std::optional<PlannedUtterance> u;  // planned by the session when it is queued
 				if (r.kind == LiveRequest::Kind::Say || r.kind == LiveRequest::Kind::Speak) u.emplace(prepareUtterance(r, lang, o.sampleRate));
 				applyLiveRequest(session, r, std::move(u));

@@ -65,18 +65,24 @@ double TimedSpeech::confidenceAt(Ticks t) const {
 	return 1.0;
 }
 
-namespace {
-
-// Recognised en-US phones in `language`: each takes the language's spelling of it, else its nearest phone.
-void inLanguage(Recognition& rec, const Language& language, std::vector<std::string>& notes) {
-	if (language.tag() == "en-US") return;
+int toLanguage(Transcript& phones, const Language& language) {
+	if (language.tag() == "en-US") return 0;
 	int moved = 0;
-	for (Interval& iv : rec.phones.intervals) {
+	for (Interval& iv : phones.intervals) {
 		if (iv.label.empty() || language.normalize(iv.label, Notation::Ipa)) continue;
 		const auto near = language.nearest(iv.label, Notation::Ipa);
 		iv.label = near && !near->empty() ? near->front() : "";
 		++moved;
 	}
+	return moved;
+}
+
+namespace {
+
+// Recognised en-US phones in `language`, said in a note.
+void inLanguage(Recognition& rec, const Language& language, std::vector<std::string>& notes) {
+	if (language.tag() == "en-US") return;
+	const int moved = toLanguage(rec.phones, language);
 	notes.push_back("the phones are en-US's (the only phone recogniser talkhead has); " + std::to_string(moved) + " without a " + language.tag() +
 	                " spelling took the nearest " + language.tag() + " phone");
 }

@@ -57,6 +57,9 @@ TimedSpeech speechFromAudio(const std::string& audioPath, const Language& langua
 // should know goes to `notes` (the summary, a language note) and `warnings` (silence, doubtful recognition).
 std::vector<PhoneSegment> recognizedPhones(const AudioClip& audio, const std::string& name, const Language& language,
                                            std::vector<std::string>& notes, std::vector<std::string>& warnings);
+// Recognised phones (canonical en-US IPA) in `language`: each takes the language's spelling of it, else its
+// nearest phone. Returns how many moved.
+int toLanguage(Transcript& phones, const Language& language);
 // Loads the speech recogniser now (its plugin and decoders, ~1 s) rather than in the first recognition: a
 // server calls it as it starts. Throws Error when it cannot (no pocketsphinx, no model).
 void prepareSpeechRecognition();

@@ -24,6 +24,10 @@ struct Utterance {
 	std::vector<BrowEvent> brows;       // SSML brow events (relative)
 	std::vector<Ticks> blinks;          // SSML blinks (relative)
 	std::vector<std::string> warnings;  // what was changed on the way (espeak-ng's text warnings)
+	// A part of a streamed speech (perform/stream.h): only the first part opens the utterance (its start is
+	// reported), only the last closes it (its end); the parts in between continue it where the one before
+	// ends. A whole utterance does both.
+	bool opens = true, closes = true;
 	Ticks duration() const;             // the sound's length, or the phones' end when longer
 };
 

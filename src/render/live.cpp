@@ -224,7 +224,7 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 	LiveEvent e;
 	e.id = u.id;
 	e.kind = LiveEvent::Kind::UtteranceStarted;
-	addPending(start, e);
+	if (u.opens) addPending(start, e);
 	for (const auto& m : p.timeline.marks) {
 		LiveEvent me = e;
 		me.kind = LiveEvent::Kind::Mark;
@@ -232,7 +232,13 @@ Ticks LiveSession::enqueue(PlannedUtterance p) {
 		addPending(start + m.time, me);
 	}
 	e.kind = LiveEvent::Kind::UtteranceEnded;
-	addPending(end, e);
+	// A streamed utterance's end is known with its last part; until then a stop ends it.
+	if (u.closes) {
+		addPending(end, e);
+		if (open_ && *open_ == u.id) open_.reset();
+	} else {
+		open_ = u.id;
+	}
 	replan();
 	return start;
 }
@@ -303,6 +309,14 @@ void LiveSession::stop(const std::string& id, const std::vector<std::string>& un
 		pending_ = std::move(left);
 		timeline_.cut(t);
 		queueEnd_ = t;
+	}
+	if (open_) {  // a streamed utterance whose last part had not come: it ends here
+		LiveEvent e;
+		e.kind = LiveEvent::Kind::UtteranceEnded;
+		e.id = *open_;
+		e.interrupted = true;
+		addPending(t, e);
+		open_.reset();
 	}
 	for (const std::string& u : unstarted) {  // the caller's, never queued here: after the session's own
 		LiveEvent e;

@@ -87,7 +87,8 @@ public:
 	// predicted mouths) and makes the keypose images it will need — the one call that may come from another
 	// thread while frames are drawn (a server's speech thread), so that enqueue() then costs a frame nothing.
 	PlannedUtterance plan(Utterance u, const Expression& expression) const;
-	// Queues an utterance: it starts at the next frame, or when the speech queued before it ends. Returns
+	// Queues an utterance: it starts at the next frame, or when the speech queued before it ends (a part of
+	// a streamed one, Utterance::opens/closes: right after the part before, when that has not ended). Returns
 	// its start (stream time). Not planned yet: planned here, in the session's expression; planned in
 	// another expression than the session's now: its keys take the session's (and their exemplars again).
 	Ticks enqueue(PlannedUtterance u);
@@ -149,6 +150,7 @@ private:
 	Timeline timeline_;            // keys and what is asked for at stream times (brows, blinks, marks), spliced in as utterances come
 	std::shared_ptr<const ShapeModulator> modulator_;
 	Ticks horizon_{0};
+	std::optional<std::string> open_;  // the id of a streamed utterance whose last part has not come
 	std::unique_ptr<Sound> sound_;
 
 	Ticks lastDrawn() const;  // the time of the last drawn frame (−1 tick when none)

@@ -113,6 +113,33 @@ LiveRequest parseLiveRequest(const std::string& json) {
 		r.rate = int(numberMember(v, "rate", 80, 450).value_or(0));
 		r.pitch = int(numberMember(v, "pitch", 0, 100).value_or(-1));
 	} else if (r.kind == LiveRequest::Kind::Speak) {
+		if (const JsonValue* more = v.find("more"); more && more->kind != JsonValue::Kind::Null) {
+			if (more->kind != JsonValue::Kind::Bool) throw Error("'more' must be true or false");
+			r.more = more->boolean;
+		}
+		if (const JsonValue* c = v.find("continue"); c && c->kind != JsonValue::Kind::Null) {
+			// A piece of a streamed speak: audio only, in the stream's encoding; its events carry the stream's id.
+			if (c->kind != JsonValue::Kind::String && c->kind != JsonValue::Kind::Number) throw Error(std::string("'continue': ") + kIdRule);
+			const auto text = jsonTopLevelMemberJson(json, "continue");
+			if (!text) throw Error(std::string("'continue': ") + kIdRule);
+			r.id = requestIdJson(*text);
+			r.continues = true;
+			for (const char* k : {"text", "transcript", "visemes", "alignment", "normalized_alignment", "emotion"})
+				if (v.find(k)) throw Error(std::string("a speak that continues a stream ('continue') carries its audio only, not '") + k + "': the stream's text came with its first piece");
+			const std::string& encoding = stringMember(v, "encoding", false);
+			if (!encoding.empty() && encoding != "pcm_s16le") throw Error("a streamed speak's pieces are raw PCM ('encoding': 'pcm_s16le')");
+			if (auto rate = numberMember(v, "sample_rate", 8000, 192000)) r.pcmRate = int(*rate);
+			r.pcmChannels = int(numberMember(v, "channels", 1, 2).value_or(0));
+			if (v.find("audio")) {
+				const auto audio = decodeBase64(stringMember(v, "audio", true));
+				if (!audio) throw Error("'audio' is not base64");
+				r.audio = *audio;
+			} else if (r.more) {
+				throw Error("'audio' is missing (only the last piece of a stream, without 'more', may come without audio)");
+			}
+			if (r.audio.size() % std::size_t(2 * std::max(1, r.pcmChannels)) != 0) throw Error("'audio' is not a whole number of 16-bit sample frames");
+			return r;
+		}
 		const auto audio = decodeBase64(stringMember(v, "audio", true));
 		if (!audio) throw Error("'audio' is not base64");
 		if (audio->empty()) throw Error("'audio' is empty (zero-length audio)");
@@ -144,11 +171,31 @@ LiveRequest parseLiveRequest(const std::string& json) {
 			if (r.text.size() > 100000) throw Error("'text' is longer than 100 000 bytes");
 			if (trim(r.text).empty()) throw Error("'text' is empty");
 		} else if (v.find("transcript")) r.transcript = stringMember(v, "transcript", true);
+		if (r.more) {
+			if (r.pcmRate == 0) throw Error("a streamed speak ('more': true) sends raw PCM: 'encoding': 'pcm_s16le' with 'sample_rate'");
+			if (r.timing || !r.transcript.empty())
+				throw Error("a streamed speak ('more': true) gives its timing as 'text' (aligned as its audio comes) or not at all (recognised); send timed pieces as speaks of their own");
+		}
 	}
 	return r;
 }
 
-Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits) {
+std::vector<float> pcmMono(const std::string& bytes, int channels) {
+	const std::size_t ch = std::size_t(std::max(1, channels)), frames = bytes.size() / (2 * ch);
+	std::vector<float> out(frames);
+	const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+	for (std::size_t i = 0; i < frames; ++i) {
+		float sum = 0;
+		for (std::size_t c = 0; c < ch; ++c) {
+			const std::size_t at = 2 * (i * ch + c);
+			sum += float(std::int16_t(std::uint16_t(b[at] | (b[at + 1] << 8)))) / 32768.f;
+		}
+		out[i] = sum / float(ch);
+	}
+	return out;
+}
+
+Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits, bool recognize) {
 	const Language* language = nullptr;
 	try {
 		language = &Language::get(r.lang.empty() ? defaultLang : r.lang);
@@ -166,7 +213,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 		LiveRequest file = r;
 		file.pcmRate = 0;
 		file.audio = std::move(wav);
-		return prepareUtterance(file, defaultLang, sampleRate, limits);
+		return prepareUtterance(file, defaultLang, sampleRate, limits, recognize);
 	} else {
 		// libav reads files: the sound goes through a private temporary file, removed at once.
 		char path[] = "/tmp/talkhead-speak-XXXXXX";
@@ -184,7 +231,9 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 			if (done != r.audio.size()) throw Error("cannot write the audio to a temporary file");
 			// The limit bounds decoding itself (issue 45): a small compressed file may hold hours.
 			u = utteranceFromAudio(path, r.timing ? std::string() : r.transcript, "transcript", lang, sampleRate, limits.maxSeconds);
-			if (!r.timing && r.transcript.empty()) {
+			if (!r.timing && r.transcript.empty() && r.text.empty() && !recognize) {
+				// The sound alone: the caller recognises it (in parts, perform/stream.h).
+			} else if (!r.timing && r.transcript.empty()) {
 				// Text aligned to the audio, or (no timing at all) the phones recognised from it (issue 49).
 				std::vector<std::string> notes;
 				u.phones = r.text.empty() ? recognizedPhones(u.audio, "audio", lang, notes, u.warnings) : alignedPhones(u.audio, r.text, lang, u.warnings);
@@ -206,7 +255,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 		}
 		::unlink(path);
 		releaseTemporary(path);
-		if (u.phones.empty()) throw Error("transcript: no phones");
+		if (u.phones.empty() && (recognize || r.timing || !r.transcript.empty() || !r.text.empty())) throw Error("transcript: no phones");
 		if (limits.maxSeconds > 0 && toSeconds(u.duration()) > limits.maxSeconds) {
 			char b[160];
 			std::snprintf(b, sizeof b, "the sound lasts %.1f s, longer than the %g s allowed", toSeconds(u.duration()), limits.maxSeconds);
@@ -221,7 +270,7 @@ std::string requestForRecord(const std::string& json, const LiveRequest& r) {
 	std::vector<std::string> keys = {"type", "id", "emotion", "intensity", "ramp"};
 	if (r.kind == LiveRequest::Kind::Say) keys.insert(keys.end(), {"text", "lang", "voice", "rate", "pitch"});
 	if (r.kind == LiveRequest::Kind::Speak)
-		keys.insert(keys.end(), {"audio", "lang", "encoding", "sample_rate", "channels", "transcript", "text", "visemes", "alignment", "normalized_alignment"});
+		keys.insert(keys.end(), {"audio", "lang", "encoding", "sample_rate", "channels", "transcript", "text", "visemes", "alignment", "normalized_alignment", "more", "continue"});
 	return jsonKeepMembers(json, keys);
 }
 
@@ -259,6 +308,32 @@ SessionScript readSessionScript(const std::string& path) {
 	}
 	std::stable_sort(out.steps.begin(), out.steps.end(), [](const SessionScript::Step& a, const SessionScript::Step& b) { return a.frame < b.frame; });
 	return out;
+}
+
+bool speaksInParts(const LiveRequest& r) {
+	return r.kind == LiveRequest::Kind::Speak && (r.more || r.continues || (!r.timing && r.transcript.empty() && r.text.empty()));
+}
+
+void replaySpeakInParts(LiveSession& session, const LiveRequest& r, std::unique_ptr<SpeechStream>& stream, const std::string& defaultLang) {
+	const auto enqueue = [&](Utterance part) {
+		if (part.opens && r.expression) session.setEmotion(*r.expression, r.ramp);
+		session.enqueue(std::move(part));
+	};
+	if (r.continues) {
+		if (!stream || stream->id() != r.id) throw Error("no streamed speak " + r.id + " is open ('continue' names the id of a speak sent with 'more': true)");
+		stream->feed(pcmMono(r.audio, r.pcmChannels ? r.pcmChannels : 1), !r.more, enqueue);
+		if (stream->closed()) stream.reset();
+		return;
+	}
+	const Language& lang = Language::get(r.lang.empty() ? defaultLang : r.lang);
+	if (r.more) {
+		stream = std::make_unique<SpeechStream>(r.id, r.text, lang, r.pcmRate, session.sampleRate());
+		stream->feed(pcmMono(r.audio, r.pcmChannels), false, enqueue);
+		return;
+	}
+	Utterance u = prepareUtterance(r, defaultLang, session.sampleRate(), {}, false);
+	SpeechStream whole(r.id, "", lang, session.sampleRate(), session.sampleRate());
+	whole.feed(u.audio.samples, true, enqueue);
 }
 
 void applyLiveRequest(LiveSession& session, const LiveRequest& r, std::optional<PlannedUtterance> utterance) {

@@ -12,6 +12,7 @@
 #include "synth/face.h"
 #include "phonetics/espeak.h"
 #include "phonetics/transcript.h"
+#include "perform/stream.h"
 #include "render/live.h"
 
 namespace talkhead {
@@ -33,6 +34,9 @@ struct LiveRequest {
 	int pcmRate = 0, pcmChannels = 1;  // speak: "encoding": "pcm_s16le" with "sample_rate" (and "channels")
 	std::string transcript;         // speak: its timing, any transcript format talkhead reads, or
 	std::optional<Transcript> timing;  // speak: Azure viseme events or ElevenLabs character timestamps
+	// speak, streamed (issue 49): `more` — more audio follows in speaks that name this one's id in
+	// `continue` (`continues`: this is one of them; `id` is then the stream's); the last has no `more`.
+	bool more = false, continues = false;
 };
 // At most kMaxRequestValues JSON values (issue 28 item 4: each costs ~100 bytes parsed).
 constexpr std::size_t kMaxRequestValues = 500000;
@@ -48,7 +52,16 @@ std::string requestForRecord(const std::string& json, const LiveRequest& request
 // The utterance of a say (espeak-ng, in process) or speak (the sound decoded, the transcript read)
 // request, at `sampleRate`, within `limits` (maxSeconds bounds speak's sound too). Throws Error, or
 // SpeechCancelled.
-Utterance prepareUtterance(const LiveRequest& request, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits = {});
+// `recognize` false: a speak with no timing at all comes back with its sound and no phones (the caller
+// recognises them in parts, perform/stream.h).
+Utterance prepareUtterance(const LiveRequest& request, const std::string& defaultLang, int sampleRate, const SpeechLimits& limits = {}, bool recognize = true);
+// Raw 16-bit little-endian PCM (a streamed speak's piece) as mono samples.
+std::vector<float> pcmMono(const std::string& bytes, int channels);
+// A speak whose phones come in parts (perform/stream.h): streamed (`more`, `continue`) or with no timing.
+bool speaksInParts(const LiveRequest& request);
+// Such a speak replayed offline (talkhead live): its parts into the session as they come; `stream` holds the
+// open stream between requests.
+void replaySpeakInParts(LiveSession& session, const LiveRequest& request, std::unique_ptr<SpeechStream>& stream, const std::string& defaultLang);
 // Applies a request to the session at its next frame (say and speak: with their prepared utterance).
 void applyLiveRequest(LiveSession& session, const LiveRequest& request, std::optional<PlannedUtterance> utterance);
 

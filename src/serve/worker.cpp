@@ -160,7 +160,8 @@ void LiveWorker::intakeLoop() {
 		}
 		// Every answer to a request names its id: read from the text as far as it can be (item 10).
 		auto idOf = [&] {
-			const auto id = jsonTopLevelMemberJson(in.text, "id");
+			auto id = jsonTopLevelMemberJson(in.text, "id");
+			if (!id) id = jsonTopLevelMemberJson(in.text, "continue");  // a streamed speak's piece: the stream's
 			try {
 				return id ? requestIdJson(*id) : std::string();
 			} catch (const Error&) {
@@ -191,8 +192,12 @@ void LiveWorker::intakeLoop() {
 			// everything queued: the frame thread takes it at its next frame.
 			++generation_;
 			for (const Command& q : speechQueue_)
-				if (q.request.kind != LiveRequest::Kind::Emotion) c.dropped.push_back(q.request.id);
-			if (preparing_) c.dropped.insert(c.dropped.begin(), preparingId_);
+				if (q.request.kind != LiveRequest::Kind::Emotion && !q.request.continues) c.dropped.push_back(q.request.id);
+			// A streamed speak none of whose parts reached the frames ends here; one that has, in the session.
+			const bool streamHere = !streamId_.empty() && !streamHanded_;
+			if (preparing_ && preparingId_ != streamId_) c.dropped.insert(c.dropped.begin(), preparingId_);
+			if (streamHere) c.dropped.insert(c.dropped.begin(), streamId_);
+			streamId_.clear();
 			speechQueue_.clear();
 			cancel_ = true;
 			c.generation = generation_;
@@ -200,7 +205,7 @@ void LiveWorker::intakeLoop() {
 			frameCv_.notify_all();
 			continue;
 		}
-		if (c.request.kind != LiveRequest::Kind::Emotion) {
+		if (c.request.kind != LiveRequest::Kind::Emotion && !c.request.continues) {
 			const int queued = int(std::count_if(speechQueue_.begin(), speechQueue_.end(), [](const Command& q) { return q.request.kind != LiveRequest::Kind::Emotion; })) +
 			                   (preparing_ ? 1 : 0) + handed_ + stats_->queuedRequests.load();
 			if (queued >= o_.limits.queuedRequests) {
@@ -234,6 +239,12 @@ void LiveWorker::speechLoop() {
 			limits = limitsNow();
 		}
 		double seconds = 0;
+		if (speaksInParts(c.request)) {
+			streamed(c, limits);
+			std::lock_guard<std::mutex> lock(m_);
+			preparing_ = false;
+			continue;
+		}
 		if (c.request.kind == LiveRequest::Kind::Say || c.request.kind == LiveRequest::Kind::Speak) {
 			try {
 				if (limits.maxSeconds <= 0) {
@@ -277,6 +288,151 @@ void LiveWorker::speechLoop() {
 		if (c.utterance) ++handed_, handedSeconds_ += seconds;
 		frameQueue_.push_back(std::move(c));
 		frameCv_.notify_all();
+	}
+}
+
+void LiveWorker::hand(const Command& c, Utterance part) {
+	Command p;
+	p.request = c.request;
+	p.request.audio.clear();
+	p.request.text.clear();
+	if (!part.opens) p.request.expression.reset();  // the emotion changes with the first part only
+	p.generation = c.generation;
+	p.received = part.opens ? streamReceived_ : c.received;
+	p.alsoRecorded = std::move(streamRecord_);  // the pieces that led to it, for the record
+	streamRecord_.clear();
+	const double seconds = toSeconds(part.duration());
+	const bool opens = part.opens, closes = part.closes;
+	{
+		Expression expression;
+		{
+			std::lock_guard<std::mutex> lock(m_);
+			expression = c.request.expression.value_or(expression_);
+		}
+		std::lock_guard<std::mutex> warming(warmMutex_);
+		if (LiveSession* s = session_.load()) p.utterance = s->plan(std::move(part), expression);
+		else p.utterance = PlannedUtterance(std::move(part));
+	}
+	for (const auto& w : p.utterance->utterance.warnings) send_(false, messageJson("warning", w, c.request.id));
+	std::lock_guard<std::mutex> lock(m_);
+	if (p.generation != generation_) throw SpeechCancelled();  // a stop came: it ends the utterance
+	if (closing_) {  // the server is going: what has not started never does
+		if (opens) orphans_.push_back(c.request.id);
+		throw SpeechCancelled();
+	}
+	if (streamId_ == c.request.id) {
+		streamHanded_ = true;
+		if (closes) streamId_.clear();
+	}
+	++handed_, handedSeconds_ += seconds;
+	frameQueue_.push_back(std::move(p));
+	frameCv_.notify_all();
+}
+
+void LiveWorker::streamed(Command& c, const SpeechLimits& limits) {
+	const LiveRequest& r = c.request;
+	const int rate = o_.live.sampleRate;
+	const auto emit = [&](Utterance part) { hand(c, std::move(part)); };
+	bool opened = false;  // a part of this utterance went to the frames (an error must then end it there)
+	bool fault = false;   // the error ends the stream (not a refusal of this request alone)
+	try {
+		if (r.continues) {
+			if (stream_ && streamGeneration_ != c.generation) {  // a stop ended it
+				stoppedStream_ = stream_->id();
+				stream_.reset();
+			}
+			if (!stream_ || stream_->id() != r.id) {
+				if (r.id == stoppedStream_) return;  // its pieces in flight after the stop: dropped
+				throw Error("no streamed speak " + r.id + " is open ('continue' names the id of a speak sent with 'more': true)");
+			}
+			fault = true;
+			if (r.pcmRate && r.pcmRate != stream_->inputRate())
+				throw Error("the piece's 'sample_rate' (" + std::to_string(r.pcmRate) + ") is not the stream's (" + std::to_string(stream_->inputRate()) + ")");
+			opened = stream_->opened();
+			if (!c.json.empty()) streamRecord_.push_back(c.json);
+			const std::vector<float> piece = pcmMono(r.audio, r.pcmChannels ? r.pcmChannels : streamChannels_);
+			if (toSeconds(stream_->received()) + double(piece.size()) / stream_->inputRate() > o_.limits.utteranceSeconds) {
+				char b[200];
+				std::snprintf(b, sizeof b, "the streamed speak is longer than the %g s allowed ({{max-utterance}})", o_.limits.utteranceSeconds);
+				throw Error(b);
+			}
+			stream_->feed(piece, !r.more, emit, &cancel_);
+			opened = stream_->opened();
+			if (stream_->closed()) stream_.reset();
+			return;
+		}
+		if (stream_ && streamGeneration_ == c.generation && !stream_->closed())
+			throw Error("a streamed speak (" + stream_->id() + ") is open: send its last piece ('continue' without 'more') before another speak");
+		if (stream_ && streamGeneration_ != c.generation) stoppedStream_ = stream_->id();
+		stream_.reset();
+		if (limits.maxSeconds <= 0) {
+			char b[200];
+			std::snprintf(b, sizeof b, "the session has %.0f s of speech queued already, the most it may have ({{max-queued-speech}}): wait, or stop", o_.limits.queuedSeconds);
+			throw Error(b);
+		}
+		const Language& lang = Language::get(r.lang.empty() ? o_.lang : r.lang);
+		if (r.more) {
+			stream_ = std::make_unique<SpeechStream>(r.id, r.text, lang, r.pcmRate, rate);
+			streamGeneration_ = c.generation;
+			streamReceived_ = c.received;
+			streamChannels_ = r.pcmChannels;
+			streamRecord_.clear();
+			if (!c.json.empty()) streamRecord_.push_back(c.json);
+			{
+				std::lock_guard<std::mutex> lock(m_);
+				streamId_ = r.id;
+				streamHanded_ = false;
+			}
+			fault = true;
+			stream_->feed(pcmMono(r.audio, r.pcmChannels), false, emit, &cancel_);
+			opened = stream_->opened();
+			return;
+		}
+		// A whole sound with no timing: recognised an utterance at a time, the first part given out as soon as
+		// its phones are known (issue 49's latency goal for speak with the audio alone).
+		Utterance u = prepareUtterance(r, o_.lang, rate, limits, false);
+		SpeechStream whole(r.id, "", lang, rate, rate);
+		streamReceived_ = c.received;
+		streamRecord_.clear();
+		if (!c.json.empty()) streamRecord_.push_back(c.json);
+		{
+			std::lock_guard<std::mutex> lock(m_);
+			streamId_ = r.id;  // parts in the session: a stop ends it there, not twice
+			streamHanded_ = false;
+		}
+		fault = true;
+		try {
+			whole.feed(u.audio.samples, true, emit, &cancel_);
+		} catch (...) {
+			opened = whole.opened();
+			throw;
+		}
+	} catch (const SpeechCancelled&) {
+		if (stream_ && stream_->id() == r.id) {
+			stoppedStream_ = r.id;
+			stream_.reset();
+		}
+		return;  // a stop (it ends the utterance), or the session's end
+	} catch (const std::exception& e) {
+		error(describeException(e), r.id);
+		if (!fault) return;  // this request refused; an open stream goes on
+		if (stream_) opened = opened || stream_->opened();
+		stream_.reset();
+		{
+			std::lock_guard<std::mutex> lock(m_);
+			if (!opened && streamId_ == r.id) streamId_.clear();
+		}
+		if (opened) {
+			// Its parts so far play; the utterance ends after them.
+			Utterance end;
+			end.id = r.id;
+			end.opens = false;
+			end.audio.sampleRate = rate, end.audio.channels = 1;
+			try {
+				hand(c, std::move(end));
+			} catch (const std::exception&) {
+			}
+		}
 	}
 }
 
@@ -339,7 +495,8 @@ void LiveWorker::apply(LiveSession& session, Command& c, std::int64_t frame) {
 	applyLiveRequest(session, c.request, std::move(c.utterance));
 	std::lock_guard<std::mutex> lock(m_);
 	expression_ = session.expression();
-	record(JsonObject().add("frame", frame).raw("request", c.json).str(), frame);
+	for (const std::string& j : c.alsoRecorded) record(JsonObject().add("frame", frame).raw("request", j).str(), frame);
+	if (!c.json.empty()) record(JsonObject().add("frame", frame).raw("request", c.json).str(), frame);
 }
 
 void LiveWorker::record(const std::string& line, std::int64_t frame) {
@@ -377,7 +534,8 @@ bool LiveWorker::take(LiveSession& session, std::deque<Command>& todo, std::dequ
 				// So do the requests the stop dropped before they were prepared: in the order they came, after
 				// the one under way and before `stopped`.
 				std::vector<std::string> ended;
-				for (const Command& r : ready) ended.push_back(r.request.id);
+				for (const Command& r : ready)
+					if (r.utterance->utterance.opens) ended.push_back(r.request.id);  // a later part's utterance is the session's
 				ended.insert(ended.end(), c.dropped.begin(), c.dropped.end());
 				ready.clear();
 				session.stop(c.request.id, ended);
@@ -524,7 +682,7 @@ void LiveWorker::frames(LiveSession& session) {
 			Command c = std::move(ready.front());
 			ready.pop_front();
 			try {
-				requestTimes[c.request.id] = c.received;
+				if (c.utterance->utterance.opens) requestTimes[c.request.id] = c.received;
 				apply(session, c, n);
 			} catch (const std::exception& e) {
 				error(describeException(e), c.request.id);

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "perform/stream.h"
 #include "serve/server.h"
 
 namespace talkhead {
@@ -92,6 +93,7 @@ private:
 		std::uint64_t generation = 0;
 		ServeClock::time_point received;
 		std::vector<std::string> dropped;  // a stop: the ids of the say/speak it dropped before they were prepared
+		std::vector<std::string> alsoRecorded;  // a streamed speak's pieces that gave no part of their own (for the record)
 	};
 	const Face& face_;
 	const ServeOptions& o_;
@@ -119,6 +121,18 @@ private:
 	std::atomic<bool> cancel_{false};               // the synthesis under way stops
 	std::atomic<std::int64_t> lastRequestNs_;
 
+	// A streamed speak (issue 49), the speech thread's: the stream, the generation it began in, when its first
+	// piece came, its channels, and the record lines of pieces not yet in a part.
+	std::unique_ptr<SpeechStream> stream_;
+	std::uint64_t streamGeneration_ = 0;
+	ServeClock::time_point streamReceived_{};
+	int streamChannels_ = 1;
+	std::vector<std::string> streamRecord_;
+	std::string stoppedStream_;                     // the id of the stream a stop ended (its pieces in flight are dropped)
+	// …and what the intake thread needs to know of it (under m_): its id while open, whether a part went to the frames.
+	std::string streamId_;
+	bool streamHanded_ = false;
+
 	std::ofstream record_;
 	std::uint64_t recorded_ = 0;                    // bytes written to it
 	std::int64_t drawn_ = 0;                        // frames drawn and encoded (the record's end)
@@ -131,6 +145,10 @@ private:
 	void error(const std::string& message, const std::string& id);
 	void intakeLoop();
 	void speechLoop();
+	// A speak whose phones come in parts (perform/stream.h): a streamed one's piece, or a whole sound to
+	// recognise. Errors go to the client; the utterance still ends.
+	void streamed(Command& c, const SpeechLimits& limits);
+	void hand(const Command& c, Utterance part);  // a part planned and queued for the frame thread
 	void frameLoop();
 	void frames(LiveSession& session);
 	// The frame thread's steps: the hello (and the record's first line); a request into the session; the

@@ -40,6 +40,19 @@ json.dump({'type': 'speak', 'id': 'pcm', 'lang': 'pt-BR', 'encoding': 'pcm_s16le
 a = base64.b64encode(open(f'{t}/a.wav', 'rb').read()).decode()
 json.dump({'type': 'speak', 'id': 'text', 'lang': 'pt-BR', 'audio': a, 'text': 'Bom dia, tudo bem?'}, open(f'{t}/speak-text.json', 'w'))
 json.dump({'type': 'speak', 'id': 'heard', 'lang': 'pt-BR', 'audio': a}, open(f'{t}/speak-heard.json', 'w'))
+# Issue 49 part 2: the same sound streamed as a TTS streams it, raw PCM in 0.3-s pieces, its text with the first.
+step = 22050 * 2 * 3 // 10
+pieces = [pcm[k:k + step] for k in range(0, len(pcm), step)]
+for k, p in enumerate(pieces):
+    req = {'type': 'speak', 'audio': base64.b64encode(p).decode()}
+    if k == 0:
+        req.update({'id': 'stream', 'lang': 'pt-BR', 'encoding': 'pcm_s16le', 'sample_rate': 22050, 'text': 'Bom dia, tudo bem?'})
+    else:
+        req['continue'] = 'stream'
+    if k + 1 < len(pieces):
+        req['more'] = True
+    json.dump(req, open(f'{t}/stream-{k}.json', 'w'))
+open(f'{t}/stream-count', 'w').write(str(len(pieces)))
 bad = {'type': 'speak', 'id': 'noise', 'audio': base64.b64encode(b'\x13\x37' * 3000).decode(), 'transcript': open(f'{t}/a.TextGrid').read()}
 open(f'{t}/bad-audio.json', 'w').write(json.dumps(bad))
 with open(f'{t}/huge.json', 'w') as f:  # 100 MB
@@ -72,6 +85,22 @@ grep -q '"type": "utterance_started", "frame": [0-9]*, "time": [0-9.]*, "id": "t
 grep -q '"type": "utterance_started", "frame": [0-9]*, "time": [0-9.]*, "id": "heard"' "$T/s3.events"
 test "$(grep -c '"type": "utterance_ended"' "$T/s3.events")" = 2
 ! grep -q '"type": "error"' "$T/s3.events"
+# A streamed speak: one start, one end, no error; its pieces a stop overtook are dropped without an error,
+# and the stream ends once, interrupted.
+args=()
+for k in $(seq 0 $(( $(cat "$T/stream-count") - 1 ))); do args+=("$(( 100 + 300 * k )):@$T/stream-$k.json"); done
+"$CLIENT" "$port" "$T/s4" 4 "${args[@]}"
+test "$(grep -c '"type": "utterance_started".*"id": "stream"' "$T/s4.events")" = 1
+test "$(grep -c '"type": "utterance_ended".*"id": "stream"' "$T/s4.events")" = 1
+! grep -q '"type": "error"' "$T/s4.events"
+"$CLIENT" "$port" "$T/s5" 3 "100:@$T/stream-0.json" "400:@$T/stream-1.json" "700:@$T/stream-2.json" '800:{"type":"stop","id":"halt"}' "850:@$T/stream-3.json" "900:@$T/stream-4.json"
+test "$(grep -c '"type": "utterance_ended".*"id": "stream"' "$T/s5.events")" = 1
+grep -q '"type": "stopped"' "$T/s5.events"
+! grep -q '"type": "error"' "$T/s5.events"
+# A piece of no open stream is refused, naming it.
+"$CLIENT" "$port" "$T/s6" 1 '100:{"type":"speak","continue":"nope","audio":"AAAAAA=="}' '200:{"type":"speak","continue":"nope","audio":"AAAA"}'
+grep -q '"type": "error".*no streamed speak.*"id": "nope"' "$T/s6.events"
+grep -q '"type": "error".*16-bit sample frames.*"id": "nope"' "$T/s6.events"
 # Offline: the records replayed give the frames each stream had, bit for bit.
 sleep 0.3  # the sessions write their end lines as they close
 for n in 1 2; do
