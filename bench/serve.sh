@@ -5,7 +5,8 @@
 #   say -> start frame:   from the request's arrival to the encoded frame where the mouth starts moving
 #                         (the server's latency_ms; goal <= 200 ms), and as the client sees it (send to the
 #                         utterance_started event)
-#   speak -> frames:      the same for a speak request (goal <= 100 ms; with text <= 150 ms, alone <= 300 ms)
+#   speak -> frames:      the same for a speak request (goal <= 100 ms; with text <= 150 ms, alone <= 300 ms;
+#                         streamed in 0.2-s PCM pieces with the text on the first, from the first piece's arrival)
 #   late frames:          frames sent more than one frame after their time (goal: none at 30 fps, 1280x720)
 # Then (issue 28):
 #   capacity:             N sessions at once, each speaking (all at the same moments: the worst case); how
@@ -43,7 +44,23 @@ json.dump({'type': 'speak', 'id': 'speak', 'lang': 'en-US', 'audio': base64.b64e
 a = base64.b64encode(open(f'{t}/a.wav', 'rb').read()).decode()
 json.dump({'type': 'speak', 'id': 'text', 'lang': 'en-US', 'audio': a, 'text': 'Good morning, how can I help you today?'}, open(f'{t}/speak-text.json', 'w'))
 json.dump({'type': 'speak', 'id': 'heard', 'lang': 'en-US', 'audio': a}, open(f'{t}/speak-heard.json', 'w'))
+# Issue 49 part 2: the same sound streamed as raw PCM in 0.2-s pieces with its text on the first: sent as they
+# would play (a TTS at real time) and all at once (a TTS faster than real time).
+w = open(f'{t}/a.wav', 'rb').read()
+pcm = w[w.index(b'data') + 8:]
+step = 22050 * 2 // 5
+pieces = [pcm[k:k + step] for k in range(0, len(pcm), step)]
+for name in ('rt', 'burst'):
+    for k, p in enumerate(pieces):
+        req = {'type': 'speak', 'audio': base64.b64encode(p).decode()}
+        if k == 0: req.update({'id': 'stream-' + name, 'lang': 'en-US', 'encoding': 'pcm_s16le', 'sample_rate': 22050, 'text': 'Good morning, how can I help you today?'})
+        else: req['continue'] = 'stream-' + name
+        if k + 1 < len(pieces): req['more'] = True
+        json.dump(req, open(f'{t}/stream-{name}-{k}.json', 'w'))
+open(f'{t}/stream-count', 'w').write(str(len(pieces)))
 PY
+streams=()
+for k in $(seq 0 $(( $(cat "$T/stream-count") - 1 ))); do streams+=("$(( 29000 + 200 * k )):@$T/stream-rt-$k.json" "$(( 35000 + 5 * k )):@$T/stream-burst-$k.json"); done
 run() {  # SIZE LOAD(0|1) NAME
 	local size=$1 load=$2 name=$3 loader=0
 	"$TH" serve --listen 127.0.0.1:0 --size "$size" >"$T/$name.out" 2>"$T/$name.err" &
@@ -53,12 +70,12 @@ run() {  # SIZE LOAD(0|1) NAME
 	local port
 	port=$(sed -nE 's/.*127\.0\.0\.1:([0-9]+)\/ .*/\1/p' "$T/$name.out")
 	if [ "$load" = 1 ]; then /usr/bin/python3 -c 'while True: pass' & loader=$!; pids+=("$loader"); fi
-	"$CLIENT" "$port" "$T/$name" 29 \
+	"$CLIENT" "$port" "$T/$name" 41 \
 		'1000:{"type":"say","id":"s1","text":"Hello, nice to meet you."}' \
 		'5000:{"type":"say","id":"s2","text":"The weather is lovely today, is it not?"}' \
 		'9000:{"type":"say","id":"s3","text":"I can talk for as long as you like."}' \
 		'13000:{"type":"say","id":"s4","text":"Thank you, and goodbye!"}' \
-		"17000:@$T/speak.json" "21000:@$T/speak-text.json" "25000:@$T/speak-heard.json"
+		"17000:@$T/speak.json" "21000:@$T/speak-text.json" "25000:@$T/speak-heard.json" "${streams[@]}"
 	[ "$loader" = 0 ] || kill "$loader"
 	sleep 0.5
 	kill "$server"; wait "$server" 2>/dev/null || true
@@ -78,7 +95,7 @@ says = [server[k] for k in ('s1', 's2', 's3', 's4') if k in server]
 csays = [client[k] for k in ('s1', 's2', 's3', 's4') if k in client]
 stats = re.search(r'(\d+) frames, ([\d.]+) ms each to draw and encode, (\d+) late by more than a frame \(latest (\d+) ms', open(sys.argv[2]).read())
 print(f"{sys.argv[3]:<26} say {statistics.median(says):6.1f} ms (max {max(says):6.1f}; client {statistics.median(csays):6.1f})"
-      f"   speak {server.get('speak', float('nan')):6.1f} ms (with text {server.get('text', float('nan')):6.1f}, alone {server.get('heard', float('nan')):6.1f})   frames {stats.group(1)}, {stats.group(2)} ms each, {stats.group(3)} late (latest {stats.group(4)} ms)")
+      f"   speak {server.get('speak', float('nan')):6.1f} ms (with text {server.get('text', float('nan')):6.1f}, alone {server.get('heard', float('nan')):6.1f}; streamed with text: real time {server.get('stream-rt', float('nan')):6.1f}, burst {server.get('stream-burst', float('nan')):6.1f})   frames {stats.group(1)}, {stats.group(2)} ms each, {stats.group(3)} late (latest {stats.group(4)} ms)")
 PY
 }
 serve_on() {  # NAME ARGS…: a server on a free port; sets $port, $server
