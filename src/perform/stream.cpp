@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <unistd.h>
@@ -254,10 +253,9 @@ void SpeechStream::recognize(bool last, const Emit& emit, const std::atomic<bool
 	ro.firstUtteranceSeconds = parts_ == 0 ? o_.firstRecognized : 0;
 	// Streamed and not the last piece: only utterances that end this far before what has arrived are over.
 	const Ticks settled = last ? rest.duration() : rest.duration() - ticksFromSeconds(0.6);
-	std::vector<std::string> pending;  // warnings for the next part
 	ro.progress = [&](Ticks upTo, const std::vector<Interval>& phones, const std::vector<double>&) {
 		if (cancel && cancel->load()) return false;
-		if (upTo > settled || (last && upTo >= rest.duration())) return true;  // the last part is given below
+		if (upTo >= settled) return true;  // not over yet, or the last part (given below)
 		Transcript t;
 		t.level = LabelLevel::Phone;
 		t.format = "recognized";
@@ -268,8 +266,7 @@ void SpeechStream::recognize(bool last, const Emit& emit, const std::atomic<bool
 		}
 		t.intervals = withPauses(t.intervals, Ticks(0), upTo - start);
 		toLanguage(t, language_);
-		give(from + upTo, phoneSegments(t, language_, UnknownPhone::Silence, Notation::Ipa), std::move(pending), false, emit);
-		pending.clear();
+		give(from + upTo, phoneSegments(t, language_, UnknownPhone::Silence, Notation::Ipa), {}, false, emit);
 		return true;
 	};
 	Recognition rec;

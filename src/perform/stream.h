@@ -54,7 +54,6 @@ public:
 	const std::string& id() const { return id_; }
 	int inputRate() const { return inputRate_; }
 	Ticks received() const;  // the audio so far
-	Ticks given() const { return given_; }  // the audio given out in parts
 
 private:
 	std::string id_, text_;  // text_: what is said from origin_ on

@@ -90,13 +90,21 @@ LiveRequest parseLiveRequest(const std::string& json) {
 	else if (type == "emotion") r.kind = LiveRequest::Kind::Emotion;
 	else if (type == "stop") r.kind = LiveRequest::Kind::Stop;
 	else throw Error("unknown request type '" + safeQuote(type) + "' (say, speak, emotion, stop)");
-	if (const JsonValue* id = v.find("id"); id && id->kind != JsonValue::Kind::Null) {
-		// As the client wrote it (issue 45): 2 and "2" are two ids, and no number is rounded into another.
-		if (id->kind != JsonValue::Kind::String && id->kind != JsonValue::Kind::Number) throw Error(kIdRule);
-		const auto text = jsonTopLevelMemberJson(json, "id");
-		if (!text) throw Error(kIdRule);
-		r.id = requestIdJson(*text);
-	}
+	// An id as the client wrote it (issue 45): 2 and "2" are two ids, and no number is rounded into another.
+	const auto idMember = [&](const char* key, const std::string& rule) -> std::optional<std::string> {
+		const JsonValue* id = v.find(key);
+		if (!id || id->kind == JsonValue::Kind::Null) return std::nullopt;
+		if (id->kind != JsonValue::Kind::String && id->kind != JsonValue::Kind::Number) throw Error(rule);
+		const auto text = jsonTopLevelMemberJson(json, key);
+		if (!text) throw Error(rule);
+		return requestIdJson(*text);
+	};
+	const auto audioMember = [&] {
+		const auto audio = decodeBase64(stringMember(v, "audio", true));
+		if (!audio) throw Error("'audio' is not base64");
+		return *audio;
+	};
+	if (auto id = idMember("id", kIdRule)) r.id = *id;
 	const std::string& emotion = stringMember(v, "emotion", r.kind == LiveRequest::Kind::Emotion);
 	const double intensity = numberMember(v, "intensity", 0, Expression::kMaxIntensity).value_or(1);
 	if (!emotion.empty()) {
@@ -117,12 +125,9 @@ LiveRequest parseLiveRequest(const std::string& json) {
 			if (more->kind != JsonValue::Kind::Bool) throw Error("'more' must be true or false");
 			r.more = more->boolean;
 		}
-		if (const JsonValue* c = v.find("continue"); c && c->kind != JsonValue::Kind::Null) {
+		if (auto stream = idMember("continue", std::string("'continue': ") + kIdRule)) {
 			// A piece of a streamed speak: audio only, in the stream's encoding; its events carry the stream's id.
-			if (c->kind != JsonValue::Kind::String && c->kind != JsonValue::Kind::Number) throw Error(std::string("'continue': ") + kIdRule);
-			const auto text = jsonTopLevelMemberJson(json, "continue");
-			if (!text) throw Error(std::string("'continue': ") + kIdRule);
-			r.id = requestIdJson(*text);
+			r.id = *stream;
 			r.continues = true;
 			for (const char* k : {"text", "transcript", "visemes", "alignment", "normalized_alignment", "emotion"})
 				if (v.find(k)) throw Error(std::string("a speak that continues a stream ('continue') carries its audio only, not '") + k + "': the stream's text came with its first piece");
@@ -131,19 +136,15 @@ LiveRequest parseLiveRequest(const std::string& json) {
 			if (auto rate = numberMember(v, "sample_rate", 8000, 192000)) r.pcmRate = int(*rate);
 			r.pcmChannels = int(numberMember(v, "channels", 1, 2).value_or(0));
 			if (v.find("audio")) {
-				const auto audio = decodeBase64(stringMember(v, "audio", true));
-				if (!audio) throw Error("'audio' is not base64");
-				r.audio = *audio;
+				r.audio = audioMember();
 			} else if (r.more) {
 				throw Error("'audio' is missing (only the last piece of a stream, without 'more', may come without audio)");
 			}
 			if (r.audio.size() % std::size_t(2 * std::max(1, r.pcmChannels)) != 0) throw Error("'audio' is not a whole number of 16-bit sample frames");
 			return r;
 		}
-		const auto audio = decodeBase64(stringMember(v, "audio", true));
-		if (!audio) throw Error("'audio' is not base64");
-		if (audio->empty()) throw Error("'audio' is empty (zero-length audio)");
-		r.audio = *audio;
+		r.audio = audioMember();
+		if (r.audio.empty()) throw Error("'audio' is empty (zero-length audio)");
 		r.lang = stringMember(v, "lang", false);
 		// Raw PCM as TTS services stream it (16-bit little-endian, interleaved), or a file libav reads.
 		const std::string& encoding = stringMember(v, "encoding", false);

@@ -185,7 +185,7 @@ void LiveWorker::intakeLoop() {
 			continue;
 		}
 		std::string recorded = o_.recordDir ? requestForRecord(in.text, r) : std::string();
-		Command c{std::move(r), std::nullopt, std::move(recorded), 0, in.received, {}};
+		Command c{std::move(r), std::nullopt, std::move(recorded), 0, in.received, {}, {}};
 		std::unique_lock<std::mutex> lock(m_);
 		if (c.request.kind == LiveRequest::Kind::Stop) {
 			// Barge-in: what waits for synthesis goes, the synthesis under way stops, and the stop overtakes
@@ -292,11 +292,11 @@ void LiveWorker::speechLoop() {
 }
 
 void LiveWorker::hand(const Command& c, Utterance part) {
-	Command p;
-	p.request = c.request;
-	p.request.audio.clear();
-	p.request.text.clear();
-	if (!part.opens) p.request.expression.reset();  // the emotion changes with the first part only
+	Command p;  // what the frame thread reads of the request (not its audio, which may be megabytes)
+	p.request.kind = c.request.kind;
+	p.request.id = c.request.id;
+	p.request.ramp = c.request.ramp;
+	if (part.opens) p.request.expression = c.request.expression;  // the emotion changes with the first part only
 	p.generation = c.generation;
 	p.received = part.opens ? streamReceived_ : c.received;
 	p.alsoRecorded = std::move(streamRecord_);  // the pieces that led to it, for the record

@@ -15,6 +15,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 		const LiveRequest r = parseLiveRequest(text);
 		TALKHEAD_FUZZ_CHECK(!r.expression || (r.expression->intensity() >= 0 && r.expression->intensity() <= 1.5), "intensity out of range");
 		TALKHEAD_FUZZ_CHECK(r.id.size() <= 200, "id longer than 200 bytes");
+		// A streamed speak (issue 49): its pieces carry audio only, whole 16-bit frames; its first is PCM.
+		if (r.continues) {
+			TALKHEAD_FUZZ_CHECK(!r.timing && r.transcript.empty() && r.text.empty() && !r.expression, "a continuing piece with a timing");
+			TALKHEAD_FUZZ_CHECK(r.audio.size() % 2 == 0, "a piece of half a sample");
+		} else if (r.more) {
+			TALKHEAD_FUZZ_CHECK(r.pcmRate >= 8000 && !r.timing && r.transcript.empty(), "a streamed speak that is not PCM, or timed");
+		}
 		if (r.timing) {
 			const auto& iv = r.timing->intervals;
 			TALKHEAD_FUZZ_CHECK(!iv.empty(), "empty timing");
