@@ -120,12 +120,19 @@ void SpeechStream::give(Ticks end, std::vector<PhoneSegment> phones, std::vector
 	given_ = ticksAt(b, inputRate_);
 	++parts_;
 	if (closes) closed_ = true;
-	emit(std::move(u));
+	// The first parts wait until they hold `lead` seconds (or the stream ends), so that playing them does not
+	// catch up with the words still to be aligned.
+	held_.push_back(std::move(u));
+	if (!closes && !flowing_ && toSeconds(given_) < o_.lead) return;
+	flowing_ = true;
+	for (Utterance& h : held_) emit(std::move(h));
+	held_.clear();
 }
 
-void SpeechStream::feed(const std::vector<float>& piece, bool last, const Emit& emit, const std::atomic<bool>* cancel) {
+void SpeechStream::feed(const std::vector<float>& piece, bool last, const Emit& emit, const std::atomic<bool>* cancel, bool look) {
 	if (closed_) throw Error("the streamed speak has ended");
 	audio_.insert(audio_.end(), piece.begin(), piece.end());
+	if (!look && !last) return;
 	try {
 		if (recognizing_) recognize(last, emit, cancel);
 		else alignWords(last, emit);

@@ -25,6 +25,7 @@ namespace talkhead {
 // renditions depend on what it synthesised before in the process, D91).
 struct SpeechStreamOptions {
 	double margin = 0.25;          // s: a word ending this near the end of what has arrived may go on: it waits
+	double lead = 0.6;             // s: the first parts are held until they hold this much (a buffer against gaps)
 	double step = 0.2;             // s: the words are looked for again when this much more audio has come
 	double firstLook = 0.4;        // s: …and first when this much has come
 	// Words are given out when the alignment and its words so far are at least this sure (Alignment and
@@ -47,10 +48,11 @@ public:
 	// part ready, in order (the first opens the utterance, the last closes it; after `last`, a part always
 	// closes it). Throws Error when the text does not match the audio (the stream is then closed: the caller
 	// ends it), SpeechCancelled when `cancel` is set.
-	void feed(const std::vector<float>& piece, bool last, const Emit& emit, const std::atomic<bool>* cancel = nullptr);
+	// `look` false: the piece is only kept (the caller knows another is already waiting), unless it is the last.
+	void feed(const std::vector<float>& piece, bool last, const Emit& emit, const std::atomic<bool>* cancel = nullptr, bool look = true);
 
 	bool closed() const { return closed_; }
-	bool opened() const { return parts_ > 0; }  // a part was given out
+	bool opened() const { return flowing_; }  // a part was given out
 	const std::string& id() const { return id_; }
 	int inputRate() const { return inputRate_; }
 	Ticks received() const;  // the audio so far
@@ -65,6 +67,8 @@ private:
 	Ticks given_{0};            // the parts so far cover [0, given_)
 	std::size_t lastLook_ = 0;  // samples received when the words were last looked for
 	int parts_ = 0;
+	std::vector<Utterance> held_;  // parts made, not yet given out (the lead)
+	bool flowing_ = false;         // the lead was reached: parts go out as they are made
 	Ticks origin_{0};           // where the alignments begin (a word's end given out; 0 at first)
 	std::size_t givenWords_ = 0;  // words of text_ given out
 	double pace_ = 1;           // espeak-ng's speech seconds per second of the speaker's (measured on the parts given)

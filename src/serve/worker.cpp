@@ -356,7 +356,12 @@ void LiveWorker::streamed(Command& c, const SpeechLimits& limits) {
 				std::snprintf(b, sizeof b, "the streamed speak is longer than the %g s allowed ({{max-utterance}})", o_.limits.utteranceSeconds);
 				throw Error(b);
 			}
-			stream_->feed(piece, !r.more, emit, &cancel_);
+			bool waiting = false;  // the stream's next piece has come already: look for words after it (a fast TTS)
+			{
+				std::lock_guard<std::mutex> lock(m_);
+				waiting = !speechQueue_.empty() && speechQueue_.front().request.continues && speechQueue_.front().request.id == r.id;
+			}
+			stream_->feed(piece, !r.more, emit, &cancel_, !waiting);
 			opened = stream_->opened();
 			if (stream_->closed()) stream_.reset();
 			return;

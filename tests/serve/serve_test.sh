@@ -23,6 +23,7 @@ done
 
 # Speech with its timing, for speak requests (the sound and the phones as say made them).
 "$TH" say "Bom dia, tudo bem?" -q --size 160x90 --no-audio -o "$T/x.mp4" --save-audio "$T/a.wav" --save-transcript "$T/a.TextGrid"
+"$TH" say "Good morning, how can I help you today?" --lang en-US -q --size 160x90 --no-audio -o "$T/z.mp4" --save-audio "$T/c.wav"
 "$TH" say "Boa noite." -q --size 160x90 --no-audio -o "$T/y.mp4" --save-audio "$T/b.wav" --save-transcript "$T/b.TextGrid"
 $PY - "$T" <<'EOF'
 import base64, json, sys
@@ -53,6 +54,21 @@ for k, p in enumerate(pieces):
         req['more'] = True
     json.dump(req, open(f'{t}/stream-{k}.json', 'w'))
 open(f'{t}/stream-count', 'w').write(str(len(pieces)))
+# …and an English sentence in 0.2-s pieces sent at real time (the case that ran dry before D97's lead).
+w = open(f'{t}/c.wav', 'rb').read()
+pcm = w[w.index(b'data') + 8:]
+step = 22050 * 2 // 5
+pieces = [pcm[k:k + step] for k in range(0, len(pcm), step)]
+for k, p in enumerate(pieces):
+    req = {'type': 'speak', 'audio': base64.b64encode(p).decode()}
+    if k == 0:
+        req.update({'id': 'rt', 'lang': 'en-US', 'encoding': 'pcm_s16le', 'sample_rate': 22050, 'text': 'Good morning, how can I help you today?'})
+    else:
+        req['continue'] = 'rt'
+    if k + 1 < len(pieces):
+        req['more'] = True
+    json.dump(req, open(f'{t}/rt-{k}.json', 'w'))
+open(f'{t}/rt-count', 'w').write(str(len(pieces)))
 bad = {'type': 'speak', 'id': 'noise', 'audio': base64.b64encode(b'\x13\x37' * 3000).decode(), 'transcript': open(f'{t}/a.TextGrid').read()}
 open(f'{t}/bad-audio.json', 'w').write(json.dumps(bad))
 with open(f'{t}/huge.json', 'w') as f:  # 100 MB
@@ -93,6 +109,21 @@ for k in $(seq 0 $(( $(cat "$T/stream-count") - 1 ))); do args+=("$(( 100 + 300 
 test "$(grep -c '"type": "utterance_started".*"id": "stream"' "$T/s4.events")" = 1
 test "$(grep -c '"type": "utterance_ended".*"id": "stream"' "$T/s4.events")" = 1
 ! grep -q '"type": "error"' "$T/s4.events"
+# Sent at real time, a stream plays without a hole: the utterance lasts as long as its sound, within a frame
+# (D97's lead).
+args=()
+for k in $(seq 0 $(( $(cat "$T/rt-count") - 1 ))); do args+=("$(( 300 + 200 * k )):@$T/rt-$k.json"); done
+"$CLIENT" "$port" "$T/s7" 5 "${args[@]}"
+! grep -q '"type": "error"' "$T/s7.events"
+$PY - "$T/s7.events" "$T/c.wav" <<'EOF'
+import json, sys, wave
+ev = [json.loads(l.split('\t', 1)[1]) for l in open(sys.argv[1]) if '\t>' not in l and l.split('\t', 1)[1].startswith('{')]
+start = [e for e in ev if e['type'] == 'utterance_started'][0]['time']
+end = [e for e in ev if e['type'] == 'utterance_ended'][0]['time']
+w = wave.open(sys.argv[2])
+sound = w.getnframes() / w.getframerate()
+assert abs((end - start) - sound) <= 1 / 30 + 1e-3, f'the streamed utterance lasts {end - start:.3f} s, its sound {sound:.3f} s'
+EOF
 "$CLIENT" "$port" "$T/s5" 3 "100:@$T/stream-0.json" "400:@$T/stream-1.json" "700:@$T/stream-2.json" '800:{"type":"stop","id":"halt"}' "850:@$T/stream-3.json" "900:@$T/stream-4.json"
 test "$(grep -c '"type": "utterance_ended".*"id": "stream"' "$T/s5.events")" = 1
 grep -q '"type": "stopped"' "$T/s5.events"
