@@ -41,6 +41,12 @@ const { chromium } = require('playwright-core');
     await page.check('#wavtext');
     await page.click('#speakwav');
     await page.waitForFunction(() => window.events.some((e) => e.type === 'utterance_ended' && e.id === 'w3'), null, { timeout: 30000 });
+    // Streamed in PCM pieces with its text: one utterance, started once and ended once.
+    await page.check('#wavstream');
+    await page.click('#speakwav');
+    await page.waitForFunction(() => window.events.some((e) => e.type === 'utterance_ended' && e.id === 'w4'), null, { timeout: 30000 });
+    const starts = await page.evaluate(() => window.events.filter((e) => e.type === 'utterance_started' && e.id === 'w4').length);
+    if (starts !== 1) throw new Error('the streamed WAV started ' + starts + ' times');
     if (await page.evaluate(() => window.events.some((e) => e.type === 'error'))) throw new Error('an error event after speaking the WAV');
   }
   const size = await page.evaluate(() => [document.querySelector('#face').videoWidth, document.querySelector('#face').videoHeight]);
