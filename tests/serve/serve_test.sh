@@ -68,6 +68,10 @@ for k, p in enumerate(pieces):
     if k + 1 < len(pieces):
         req['more'] = True
     json.dump(req, open(f'{t}/rt-{k}.json', 'w'))
+    req.pop('text', None)  # …and the same with no text: its phones recognised as it comes
+    if k == 0: req['id'] = 'heard-stream'
+    else: req['continue'] = 'heard-stream'
+    json.dump(req, open(f'{t}/hs-{k}.json', 'w'))
 open(f'{t}/rt-count', 'w').write(str(len(pieces)))
 bad = {'type': 'speak', 'id': 'noise', 'audio': base64.b64encode(b'\x13\x37' * 3000).decode(), 'transcript': open(f'{t}/a.TextGrid').read()}
 open(f'{t}/bad-audio.json', 'w').write(json.dumps(bad))
@@ -132,6 +136,27 @@ grep -q '"type": "stopped"' "$T/s5.events"
 "$CLIENT" "$port" "$T/s6" 1 '100:{"type":"speak","continue":"nope","audio":"AAAAAA=="}' '200:{"type":"speak","continue":"nope","audio":"AAAA"}'
 grep -q '"type": "error".*no streamed speak.*"id": "nope"' "$T/s6.events"
 grep -q '"type": "error".*16-bit sample frames.*"id": "nope"' "$T/s6.events"
+# A streamed speak with no text, recorded: `talkhead live` replays it frame for frame.
+args=()
+for k in $(seq 0 $(( $(cat "$T/rt-count") - 1 ))); do args+=("$(( 300 + 200 * k )):@$T/hs-$k.json"); done
+"$CLIENT" "$port" "$T/s8" 5 "${args[@]}"
+! grep -q '"type": "error"' "$T/s8.events"
+test "$(grep -c '"type": "utterance_ended".*"id": "heard-stream"' "$T/s8.events")" = 1
+sleep 0.3
+rec=$(grep -l 'heard-stream' "$T"/rec/session-*.jsonl)
+"$TH" live "$rec" --size 320x180 --seed 5 --format y4m -o "$T/live8.y4m" -q
+ffmpeg -v error -i "$T/s8.mp4" -vsync passthrough -f rawvideo -pix_fmt yuv420p "$T/stream8.yuv"
+ffmpeg -v error -i "$T/live8.y4m" -f rawvideo -pix_fmt yuv420p "$T/live8.yuv"
+$PY - "$T/stream8.yuv" "$T/live8.yuv" "$T/s8.events" <<'EOF'
+import json, sys
+frame = 320 * 180 * 3 // 2
+a, b = open(sys.argv[1], 'rb').read(), open(sys.argv[2], 'rb').read()
+n = min(len(a), len(b)) // frame
+end = [json.loads(l.split('\t', 1)[1]) for l in open(sys.argv[3]) if '"utterance_ended"' in l and '\t>' not in l][0]['frame']
+assert n > end, f'{n} frames to compare, the utterance ends at {end}'
+bad = [i for i in range(n) if a[i * frame:(i + 1) * frame] != b[i * frame:(i + 1) * frame]]
+assert not bad, f'{len(bad)} of {n} frames differ, the first {bad[0]}'
+EOF
 # Offline: the records replayed give the frames each stream had, bit for bit.
 sleep 0.3  # the sessions write their end lines as they close
 for n in 1 2; do
