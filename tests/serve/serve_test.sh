@@ -117,7 +117,7 @@ test "$(grep -c '"type": "utterance_ended".*"id": "stream"' "$T/s4.events")" = 1
 # (D97's lead).
 args=()
 for k in $(seq 0 $(( $(cat "$T/rt-count") - 1 ))); do args+=("$(( 300 + 200 * k )):@$T/rt-$k.json"); done
-"$CLIENT" "$port" "$T/s7" 5 "${args[@]}"
+"$CLIENT" "$port" "$T/s7" 7 "${args[@]}"
 ! grep -q '"type": "error"' "$T/s7.events"
 $PY - "$T/s7.events" "$T/c.wav" <<'EOF'
 import json, sys, wave
@@ -139,7 +139,7 @@ grep -q '"type": "error".*16-bit sample frames.*"id": "nope"' "$T/s6.events"
 # A streamed speak with no text, recorded: `talkhead live` replays it frame for frame.
 args=()
 for k in $(seq 0 $(( $(cat "$T/rt-count") - 1 ))); do args+=("$(( 300 + 200 * k )):@$T/hs-$k.json"); done
-"$CLIENT" "$port" "$T/s8" 5 "${args[@]}"
+"$CLIENT" "$port" "$T/s8" 8 "${args[@]}"
 ! grep -q '"type": "error"' "$T/s8.events"
 test "$(grep -c '"type": "utterance_ended".*"id": "heard-stream"' "$T/s8.events")" = 1
 sleep 0.3
