@@ -119,7 +119,9 @@ args=()
 for k in $(seq 0 $(( $(cat "$T/rt-count") - 1 ))); do args+=("$(( 300 + 200 * k )):@$T/rt-$k.json"); done
 "$CLIENT" "$port" "$T/s7" 7 "${args[@]}"
 ! grep -q '"type": "error"' "$T/s7.events"
-$PY - "$T/s7.events" "$T/c.wav" <<'EOF'
+if [ -n "${TALKHEAD_SANITIZED:-}" ]; then
+	echo "note: the real-time gap check is skipped on a sanitized build (its alignment runs 2-3x slower than a release build's)"
+else $PY - "$T/s7.events" "$T/c.wav" <<'EOF'
 import json, sys, wave
 ev = [json.loads(l.split('\t', 1)[1]) for l in open(sys.argv[1]) if '\t>' not in l and l.split('\t', 1)[1].startswith('{')]
 start = [e for e in ev if e['type'] == 'utterance_started'][0]['time']
@@ -128,6 +130,7 @@ w = wave.open(sys.argv[2])
 sound = w.getnframes() / w.getframerate()
 assert abs((end - start) - sound) <= 1 / 30 + 1e-3, f'the streamed utterance lasts {end - start:.3f} s, its sound {sound:.3f} s'
 EOF
+fi
 "$CLIENT" "$port" "$T/s5" 3 "100:@$T/stream-0.json" "400:@$T/stream-1.json" "700:@$T/stream-2.json" '800:{"type":"stop","id":"halt"}' "850:@$T/stream-3.json" "900:@$T/stream-4.json"
 test "$(grep -c '"type": "utterance_ended".*"id": "stream"' "$T/s5.events")" = 1
 grep -q '"type": "stopped"' "$T/s5.events"
