@@ -16,29 +16,54 @@ constexpr double kPi = 3.14159265358979323846;
 int windowLength(int sampleRate, const FeatureOptions& o) { return std::max(1, int(std::lround(o.windowSeconds * sampleRate))); }
 int hopLength(int sampleRate, const FeatureOptions& o) { return std::max(1, int(std::lround(o.hopSeconds * sampleRate))); }
 
-// In-place iterative radix-2 FFT (size a power of two).
-void fft(std::vector<std::complex<double>>& x) {
-	const std::size_t n = x.size();
-	for (std::size_t i = 1, j = 0; i < n; ++i) {
-		std::size_t bit = n >> 1;
-		for (; j & bit; bit >>= 1) j ^= bit;
-		j ^= bit;
-		if (i < j) std::swap(x[i], x[j]);
-	}
-	for (std::size_t len = 2; len <= n; len <<= 1) {
-		const double a = -2 * kPi / double(len);
-		const std::complex<double> w(std::cos(a), std::sin(a));
-		for (std::size_t i = 0; i < n; i += len) {
+// An in-place iterative radix-2 FFT of one size (a power of two), its bit-reversal swaps and twiddle factors
+// computed once: the twiddles by the same recurrence (w^k as k products) that a per-call loop uses, so the
+// results are bit for bit those of computing them inline.
+class Fft {
+public:
+	explicit Fft(std::size_t n) : n_(n) {
+		for (std::size_t i = 1, j = 0; i < n; ++i) {
+			std::size_t bit = n >> 1;
+			for (; j & bit; bit >>= 1) j ^= bit;
+			j ^= bit;
+			if (i < j) swaps_.emplace_back(std::uint32_t(i), std::uint32_t(j));
+		}
+		for (std::size_t len = 2; len <= n; len <<= 1) {
+			const double a = -2 * kPi / double(len);
+			const std::complex<double> w(std::cos(a), std::sin(a));
 			std::complex<double> wk(1, 0);
 			for (std::size_t k = 0; k < len / 2; ++k) {
-				const std::complex<double> u = x[i + k], v = x[i + k + len / 2] * wk;
-				x[i + k] = u + v;
-				x[i + k + len / 2] = u - v;
+				twiddles_.push_back(wk);
 				wk *= w;
 			}
 		}
 	}
-}
+	// Real and imaginary parts in separate arrays of n_ values.
+	void operator()(double* re, double* im) const {
+		for (const auto& [i, j] : swaps_) std::swap(re[i], re[j]), std::swap(im[i], im[j]);
+		const std::complex<double>* tw = twiddles_.data();
+		for (std::size_t len = 2; len <= n_; len <<= 1) {
+			const std::size_t half = len / 2;
+			for (std::size_t i = 0; i < n_; i += len) {
+				double *ur = re + i, *ui = im + i, *vr = re + i + half, *vi = im + i + half;
+				for (std::size_t k = 0; k < half; ++k) {
+					// v·w as std::complex<double> multiplies finite values: (ac − bd, ad + bc).
+					const double a = vr[k], b = vi[k], c = tw[k].real(), d = tw[k].imag();
+					const double pr = a * c - b * d, pi = a * d + b * c;
+					const double xr = ur[k], xi = ui[k];
+					ur[k] = xr + pr, ui[k] = xi + pi;
+					vr[k] = xr - pr, vi[k] = xi - pi;
+				}
+			}
+			tw += half;
+		}
+	}
+
+private:
+	std::size_t n_;
+	std::vector<std::pair<std::uint32_t, std::uint32_t>> swaps_;
+	std::vector<std::complex<double>> twiddles_;  // per stage, w^0 … w^(len/2 − 1)
+};
 
 double hzToMel(double hz) { return 1127.0 * std::log(1.0 + hz / 700.0); }
 double melToHz(double mel) { return 700.0 * (std::exp(mel / 1127.0) - 1.0); }
@@ -80,24 +105,37 @@ FeatureMatrix mfcc(const std::vector<float>& samples, int sampleRate, const Feat
 	const double mLow = hzToMel(low), mHigh = hzToMel(high);
 	std::vector<double> edges(std::size_t(o.melBands) + 2);
 	for (std::size_t b = 0; b < edges.size(); ++b) edges[b] = melToHz(mLow + (mHigh - mLow) * double(b) / double(o.melBands + 1));
-	std::vector<std::vector<double>> filters(std::size_t(o.melBands), std::vector<double>(std::size_t(bins), 0.0));
+	// Each filter as its non-zero weights from its first bin (the sum skips zero weights, in bin order).
+	std::vector<int> firstBin(std::size_t(o.melBands), 0);
+	std::vector<std::vector<double>> filters(std::size_t(o.melBands));
 	for (int b = 0; b < o.melBands; ++b) {
+		std::vector<double> all(std::size_t(bins), 0.0);
 		for (int k = 0; k < bins; ++k) {
 			const double hz = double(k) * sampleRate / nfft;
 			const double l = edges[std::size_t(b)], c = edges[std::size_t(b) + 1], r = edges[std::size_t(b) + 2];
 			double w = 0;
 			if (hz > l && hz <= c) w = (hz - l) / (c - l);
 			else if (hz > c && hz < r) w = (r - hz) / (r - c);
-			filters[std::size_t(b)][std::size_t(k)] = w;
+			all[std::size_t(k)] = w;
 		}
+		int lo = 0, hi = bins;
+		while (lo < bins && !(all[std::size_t(lo)] > 0)) ++lo;
+		while (hi > lo && !(all[std::size_t(hi - 1)] > 0)) --hi;
+		firstBin[std::size_t(b)] = lo;
+		filters[std::size_t(b)].assign(all.begin() + lo, all.begin() + hi);
 	}
 	std::vector<double> window(static_cast<std::size_t>(win));
 	for (int n = 0; n < win; ++n) window[std::size_t(n)] = 0.54 - 0.46 * std::cos(2 * kPi * n / std::max(1, win - 1));
+	std::vector<double> dct(std::size_t(o.cepstra) * std::size_t(o.melBands));
+	for (int c = 0; c < o.cepstra; ++c)
+		for (int b = 0; b < o.melBands; ++b) dct[std::size_t(c) * std::size_t(o.melBands) + std::size_t(b)] = std::cos(kPi * c * (b + 0.5) / o.melBands);
+	const double dctScale = std::sqrt(2.0 / o.melBands);
+	const Fft fft(static_cast<std::size_t>(nfft));
 	FeatureMatrix f;
 	f.frames = frameCountFor(samples.size(), sampleRate, o);
 	f.dims = o.cepstra;
 	f.data.assign(std::size_t(f.frames) * std::size_t(f.dims), 0.f);
-	std::vector<std::complex<double>> buf(static_cast<std::size_t>(nfft));
+	std::vector<double> re(static_cast<std::size_t>(nfft)), im(static_cast<std::size_t>(nfft));
 	std::vector<double> mel(std::size_t(o.melBands));
 	std::uint32_t seed = 12345;  // deterministic dither (about −90 dBFS)
 	const auto dither = [&seed] {
@@ -107,28 +145,28 @@ FeatureMatrix mfcc(const std::vector<float>& samples, int sampleRate, const Feat
 	for (int k = 0; k < f.frames; ++k) {
 		const std::size_t s0 = std::size_t(k) * std::size_t(hop);
 		double prev = s0 > 0 ? samples[s0 - 1] : samples[s0];
-		for (int n = 0; n < nfft; ++n) {
-			if (n < win) {
-				const double x = double(samples[s0 + std::size_t(n)]) + dither();
-				buf[std::size_t(n)] = {(x - 0.97 * prev) * window[std::size_t(n)], 0.0};
-				prev = x;
-			} else {
-				buf[std::size_t(n)] = {0.0, 0.0};
-			}
+		for (int n = 0; n < win; ++n) {
+			const double x = double(samples[s0 + std::size_t(n)]) + dither();
+			re[std::size_t(n)] = (x - 0.97 * prev) * window[std::size_t(n)];
+			prev = x;
 		}
-		fft(buf);
+		std::fill(re.begin() + win, re.end(), 0.0);
+		std::fill(im.begin(), im.end(), 0.0);
+		fft(re.data(), im.data());
 		for (int b = 0; b < o.melBands; ++b) {
 			double e = 0;
-			const auto& fw = filters[std::size_t(b)];
-			for (int i = 0; i < bins; ++i)
-				if (fw[std::size_t(i)] > 0) e += fw[std::size_t(i)] * std::norm(buf[std::size_t(i)]);
+			const std::vector<double>& fw = filters[std::size_t(b)];
+			const double *r = re.data() + firstBin[std::size_t(b)], *i = im.data() + firstBin[std::size_t(b)];
+			for (std::size_t j = 0; j < fw.size(); ++j)
+				if (fw[j] > 0) e += fw[j] * (r[j] * r[j] + i[j] * i[j]);
 			mel[std::size_t(b)] = std::log(std::max(e / win, 1e-12));
 		}
 		float* out = f.row(k);
 		for (int c = 0; c < o.cepstra; ++c) {
 			double s = 0;
-			for (int b = 0; b < o.melBands; ++b) s += mel[std::size_t(b)] * std::cos(kPi * c * (b + 0.5) / o.melBands);
-			out[c] = float(s * std::sqrt(2.0 / o.melBands));
+			const double* d = dct.data() + std::size_t(c) * std::size_t(o.melBands);
+			for (int b = 0; b < o.melBands; ++b) s += mel[std::size_t(b)] * d[b];
+			out[c] = float(s * dctScale);
 		}
 	}
 	if (o.deltas) appendDeltas(f, 0, o.cepstra);

@@ -146,15 +146,21 @@ void SpeechStream::alignWords(bool last, const Emit& emit) {
 	AlignOptions ao;
 	ao.languageTag = language_.tag();
 	const Ticks end = received();
-	// The phones of an alignment of [origin_, …) from given_ to `to`, from 0 of the part.
-	const auto partPhones = [&](const Transcript& phones, Ticks to) {
-		Transcript t = phones;
+	// The phones of an alignment of [origin_, …) from given_ to `to`, from 0 of the part. They begin with the
+	// first word not given yet: this alignment may end a word given already after the cut (where the one that
+	// gave it ended it), and its tail would say that word's last phones again; the first new phone starts at
+	// the cut instead.
+	const auto partPhones = [&](const Alignment& al, Ticks to) {
+		Transcript t = al.phones;
 		t.intervals.clear();
 		const Ticks from = given_ - origin_;
-		for (Interval iv : phones.intervals) {
-			if (iv.end <= from) continue;
+		const Ticks next = givenWords_ > 0 && givenWords_ < al.wordList.size() ? al.wordList[givenWords_].start : from;
+		const Ticks keep = std::max(from, next);
+		for (Interval iv : al.phones.intervals) {
+			if (iv.end <= keep) continue;
 			if (iv.start >= to) break;
-			iv.start = std::max(iv.start, from) - from;
+			iv.start = t.intervals.empty() ? from : std::max(iv.start, from);
+			iv.start -= from;
 			iv.end = std::min(iv.end, to) - from;
 			if (iv.end > iv.start) t.intervals.push_back(iv);
 		}
@@ -168,7 +174,7 @@ void SpeechStream::alignWords(bool last, const Emit& emit) {
 		if (!trim(text_).empty() && rest.frameCount() > 0) {
 			try {
 				const Alignment al = alignSpeech(rest, text_, ao);
-				phones = partPhones(al.phones, rest.duration());
+				phones = partPhones(al, rest.duration());
 				warnings = al.warnings;
 			} catch (const Error& e) {
 				// Punctuation left over is nothing to say; words left over that the audio does not hold are an error.
@@ -179,6 +185,10 @@ void SpeechStream::alignWords(bool last, const Emit& emit) {
 		give(end, std::move(phones), std::move(warnings), true, emit);
 		return;
 	}
+	// Before the lead is reached, a look that cannot reach it is wasted: what it gives ends `margin` before
+	// the audio so far, and is held until the parts hold `lead` seconds. In a burst (a TTS faster than real
+	// time) such looks held up the one that could give the first part (bench/serve.sh).
+	if (!flowing_ && toSeconds(end) - o_.margin < o_.lead) return;
 	const double haveSeconds = toSeconds(end - given_);
 	const bool firstLook = lastLook_ == 0;
 	if (haveSeconds < o_.firstLook || (!firstLook && double(audio_.size() - lastLook_) / inputRate_ < o_.step)) return;
@@ -234,8 +244,9 @@ void SpeechStream::alignWords(bool last, const Emit& emit) {
 	// The pace: espeak-ng's seconds per second of this speaker's, over the words aligned.
 	const double inputSeconds = toSeconds(al.wordList[k - 1].end - al.wordList[0].start);
 	if (inputSeconds > 0.3) pace_ = std::clamp(toSeconds(words[k - 1].end - words[0].start) / inputSeconds, 0.5, 2.0);
+	std::vector<PhoneSegment> phones = partPhones(al, cut);
 	givenWords_ = k;
-	give(origin_ + cut, partPhones(al.phones, cut), al.warnings, false, emit);
+	give(origin_ + cut, std::move(phones), al.warnings, false, emit);
 	// A new origin when the one before lies far back (an alignment's cost grows with its length).
 	if (toSeconds(given_ - origin_) >= o_.keepAligned) {
 		std::vector<std::string> said;
