@@ -437,6 +437,17 @@ MouthSize mouthSize(const Scheme& scheme, const Points& p) {
 	return m;
 }
 
+void shutLips(const Scheme& scheme, Points& p) {
+	const MouthFrame f = mouthFrame(scheme, p);
+	if (!(f.iod > 0)) return;
+	for (const auto& [up, down] : scheme.mouth.inner) {
+		const double gap = (p.row(down) - p.row(up)).dot(f.down);
+		if (!(gap > 0)) continue;
+		p.row(up) += 0.5 * gap * f.down;
+		p.row(down) -= 0.5 * gap * f.down;
+	}
+}
+
 bool mouthScheme(const FaceModel& model, Scheme& out) {
 	out = model.scheme;  // a loaded model's parts come from its shipped scheme (completeSchemeParts)
 	return out.eyes.size() == 2 && !out.mouth.empty();

@@ -107,6 +107,10 @@ struct MouthSize {
 	double opening = 0, width = 0, lift = 0;
 };
 MouthSize mouthSize(const Scheme& scheme, const Points& shape);
+// A bilabial's closure drawn shut (D99): each inner-lip pair apart along the face's vertical meets at its
+// middle, so the warp takes the gap an exemplar caught mid-closure shows out of the picture. Pairs already
+// together or crossed are left as they are.
+void shutLips(const Scheme& scheme, Points& shape);
 // The frame those are measured in: the eye distance (between the eyes' centres; 0 when degenerate), the
 // unit vectors along the eye line toward the image-right eye and down the face, and the inner lips' centre.
 struct MouthFrame {

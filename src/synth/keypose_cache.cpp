@@ -18,7 +18,7 @@
 namespace talkhead {
 
 KeyposeCache::KeyposeCache(const Face& face, const SynthOptions& options, const FaceRig& rig)
-    : face_(face), model_(face.model()), o_(options), rig_(rig) {}
+    : face_(face), model_(face.model()), o_(options), rig_(rig), lipScheme_(mouthScheme(model_, scheme_)) {}
 KeyposeCache::~KeyposeCache() = default;
 
 // D71: the neutral samples' mouths, for the skin of keyposes made from action units.
@@ -311,7 +311,11 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
 	std::vector<const std::uint8_t*> cached8, baseCached8;
 	std::vector<Eigen::VectorXf> synth, baseSynth;
-	const auto& [sample, base, intensity, auEmotion, look, lipsShut] = key;
+	const auto& [sample, base, intensity, auEmotion, look, lipsShut, closeLips] = key;
+	const auto drawn = [&](Points shape) {
+		if (closeLips) shutLips(scheme_, shape);
+		return shape;
+	};
 	load(sample, bytes, cached8, synth);
 	if (look >= 0) {  // D71: the mouth's skin from the neutral sample whose mouth is nearest the shape's
 		std::vector<std::vector<std::uint8_t>> lookBytes;
@@ -322,7 +326,7 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 			if (mouths_->regions[r]) bytes[r] = std::move(lookBytes[r]), cached8[r] = bytes[r].empty() ? nullptr : bytes[r].data(), synth[r] = std::move(lookSynth[r]);
 	}
 	if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
-		const Points shape = actionUnitShape(sample, auEmotion, intensity, lipsShut);
+		const Points shape = drawn(actionUnitShape(sample, auEmotion, intensity, lipsShut));
 		static const std::vector<float> none;
 		const auto gain = auGains_.find({auEmotion, intensity});  // made by prepare() before the workers start
 		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth, gain == auGains_.end() ? none : gain->second));
@@ -331,7 +335,7 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 		return made;
 	}
 	if (base < 0) {
-		return std::make_unique<KeyposeImage>(makeKeypose(sample, model_.alignedShapes[std::size_t(sample)], cached8, synth));
+		return std::make_unique<KeyposeImage>(makeKeypose(sample, drawn(model_.alignedShapes[std::size_t(sample)]), cached8, synth));
 	}
 	// D43: shape and appearance of neutral + intensity × (emotion − neutral), per region.
 	load(base, baseBytes, baseCached8, baseSynth);
@@ -351,7 +355,7 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	const Points& a = model_.alignedShapes[std::size_t(sample)];
 	const Points& b = model_.alignedShapes[std::size_t(base)];
 	const std::vector<const std::uint8_t*> none(nr, nullptr);
-	return std::make_unique<KeyposeImage>(makeKeypose(sample, b + intensity * (a - b), none, mixed));
+	return std::make_unique<KeyposeImage>(makeKeypose(sample, drawn(b + intensity * (a - b)), none, mixed));
 }
 
 Points KeyposeCache::actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut) const {
@@ -482,6 +486,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 			const Pair pair = resolvePair(k);
 			const bool au = fromActionUnits(k);
 			ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
+			key.closeLips = lipScheme_ && k.sample >= 0 && bilabial(k.cdv.label());
 			if (au) {
 				if (!mouths_) measureNeutralMouths();
 				key.lipsShut = bilabial(k.cdv.label());

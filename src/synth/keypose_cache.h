@@ -54,11 +54,17 @@ private:
 		std::string auEmotion;
 		long look = -1;
 		bool lipsShut = false;
+		// A bilabial whose exemplar the learned mouth chose (Keypose::sample): its inner lips drawn shut
+		// (shutLips, D99) — the exemplar may be a frame caught just before or after the closure.
+		bool closeLips = false;
 		bool operator<(const ImageKey& o) const {
-			return std::tie(sample, base, intensity, auEmotion, look, lipsShut) < std::tie(o.sample, o.base, o.intensity, o.auEmotion, o.look, o.lipsShut);
+			return std::tie(sample, base, intensity, auEmotion, look, lipsShut, closeLips) <
+			       std::tie(o.sample, o.base, o.intensity, o.auEmotion, o.look, o.lipsShut, o.closeLips);
 		}
 		bool operator==(const ImageKey& o) const { return !(*this < o) && !(o < *this); }
 	};
+	Scheme scheme_;          // the model's scheme with its eyes and mouth (mouthScheme), for shutLips
+	bool lipScheme_ = false;  // it has them
 	std::map<ImageKey, std::unique_ptr<KeyposeImage>> images_;
 	std::map<std::string, std::map<std::array<std::string, 5>, const KeyposeImage*>> index_;
 	std::vector<std::string> substitutions_;

@@ -14,6 +14,7 @@
 #include "perform/plan.h"
 #include "render/live.h"
 #include "synth/coarticulation.h"
+#include "synth/synthesizer.h"
 #include "synth_corpus.h"
 #include "test_support.h"
 
@@ -412,6 +413,54 @@ TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePr
 			EXPECT_EQ(k.sample, sampleOf("a"));
 		}
 	}
+}
+
+TEST(Coarticulation, aBilabialsChosenExemplarIsDrawnWithItsLipsShut) {
+	// D99: a real face's bilabial exemplar is often a frame caught a little before or after the closure
+	// (GRID s4's: 0.019 eye distances apart); the learned mouth draws it shut.
+	const FaceModel& model = smallFace();
+	Scheme scheme;
+	ASSERT_TRUE(mouthScheme(model, scheme));
+	const long open = model.findSample("neutral", "a"), shut = model.findSample("neutral", "p1");
+	ASSERT_GE(open, 0);
+	ASSERT_GE(shut, 0);
+	const Points& a = model.alignedShapes[std::size_t(open)];
+	ASSERT_GT(mouthSize(scheme, a).opening, 0.05);
+	Points s = a;
+	shutLips(scheme, s);
+	EXPECT_LT(mouthSize(scheme, s).opening, 1e-12);
+	std::vector<bool> inner(std::size_t(a.rows()), false);
+	for (const auto& [up, down] : scheme.mouth.inner) {
+		inner[std::size_t(up)] = inner[std::size_t(down)] = true;
+		EXPECT_LT((s.row(up) - s.row(down)).norm(), 1e-9) << "the pair meets";
+		EXPECT_LT(((s.row(up) + s.row(down)) - (a.row(up) + a.row(down))).norm(), 1e-9) << "at its middle";
+	}
+	for (Eigen::Index i = 0; i < a.rows(); ++i)
+		if (!inner[std::size_t(i)]) EXPECT_EQ(s.row(i), a.row(i)) << "point " << i << " stays";
+	Points again = s;
+	shutLips(scheme, again);
+	EXPECT_EQ(again, s);
+	// Drawn: a /p/ keypose given an open exemplar (as the learned mouth could bind one) shows it shut; the
+	// same keypose without a chosen exemplar (the thesis's path) draws its sample's shape as before.
+	SynthOptions o;
+	Synthesizer synth(model, o);
+	std::vector<PhoneSegment> ph;
+	const std::vector<Cdv> order = {"sil", "a", "p1", "a", "sil"};
+	for (std::size_t i = 0; i < order.size(); ++i) ph.push_back({ms(200 * long(i)), ms(200 * long(i) + 200), "", "", order[i], 0});
+	auto keys = keyposes(ph, Ticks(kTicksPerSecond / 30));
+	ASSERT_EQ(keys.size(), order.size());
+	auto thesis = keys;
+	keys[2].sample = open;
+	synth.prepare(keys);
+	synth.prepare(thesis);
+	Synthesizer::Workspace ws;
+	Image8 frame;
+	Points pts;
+	synth.renderFrame(keys[2].time, keys, ws, frame, pts);
+	EXPECT_LT(mouthSize(scheme, pts).opening, 1e-9);
+	EXPECT_LT((pts.row(scheme.mouth.corner0) - a.row(scheme.mouth.corner0)).norm(), 1e-9) << "the exemplar's own corners";
+	synth.renderFrame(thesis[2].time, thesis, ws, frame, pts);
+	EXPECT_LT((pts - model.alignedShapes[std::size_t(shut)]).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST(Coarticulation, aCdvTheFaceHasNoSampleOfTakesTheExemplarNearestThePrediction) {
