@@ -36,7 +36,8 @@ if [ -n "${FACES:-}" ]; then read -r -a faces <<<"$FACES"; else
 fi
 # WAYS: how each clip's speech is given (default: thesis learned) — thesis (aligned words, --coarticulation
 # off), learned (aligned words, the default), words (GRID's official word alignment, the default mouth),
-# audio (the audio alone: its phones recognised, issue 49).
+# audio (the audio alone: its phones recognised, issue 49), served (the audio alone as serve's `speak` with
+# no timing recognises it: its first utterance within 1 s, bench_stream --heard; D97).
 read -r -a ways <<<"${WAYS:-thesis learned}"
 mkdir -p "$OUT/clips"
 source "$root/examples/real-face/grid-words.sh"
@@ -71,6 +72,11 @@ for clip in "$DATA"/grid/*.mpg; do
 			speech=(--transcript "$c.TextGrid")
 			[ "$way" = words ] && speech=(--transcript "$(ls "$DATA/open-av/grid/labels-for-shared-grid/"*"_${name}.align")")
 			[ "$way" = audio ] && speech=()
+			if [ "$way" = served ]; then
+				mkdir -p "$OUT/served"
+				[ -f "$OUT/served/$base.tsv" ] || "$root/build/bench/bench_stream" --heard "$OUT/served" "$clip" >/dev/null
+				speech=(--transcript "$OUT/served/$base.tsv")
+			fi
 			common=("${fm[@]}" "${speech[@]}" --audio "$clip" --lang en-US --head-motion off --blinks off --no-audio "${co[@]}")
 			"$TH" render -q "${common[@]}" --fps 100 --format y4m -o /dev/null --landmarks-out "$c.$face.$way.points.tsv"
 			"$TH" render -q "${common[@]}" --fps 25 --size 640x360 -o "$c.$face.$way.mp4"

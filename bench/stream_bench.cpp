@@ -4,6 +4,10 @@
 // come when the first part came out, how many parts, whether the phones are the whole alignment's, and the
 // distance between their starts (median, max). bench/stream.sh gives it GRID clips and their words.
 //   usage: bench_stream PIECE_SECONDS AUDIO TEXT [AUDIO TEXT …]
+// With --heard, each clip's audio alone as serve's `speak` with no timing gives it (one piece, its first
+// utterance recognised within 1 s, D97): the phones of its parts joined, written as OUTDIR/NAME.tsv
+// (start, end, phone: what `talkhead render --transcript` reads), for bench/coarticulation.sh's way `served`.
+//   usage: bench_stream --heard OUTDIR AUDIO [AUDIO …]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,7 +23,53 @@
 
 using namespace talkhead;
 
+namespace {
+
+std::vector<float> monoAt(const std::string& path, int rate, int* sampleRate) {
+	const AudioClip clip = decodeAudio(path, rate);
+	std::vector<float> mono(clip.frameCount());
+	const std::size_t ch = std::size_t(std::max(1, clip.channels));
+	for (std::size_t i = 0; i < mono.size(); ++i) {
+		float s = 0;
+		for (std::size_t c = 0; c < ch; ++c) s += clip.samples[i * ch + c];
+		mono[i] = s / float(ch);
+	}
+	*sampleRate = clip.sampleRate;
+	return mono;
+}
+
+int heard(int argc, char** argv) {
+	const std::string dir = argv[2];
+	for (int a = 3; a < argc; ++a) {
+		const std::string path = argv[a];
+		int rate = 0;
+		const std::vector<float> mono = monoAt(path, 22050, &rate);
+		SpeechStream whole("h", "", Language::get("en-US"), rate, rate);
+		std::vector<Utterance> parts;
+		whole.feed(mono, true, [&](Utterance u) { parts.push_back(std::move(u)); });
+		std::string name = path.substr(path.find_last_of('/') + 1);
+		name = name.substr(0, name.find_last_of('.'));
+		std::FILE* f = std::fopen((dir + "/" + name + ".tsv").c_str(), "w");
+		if (!f) {
+			std::fprintf(stderr, "bench_stream: cannot write %s/%s.tsv\n", dir.c_str(), name.c_str());
+			return 1;
+		}
+		std::fprintf(f, "start\tend\tphone\n");
+		Ticks at{0};
+		for (const Utterance& u : parts) {
+			for (const PhoneSegment& p : u.phones) std::fprintf(f, "%.6f\t%.6f\t%s\n", toSeconds(p.start + at), toSeconds(p.end + at), p.phone.c_str());
+			at += u.audio.duration();
+		}
+		std::fclose(f);
+		std::printf("%s: %zu parts, the first %.2f s\n", name.c_str(), parts.size(), parts.empty() ? 0.0 : toSeconds(parts[0].audio.duration()));
+	}
+	return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+	if (argc >= 4 && std::string(argv[1]) == "--heard") return heard(argc, argv);
 	if (argc < 4 || argc % 2) {
 		std::fprintf(stderr, "usage: bench_stream PIECE_SECONDS AUDIO TEXT [AUDIO TEXT …]\n");
 		return 2;
@@ -31,26 +81,22 @@ int main(int argc, char** argv) {
 	std::printf("%-28s %8s %8s %6s %10s %10s %10s\n", "clip", "length s", "first s", "parts", "phones", "median ms", "max ms");
 	for (int a = 2; a + 1 < argc; a += 2) {
 		const std::string path = argv[a], text = argv[a + 1];
-		const AudioClip clip = decodeAudio(path, 22050);
-		std::vector<float> mono(clip.frameCount());
-		const std::size_t ch = std::size_t(std::max(1, clip.channels));
-		for (std::size_t i = 0; i < mono.size(); ++i) {
-			float s = 0;
-			for (std::size_t c = 0; c < ch; ++c) s += clip.samples[i * ch + c];
-			mono[i] = s / float(ch);
-		}
-		SpeechStream stream("b", text, lang, clip.sampleRate, clip.sampleRate);
+		int rate = 0;
+		const std::vector<float> mono = monoAt(path, 22050, &rate);
+		SpeechStream stream("b", text, lang, rate, rate);
 		std::vector<Utterance> parts;
 		double first = -1;
-		const std::size_t step = std::size_t(pieceSeconds * clip.sampleRate);
+		const std::size_t step = std::size_t(pieceSeconds * rate);
 		for (std::size_t at = 0; at < mono.size(); at += step) {
 			const bool last = at + step >= mono.size();
 			std::vector<float> piece(mono.begin() + std::ptrdiff_t(at), mono.begin() + std::ptrdiff_t(std::min(mono.size(), at + step)));
 			stream.feed(piece, last, [&](Utterance u) { parts.push_back(std::move(u)); });
-			if (first < 0 && !parts.empty()) first = double(std::min(mono.size(), at + step)) / clip.sampleRate;
+			if (first < 0 && !parts.empty()) first = double(std::min(mono.size(), at + step)) / rate;
 		}
 		AlignOptions ao;
 		ao.languageTag = "en-US";
+		AudioClip clip;
+		clip.sampleRate = rate, clip.channels = 1, clip.samples = mono;
 		const Alignment whole = alignSpeech(clip, text, ao);
 		std::vector<PhoneSegment> a1, b1;
 		Ticks at{0};
@@ -68,7 +114,7 @@ int main(int argc, char** argv) {
 			errors.push_back(std::abs(toSeconds(a1[k].start - b1[k].start)) * 1000);
 		}
 		std::sort(errors.begin(), errors.end());
-		const double length = double(mono.size()) / clip.sampleRate;
+		const double length = double(mono.size()) / rate;
 		std::string name = path.substr(path.find_last_of('/') + 1);
 		std::printf("%-28s %8.2f %8.2f %6zu %10s", name.c_str(), length, first, parts.size(), equal ? "same" : (std::to_string(a1.size()) + "/" + std::to_string(b1.size())).c_str());
 		if (equal && !errors.empty()) {
