@@ -312,8 +312,9 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	std::vector<const std::uint8_t*> cached8, baseCached8;
 	std::vector<Eigen::VectorXf> synth, baseSynth;
 	const auto& [sample, base, intensity, auEmotion, look, lipsShut, closeLips] = key;
-	const auto drawn = [&](Points shape) {
-		if (closeLips) shutLips(scheme_, shape);
+	const bool shut = closeLips;  // (C++17 lambdas cannot capture a structured binding: clang refuses it)
+	const auto drawn = [this, shut](Points shape) {
+		if (shut) shutLips(scheme_, shape);
 		return shape;
 	};
 	load(sample, bytes, cached8, synth);
