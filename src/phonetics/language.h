@@ -118,6 +118,9 @@ struct Keypose {
 	// percentile in speech; the face shows its exemplar nearest it (chooseMouthExemplars). Unset: the CDV's.
 	std::optional<double> mouthOpening{};
 	std::optional<double> mouthWidth{};  // the same for the mouth's width (1 = the speaker's median in speech)
+	// The inner-lip opening (eye distances) the chosen exemplar is drawn at (D100: drawOpening): its lower lip
+	// and jaw moved so the mouth opens as predicted, not as wide as the nearest sample happens to. Unset: the sample's own.
+	std::optional<double> drawnOpening{};
 };
 
 // How pauses move the mouth (docs/decisions.md D34).

@@ -448,6 +448,48 @@ void shutLips(const Scheme& scheme, Points& p) {
 	}
 }
 
+void drawOpening(const Scheme& scheme, Points& p, double opening) {
+	const MouthFrame f = mouthFrame(scheme, p);
+	const MouthSize now = mouthSize(scheme, p);
+	if (!(f.iod > 0) || !(now.opening > 0) || !(opening >= 0)) return;
+	const double stretch = std::min(opening / now.opening, now.opening >= kMinStretchOpening ? kMaxLipStretch : 1.0);
+	if (std::abs(stretch - 1) < 1e-9) return;
+	// Each lower inner lip's move, by its place across the face (u, in half mouth widths from the centre);
+	// the corners stay.
+	const double half = 0.5 * std::abs((p.row(scheme.mouth.corner1) - p.row(scheme.mouth.corner0)).dot(f.across));
+	if (!(half > 0)) return;
+	const auto across = [&](int i) { return (p.row(i) - f.centre).dot(f.across) / half; };
+	std::vector<std::pair<double, double>> move{{across(scheme.mouth.corner0), 0.0}, {across(scheme.mouth.corner1), 0.0}};
+	std::vector<char> fixed(std::size_t(p.rows()), 0);
+	fixed[std::size_t(scheme.mouth.corner0)] = fixed[std::size_t(scheme.mouth.corner1)] = 1;
+	for (const auto& [up, down] : scheme.mouth.inner) {
+		const double gap = std::max(0.0, (p.row(down) - p.row(up)).dot(f.down));
+		move.push_back({across(down), (stretch - 1) * gap});
+		fixed[std::size_t(up)] = 1;
+	}
+	std::sort(move.begin(), move.end());
+	const auto moveAt = [&](double u) {
+		if (u <= move.front().first || u >= move.back().first) return 0.0;
+		const auto hi = std::upper_bound(move.begin(), move.end(), std::make_pair(u, -1e300));
+		const auto lo = hi - 1;
+		const double t = hi->first > lo->first ? (u - lo->first) / (hi->first - lo->first) : 0.0;
+		return lo->second + t * (hi->second - lo->second);
+	};
+	const Points before = p;
+	for (const auto& [up, down] : scheme.mouth.inner) {
+		const double gap = std::max(0.0, (before.row(down) - before.row(up)).dot(f.down));
+		p.row(down) += (stretch - 1) * gap * f.down;
+		fixed[std::size_t(down)] = 1;
+	}
+	for (Eigen::Index i = 0; i < p.rows(); ++i) {
+		if (fixed[std::size_t(i)]) continue;
+		const double v = (before.row(i) - f.centre).dot(f.down) / f.iod;
+		if (!(v > 0) || v >= 2.5) continue;  // above the mouth, or well below the chin
+		const double fade = v <= 1.5 ? 1.0 : 2.5 - v;
+		p.row(i) += fade * moveAt((before.row(i) - f.centre).dot(f.across) / half) * f.down;
+	}
+}
+
 bool mouthScheme(const FaceModel& model, Scheme& out) {
 	out = model.scheme;  // a loaded model's parts come from its shipped scheme (completeSchemeParts)
 	return out.eyes.size() == 2 && !out.mouth.empty();
@@ -562,7 +604,8 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 			// median (franck) still opens.
 			const double width = k.mouthWidth ? *k.mouthWidth * pool.usualWidth(target) : (o ? o->width : pool.width);
 			const long nearest = nearestMouth(model, pool, size, target, width);
-			if (nearest >= 0) best = nearest;
+			// The exemplar is the nearest sample; the opening is drawn as predicted (D100).
+			if (nearest >= 0) best = nearest, k.drawnOpening = target;
 		}
 		if (best < 0) {  // no exemplar at all (a pool of pauses): the synthesizer's fallbacks, unpredicted
 			k.mouthOpening.reset(), k.mouthWidth.reset();

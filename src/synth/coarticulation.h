@@ -111,6 +111,14 @@ MouthSize mouthSize(const Scheme& scheme, const Points& shape);
 // middle, so the warp takes the gap an exemplar caught mid-closure shows out of the picture. Pairs already
 // together or crossed are left as they are.
 void shutLips(const Scheme& scheme, Points& shape);
+// A predicted opening drawn on the exemplar chosen for it (D100): each inner-lip pair's gap along the face's
+// vertical scaled so the mean opening is `opening` (eye distances); the lower lip, the chin and the jaw below
+// the mouth move with the lower inner lip nearest them across the face (nothing beyond the corners, fading out
+// between 1.5 and 2.5 eye distances below the mouth), the upper lip and the corners stay. A warp can close a
+// mouth and open one a little wider, not show an inside a sample lacks: the opening is at most kMaxLipStretch
+// × the exemplar's, and a mouth under kMinStretchOpening eye distances is not opened.
+inline constexpr double kMaxLipStretch = 1.5, kMinStretchOpening = 0.03;
+void drawOpening(const Scheme& scheme, Points& shape, double opening);
 // The frame those are measured in: the eye distance (between the eyes' centres; 0 when degenerate), the
 // unit vectors along the eye line toward the image-right eye and down the face, and the inner lips' centre.
 struct MouthFrame {

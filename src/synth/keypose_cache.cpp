@@ -77,7 +77,8 @@ std::pair<long, long> KeyposeCache::resolvePair(const Keypose& key) const {
 Emotion KeyposeCache::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.expression.emotion()); }
 double KeyposeCache::intensityOf(const Keypose& key) const { return key.intensity.value_or(o_.expression.intensity()); }
 std::string KeyposeCache::indexKey(const Keypose& key) const {
-	return key.cdv.label() + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "");
+	return key.cdv.label() + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "") +
+	       (lipScheme_ && openingStep(key) >= 0 ? "\t@" + std::to_string(openingStep(key)) : "");
 }
 
 long KeyposeCache::resolve(const Keypose& key) const { return resolve(key, emotionOf(key).label()); }
@@ -311,9 +312,11 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	std::vector<std::vector<std::uint8_t>> bytes, baseBytes;
 	std::vector<const std::uint8_t*> cached8, baseCached8;
 	std::vector<Eigen::VectorXf> synth, baseSynth;
-	const auto& [sample, base, intensity, auEmotion, look, lipsShut, closeLips] = key;
+	const auto& [sample, base, intensity, auEmotion, look, lipsShut, closeLips, openTo] = key;
 	const bool shut = closeLips;  // (C++17 lambdas cannot capture a structured binding: clang refuses it)
-	const auto drawn = [this, shut](Points shape) {
+	const double opening = openTo >= 0 ? double(openTo) * kOpeningStep : -1.0;
+	const auto drawn = [this, shut, opening](Points shape, bool opened = false) {
+		if (opening >= 0 && !opened) drawOpening(scheme_, shape, opening);
 		if (shut) shutLips(scheme_, shape);
 		return shape;
 	};
@@ -327,7 +330,7 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 			if (mouths_->regions[r]) bytes[r] = std::move(lookBytes[r]), cached8[r] = bytes[r].empty() ? nullptr : bytes[r].data(), synth[r] = std::move(lookSynth[r]);
 	}
 	if (!auEmotion.empty()) {  // D48: the neutral sample, its shape moved by the emotion's action units
-		const Points shape = drawn(actionUnitShape(sample, auEmotion, intensity, lipsShut));
+		const Points shape = drawn(actionUnitShape(sample, auEmotion, intensity, lipsShut, opening), true);
 		static const std::vector<float> none;
 		const auto gain = auGains_.find({auEmotion, intensity});  // made by prepare() before the workers start
 		auto made = std::make_unique<KeyposeImage>(makeKeypose(sample, shape, cached8, synth, gain == auGains_.end() ? none : gain->second));
@@ -359,8 +362,13 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	return std::make_unique<KeyposeImage>(makeKeypose(sample, drawn(b + intensity * (a - b)), none, mixed));
 }
 
-Points KeyposeCache::actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut) const {
+long KeyposeCache::openingStep(const Keypose& key) {
+	return key.drawnOpening && key.sample >= 0 ? std::lround(std::max(0.0, *key.drawnOpening) / kOpeningStep) : -1;
+}
+
+Points KeyposeCache::actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut, double opening) const {
 	Points shape = model_.alignedShapes[std::size_t(sample)];
+	if (opening >= 0 && lipScheme_) drawOpening(scheme_, shape, opening);
 	AuProfile profile = defaultAuProfiles().at(emotion);
 	if (lipsShut)  // a bilabial's closure overrides the units that part the lips (corpus-tools/data/expression-aus.tsv)
 		profile.erase(std::remove_if(profile.begin(), profile.end(),
@@ -488,6 +496,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 			const bool au = fromActionUnits(k);
 			ImageKey key{pair.first, pair.second, pair.second < 0 && !au ? 1.0 : intensityOf(k), au ? emotionOf(k).label() : std::string()};
 			key.closeLips = lipScheme_ && k.sample >= 0 && bilabial(k.cdv.label());
+			if (lipScheme_) key.openTo = openingStep(k);
 			if (au) {
 				if (!mouths_) measureNeutralMouths();
 				key.lipsShut = bilabial(k.cdv.label());
@@ -495,7 +504,8 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 				// shows it; AU10's bared upper teeth behind lips still together are not a speech mouth.
 				const AuProfile& profile = defaultAuProfiles().at(key.auEmotion);
 				const bool parts = std::any_of(profile.begin(), profile.end(), [](const auto& u) { return (u.first == "AU25" || u.first == "AU26") && u.second > 0; });
-				if (!key.lipsShut && parts) key.look = mouthLook(key.sample, actionUnitShape(key.sample, key.auEmotion, key.intensity, false));
+				if (!key.lipsShut && parts)
+					key.look = mouthLook(key.sample, actionUnitShape(key.sample, key.auEmotion, key.intensity, false, key.openTo >= 0 ? double(key.openTo) * kOpeningStep : -1.0));
 			}
 			fresh.push_back({&k, key});
 			if (images_.count(key) || std::find(pairs.begin(), pairs.end(), key) != pairs.end()) continue;

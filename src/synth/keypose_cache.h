@@ -57,9 +57,12 @@ private:
 		// A bilabial whose exemplar the learned mouth chose (Keypose::sample): its inner lips drawn shut
 		// (shutLips, D99) — the exemplar may be a frame caught just before or after the closure.
 		bool closeLips = false;
+		// The opening the learned mouth predicted (Keypose::drawnOpening, D100), in steps of kOpeningStep eye
+		// distances; −1: the exemplar's own.
+		long openTo = -1;
 		bool operator<(const ImageKey& o) const {
-			return std::tie(sample, base, intensity, auEmotion, look, lipsShut, closeLips) <
-			       std::tie(o.sample, o.base, o.intensity, o.auEmotion, o.look, o.lipsShut, o.closeLips);
+			return std::tie(sample, base, intensity, auEmotion, look, lipsShut, closeLips, openTo) <
+			       std::tie(o.sample, o.base, o.intensity, o.auEmotion, o.look, o.lipsShut, o.closeLips, o.openTo);
 		}
 		bool operator==(const ImageKey& o) const { return !(*this < o) && !(o < *this); }
 	};
@@ -89,7 +92,10 @@ private:
 	void prepareAuAppearance(const std::vector<std::string>& emotions);  // maps the AUs these use, once each
 	// D71: the emotion's action units on a sample's shape (without those that part the lips when they
 	// stay shut), and the neutral sample whose mouth is nearest the result (−1: the sample's own).
-	Points actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut) const;
+	// The neutral sample's shape, drawn at `opening` (eye distances, drawOpening; < 0: its own), moved by the emotion's units.
+	Points actionUnitShape(long sample, const std::string& emotion, double intensity, bool lipsShut, double opening = -1) const;
+	static long openingStep(const Keypose& key);  // ImageKey::openTo of a keypose
+	static constexpr double kOpeningStep = 0.004;
 	long mouthLook(long sample, const Points& shape) const;
 	std::vector<bool> mouthRegions() const;
 	struct NeutralMouths;

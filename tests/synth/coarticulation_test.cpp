@@ -463,6 +463,72 @@ TEST(Coarticulation, aBilabialsChosenExemplarIsDrawnWithItsLipsShut) {
 	EXPECT_LT((pts - model.alignedShapes[std::size_t(shut)]).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+TEST(Coarticulation, aPredictedOpeningIsDrawnOnItsExemplar) {
+	// D100: the learned mouth's exemplar is the nearest sample, and its mouth is drawn at the predicted
+	// opening — the lower lip and jaw moved, the upper lip and the corners where they were.
+	const FaceModel& model = smallFace();
+	Scheme scheme;
+	ASSERT_TRUE(mouthScheme(model, scheme));
+	const long open = model.findSample("neutral", "a"), shut = model.findSample("neutral", "p1");
+	ASSERT_GE(open, 0);
+	ASSERT_GE(shut, 0);
+	const Points& a = model.alignedShapes[std::size_t(open)];
+	const MouthFrame f = mouthFrame(scheme, a);
+	const double was = mouthSize(scheme, a).opening;
+	ASSERT_GT(was, kMinStretchOpening);
+	std::vector<bool> upper(std::size_t(a.rows()), false);
+	for (const auto& pair : scheme.mouth.inner) upper[std::size_t(pair.first)] = true;
+	upper[std::size_t(scheme.mouth.corner0)] = upper[std::size_t(scheme.mouth.corner1)] = true;
+	for (const double asked : {1.3 * was, 0.5 * was, 0.0}) {
+		Points s = a;
+		drawOpening(scheme, s, asked);
+		EXPECT_NEAR(mouthSize(scheme, s).opening, asked, 1e-9);
+		for (Eigen::Index i = 0; i < a.rows(); ++i) {
+			const double below = (a.row(i) - f.centre).dot(f.down);
+			if (upper[std::size_t(i)] || below <= 0) EXPECT_EQ(s.row(i), a.row(i)) << "point " << i << " (above the mouth, an upper lip or a corner) stays";
+			else EXPECT_LT(std::abs((s.row(i) - a.row(i)).dot(f.across)), 1e-9) << "point " << i << " moves along the face's vertical only";
+		}
+		// The lower lip's middle carries the jaw: the points below the mouth's centre move as it does.
+		const auto& middle = scheme.mouth.inner[scheme.mouth.inner.size() / 2];
+		const double lip = (s.row(middle.second) - a.row(middle.second)).dot(f.down);
+		EXPECT_NEAR(lip, (asked - was) * f.iod * ((a.row(middle.second) - a.row(middle.first)).dot(f.down) / (was * f.iod)), 1e-9);
+	}
+	Points wide = a;
+	drawOpening(scheme, wide, 3 * was);
+	EXPECT_NEAR(mouthSize(scheme, wide).opening, kMaxLipStretch * was, 1e-9) << "a warp opens a mouth only a little wider";
+	Points closed = model.alignedShapes[std::size_t(shut)];
+	ASSERT_LT(mouthSize(scheme, closed).opening, kMinStretchOpening);
+	const Points before = closed;
+	drawOpening(scheme, closed, was);
+	EXPECT_EQ(closed, before) << "a shut mouth has no inside to show";
+	// Planned: a predicted keypose's exemplar carries the predicted opening (in eye distances), and the
+	// rendered points show it; a bilabial's is drawn shut instead (D99).
+	SynthOptions o;
+	Synthesizer synth(model, o);
+	const auto ph = phones({{"x", "a"}, {"t", "t1"}, {"x", "a"}, {"p", "p1"}, {"x", "a"}});
+	auto keys = keyposes(ph, Ticks(kTicksPerSecond / 30));
+	for (Keypose& k : keys) k.mouthOpening = 0.6, k.mouthWidth = 1.0;
+	ASSERT_GT(chooseMouthExemplars(model, Emotion::of("neutral"), keys), 0u);
+	std::size_t drawn = 0;
+	synth.prepare(keys);
+	Synthesizer::Workspace ws;
+	Image8 frame;
+	Points pts;
+	for (const Keypose& k : keys) {
+		if (k.sample < 0 || bilabial(k.cdv.label())) {
+			EXPECT_FALSE(k.drawnOpening) << k.cdv.label();
+			continue;
+		}
+		ASSERT_TRUE(k.drawnOpening) << k.cdv.label();
+		const double own = mouthSize(scheme, model.alignedShapes[std::size_t(k.sample)]).opening;
+		const double expected = own < kMinStretchOpening ? std::min(own, *k.drawnOpening) : std::min(*k.drawnOpening, kMaxLipStretch * own);
+		synth.renderFrame(k.time, keys, ws, frame, pts);
+		EXPECT_NEAR(mouthSize(scheme, pts).opening, expected, 0.6 * 0.004) << k.cdv.label() << ": drawn at the prediction (in steps of 0.004 eye distances)";
+		++drawn;
+	}
+	EXPECT_GE(drawn, 3u);
+}
+
 TEST(Coarticulation, aCdvTheFaceHasNoSampleOfTakesTheExemplarNearestThePrediction) {
 	// Issue 47: a face from short takes lacks most CDVs. A predicted mouth for one it lacks is chosen from the
 	// emotion's whole pool like any other (before, it kept no exemplar and renderPerformance refused the plan).
