@@ -7,6 +7,7 @@
 #include <mutex>
 #include <thread>
 #include <cmath>
+#include <numeric>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -217,24 +218,41 @@ AudioClip clipAt16k(const AudioClip& clip) {
 	const double ratio = double(clip.sampleRate) / kSphinxRate;         // input samples per output sample
 	const double cutoff = 0.45 * std::min(1.0, 1.0 / ratio);            // of the input rate
 	const int half = int(std::ceil(16 / (2 * cutoff)));                 // taps each side, in input samples
+	constexpr double kPi = 3.14159265358979323846;
+	const auto tap = [&](double x) {  // the windowed sinc at x input samples from the output sample
+		const double arg = 2 * cutoff * x;
+		const double sinc = std::abs(arg) < 1e-9 ? 1.0 : std::sin(kPi * arg) / (kPi * arg);
+		return sinc * (0.42 + 0.5 * std::cos(kPi * x / half) + 0.08 * std::cos(2 * kPi * x / half));
+	};
+	// Output sample j lies at input position j·P/Q (P/Q = rate/16000 reduced): its fractional part takes only
+	// Q values, so each one's taps are computed once (22 050 Hz: 320 of them) rather than per sample.
+	const std::int64_t g = std::gcd(std::int64_t(clip.sampleRate), std::int64_t(kSphinxRate));
+	const std::int64_t P = clip.sampleRate / g, Q = kSphinxRate / g;
 	AudioClip out;
 	out.sampleRate = kSphinxRate;
 	out.channels = 1;
-	const std::size_t m = std::size_t(std::floor(double(n) / ratio));
-	out.samples.resize(m);
-	constexpr double kPi = 3.14159265358979323846;
-	for (std::size_t j = 0; j < m; ++j) {
-		const double t = double(j) * ratio;
-		const long c = long(std::floor(t));
+	out.samples.resize(std::size_t(std::int64_t(n) * Q / P));
+	const std::size_t width = std::size_t(2 * half);
+	// A rate with too many phases (an odd one: 22 051 Hz has 16 000) has its taps computed per sample.
+	const bool table = std::size_t(Q) * width <= (std::size_t(1) << 20);
+	std::vector<double> taps(table ? std::size_t(Q) * width : width);
+	const auto phase = [&](std::int64_t q, double* w) {
+		for (std::size_t k = 0; k < width; ++k) w[k] = tap(double(long(k) - half + 1) - double(q) / double(Q));
+	};
+	if (table)
+		for (std::int64_t q = 0; q < Q; ++q) phase(q, taps.data() + std::size_t(q) * width);
+	for (std::size_t j = 0; j < out.samples.size(); ++j) {
+		const std::int64_t at = std::int64_t(j) * P;
+		const long c = long(at / Q);
+		const double* w = taps.data();
+		if (table) w += std::size_t(at % Q) * width;
+		else phase(at % Q, taps.data());
 		double sum = 0, weight = 0;
-		for (long i = c - half + 1; i <= c + half; ++i) {
+		for (std::size_t k = 0; k < width; ++k) {
+			const long i = c - half + 1 + long(k);
 			if (i < 0 || i >= long(n)) continue;
-			const double x = double(i) - t;
-			const double arg = 2 * cutoff * x;
-			const double sinc = std::abs(arg) < 1e-9 ? 1.0 : std::sin(kPi * arg) / (kPi * arg);
-			const double w = 0.42 + 0.5 * std::cos(kPi * x / half) + 0.08 * std::cos(2 * kPi * x / half);
-			sum += mono[std::size_t(i)] * sinc * w;
-			weight += sinc * w;
+			sum += mono[std::size_t(i)] * w[k];
+			weight += w[k];
 		}
 		out.samples[j] = float(weight != 0 ? sum / weight : 0);
 	}
@@ -340,7 +358,7 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 		std::mutex m;
 		std::condition_variable changed;
 		std::deque<std::pair<std::size_t, std::vector<std::int16_t>>> queue;  // at most 2 per decoder wait
-		bool done = false;
+		bool done = false, firstDecoded = false;
 		std::string failure;
 		std::vector<std::thread> workers;
 		for (int t = 0; t < threads; ++t)
@@ -364,6 +382,11 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 						return;
 					}
 					decoded[job.first] = std::move(phones);
+					if (job.first == 0) {
+						const std::lock_guard<std::mutex> lock(m);
+						firstDecoded = true;
+						changed.notify_all();
+					}
 					bool goOn = false;
 					try {
 						goOn = report(job.first);
@@ -402,7 +425,8 @@ Recognition recognizePhones(const std::function<std::unique_ptr<AudioSource>()>&
 				}
 				change[u] = spectralChange(utt, activity.speech, first / kLevelHop);
 				std::unique_lock<std::mutex> lock(m);
-				changed.wait(lock, [&] { return queue.size() < std::size_t(2 * threads) || !failure.empty(); });
+				// Live, the first utterance is decoded alone: its phones are what the face waits for.
+				changed.wait(lock, [&] { return (queue.size() < std::size_t(2 * threads) && (u == 0 || firstDecoded || !o.progress)) || !failure.empty(); });
 				if (!failure.empty()) break;
 				queue.emplace_back(u, std::move(utt));
 				lock.unlock();

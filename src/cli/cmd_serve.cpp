@@ -241,14 +241,23 @@ int runLive(const std::vector<std::string>& argv) {
 	std::vector<LiveEvent> events;
 	std::size_t next = 0;
 	std::unique_ptr<SpeechStream> stream;  // a streamed speak's, between its pieces
+	std::deque<HeldPart> held;             // its parts made, waiting for their part steps (a record with them)
 	for (std::int64_t n = 0; n < total; ++n) {
 		for (; next < steps.size() && steps[next].frame <= n; ++next) {
 			const SessionScript::Step& s = steps[next];
+			if (s.part) {
+				if (held.empty()) throw Error(script, s.line, "a 'part' step with no speech part made before it");
+				HeldPart p = std::move(held.front());
+				held.pop_front();
+				if (p.expression) session.setEmotion(*p.expression, p.ramp);
+				session.enqueue(std::move(p.utterance));
+				continue;
+			}
 			try {
 				const LiveRequest r = parseLiveRequest(s.json);  // errors worded as a client reads them (serve/access.h)
-				if (r.kind == LiveRequest::Kind::Stop) stream.reset();  // a streamed speak under way ends
+				if (r.kind == LiveRequest::Kind::Stop) stream.reset(), held.clear();  // a streamed speak under way ends
 				if (speaksInParts(r)) {
-					replaySpeakInParts(session, r, stream, lang);
+					replaySpeakInParts(session, r, stream, lang, s.look, sessionScript.hasParts ? &held : nullptr);
 					continue;
 				}
 				std::optional<PlannedUtterance> u;  // planned by the session when it is queued

@@ -121,9 +121,11 @@ void SpeechStream::give(Ticks end, std::vector<PhoneSegment> phones, std::vector
 	++parts_;
 	if (closes) closed_ = true;
 	// The first parts wait until they hold `lead` seconds (or the stream ends), so that playing them does not
-	// catch up with the words still to be aligned.
+	// catch up with the words still to be aligned. Once the whole audio is there nothing waits: the parts still
+	// to come are made faster than these play (recognised: utterances at most twice as long as the one before,
+	// decoded at ≥ 5× real time per decoder, D101).
 	held_.push_back(std::move(u));
-	if (!closes && !flowing_ && toSeconds(given_) < o_.lead) return;
+	if (!closes && !flowing_ && !complete_ && toSeconds(given_) < o_.lead) return;
 	flowing_ = true;
 	for (Utterance& h : held_) emit(std::move(h));
 	held_.clear();
@@ -132,6 +134,7 @@ void SpeechStream::give(Ticks end, std::vector<PhoneSegment> phones, std::vector
 void SpeechStream::feed(const std::vector<float>& piece, bool last, const Emit& emit, const std::atomic<bool>* cancel, bool look) {
 	if (closed_) throw Error("the streamed speak has ended");
 	audio_.insert(audio_.end(), piece.begin(), piece.end());
+	complete_ = complete_ || last;
 	if (!look && !last) return;
 	try {
 		if (recognizing_) recognize(last, emit, cancel);

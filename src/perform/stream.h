@@ -33,7 +33,7 @@ struct SpeechStreamOptions {
 	// 0.35–0.55 (D97).
 	double sure = 0.45;
 	double keepAligned = 4;        // s: what was given is aligned again with what comes, up to this far back
-	double firstRecognized = 1.0;  // s: audio alone, the first utterance recognised at most this long
+	double firstRecognized = 0.6;  // s: audio alone, the first utterance recognised at most this long
 	double recognizeEvery = 2.0;   // s: audio alone, streamed: recognised when this much more has come
 };
 
@@ -69,6 +69,7 @@ private:
 	int parts_ = 0;
 	std::vector<Utterance> held_;  // parts made, not yet given out (the lead)
 	bool flowing_ = false;         // the lead was reached: parts go out as they are made
+	bool complete_ = false;        // the last piece has come: parts go out as they are made
 	Ticks origin_{0};           // where the alignments begin (a word's end given out; 0 at first)
 	std::size_t givenWords_ = 0;  // words of text_ given out
 	double pace_ = 1;           // espeak-ng's speech seconds per second of the speaker's (measured on the parts given)

@@ -293,6 +293,13 @@ SessionScript readSessionScript(const std::string& path) {
 			return std::int64_t(frame->number);
 		};
 		if (type && type->kind == JsonValue::Kind::String && type->string == "session") continue;
+		if (type && type->kind == JsonValue::Kind::String && type->string == "part") {
+			SessionScript::Step step{frameOf(), "", no};
+			step.part = true;
+			out.steps.push_back(std::move(step));
+			out.hasParts = true;
+			continue;
+		}
 		if (type && type->kind == JsonValue::Kind::String && type->string == "end") {
 			out.end = frameOf();
 			continue;
@@ -305,7 +312,9 @@ SessionScript readSessionScript(const std::string& path) {
 		std::string body = line.substr(open);
 		while (!body.empty() && body.back() != '}') body.pop_back();
 		body.pop_back();  // the step's closing brace
-		out.steps.push_back({frameOf(), std::string(trim(body)), no});
+		const JsonValue* look = v.find("look");
+		if (look && look->kind != JsonValue::Kind::Bool) throw Error(path, no, "'look' must be true or false");
+		out.steps.push_back({frameOf(), std::string(trim(body)), no, !look || look->boolean, false});
 	}
 	std::stable_sort(out.steps.begin(), out.steps.end(), [](const SessionScript::Step& a, const SessionScript::Step& b) { return a.frame < b.frame; });
 	return out;
@@ -315,14 +324,20 @@ bool speaksInParts(const LiveRequest& r) {
 	return r.kind == LiveRequest::Kind::Speak && (r.more || r.continues || (!r.timing && r.transcript.empty() && r.text.empty()));
 }
 
-void replaySpeakInParts(LiveSession& session, const LiveRequest& r, std::unique_ptr<SpeechStream>& stream, const std::string& defaultLang) {
+void replaySpeakInParts(LiveSession& session, const LiveRequest& r, std::unique_ptr<SpeechStream>& stream, const std::string& defaultLang, bool look,
+                        std::deque<HeldPart>* held) {
 	const auto enqueue = [&](Utterance part) {
-		if (part.opens && r.expression) session.setEmotion(*r.expression, r.ramp);
+		const std::optional<Expression> expression = part.opens ? r.expression : std::nullopt;
+		if (held) {
+			held->push_back({std::move(part), expression, r.ramp});
+			return;
+		}
+		if (expression) session.setEmotion(*expression, r.ramp);
 		session.enqueue(std::move(part));
 	};
 	if (r.continues) {
 		if (!stream || stream->id() != r.id) throw Error("no streamed speak " + r.id + " is open ('continue' names the id of a speak sent with 'more': true)");
-		stream->feed(pcmMono(r.audio, r.pcmChannels ? r.pcmChannels : 1), !r.more, enqueue);
+		stream->feed(pcmMono(r.audio, r.pcmChannels ? r.pcmChannels : 1), !r.more, enqueue, nullptr, look);
 		if (stream->closed()) stream.reset();
 		return;
 	}

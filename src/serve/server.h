@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
+#include <deque>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -59,22 +60,33 @@ Utterance prepareUtterance(const LiveRequest& request, const std::string& defaul
 std::vector<float> pcmMono(const std::string& bytes, int channels);
 // A speak whose phones come in parts (perform/stream.h): streamed (`more`, `continue`) or with no timing.
 bool speaksInParts(const LiveRequest& request);
-// Such a speak replayed offline (talkhead live): its parts into the session as they come; `stream` holds the
-// open stream between requests.
-void replaySpeakInParts(LiveSession& session, const LiveRequest& request, std::unique_ptr<SpeechStream>& stream, const std::string& defaultLang);
+// Such a speak replayed offline (talkhead live): its parts into the session as they come, or with `held` into
+// it (with the emotion the first part brings) for the script's part steps to release; `stream` holds the open
+// stream between requests; `look` as the stream did after this piece (a recorded step's "look").
+struct HeldPart {
+	Utterance utterance;
+	std::optional<Expression> expression;  // the emotion from this part on (the first part's request's)
+	Ticks ramp{0};
+};
+void replaySpeakInParts(LiveSession& session, const LiveRequest& request, std::unique_ptr<SpeechStream>& stream, const std::string& defaultLang, bool look = true,
+                        std::deque<HeldPart>* held = nullptr);
 // Applies a request to the session at its next frame (say and speak: with their prepared utterance).
 void applyLiveRequest(LiveSession& session, const LiveRequest& request, std::optional<PlannedUtterance> utterance);
 
 // A recorded session (serve --record; talkhead live): one JSON object a line — {"frame": N, "request": {…}}
-// steps (sorted by frame, the request's own text kept), an optional {"type": "end", "frame": N} (`end`, −1
+// steps (a streamed speak's piece after which the stream did not look for words: {"frame": N, "look": false,
+// "request": {…}}; each part of a speak in parts taking effect: {"type": "part", "frame": N, "id": …}) (sorted by frame, the request's own text kept), an optional {"type": "end", "frame": N} (`end`, −1
 // when absent) and {"type": "session", …} (informational). Throws Error naming the file and line.
 struct SessionScript {
 	struct Step {
 		std::int64_t frame = 0;
 		std::string json;  // the request as written
 		long line = 0;
+		bool look = true;  // a streamed speak's piece: whether the stream looked for words after it ("look": false)
+		bool part = false;  // {"type": "part", "frame": N, "id": …}: the next part of a speak in parts takes effect
 	};
 	std::vector<Step> steps;
+	bool hasParts = false;  // it has part steps (records before them: each part takes effect as its piece is replayed)
 	std::int64_t end = -1;
 };
 SessionScript readSessionScript(const std::string& path);

@@ -301,6 +301,7 @@ void LiveWorker::hand(const Command& c, Utterance part) {
 	p.received = part.opens ? streamReceived_ : c.received;
 	p.alsoRecorded = std::move(streamRecord_);  // the pieces that led to it, for the record
 	streamRecord_.clear();
+	p.part = true;
 	const double seconds = toSeconds(part.duration());
 	const bool opens = part.opens, closes = part.closes;
 	{
@@ -349,7 +350,6 @@ void LiveWorker::streamed(Command& c, const SpeechLimits& limits) {
 			if (r.pcmRate && r.pcmRate != stream_->inputRate())
 				throw Error("the piece's 'sample_rate' (" + std::to_string(r.pcmRate) + ") is not the stream's (" + std::to_string(stream_->inputRate()) + ")");
 			opened = stream_->opened();
-			if (!c.json.empty()) streamRecord_.push_back(c.json);
 			const std::vector<float> piece = pcmMono(r.audio, r.pcmChannels ? r.pcmChannels : streamChannels_);
 			if (toSeconds(stream_->received()) + double(piece.size()) / stream_->inputRate() > o_.limits.utteranceSeconds) {
 				char b[200];
@@ -361,6 +361,8 @@ void LiveWorker::streamed(Command& c, const SpeechLimits& limits) {
 				std::lock_guard<std::mutex> lock(m_);
 				waiting = !speechQueue_.empty() && speechQueue_.front().request.continues && speechQueue_.front().request.id == r.id;
 			}
+			// Whether it looked is recorded: `talkhead live` must look where the stream did to give the same parts.
+			if (!c.json.empty()) streamRecord_.push_back({c.json, !waiting || !r.more});
 			stream_->feed(piece, !r.more, emit, &cancel_, !waiting);
 			opened = stream_->opened();
 			if (stream_->closed()) stream_.reset();
@@ -382,7 +384,7 @@ void LiveWorker::streamed(Command& c, const SpeechLimits& limits) {
 			streamReceived_ = c.received;
 			streamChannels_ = r.pcmChannels;
 			streamRecord_.clear();
-			if (!c.json.empty()) streamRecord_.push_back(c.json);
+			if (!c.json.empty()) streamRecord_.push_back({c.json, true});
 			{
 				std::lock_guard<std::mutex> lock(m_);
 				streamId_ = r.id;
@@ -399,7 +401,7 @@ void LiveWorker::streamed(Command& c, const SpeechLimits& limits) {
 		SpeechStream whole(r.id, "", lang, rate, rate);
 		streamReceived_ = c.received;
 		streamRecord_.clear();
-		if (!c.json.empty()) streamRecord_.push_back(c.json);
+		if (!c.json.empty()) streamRecord_.push_back({c.json, true});
 		{
 			std::lock_guard<std::mutex> lock(m_);
 			streamId_ = r.id;  // parts in the session: a stop ends it there, not twice
@@ -500,8 +502,19 @@ void LiveWorker::apply(LiveSession& session, Command& c, std::int64_t frame) {
 	applyLiveRequest(session, c.request, std::move(c.utterance));
 	std::lock_guard<std::mutex> lock(m_);
 	expression_ = session.expression();
-	for (const std::string& j : c.alsoRecorded) record(JsonObject().add("frame", frame).raw("request", j).str(), frame);
+	for (const auto& [j, look] : c.alsoRecorded) {
+		JsonObject step;
+		step.add("frame", frame);
+		if (!look) step.raw("look", "false");  // before the request: a script's reader takes the request to the line's end
+		record(step.raw("request", j).str(), frame);
+	}
 	if (!c.json.empty()) record(JsonObject().add("frame", frame).raw("request", c.json).str(), frame);
+	if (c.part) {
+		JsonObject step;
+		step.add("frame", frame).add("type", "part");
+		if (!c.request.id.empty()) step.raw("id", c.request.id);  // JSON text already (the client's, as written)
+		record(step.str(), frame);
+	}
 }
 
 void LiveWorker::record(const std::string& line, std::int64_t frame) {

@@ -93,7 +93,12 @@ private:
 		std::uint64_t generation = 0;
 		ServeClock::time_point received;
 		std::vector<std::string> dropped;  // a stop: the ids of the say/speak it dropped before they were prepared
-		std::vector<std::string> alsoRecorded;  // a streamed speak's pieces that gave no part of their own (for the record)
+		// A streamed speak's pieces that gave no part of their own (for the record), each with whether the stream
+		// looked for words after it (`look`: not when the next piece had come already).
+		std::vector<std::pair<std::string, bool>> alsoRecorded;
+		// A part of a speak in parts (perform/stream.h): recorded as a "part" step at the frame it took effect, so
+		// that `talkhead live` holds the parts a piece gave until their frames, as the stream did.
+		bool part = false;
 	};
 	const Face& face_;
 	const ServeOptions& o_;
@@ -127,7 +132,7 @@ private:
 	std::uint64_t streamGeneration_ = 0;
 	ServeClock::time_point streamReceived_{};
 	int streamChannels_ = 1;
-	std::vector<std::string> streamRecord_;
+	std::vector<std::pair<std::string, bool>> streamRecord_;
 	std::string stoppedStream_;                     // the id of the stream a stop ended (its pieces in flight are dropped)
 	// …and what the intake thread needs to know of it (under m_): its id while open, whether a part went to the frames.
 	std::string streamId_;

@@ -160,6 +160,13 @@ assert n > end, f'{n} frames to compare, the utterance ends at {end}'
 bad = [i for i in range(n) if a[i * frame:(i + 1) * frame] != b[i * frame:(i + 1) * frame]]
 assert not bad, f'{len(bad)} of {n} frames differ, the first {bad[0]}'
 EOF
+# Its parts took effect at frames of their own (recognised while later pieces came): the record says where,
+# and a part step with no speech before it is one error line naming the script's line.
+grep -q '"type": "part", "id": "heard-stream"' "$rec"
+printf '{"frame": 3, "type": "part", "id": "x"}\n{"type": "end", "frame": 10}\n' >"$T/orphan.jsonl"
+if "$TH" live "$T/orphan.jsonl" --size 320x180 --format y4m -o "$T/orphan.y4m" -q 2>"$T/orphan.err"; then echo "a part with no speech replayed"; exit 1; fi
+grep -q "orphan.jsonl:1: .*'part' step with no speech part made before it" "$T/orphan.err"
+test ! -e "$T/orphan.y4m"
 # Offline: the records replayed give the frames each stream had, bit for bit.
 sleep 0.3  # the sessions write their end lines as they close
 for n in 1 2; do
