@@ -415,15 +415,24 @@ TEST(Coarticulation, bilabialsShutAndTheOtherKeyposesShowTheExemplarNearestThePr
 	}
 }
 
+namespace {
+// The small face's mouth scheme and its neutral open /a/ and shut /p/ samples.
+void openAndShut(Scheme& scheme, long& open, long& shut) {
+	const FaceModel& model = smallFace();
+	ASSERT_TRUE(mouthScheme(model, scheme));
+	open = model.findSample("neutral", "a"), shut = model.findSample("neutral", "p1");
+	ASSERT_GE(open, 0);
+	ASSERT_GE(shut, 0);
+}
+}  // namespace
+
 TEST(Coarticulation, aBilabialsChosenExemplarIsDrawnWithItsLipsShut) {
 	// D99: a real face's bilabial exemplar is often a frame caught a little before or after the closure
 	// (GRID s4's: 0.019 eye distances apart); the learned mouth draws it shut.
 	const FaceModel& model = smallFace();
 	Scheme scheme;
-	ASSERT_TRUE(mouthScheme(model, scheme));
-	const long open = model.findSample("neutral", "a"), shut = model.findSample("neutral", "p1");
-	ASSERT_GE(open, 0);
-	ASSERT_GE(shut, 0);
+	long open = -1, shut = -1;
+	ASSERT_NO_FATAL_FAILURE(openAndShut(scheme, open, shut));
 	const Points& a = model.alignedShapes[std::size_t(open)];
 	ASSERT_GT(mouthSize(scheme, a).opening, 0.05);
 	Points s = a;
@@ -468,10 +477,8 @@ TEST(Coarticulation, aPredictedOpeningIsDrawnOnItsExemplar) {
 	// opening — the lower lip and jaw moved, the upper lip and the corners where they were.
 	const FaceModel& model = smallFace();
 	Scheme scheme;
-	ASSERT_TRUE(mouthScheme(model, scheme));
-	const long open = model.findSample("neutral", "a"), shut = model.findSample("neutral", "p1");
-	ASSERT_GE(open, 0);
-	ASSERT_GE(shut, 0);
+	long open = -1, shut = -1;
+	ASSERT_NO_FATAL_FAILURE(openAndShut(scheme, open, shut));
 	const Points& a = model.alignedShapes[std::size_t(open)];
 	const MouthFrame f = mouthFrame(scheme, a);
 	const double was = mouthSize(scheme, a).opening;
