@@ -14,7 +14,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 	fuzz::expectOnlyErrors([&] {
 		const LiveRequest r = parseLiveRequest(text);
 		TALKHEAD_FUZZ_CHECK(!r.expression || (r.expression->intensity() >= 0 && r.expression->intensity() <= 1.5), "intensity out of range");
-		TALKHEAD_FUZZ_CHECK(r.id.size() <= 200, "id longer than 200 bytes");
+		// The id is kept as JSON text: a string of at most 200 bytes, quoted, each byte escaped at most as \u00XX.
+		TALKHEAD_FUZZ_CHECK(r.id.size() <= 2 + 6 * 200, "id longer than 200 bytes");
 		// A streamed speak (issue 49): its pieces carry audio only, whole 16-bit frames; its first is PCM.
 		if (r.continues) {
 			TALKHEAD_FUZZ_CHECK(!r.timing && r.transcript.empty() && r.text.empty() && !r.expression, "a continuing piece with a timing");
