@@ -458,14 +458,16 @@ void drawOpening(const Scheme& scheme, Points& p, double opening) {
 	// the corners stay.
 	const double half = 0.5 * std::abs((p.row(scheme.mouth.corner1) - p.row(scheme.mouth.corner0)).dot(f.across));
 	if (!(half > 0)) return;
-	const auto across = [&](int i) { return (p.row(i) - f.centre).dot(f.across) / half; };
+	const Points before = p;
+	const auto across = [&](Eigen::Index i) { return (before.row(i) - f.centre).dot(f.across) / half; };
 	std::vector<std::pair<double, double>> move{{across(scheme.mouth.corner0), 0.0}, {across(scheme.mouth.corner1), 0.0}};
 	std::vector<char> fixed(std::size_t(p.rows()), 0);
 	fixed[std::size_t(scheme.mouth.corner0)] = fixed[std::size_t(scheme.mouth.corner1)] = 1;
-	for (const auto& [up, down] : scheme.mouth.inner) {
-		const double gap = std::max(0.0, (p.row(down) - p.row(up)).dot(f.down));
-		move.push_back({across(down), (stretch - 1) * gap});
-		fixed[std::size_t(up)] = 1;
+	for (const auto& [up, down] : scheme.mouth.inner) {  // the upper lip stays, the lower one moves by the gap's change
+		const double by = (stretch - 1) * std::max(0.0, (before.row(down) - before.row(up)).dot(f.down));
+		move.push_back({across(down), by});
+		p.row(down) += by * f.down;
+		fixed[std::size_t(up)] = fixed[std::size_t(down)] = 1;
 	}
 	std::sort(move.begin(), move.end());
 	const auto moveAt = [&](double u) {
@@ -475,18 +477,12 @@ void drawOpening(const Scheme& scheme, Points& p, double opening) {
 		const double t = hi->first > lo->first ? (u - lo->first) / (hi->first - lo->first) : 0.0;
 		return lo->second + t * (hi->second - lo->second);
 	};
-	const Points before = p;
-	for (const auto& [up, down] : scheme.mouth.inner) {
-		const double gap = std::max(0.0, (before.row(down) - before.row(up)).dot(f.down));
-		p.row(down) += (stretch - 1) * gap * f.down;
-		fixed[std::size_t(down)] = 1;
-	}
 	for (Eigen::Index i = 0; i < p.rows(); ++i) {
 		if (fixed[std::size_t(i)]) continue;
 		const double v = (before.row(i) - f.centre).dot(f.down) / f.iod;
 		if (!(v > 0) || v >= 2.5) continue;  // above the mouth, or well below the chin
 		const double fade = v <= 1.5 ? 1.0 : 2.5 - v;
-		p.row(i) += fade * moveAt((before.row(i) - f.centre).dot(f.across) / half) * f.down;
+		p.row(i) += fade * moveAt(across(i)) * f.down;
 	}
 }
 

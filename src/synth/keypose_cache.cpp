@@ -77,8 +77,9 @@ std::pair<long, long> KeyposeCache::resolvePair(const Keypose& key) const {
 Emotion KeyposeCache::emotionOf(const Keypose& key) const { return key.emotion.value_or(o_.expression.emotion()); }
 double KeyposeCache::intensityOf(const Keypose& key) const { return key.intensity.value_or(o_.expression.intensity()); }
 std::string KeyposeCache::indexKey(const Keypose& key) const {
+	const long step = lipScheme_ ? openingStep(key) : -1;
 	return key.cdv.label() + "\t" + emotionOf(key).label() + "\t" + std::to_string(intensityOf(key)) + (key.sample >= 0 ? "\t#" + std::to_string(key.sample) : "") +
-	       (lipScheme_ && openingStep(key) >= 0 ? "\t@" + std::to_string(openingStep(key)) : "");
+	       (step >= 0 ? "\t@" + std::to_string(step) : "");
 }
 
 long KeyposeCache::resolve(const Keypose& key) const { return resolve(key, emotionOf(key).label()); }
@@ -314,7 +315,7 @@ std::unique_ptr<KeyposeImage> KeyposeCache::makeImage(const ImageKey& key, const
 	std::vector<Eigen::VectorXf> synth, baseSynth;
 	const auto& [sample, base, intensity, auEmotion, look, lipsShut, closeLips, openTo] = key;
 	const bool shut = closeLips;  // (C++17 lambdas cannot capture a structured binding: clang refuses it)
-	const double opening = openTo >= 0 ? double(openTo) * kOpeningStep : -1.0;
+	const double opening = key.opening();
 	const auto drawn = [this, shut, opening](Points shape, bool opened = false) {
 		if (opening >= 0 && !opened) drawOpening(scheme_, shape, opening);
 		if (shut) shutLips(scheme_, shape);
@@ -505,7 +506,7 @@ void KeyposeCache::prepare(const std::vector<Keypose>& keys) {
 				const AuProfile& profile = defaultAuProfiles().at(key.auEmotion);
 				const bool parts = std::any_of(profile.begin(), profile.end(), [](const auto& u) { return (u.first == "AU25" || u.first == "AU26") && u.second > 0; });
 				if (!key.lipsShut && parts)
-					key.look = mouthLook(key.sample, actionUnitShape(key.sample, key.auEmotion, key.intensity, false, key.openTo >= 0 ? double(key.openTo) * kOpeningStep : -1.0));
+					key.look = mouthLook(key.sample, actionUnitShape(key.sample, key.auEmotion, key.intensity, false, key.opening()));
 			}
 			fresh.push_back({&k, key});
 			if (images_.count(key) || std::find(pairs.begin(), pairs.end(), key) != pairs.end()) continue;

@@ -60,6 +60,7 @@ private:
 		// The opening the learned mouth predicted (Keypose::drawnOpening, D100), in steps of kOpeningStep eye
 		// distances; −1: the exemplar's own.
 		long openTo = -1;
+		double opening() const { return openTo >= 0 ? double(openTo) * kOpeningStep : -1.0; }  // eye distances; −1: none
 		bool operator<(const ImageKey& o) const {
 			return std::tie(sample, base, intensity, auEmotion, look, lipsShut, closeLips, openTo) <
 			       std::tie(o.sample, o.base, o.intensity, o.auEmotion, o.look, o.lipsShut, o.closeLips, o.openTo);
