@@ -41,6 +41,9 @@ chroot "$T/root" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:
 	printf '%s\n' "$line" >>"$T/demo.log"
 	case "$line" in
 		"setup-deps: "*) echo "$line" ;;
+		"Fetched "*) echo "first_run: downloaded after $(($(date +%s) - start)) s: $line" ;;
+		"Unpacking "*) [[ -n "${unpacking:-}" ]] || { unpacking=1; echo "first_run: unpacking from $(($(date +%s) - start)) s"; } ;;
+		"["*"] Linking CXX executable talkhead") echo "first_run: the CLI linked after $(($(date +%s) - start)) s" ;;
 		*"Build files have been written"*) echo "first_run: packages installed, configured after $(($(date +%s) - start)) s" ;;
 		"demo: the first video"*) echo "first_run: $line (from the clone: $(($(date +%s) - start)) s)"; break ;;
 	esac
