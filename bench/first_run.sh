@@ -7,9 +7,11 @@
 # machine that has the test packages never shows them. Needs root, debootstrap (installed if missing) and
 # the Debian mirror; takes ~10 minutes and ~3 GB in /tmp (removed after).
 #   usage: bench/first_run.sh [MIRROR]   (default http://deb.debian.org/debian)
+#   FIRST_RUN_LOG  where the demo's timed output is kept (default /tmp/first_run-demo.log)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 mirror="${1:-http://deb.debian.org/debian}"
+log="${FIRST_RUN_LOG:-${TMPDIR:-/tmp}/first_run-demo.log}"  # kept after the chroot is removed
 ((EUID == 0)) || { echo "first_run: needs root (debootstrap, chroot)"; exit 1; }
 command -v debootstrap >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends debootstrap >/dev/null
 T=$(mktemp -d /tmp/talkhead-first-run.XXXXXX)
@@ -38,7 +40,7 @@ echo "first_run: scripts/demo in the chroot ($(nproc) cores)"
 start=$(date +%s)
 chroot "$T/root" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin LANG=C.UTF-8 \
 	/bin/bash -c 'cd /root/talkhead && scripts/demo' 2>&1 | while IFS= read -r line; do
-	printf '%s\n' "$line" >>"$T/demo.log"
+	printf '%s %s\n' "$(($(date +%s) - start))" "$line" >>"$T/demo.log"  # seconds from the start, the line
 	case "$line" in
 		"setup-deps: "*) echo "$line" ;;
 		"Fetched "*) echo "first_run: downloaded after $(($(date +%s) - start)) s: $line" ;;
@@ -48,4 +50,6 @@ chroot "$T/root" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:
 		"demo: the first video"*) echo "first_run: $line (from the clone: $(($(date +%s) - start)) s)"; break ;;
 	esac
 done || true  # the demo goes on after its first video; leaving the loop stops it (SIGPIPE)
+cp "$T/demo.log" "$log"
+echo "first_run: the demo's output, each line with its second, is in $log"
 grep -q "demo: the first video" "$T/demo.log" || { echo "first_run: no first video"; tail -20 "$T/demo.log"; exit 1; }

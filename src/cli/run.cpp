@@ -119,7 +119,7 @@ std::string shippedFaceModel(const std::string& name, bool quiet) {
 	const auto t0 = std::chrono::steady_clock::now();
 	const std::string where = shippedFaceModelPath(face);
 	if (!quiet)
-		std::fprintf(stderr, "talkhead: the face '%s' is built once from its %s clips into %s (about half a minute on 2 cores)\n", name.c_str(),
+		std::fprintf(stderr, "talkhead: the face '%s' is built once from its %s clips into %s (10–20 s on 2 cores)\n", name.c_str(),
 		             std::to_string(readTakeList(face.takes).size()).c_str(), where.empty() ? "the cache" : std::filesystem::path(where).parent_path().c_str());
 	ProgressBar bar(quiet);
 	const std::string model = ensureShippedFace(face, bar);

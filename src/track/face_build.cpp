@@ -9,9 +9,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <map>
+#include <mutex>
+#include <optional>
+#include <thread>
 
 #include "align/align.h"
 #include "base/atomic_file.h"
@@ -98,7 +103,8 @@ FaceModel buildFromPlans(const std::vector<TakePlan>& plans, std::size_t base, c
 	fs::create_directories(scratch, ec);
 	if (ec) throw Error(scratch.string(), 0, "cannot make the scratch folder for the face (" + ec.message() + ")");
 	progress.report(from, "writing the corpus");
-	std::vector<ColourMatch> m = writeTakesCorpus(plans, base, scratch.string());
+	// PNG level 1: the scratch folder is read once and removed; level 6 took a third of a face's build (D102).
+	std::vector<ColourMatch> m = writeTakesCorpus(plans, base, scratch.string(), 1);
 	if (colours) *colours = std::move(m);
 	const Corpus corpus = loadCorpus((scratch / "corpus.csv").string());
 	const Scheme scheme = corpusScheme(corpus, corpus.schemeName);
@@ -106,10 +112,77 @@ FaceModel buildFromPlans(const std::vector<TakePlan>& plans, std::size_t base, c
 	return buildFaceModel(corpus, scheme, BuildOptions{}, sub);
 }
 
+// Progress of takes planned at once: the mean of their fractions over [0, share) of the caller's.
+class TakesProgress {
+public:
+	TakesProgress(ProgressSink& outer, std::size_t takes, double share) : outer_(outer), done_(takes, 0.0), share_(share) {}
+	void report(std::size_t take, double fraction, const std::string& stage) {
+		const std::lock_guard<std::mutex> lock(mutex_);
+		done_[take] = fraction;
+		double sum = 0;
+		for (double d : done_) sum += d;
+		outer_.report(share_ * sum / double(done_.size()), "take " + std::to_string(take + 1) + " of " + std::to_string(done_.size()) + ": " + stage);
+	}
+
+private:
+	ProgressSink& outer_;
+	std::vector<double> done_;
+	double share_;
+	std::mutex mutex_;
+};
+
+class TakeProgress final : public ProgressSink {
+public:
+	TakeProgress(TakesProgress& all, std::size_t take) : all_(all), take_(take) {}
+	void report(double fraction, const std::string& stage) override { all_.report(take_, fraction, stage); }
+
+private:
+	TakesProgress& all_;
+	std::size_t take_;
+};
+
+// The takes of a shipped face planned two at a time on a machine with two cores (each thread with its own
+// dlib model, loaded once, not once per take): tracking is most of a face's build (D102). Takes whose text
+// must be aligned are planned one at a time — libespeak-ng is one state per process. The plans, and so the
+// model, do not depend on the number of threads: each take is planned alone, into its own slot.
+std::vector<TakePlan> planTakesAtOnce(const std::vector<VideoTake>& takes, const Language& lang, bool byShape, ProgressSink& progress, double share) {
+	bool aligns = false;
+	for (const auto& t : takes)
+		if (!byShape && t.transcript.empty()) aligns = true;
+	const std::size_t threads = aligns ? 1 : std::min<std::size_t>({2, takes.size(), std::max(1u, std::thread::hardware_concurrency())});
+	std::vector<std::optional<TakePlan>> plans(takes.size());
+	std::vector<std::exception_ptr> errors(takes.size());
+	TakesProgress all(progress, takes.size(), share);
+	std::atomic<std::size_t> next{0};
+	std::atomic<bool> failed{false};
+	auto work = [&] {
+		std::optional<FaceLandmarker> landmarker;
+		for (std::size_t k; !failed && (k = next++) < takes.size();) {
+			try {
+				if (!landmarker) landmarker.emplace();
+				TakeProgress sub(all, k);
+				plans[k] = planVideoTake(takes[k], lang, FromVideoOptions{}, byShape, "", sub, nullptr, {}, &*landmarker);
+			} catch (...) {
+				errors[k] = std::current_exception();
+				failed = true;
+			}
+		}
+	};
+	std::vector<std::thread> pool;
+	for (std::size_t i = 1; i < threads; ++i) pool.emplace_back(work);
+	work();
+	for (auto& t : pool) t.join();
+	for (const auto& e : errors)  // the first take that failed, as planning them in order would report it
+		if (e) std::rethrow_exception(e);
+	std::vector<TakePlan> out;
+	for (auto& p : plans) out.push_back(std::move(*p));
+	return out;
+}
+
 }  // namespace
 
 TakePlan planVideoTake(const VideoTake& take, const Language& lang, const FromVideoOptions& options, bool byShape, const std::string& landmarksTsv,
-                       ProgressSink& progress, TakeSpeechNote* note, const FrameCallback& onFrame) {
+                       ProgressSink& progress, TakeSpeechNote* note, const FrameCallback& onFrame, FaceLandmarker* landmarker) {
 	TakePlan tp;
 	tp.take = take;
 	VideoInfo info;
@@ -125,6 +198,7 @@ TakePlan planVideoTake(const VideoTake& take, const Language& lang, const FromVi
 		tp.track.info = info;
 	} else {
 		TrackOptions to;
+		to.landmarker = landmarker;
 		to.start = take.start;
 		if (take.duration > Ticks(0)) to.duration = take.duration;
 		tp.track = trackVideo(take.video, to, progress, onFrame);
@@ -157,14 +231,8 @@ std::string ensureShippedFace(const ShippedFace& face, ProgressSink& progress) {
 	bool byShape = true;
 	for (const auto& t : takes)
 		if (!t.transcript.empty() || !t.text.empty()) byShape = false;
-	std::vector<TakePlan> plans;
 	const double trackShare = 0.75;
-	for (const VideoTake& take : takes) {
-		const double k = double(plans.size()), n = double(takes.size());
-		SubProgress sub(progress, trackShare * k / n, trackShare * (k + 1) / n,
-		                "take " + std::to_string(plans.size() + 1) + " of " + std::to_string(takes.size()) + ": ");
-		plans.push_back(planVideoTake(take, lang, FromVideoOptions{}, byShape, "", sub));
-	}
+	const std::vector<TakePlan> plans = planTakesAtOnce(takes, lang, byShape, progress, trackShare);
 	const FaceModel m = buildFromPlans(plans, basefaceTake(plans), folder / (face.name + "-corpus.tmp"), progress, trackShare);
 	const fs::path recipe = fs::path(model).replace_extension(".recipe");
 	fs::remove(recipe, ec);  // a model never stands beside another recipe's stamp

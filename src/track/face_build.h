@@ -26,7 +26,8 @@ struct TakeSpeechNote {
 // One take: its speech (transcript, or text aligned to the video's audio or the take's audio; none when
 // byShape), its face tracked (or read from `landmarksTsv` when given) and its frames chosen.
 TakePlan planVideoTake(const VideoTake& take, const Language& lang, const FromVideoOptions& options, bool byShape, const std::string& landmarksTsv,
-                       ProgressSink& progress, TakeSpeechNote* note = nullptr, const FrameCallback& onFrame = {});
+                       ProgressSink& progress, TakeSpeechNote* note = nullptr, const FrameCallback& onFrame = {},
+                       FaceLandmarker* landmarker = nullptr);
 
 // The take whose frame is the baseface: the first neutral one, else the first.
 std::size_t basefaceTake(const std::vector<TakePlan>& plans);

@@ -824,7 +824,7 @@ Image8 takesContactSheet(const std::vector<TakePlan>& takes, std::size_t baseTak
 
 }  // namespace
 
-std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir) {
+std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir, int pngCompression) {
 	if (takes.empty() || baseTake >= takes.size()) throw std::logic_error("writeTakesCorpus: no takes or no base take");
 	fs::create_directories(fs::path(dir) / "frames");
 	const bool several = takes.size() > 1;
@@ -837,7 +837,7 @@ std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, st
 			if (img.width != width || img.height != height)
 				throw Error(takes[k].take.video, 0, "its frames are " + std::to_string(img.width) + "x" + std::to_string(img.height) + ", the first take's " +
 				                                        std::to_string(width) + "x" + std::to_string(height) + ": the takes of one corpus must be the same size");
-			writeImage((fs::path(dir) / takeImageName(several, k, index)).string(), img, 6);
+			writeImage((fs::path(dir) / takeImageName(several, k, index)).string(), img, pngCompression);
 		}
 	writeFileAtomically((fs::path(dir) / "corpus.csv").string(), takesCorpusCsv(takes, baseTake, matches));
 	writeImage((fs::path(dir) / "contact.png").string(), takesContactSheet(takes, baseTake, frames));

@@ -160,6 +160,8 @@ struct ColourMatch {
 // exemplars; then each take's map (mean and spread over its faces) brings it to the base take's (D61), so
 // lighting that drifted between recordings does not flash at an emotion change. Gains kept within
 // 0.8–1.25. Returns each take's map, with the range of its frames' gains.
-std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir);
+// `pngCompression` (0–9) only trades the images' size for the time to write them: a scratch corpus read once
+// is written at 1.
+std::vector<ColourMatch> writeTakesCorpus(const std::vector<TakePlan>& takes, std::size_t baseTake, const std::string& dir, int pngCompression = 6);
 
 }  // namespace talkhead

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "base/atomic_file.h"
@@ -297,7 +298,8 @@ LandmarkTrack trackVideo(const std::string& path, const TrackOptions& o, Progres
 	LandmarkTrack track;
 	track.source = path;
 	track.info = reader.info();
-	FaceLandmarker lm(o.modelPath);
+	std::optional<FaceLandmarker> own;
+	FaceLandmarker& lm = o.landmarker ? *o.landmarker : own.emplace(o.modelPath);
 	Tracker tracker(lm, o);
 	Smoother smoother(o.smoothing);
 	Image8 rgb, grey;

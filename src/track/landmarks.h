@@ -80,6 +80,9 @@ struct TrackOptions {
 	double minConfidence = 0.5;      // a fit less consistent than this re-detects (and is lost if none)
 	SmoothingOptions smoothing;
 	std::string modelPath = defaultDlibModelPath();
+	// A model already loaded (used by one thread at a time), so that tracking several videos loads dlib's
+	// 100-MB predictor once; null: `modelPath` is loaded for the call.
+	FaceLandmarker* landmarker = nullptr;
 };
 
 // One frame's landmarks.
