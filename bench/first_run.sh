@@ -37,17 +37,18 @@ for m in proc sys dev; do mount --bind "/$m" "$T/root/$m"; done
 cp /etc/resolv.conf "$T/root/etc/"
 git clone -q "$root" "$T/root/root/talkhead"
 echo "first_run: scripts/demo in the chroot ($(nproc) cores)"
-start=$(date +%s)
+start=$EPOCHSECONDS
 chroot "$T/root" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin LANG=C.UTF-8 \
 	/bin/bash -c 'cd /root/talkhead && scripts/demo' 2>&1 | while IFS= read -r line; do
-	printf '%s %s\n' "$(($(date +%s) - start))" "$line" >>"$T/demo.log"  # seconds from the start, the line
+	at=$((EPOCHSECONDS - start))  # seconds from the start (bash's clock: no process per line)
+	printf '%s %s\n' "$at" "$line" >>"$T/demo.log"
 	case "$line" in
 		"setup-deps: "*) echo "$line" ;;
-		"Fetched "*) echo "first_run: downloaded after $(($(date +%s) - start)) s: $line" ;;
-		"Unpacking "*) [[ -n "${unpacking:-}" ]] || { unpacking=1; echo "first_run: unpacking from $(($(date +%s) - start)) s"; } ;;
-		"["*"] Linking CXX executable talkhead") echo "first_run: the CLI linked after $(($(date +%s) - start)) s" ;;
-		*"Build files have been written"*) echo "first_run: packages installed, configured after $(($(date +%s) - start)) s" ;;
-		"demo: the first video"*) echo "first_run: $line (from the clone: $(($(date +%s) - start)) s)"; break ;;
+		"Fetched "*) echo "first_run: downloaded after $at s: $line" ;;
+		"Unpacking "*) [[ -n "${unpacking:-}" ]] || { unpacking=1; echo "first_run: unpacking from $at s"; } ;;
+		"["*"] Linking CXX executable talkhead") echo "first_run: the CLI linked after $at s" ;;
+		*"Build files have been written"*) echo "first_run: packages installed, configured after $at s" ;;
+		"demo: the first video"*) echo "first_run: $line (from the clone: $at s)"; break ;;
 	esac
 done || true  # the demo goes on after its first video; leaving the loop stops it (SIGPIPE)
 cp "$T/demo.log" "$log"
