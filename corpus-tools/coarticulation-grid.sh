@@ -8,8 +8,9 @@
 # s4hq_lgar9n, s4hq_swau8a: confidence 0.12, 0.05, 0.06).
 # Each clip is aligned to its sentence (the words are in its file name) by `talkhead align` and tracked by
 # `talkhead corpus landmarks` (dlib), as bench/coarticulation.sh does for the real speakers.
-#   corpus-tools/coarticulation-grid.sh [-o OUT.tsv] [--work DIR] [--without SPEAKER]...
-# --without leaves a speaker's clips out (the bench's held-out models); the work folder caches the
+#   corpus-tools/coarticulation-grid.sh [-o OUT.tsv] [--work DIR] [--without SPEAKER]... [--no-visual-lead]
+# --without leaves a speaker's clips out (the bench's held-out models); --no-visual-lead writes no visual
+# lead (corpus-tools/visual-lead.sh measures the lead with such models); the work folder caches the
 # alignments and tracks (default ${TMPDIR:-/tmp}/talkhead-coarticulation-grid). About 10 min on 2 cores the
 # first time, 2 s after. The result is byte-identical to the committed model (bench/coarticulation.sh
 # checks).
@@ -20,11 +21,14 @@ DATA=${SHARED_DATA:-$root/../shared/data}
 out=$root/models/coarticulation/grid.tsv
 work=${TMPDIR:-/tmp}/talkhead-coarticulation-grid
 without=()
+# The mouth ahead of the voice (D104): what corpus-tools/visual-lead.sh measured on these clips (seconds).
+visual_lead=-0.025
 while [ $# -gt 0 ]; do
 	case $1 in
 		-o) out=$2; shift 2 ;;
 		--work) work=$2; shift 2 ;;
 		--without) without+=("$2"); shift 2 ;;
+		--no-visual-lead) visual_lead=none; shift ;;
 		*) echo "coarticulation-grid.sh: unknown argument '$1'" >&2; exit 2 ;;
 	esac
 done
@@ -52,5 +56,6 @@ while IFS=$'\t' read -r clip speaker; do
 	printf '%s\t%s\t%s\n' "$c.real/landmarks.tsv" "$c.TextGrid" "$speaker" >>"$list"
 	n=$((n + 1))
 done <"$root/models/coarticulation/clips.tsv"
-"$TH" corpus coarticulation --clips "$list" --lang en-US -o "$out" -q
+lead=(--visual-lead "$visual_lead"); [ "$visual_lead" = none ] && lead=()
+"$TH" corpus coarticulation --clips "$list" --lang en-US "${lead[@]}" -o "$out" -q
 echo "coarticulation-grid.sh: $out from $n clips"

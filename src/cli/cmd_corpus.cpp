@@ -157,6 +157,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	           {"--output", "F.tsv", "the model to write (required)", "-o"},
 	           {"--lang", "LANG", languageOptionHelp("the transcripts'")},
 	           {"--lambda", "L", "ridge penalty (default 10)"},
+	           {"--visual-lead", "S", "move every keypose by S seconds (< 0: earlier; the mouth ahead of the voice, measured by corpus-tools/visual-lead.sh; default none)"},
 	           {"--fps", "N", "frame rate the keyposes are placed at (default 25)"},
 	           {"--quiet", "", "no summary", "-q"}},
 	          "Learns coarticulation (issue 32, decision D62): the inner-lip opening of real speakers at each phone's\n"
@@ -179,6 +180,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
 	learnLeadingPause(m, clips.clips);
 	learnBilabialLead(m, clips.clips, frame);
+	if (args.has("--visual-lead")) m.visualLead = args.number("--visual-lead", 0, -kMaxVisualLead, kMaxVisualLead);
 	m.source = std::to_string(clips.clips.size()) + " clips of " + std::filesystem::path(list).filename().string();
 	// Leave one speaker out: each speaker's keyposes predicted by a model of the others.
 	std::vector<std::string> speakers;
@@ -221,6 +223,11 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	if (m.bilabialLead) {
 		char b[120];
 		std::snprintf(b, sizeof b, "; /p b m/ shut %+.0f ms from their keypose (%zu closures)", 1000 * *m.bilabialLead, m.bilabialCount);
+		held += b;
+	}
+	if (m.visualLead) {
+		char b[120];
+		std::snprintf(b, sizeof b, "; every keypose moved %+.0f ms (the visual lead)", 1000 * *m.visualLead);
 		held += b;
 	}
 	if (!args.has("--quiet"))

@@ -173,6 +173,7 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.timeline.keys);
 		applyBilabialLead(*spec.coarticulation, spec.phones, perf.timeline.keys, spec.rate.frameLength());
 		holdBilabials(spec.phones, perf.timeline.keys, spec.rate.frameLength());
+		applyVisualLead(*spec.coarticulation, perf.timeline.keys, spec.rate.frameLength());
 	}
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);

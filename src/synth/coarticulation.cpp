@@ -292,6 +292,20 @@ void holdBilabials(const std::vector<PhoneSegment>& phones, std::vector<Keypose>
 	keys = std::move(out);
 }
 
+void applyVisualLead(const CoarticulationModel& m, std::vector<Keypose>& keys, Ticks frame) {
+	if (!m.visualLead || keys.empty()) return;
+	const Ticks lead = ticksFromSeconds(*m.visualLead);
+	Ticks before{0}, moved{0};  // the keypose before: where it was and where it went
+	for (std::size_t i = 0; i < keys.size(); ++i) {
+		const Ticks was = keys[i].time;
+		Ticks t = was + lead;
+		if (i == 0) t = was <= Ticks(0) ? was : std::max(Ticks(0), t);
+		else t = std::max(t, moved + std::min(was - before, frame));
+		before = was, moved = t;
+		keys[i].time = t;
+	}
+}
+
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda) {
 	std::vector<Eigen::MatrixXd> xs(clips.size()), ys(clips.size());
 	for (std::size_t i = 0; i < clips.size(); ++i) coarticulationExamples(clips[i], frame, xs[i], ys[i]);
@@ -320,13 +334,16 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 	out << "# talkhead coarticulation model (D62): a keypose's inner-lip opening, in units of the speaker's 90th\n"
 	    << "# percentile in speech, = intercept + Σ weight × feature (talkhead corpus coarticulation).\n";
 	if (!m.source.empty()) out << "# learned from " << m.source << "\n";
-	out << "talkhead-coarticulation\t3\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n";
+	out << "talkhead-coarticulation\t" << (m.visualLead ? 4 : 3) << "\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n";
 	if (m.leadOpening)
 		out << "# the lips held before the first words (pauses 'still'): opening, width, clips it is the mean of\nlead\t" << number(*m.leadOpening)
 		    << "\t" << number(m.leadWidth.value_or(1.0)) << "\t" << m.leadClips << "\n";
 	if (m.bilabialLead)
 		out << "# /p b m/ shut this long after their keypose (s; < 0: before), closures it is the mean of\nbilabial\t" << number(*m.bilabialLead) << "\t"
 		    << m.bilabialCount << "\n";
+	if (m.visualLead)
+		out << "# every keypose moved by this (s; < 0: earlier): the mouth ahead of the voice (corpus-tools/visual-lead.sh)\nvisual\t"
+		    << number(*m.visualLead) << "\n";
 	out << "# name, weight for the opening, weight for the width\nintercept\t" << number(m.intercept) << "\t" << number(m.widthIntercept) << "\n";
 	for (std::size_t i = 0; i < m.features.size(); ++i)
 		out << "feature\t" << m.features[i] << "\t" << number(m.weights(Eigen::Index(i))) << "\t" << number(m.widthWeights(Eigen::Index(i))) << "\n";
@@ -367,8 +384,8 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			return v;
 		};
 		if (!header) {
-			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 3')");
-			if (f[1] != "1" && f[1] != "2" && f[1] != "3") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 to 3)");
+			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 4')");
+			if (f[1] != "1" && f[1] != "2" && f[1] != "3" && f[1] != "4") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 to 4)");
 			header = true, version = f[1];
 		} else if (f[0] == "lead" && f.size() == 4 && version != "1" && !m.leadOpening) {
 			m.leadOpening = parse(f[1]);
@@ -378,12 +395,15 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			m.leadClips = std::size_t(n);
 			if (*m.leadOpening < 0 || *m.leadOpening > 10 || *m.leadWidth <= 0 || *m.leadWidth > 10)
 				throw Error(path, ln, "lead: an opening or width out of range (0 … 10 of the speaker's own)");
-		} else if (f[0] == "bilabial" && f.size() == 3 && version == "3" && !m.bilabialLead) {
+		} else if (f[0] == "bilabial" && f.size() == 3 && (version == "3" || version == "4") && !m.bilabialLead) {
 			m.bilabialLead = parse(f[1]);
 			long long n = 0;
 			if (!parseInt(f[2], n) || n < 1) throw Error(path, ln, "bilabial: not a count of closures: '" + f[2] + "'");
 			m.bilabialCount = std::size_t(n);
 			if (std::abs(*m.bilabialLead) > 0.1) throw Error(path, ln, "bilabial: a lead out of range (−0.1 … 0.1 s)");
+		} else if (f[0] == "visual" && f.size() == 2 && version == "4" && !m.visualLead) {
+			m.visualLead = parse(f[1]);
+			if (std::abs(*m.visualLead) > kMaxVisualLead) throw Error(path, ln, "visual: a lead out of range (−0.2 … 0.2 s)");
 		} else if (f[0] == "lambda" && f.size() == 2) {
 			m.lambda = parse(f[1]);
 		} else if (f[0] == "samples" && f.size() == 2) {
@@ -397,7 +417,7 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			weights.push_back(parse(f[2]));
 			widthWeights.push_back(parse(f[3]));
 		} else {
-			throw Error(path, ln, "unexpected line (expected lambda N, samples N, lead A B N (once, version 2 or 3), bilabial S N (once, version 3), intercept A B or feature NAME A B)");
+			throw Error(path, ln, "unexpected line (expected lambda N, samples N, lead A B N (once, version 2 to 4), bilabial S N (once, version 3 or 4), visual S (once, version 4), intercept A B or feature NAME A B)");
 		}
 	}
 	if (!header) throw Error(path + ": empty: not a talkhead coarticulation model");

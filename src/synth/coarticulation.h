@@ -37,6 +37,10 @@ struct CoarticulationModel {
 	// earlier; the keypose moves by it. Unset in version-1 and -2 files (the keypose stays at the midpoint).
 	std::optional<double> bilabialLead;
 	std::size_t bilabialCount = 0;  // closures it is the mean of
+	// The mouth ahead of the voice (D104): every keypose moved by this (seconds, < 0 = earlier) once the
+	// openings are set — real lips lead the sound they make. Measured on rendered pixels against the real
+	// speakers (corpus-tools/visual-lead.sh); unset in files before version 4 (the keyposes stay).
+	std::optional<double> visualLead;
 	double lambda = 0;
 	std::size_t samples = 0;  // keyposes it was fitted on
 	std::string source;       // what it was learned from
@@ -81,13 +85,19 @@ void applyBilabialLead(const CoarticulationModel& m, const std::vector<PhoneSegm
 // both stay at least half a frame from the keyposes either side — so a video frame, wherever it falls, shows
 // the lips shut (the curve passes a single shut keypose between two frames). Real lips stay shut 60–100 ms.
 void holdBilabials(const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys, Ticks frame);
+// Moves every keypose by the model's visualLead (none without one), keeping the gaps between them: a keypose
+// the lead would take before 0 stays at 0, and those after it keep at least their gap to it, up to a frame.
+inline constexpr double kMaxVisualLead = 0.2;  // seconds either way: what a file may say
+void applyVisualLead(const CoarticulationModel& m, std::vector<Keypose>& keys, Ticks frame);
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda = 10);
 
 // Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones), and
 // the held keyposes' before the first words (Keypose::hold) from its lead.
 void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys);
 
-// Text file "talkhead-coarticulation 3" (2: without the bilabial line; 1: without the lead line either); reading checks every line and the features, naming the file.
+// Text file "talkhead-coarticulation 4" (3: without the visual line; 2: without the bilabial line either; 1: without
+// the lead line either; written as 3 when the model has no visual lead); reading checks every line and the
+// features, naming the file.
 void saveCoarticulation(const CoarticulationModel& m, const std::string& path);
 CoarticulationModel loadCoarticulation(const std::string& path);
 

@@ -112,7 +112,7 @@ struct SavedLine {
 	void write(const std::string& version, const std::string& line) const {
 		std::string v = text;
 		v.replace(at, end - at, line);
-		v.replace(v.find("talkhead-coarticulation\t3"), 25, "talkhead-coarticulation\t" + version);
+		v.replace(v.find("talkhead-coarticulation\t"), 25, "talkhead-coarticulation\t" + version);
 		std::ofstream(path) << v;
 	}
 };
@@ -372,6 +372,86 @@ TEST(Coarticulation, bilabialsShutAsEarlyAsTheSpeakersDoKeptAFrameFromTheirNeigh
 	expectLoadError(path, "bilabial: a lead out of range");
 	saved.write("3", "bilabial\t-0.02\t0\n");
 	expectLoadError(path, "bilabial: not a count of closures");
+	std::filesystem::remove(path);
+}
+
+TEST(Coarticulation, theVisualLeadMovesEveryKeyposeKeepingTheirGapsAndNoneBeforeTheStart) {
+	const Phone t = {"t", "t1"}, a = {"a", "a"}, p = {"p", "p1"};
+	const auto ph = phones({t, a, p, a, t});
+	const auto before = keyposes(ph, ms(40), PauseStyle::Still, true);
+	ASSERT_GE(before.size(), 6u);
+	ASSERT_EQ(before[0].time, Ticks(0));
+	CoarticulationModel m = trainCoarticulation(clips(), ms(10), 1.0);
+	auto keys = before;
+	applyVisualLead(m, keys, ms(40));  // no lead: nothing moves
+	for (std::size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(keys[i].time, before[i].time);
+	m.visualLead = -0.025;
+	applyVisualLead(m, keys, ms(40));
+	EXPECT_EQ(keys[0].time, Ticks(0));  // the keypose at the start stays there
+	for (std::size_t i = 1; i < keys.size(); ++i) {
+		EXPECT_EQ(keys[i].time, before[i].time - ms(25)) << i;
+		EXPECT_EQ(keys[i].cdv, before[i].cdv);
+	}
+	// A lead longer than the first gap: the keypose after the start keeps its gap up to a frame, the rest follow.
+	m.visualLead = -0.2;
+	keys = before;
+	applyVisualLead(m, keys, ms(40));
+	for (std::size_t i = 1; i < keys.size(); ++i) {
+		EXPECT_GE(keys[i].time - keys[i - 1].time, std::min(before[i].time - before[i - 1].time, ms(40))) << i;
+		EXPECT_LE(keys[i].time, std::max(before[i].time - ms(200), keys[i - 1].time + ms(40))) << i;
+	}
+	// Later (a positive lead): all but the start move.
+	m.visualLead = 0.01;
+	keys = before;
+	applyVisualLead(m, keys, ms(40));
+	EXPECT_EQ(keys[0].time, Ticks(0));
+	for (std::size_t i = 1; i < keys.size(); ++i) EXPECT_EQ(keys[i].time, before[i].time + ms(10)) << i;
+
+	// In a plan: every keypose of the model without a lead, 25 ms earlier.
+	PerformanceSpec spec;
+	spec.phones = ph;
+	spec.pauses = PauseStyle::Still;
+	CoarticulationModel none = m;
+	none.visualLead.reset();
+	spec.coarticulation = std::make_shared<const CoarticulationModel>(none);
+	const Performance without = planPerformance(spec);
+	m.visualLead = -0.025;
+	spec.coarticulation = std::make_shared<const CoarticulationModel>(m);
+	const Performance with = planPerformance(spec);
+	ASSERT_EQ(with.timeline.keys.size(), without.timeline.keys.size());
+	for (std::size_t i = 1; i < with.timeline.keys.size(); ++i) {
+		EXPECT_EQ(with.timeline.keys[i].time, without.timeline.keys[i].time - ms(25)) << i;
+		EXPECT_EQ(with.timeline.keys[i].mouthOpening, without.timeline.keys[i].mouthOpening) << i;
+	}
+
+	// Saved (version 4) and read back; a version-3 file has no such line; damage is one clear error.
+	const std::string path = (std::filesystem::temp_directory_path() / "talkhead-coarticulation-visual.tsv").string();
+	saveCoarticulation(m, path);
+	const CoarticulationModel back = loadCoarticulation(path);
+	ASSERT_TRUE(back.visualLead);
+	EXPECT_EQ(*back.visualLead, -0.025);
+	saveCoarticulation(none, path);  // without a lead: written as version 3, as before
+	{
+		std::ifstream in(path);
+		std::string text((std::istreambuf_iterator<char>(in)), {});
+		EXPECT_NE(text.find("talkhead-coarticulation\t3\n"), std::string::npos);
+		EXPECT_EQ(text.find("\nvisual\t"), std::string::npos);
+	}
+	saveCoarticulation(m, path);
+	const SavedLine saved(path, "visual");
+	ASSERT_TRUE(saved.found());
+	saved.write("3", "");
+	EXPECT_FALSE(loadCoarticulation(path).visualLead);
+	saved.write("3", saved.line());
+	expectLoadError(path, "unexpected line");  // version 3 has none
+	saved.write("4", saved.line() + saved.line());
+	expectLoadError(path, "unexpected line");  // twice
+	saved.write("4", "visual\t-0.5\n");
+	expectLoadError(path, "visual: a lead out of range");
+	saved.write("4", "visual\tsoon\n");
+	expectLoadError(path, "not a number");
+	saved.write("5", saved.line());
+	expectLoadError(path, "version 5");
 	std::filesystem::remove(path);
 }
 
