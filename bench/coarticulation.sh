@@ -34,8 +34,8 @@ if [ -n "${FACES:-}" ]; then read -r -a faces <<<"$FACES"; else
 	faces=(default); [ -f "$MODEL" ] && faces+=(franck) || echo "coarticulation.sh: FRANCK_MODEL not set: no franck" >&2
 	faces+=(grid-s4 crema-1001)
 fi
-# WAYS: how each clip's speech is given (default: thesis learned) — thesis (aligned words, --coarticulation
-# off), learned (aligned words, the default), words (GRID's official word alignment, the default mouth),
+# WAYS: how each clip's speech is given (default: thesis learned) — thesis (render --audio --text: the words aligned by the render, --coarticulation
+# off), learned (the same, the default), words (GRID's official word alignment, the default mouth),
 # audio (the audio alone: its phones recognised, issue 49), served (the audio alone as serve's `speak` with
 # no timing recognises it: its first utterance within 1 s, bench_stream --heard; D97).
 read -r -a ways <<<"${WAYS:-thesis learned}"
@@ -69,7 +69,9 @@ for clip in "$DATA"/grid/*.mpg; do
 		case $face in default) fm=(--model "$DEFAULT") ;; franck) fm=(--model "$MODEL") ;; *) fm=(--face "$face") ;; esac
 		for way in "${ways[@]}"; do
 			co=(); [ "$way" = thesis ] && co=(--coarticulation off); [ "$way" != thesis ] && [ "$model" != on ] && co=(--coarticulation "$model")
-			speech=(--transcript "$c.TextGrid")
+			# thesis and learned: the words aligned to the audio by the render itself (render --audio A --text T,
+			# as a user does: its timing is talkhead's estimate, which the model's visual lead corrects, D104).
+			speech=(--text "$(grid_words "$name")")
 			[ "$way" = words ] && speech=(--transcript "$(ls "$DATA/open-av/grid/labels-for-shared-grid/"*"_${name}.align")")
 			[ "$way" = audio ] && speech=()
 			if [ "$way" = served ]; then
