@@ -35,7 +35,7 @@ TimedSpeech speechFromTranscript(const std::string& path, const ReadOptions& rea
 	for (const std::string& w : tr.warnings) s.warnings.push_back(path + ": " + w);
 	// An alignment's phones are canonical IPA.
 	s.phones = phoneSegments(tr, language, unknown, aligned ? Notation::Ipa : notation);
-	s.estimated = aligned;
+	s.aligned = aligned;
 	return s;
 }
 
@@ -56,7 +56,7 @@ TimedSpeech speechFromText(const std::string& text, const std::string& audioPath
 	s.read = al.phones;
 	s.words = al.words.intervals;
 	s.phones = phoneSegments(al.phones, language, unknown, Notation::Ipa);
-	s.estimated = true;
+	s.aligned = true;
 	return s;
 }
 
@@ -101,7 +101,6 @@ TimedSpeech speechFromAudio(const std::string& audioPath, const Language& langua
 	s.read = rec.phones;
 	s.confidence = rec.confidence;
 	s.phones = phoneSegments(rec.phones, language, UnknownPhone::Silence, Notation::Ipa);
-	s.estimated = true;
 	return s;
 }
 
@@ -176,7 +175,7 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.timeline.keys);
 		applyBilabialLead(*spec.coarticulation, spec.phones, perf.timeline.keys, spec.rate.frameLength());
 		holdBilabials(spec.phones, perf.timeline.keys, spec.rate.frameLength());
-		if (spec.estimatedTiming) applyVisualLead(*spec.coarticulation, perf.timeline.keys, spec.rate.frameLength());
+		if (spec.alignedTiming) applyVisualLead(*spec.coarticulation, perf.timeline.keys, spec.rate.frameLength());
 	}
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);

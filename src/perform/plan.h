@@ -37,9 +37,9 @@ struct TimedSpeech {
 	// Recognised speech (speechFromAudio): each interval of `read` has its confidence; 1 elsewhere.
 	std::vector<double> confidence;
 	double confidenceAt(Ticks t) const;
-	// The phones' times were estimated from the audio by talkhead (aligned or recognised), not given: the
-	// coarticulation model's visual lead applies to them (D104).
-	bool estimated = false;
+	// The phones' times were found by aligning the text to the audio (talkhead's aligner), not given nor
+	// recognised: the coarticulation model's visual lead applies to them (D104).
+	bool aligned = false;
 };
 
 // A timed transcript in any format talkhead reads. Words are phonemised in `language`; sentence-level
@@ -97,11 +97,11 @@ struct PerformanceSpec {
 	// predicted mouth to the face's exemplar nearest it (chooseMouthExemplars), once, after the controls.
 	// Null: left to the caller (renderPerformance refuses keyposes left unbound).
 	const FaceModel* face = nullptr;
-	// The phones' times were estimated from the audio by talkhead's aligner or recogniser (TimedSpeech::
-	// estimated, Utterance::estimatedTiming): with `coarticulation`, its visual lead moves every keypose
-	// (D104: those estimates come late against the mouth). Given times (a transcript, espeak-ng's, a TTS
-	// engine's) are taken as they are.
-	bool estimatedTiming = false;
+	// The phones' times came from talkhead's aligner (TimedSpeech::aligned, Utterance::alignedTiming): with
+	// `coarticulation`, its visual lead moves every keypose (D104: the aligner's times come ~20 ms late
+	// against the mouth). Given times (a transcript, espeak-ng's, a TTS engine's) and recognised ones are
+	// taken as they are.
+	bool alignedTiming = false;
 	// The video's length as planPerformance sets it.
 	Ticks videoDuration() const;
 };

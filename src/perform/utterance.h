@@ -28,8 +28,8 @@ struct Utterance {
 	// reported), only the last closes it (its end); the parts in between continue it where the one before
 	// ends. A whole utterance does both.
 	bool opens = true, closes = true;
-	// The phones' times were estimated from the audio (aligned or recognised): PerformanceSpec::estimatedTiming.
-	bool estimatedTiming = false;
+	// The phones' times came from aligning the text to the audio: PerformanceSpec::alignedTiming.
+	bool alignedTiming = false;
 	Ticks duration() const;             // the sound's length, or the phones' end when longer
 };
 

@@ -407,12 +407,12 @@ TEST(Coarticulation, theVisualLeadMovesEveryKeyposeKeepingTheirGapsAndNoneBefore
 	EXPECT_EQ(keys[0].time, Ticks(0));
 	for (std::size_t i = 1; i < keys.size(); ++i) EXPECT_EQ(keys[i].time, before[i].time + ms(10)) << i;
 
-	// In a plan of phones timed by talkhead's aligner or recogniser: every keypose of the model without a
-	// lead, 25 ms earlier. Given times (a transcript, espeak-ng's, a TTS engine's) stay as they are.
+	// In a plan of phones timed by talkhead's aligner: every keypose of the model without a lead, 25 ms
+	// earlier. Given times (a transcript, espeak-ng's, a TTS engine's) and recognised ones stay as they are.
 	PerformanceSpec spec;
 	spec.phones = ph;
 	spec.pauses = PauseStyle::Still;
-	spec.estimatedTiming = true;
+	spec.alignedTiming = true;
 	CoarticulationModel none = m;
 	none.visualLead.reset();
 	spec.coarticulation = std::make_shared<const CoarticulationModel>(none);
@@ -425,7 +425,7 @@ TEST(Coarticulation, theVisualLeadMovesEveryKeyposeKeepingTheirGapsAndNoneBefore
 		EXPECT_EQ(with.timeline.keys[i].time, without.timeline.keys[i].time - ms(25)) << i;
 		EXPECT_EQ(with.timeline.keys[i].mouthOpening, without.timeline.keys[i].mouthOpening) << i;
 	}
-	spec.estimatedTiming = false;
+	spec.alignedTiming = false;
 	const Performance given = planPerformance(spec);
 	ASSERT_EQ(given.timeline.keys.size(), without.timeline.keys.size());
 	for (std::size_t i = 0; i < given.timeline.keys.size(); ++i) EXPECT_EQ(given.timeline.keys[i].time, without.timeline.keys[i].time) << i;
