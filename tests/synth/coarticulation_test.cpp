@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "base/error.h"
 #include "base/progress.h"
@@ -125,6 +126,19 @@ void expectLoadError(const std::string& path, const std::string& expected) {
 		EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
 		EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
 	}
+}
+
+// A line that file version `since` added (`saved`'s): a file of the version before without it reads with
+// `has` false, one with it is refused, and so is the line twice.
+void expectLineOfVersion(const SavedLine& saved, const std::string& before, const std::string& since,
+                         const std::function<bool(const CoarticulationModel&)>& has) {
+	ASSERT_TRUE(saved.found());
+	saved.write(before, "");
+	EXPECT_FALSE(has(loadCoarticulation(saved.path)));
+	saved.write(before, saved.line());
+	expectLoadError(saved.path, "unexpected line");  // the version before has none
+	saved.write(since, saved.line() + saved.line());
+	expectLoadError(saved.path, "unexpected line");  // twice
 }
 
 }  // namespace
@@ -361,13 +375,7 @@ TEST(Coarticulation, bilabialsShutAsEarlyAsTheSpeakersDoKeptAFrameFromTheirNeigh
 	EXPECT_NEAR(*back.bilabialLead, -0.0213, 1e-9);
 	EXPECT_EQ(back.bilabialCount, 12u);
 	const SavedLine saved(path, "bilabial");
-	ASSERT_TRUE(saved.found());
-	saved.write("2", "");
-	EXPECT_FALSE(loadCoarticulation(path).bilabialLead);
-	saved.write("2", saved.line());
-	expectLoadError(path, "unexpected line");  // version 2 has none
-	saved.write("3", saved.line() + saved.line());
-	expectLoadError(path, "unexpected line");  // twice
+	expectLineOfVersion(saved, "2", "3", [](const CoarticulationModel& m) { return m.bilabialLead.has_value(); });
 	saved.write("3", "bilabial\t-0.5\t12\n");
 	expectLoadError(path, "bilabial: a lead out of range");
 	saved.write("3", "bilabial\t-0.02\t0\n");
@@ -445,13 +453,7 @@ TEST(Coarticulation, theVisualLeadMovesEveryKeyposeKeepingTheirGapsAndNoneBefore
 	}
 	saveCoarticulation(m, path);
 	const SavedLine saved(path, "visual");
-	ASSERT_TRUE(saved.found());
-	saved.write("3", "");
-	EXPECT_FALSE(loadCoarticulation(path).visualLead);
-	saved.write("3", saved.line());
-	expectLoadError(path, "unexpected line");  // version 3 has none
-	saved.write("4", saved.line() + saved.line());
-	expectLoadError(path, "unexpected line");  // twice
+	expectLineOfVersion(saved, "3", "4", [](const CoarticulationModel& m) { return m.visualLead.has_value(); });
 	saved.write("4", "visual\t-0.5\n");
 	expectLoadError(path, "visual: a lead out of range");
 	saved.write("4", "visual\tsoon\n");
