@@ -21,7 +21,7 @@ DATA=${SHARED_DATA:-$root/../shared/data}
 out=$root/models/coarticulation/grid.tsv
 work=${TMPDIR:-/tmp}/talkhead-coarticulation-grid
 without=()
-# The mouth ahead of the voice (D104): what corpus-tools/visual-lead.sh measured on these clips (seconds).
+# The visual lead (D104): what corpus-tools/visual-lead.sh measured on these clips (seconds).
 visual_lead=-0.025
 while [ $# -gt 0 ]; do
 	case $1 in

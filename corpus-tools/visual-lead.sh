@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Measures the visual lead of the shipped coarticulation model (D104): how far a rendered mouth must move
 # ahead of its keyposes (the phones' midpoints in the aligned audio) to follow the real speaker best.
-# Real lips lead the sound they make; corpus-tools/coarticulation-grid.sh writes the figure this prints into
-# models/coarticulation/grid.tsv (its `visual_lead`), and every keypose moves by it.
+# The aligner's times come late against the mouth (D104: GRID's own alignment needs no lead); corpus-tools/
+# coarticulation-grid.sh writes the figure this prints into models/coarticulation/grid.tsv (its
+# `visual_lead`), and every keypose of phones talkhead's aligner timed moves by it.
 # Only the training clips (models/coarticulation/clips.tsv) are used — never the 11 evaluation clips of
 # ../shared/data/grid. Each clip is rendered as the user gets it (the default face, no flags but the
 # model, 640x360 at 25 frames/s) with a model learned WITHOUT its speaker and without a lead; the rendered

@@ -157,7 +157,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	           {"--output", "F.tsv", "the model to write (required)", "-o"},
 	           {"--lang", "LANG", languageOptionHelp("the transcripts'")},
 	           {"--lambda", "L", "ridge penalty (default 10)"},
-	           {"--visual-lead", "S", "move every keypose by S seconds (< 0: earlier; the mouth ahead of the voice, measured by corpus-tools/visual-lead.sh; default none)"},
+	           {"--visual-lead", "S", "move every keypose by S seconds (< 0: earlier) where talkhead's aligner timed the phones: its times come late against the mouth (corpus-tools/visual-lead.sh measures it; default none)"},
 	           {"--fps", "N", "frame rate the keyposes are placed at (default 25)"},
 	           {"--quiet", "", "no summary", "-q"}},
 	          "Learns coarticulation (issue 32, decision D62): the inner-lip opening of real speakers at each phone's\n"

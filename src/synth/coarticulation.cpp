@@ -342,7 +342,7 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 		out << "# /p b m/ shut this long after their keypose (s; < 0: before), closures it is the mean of\nbilabial\t" << number(*m.bilabialLead) << "\t"
 		    << m.bilabialCount << "\n";
 	if (m.visualLead)
-		out << "# every keypose moved by this (s; < 0: earlier): the mouth ahead of the voice (corpus-tools/visual-lead.sh)\nvisual\t"
+		out << "# every keypose of aligned phones moved by this (s; < 0: earlier): the aligner's times come late (corpus-tools/visual-lead.sh)\nvisual\t"
 		    << number(*m.visualLead) << "\n";
 	out << "# name, weight for the opening, weight for the width\nintercept\t" << number(m.intercept) << "\t" << number(m.widthIntercept) << "\n";
 	for (std::size_t i = 0; i < m.features.size(); ++i)

@@ -37,9 +37,10 @@ struct CoarticulationModel {
 	// earlier; the keypose moves by it. Unset in version-1 and -2 files (the keypose stays at the midpoint).
 	std::optional<double> bilabialLead;
 	std::size_t bilabialCount = 0;  // closures it is the mean of
-	// The mouth ahead of the voice (D104): every keypose moved by this (seconds, < 0 = earlier) once the
-	// openings are set — real lips lead the sound they make. Measured on rendered pixels against the real
-	// speakers (corpus-tools/visual-lead.sh); unset in files before version 4 (the keyposes stay).
+	// The visual lead (D104): every keypose of phones timed by talkhead's aligner moved by this (seconds,
+	// < 0 = earlier) once the openings are set — the aligner's times come late against the mouth. Measured
+	// on rendered pixels against the real speakers (corpus-tools/visual-lead.sh); unset in files before
+	// version 4 (the keyposes stay). PerformanceSpec::alignedTiming says when it applies.
 	std::optional<double> visualLead;
 	double lambda = 0;
 	std::size_t samples = 0;  // keyposes it was fitted on
