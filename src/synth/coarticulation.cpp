@@ -556,6 +556,11 @@ double mouthCost(const MouthPool& pool, const MouthSize& m, double opening, doub
 }
 }  // namespace
 
+double openingUnit(const MouthPool& pool, const MouthPool& neutral) {
+	const double norm = kPeakShare * (neutral.widest > 0 ? neutral.widest : pool.widest);
+	return kPeakShare * pool.widest * (norm > kSpeakersOpening ? kSpeakersOpening / norm : 1.0);
+}
+
 long nearestMouth(const FaceModel& model, const MouthPool& pool, const std::vector<MouthSize>& size, double opening, double width, long prefer) {
 	long best = -1;
 	double least = std::numeric_limits<double>::max();
@@ -614,7 +619,8 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 			// a speaker's widest, and the GRID speakers' 90th percentile is kPeakShare of their widest (median
 			// over the 95 clips the shipped model learned from). The 90th percentile of the samples was the
 			// unit before: a face with few open samples (a short take, a small corpus) never reached them (D90).
-			const double target = *k.mouthOpening * kPeakShare * pool.widest;
+			// A face that opens wider than speakers do is scaled to them (D105).
+			const double target = *k.mouthOpening * openingUnit(pool, poolOf(Emotion::neutralLabel()));
 			// The predicted width is the speakers' relative to their median; the face's is taken relative to
 			// its usual width at the target opening (D90), so a face whose open mouths are all wider than its
 			// median (franck) still opens.

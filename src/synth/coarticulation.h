@@ -155,6 +155,15 @@ struct MouthPool {
 	double usualWidth(double opening) const { return widthAtShut + widthPerOpening * opening; }
 };
 MouthPool mouthPool(const FaceModel& model, const std::vector<MouthSize>& size, const std::string& emotion);
+// The GRID speakers' 90th percentile of the inner-lip opening in speech, eye distances (median over the 95
+// clips the shipped model learned from; the speakers' own medians 0.10–0.18): the most a face's unit may be
+// (D105). A face whose widest sample is a posed extreme (the synthetic face's drawn /a/ opens 0.29; a take
+// with the mouth wide open, as `face create` advises) would otherwise speak with that extreme as its norm.
+inline constexpr double kSpeakersOpening = 0.148;
+// The unit of a predicted opening on a face, eye distances: the pool's widest × 0.87 (the speakers' 90th
+// percentile over their widest, D90), scaled down as much as the face's neutral pool needs to stay within
+// kSpeakersOpening — an emotion keeps its mouth's size against the face's neutral one.
+double openingUnit(const MouthPool& pool, const MouthPool& neutral);
 // The pool's sample (silences left out) whose mouth is nearest (opening, width), eye distances:
 // (Δopening / scale)² + 0.15 (Δwidth / spread)² (D62); `prefer` (≥ 0) is kept unless another is strictly
 // nearer. −1 when the pool has none.

@@ -624,6 +624,38 @@ TEST(Coarticulation, aPredictedOpeningIsDrawnOnItsExemplar) {
 	EXPECT_GE(drawn, 3u);
 }
 
+TEST(Coarticulation, aFaceThatOpensWiderThanSpeakersIsScaledToThemAndItsEmotionsWithIt) {
+	// D105: a predicted opening is in units of a speaker's 90th percentile; a face's is its widest × 0.87
+	// (D90), but never more than the speakers' own (0.148 eye distances). The synthetic face's drawn /a/
+	// (0.29) made it speak 1.39 × wider than the GRID speakers.
+	MouthPool neutral, happy;
+	neutral.widest = 0.12, happy.widest = 0.15;
+	EXPECT_NEAR(openingUnit(neutral, neutral), 0.87 * 0.12, 1e-12) << "a face within the speakers' opening keeps its own";
+	EXPECT_NEAR(openingUnit(happy, neutral), 0.87 * 0.15, 1e-12);
+	neutral.widest = 0.29, happy.widest = 0.348;
+	EXPECT_NEAR(openingUnit(neutral, neutral), kSpeakersOpening, 1e-12) << "a posed extreme is scaled to the speakers";
+	EXPECT_NEAR(openingUnit(happy, neutral), 1.2 * kSpeakersOpening, 1e-12) << "an emotion keeps its size against neutral";
+	MouthPool none;  // a face with no neutral mouth: the emotion's own pool is its norm
+	EXPECT_NEAR(openingUnit(happy, none), kSpeakersOpening, 1e-12);
+	// Chosen: every predicted keypose is drawn at its prediction × the unit of its pool.
+	const FaceModel& model = smallFace();
+	Scheme scheme;
+	ASSERT_TRUE(mouthScheme(model, scheme));
+	const std::vector<MouthSize> size = sampleMouths(model, scheme);
+	const MouthPool pool = mouthPool(model, size, "neutral");
+	const auto ph = phones({{"x", "a"}, {"t", "t1"}, {"x", "a"}});
+	auto keys = keyposes(ph, ms(40));
+	for (Keypose& k : keys)
+		if (isPhoneKeypose(ph, k)) k.mouthOpening = 0.8, k.mouthWidth = 1.0;
+	ASSERT_EQ(chooseMouthExemplars(model, Emotion::of("neutral"), keys), 3u);
+	for (const Keypose& k : keys)
+		if (k.mouthOpening) {
+			ASSERT_TRUE(k.drawnOpening) << k.cdv.label();
+			EXPECT_NEAR(*k.drawnOpening, 0.8 * openingUnit(pool, pool), 1e-12) << k.cdv.label();
+			EXPECT_LE(*k.drawnOpening, 0.8 * kSpeakersOpening + 1e-12);
+		}
+}
+
 TEST(Coarticulation, aCdvTheFaceHasNoSampleOfTakesTheExemplarNearestThePrediction) {
 	// Issue 47: a face from short takes lacks most CDVs. A predicted mouth for one it lacks is chosen from the
 	// emotion's whole pool like any other (before, it kept no exemplar and renderPerformance refused the plan).
