@@ -44,10 +44,13 @@ source "$root/examples/real-face/grid-words.sh"
 speaker_of() {  # grid/ clip base name → its GRID speaker
 	local f; f=$(ls "$DATA/open-av/grid/labels-for-shared-grid/"*"_${1##*_}.align"); f=$(basename "$f"); echo "${f%%_*}"
 }
-# The shipped model, rebuilt from its recipe: the same bytes.
-"$root/corpus-tools/coarticulation-grid.sh" -o "$OUT/shipped.tsv" >/dev/null 2>&1
-cmp -s "$OUT/shipped.tsv" "$root/models/coarticulation/grid.tsv" && echo "models/coarticulation/grid.tsv: rebuilt from its recipe, identical" ||
-	echo "models/coarticulation/grid.tsv: rebuilt from its recipe, DIFFERENT (see $OUT/shipped.tsv)"
+# The shipped model and its companion for recognised phones (D106), rebuilt from their recipe: the same bytes.
+for kind in "" recognised; do
+	"$root/corpus-tools/coarticulation-grid.sh" ${kind:+--$kind} -o "$OUT/shipped${kind:+-$kind}.tsv" >/dev/null 2>&1
+	m=models/coarticulation/grid${kind:+-$kind}.tsv
+	cmp -s "$OUT/shipped${kind:+-$kind}.tsv" "$root/$m" && echo "$m: rebuilt from its recipe, identical" ||
+		echo "$m: rebuilt from its recipe, DIFFERENT (see $OUT/shipped${kind:+-$kind}.tsv)"
+done
 printf 'clip\tspeaker\tmodel\n' >"$OUT/clips.tsv"
 trained=$(cut -f2 "$root/models/coarticulation/clips.tsv" | sort -u)
 for clip in "$DATA"/grid/*.mpg; do
@@ -58,17 +61,23 @@ for clip in "$DATA"/grid/*.mpg; do
 	[ -f "$c.real/landmarks.tsv" ] || "$TH" corpus landmarks "$clip" -o "$c.real" --no-pts -q
 	# The clip's true phones (its aligned words), where the bilabials are scored.
 	[ -f "$c.timeline.json" ] || "$TH" visemes "$c.TextGrid" --lang en-US --out-format json -o "$c.timeline.json"
-	# The model: the shipped one, or the same clips without this speaker.
+	# The model: the shipped one, or the same clips without this speaker (and its companion for recognised
+	# phones, D106: without-S-recognised.tsv).
 	model=on
 	if grep -qx "$s" <<<"$trained"; then
 		model="$OUT/without-$s.tsv"
 		[ -f "$model" ] || "$root/corpus-tools/coarticulation-grid.sh" --without "$s" -o "$model" >/dev/null 2>&1
+		[ -f "${model%.tsv}-recognised.tsv" ] || "$root/corpus-tools/coarticulation-grid.sh" --recognised --without "$s" -o "${model%.tsv}-recognised.tsv" >/dev/null 2>&1
 	fi
 	printf '%s\t%s\t%s\n' "$base" "$s" "$model" >>"$OUT/clips.tsv"
 	for face in "${faces[@]}"; do
 		case $face in default) fm=(--model "$DEFAULT") ;; franck) fm=(--model "$MODEL") ;; *) fm=(--face "$face") ;; esac
 		for way in "${ways[@]}"; do
 			co=(); [ "$way" = thesis ] && co=(--coarticulation off); [ "$way" != thesis ] && [ "$model" != on ] && co=(--coarticulation "$model")
+			# Recognised phones are planned with the companion (D106): a held-out one by name; the served way's
+			# phones come as a transcript, so its shipped companion is named too (serve picks it by itself).
+			[ "$way" = audio ] && [ "$model" != on ] && co=(--coarticulation "${model%.tsv}-recognised.tsv")
+			[ "$way" = served ] && { [ "$model" != on ] && co=(--coarticulation "${model%.tsv}-recognised.tsv") || co=(--coarticulation "$root/models/coarticulation/grid-recognised.tsv"); }
 			# thesis and learned: the words aligned to the audio by the render itself (render --audio A --text T,
 			# as a user does: its timing is talkhead's estimate, which the model's visual lead corrects, D104).
 			speech=(--text "$(grid_words "$name")")

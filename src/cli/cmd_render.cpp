@@ -101,7 +101,7 @@ int runRender(const std::vector<std::string>& argv) {
 	const VideoFace face = loadVideoFace(cmd);
 	PerformanceSpec spec = performanceSpec(cmd, face);
 	spec.phones = speech.phones;
-	spec.alignedTiming = speech.aligned;
+	spec.timing = speech.timing;
 	spec.source = speech.name;
 	if (drive.mouth) drive.mouthKeys(spec, *face.model, cmd.expression.emotion());
 	// The sound (decoded once without keeping it, unless aligned; at the file's own sample rate).

@@ -35,7 +35,7 @@ TimedSpeech speechFromTranscript(const std::string& path, const ReadOptions& rea
 	for (const std::string& w : tr.warnings) s.warnings.push_back(path + ": " + w);
 	// An alignment's phones are canonical IPA.
 	s.phones = phoneSegments(tr, language, unknown, aligned ? Notation::Ipa : notation);
-	s.aligned = aligned;
+	if (aligned) s.timing = PhoneTiming::Aligned;
 	return s;
 }
 
@@ -56,7 +56,7 @@ TimedSpeech speechFromText(const std::string& text, const std::string& audioPath
 	s.read = al.phones;
 	s.words = al.words.intervals;
 	s.phones = phoneSegments(al.phones, language, unknown, Notation::Ipa);
-	s.aligned = true;
+	s.timing = PhoneTiming::Aligned;
 	return s;
 }
 
@@ -101,6 +101,7 @@ TimedSpeech speechFromAudio(const std::string& audioPath, const Language& langua
 	s.read = rec.phones;
 	s.confidence = rec.confidence;
 	s.phones = phoneSegments(rec.phones, language, UnknownPhone::Silence, Notation::Ipa);
+	s.timing = PhoneTiming::Recognised;
 	return s;
 }
 
@@ -172,10 +173,11 @@ Performance planPerformance(const PerformanceSpec& spec, std::vector<std::string
 	perf.modulation.intensity = spec.expression.intensity();
 	perf.timeline.keys = spec.phones.empty() ? spec.keys : keyposes(spec.phones, spec.rate.frameLength(), spec.pauses, spec.coarticulation != nullptr);
 	if (spec.coarticulation && !spec.phones.empty()) {
-		predictMouthOpenings(*spec.coarticulation, spec.phones, perf.timeline.keys);
-		applyBilabialLead(*spec.coarticulation, spec.phones, perf.timeline.keys, spec.rate.frameLength());
+		const CoarticulationModel& m = spec.timing == PhoneTiming::Recognised && spec.coarticulation->recognised ? *spec.coarticulation->recognised : *spec.coarticulation;
+		predictMouthOpenings(m, spec.phones, perf.timeline.keys);
+		applyBilabialLead(m, spec.phones, perf.timeline.keys, spec.rate.frameLength());
 		holdBilabials(spec.phones, perf.timeline.keys, spec.rate.frameLength());
-		if (spec.alignedTiming) applyVisualLead(*spec.coarticulation, perf.timeline.keys, spec.rate.frameLength());
+		if (spec.timing == PhoneTiming::Aligned) applyVisualLead(m, perf.timeline.keys, spec.rate.frameLength());
 	}
 	if (spec.speechBrows > 0) {  // D49
 		const auto brows = speechBrows(spec.phones, spec.speechBrows);

@@ -11,6 +11,7 @@
 #include "media/audio.h"
 #include "perform/controls.h"
 #include "perform/performance.h"
+#include "perform/phone_timing.h"
 #include "phonetics/espeak.h"
 #include "phonetics/language.h"
 #include "phonetics/ssml.h"
@@ -37,9 +38,9 @@ struct TimedSpeech {
 	// Recognised speech (speechFromAudio): each interval of `read` has its confidence; 1 elsewhere.
 	std::vector<double> confidence;
 	double confidenceAt(Ticks t) const;
-	// The phones' times were found by aligning the text to the audio (talkhead's aligner), not given nor
-	// recognised: the coarticulation model's visual lead applies to them (D104).
-	bool aligned = false;
+	// Where the phones' times came from: given, found by aligning the text to the audio (talkhead's
+	// aligner: the coarticulation model's visual lead applies, D104) or recognised (D106).
+	PhoneTiming timing = PhoneTiming::Given;
 };
 
 // A timed transcript in any format talkhead reads. Words are phonemised in `language`; sentence-level
@@ -97,11 +98,11 @@ struct PerformanceSpec {
 	// predicted mouth to the face's exemplar nearest it (chooseMouthExemplars), once, after the controls.
 	// Null: left to the caller (renderPerformance refuses keyposes left unbound).
 	const FaceModel* face = nullptr;
-	// The phones' times came from talkhead's aligner (TimedSpeech::aligned, Utterance::alignedTiming): with
-	// `coarticulation`, its visual lead moves every keypose (D104: the aligner's times come ~20 ms late
-	// against the mouth). Given times (a transcript, espeak-ng's, a TTS engine's) and recognised ones are
-	// taken as they are.
-	bool alignedTiming = false;
+	// Where the phones' times came from (TimedSpeech::timing, Utterance::timing). With `coarticulation`:
+	// talkhead's aligner's are moved by the model's visual lead (D104: they come ~20 ms late against the
+	// mouth); recognised phones are planned with the model's `recognised` companion when it has one (D106);
+	// given times (a transcript, espeak-ng's, a TTS engine's) are taken as they are.
+	PhoneTiming timing = PhoneTiming::Given;
 	// The video's length as planPerformance sets it.
 	Ticks videoDuration() const;
 };

@@ -114,7 +114,7 @@ void SpeechStream::give(Ticks end, std::vector<PhoneSegment> phones, std::vector
 	phones.erase(std::remove_if(phones.begin(), phones.end(), [](const PhoneSegment& p) { return p.end <= p.start; }), phones.end());
 	if (!phones.empty()) phones.back().end = length;
 	u.phones = std::move(phones);
-	u.alignedTiming = !recognizing_;  // the text aligned as the audio arrives (recognised phones: as they are)
+	u.timing = recognizing_ ? PhoneTiming::Recognised : PhoneTiming::Aligned;  // recognised, or the text aligned as the audio arrives
 	u.warnings = std::move(warnings);
 	u.opens = parts_ == 0;
 	u.closes = closes;

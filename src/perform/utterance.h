@@ -7,6 +7,7 @@
 #include "base/ticks.h"
 #include "media/audio.h"
 #include "perform/controls.h"
+#include "perform/phone_timing.h"
 #include "perform/timeline.h"
 #include "phonetics/espeak.h"
 #include "phonetics/language.h"
@@ -28,8 +29,8 @@ struct Utterance {
 	// reported), only the last closes it (its end); the parts in between continue it where the one before
 	// ends. A whole utterance does both.
 	bool opens = true, closes = true;
-	// The phones' times came from aligning the text to the audio: PerformanceSpec::alignedTiming.
-	bool alignedTiming = false;
+	// Where the phones' times came from: PerformanceSpec::timing.
+	PhoneTiming timing = PhoneTiming::Given;
 	Ticks duration() const;             // the sound's length, or the phones' end when longer
 };
 

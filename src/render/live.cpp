@@ -171,7 +171,7 @@ PlannedUtterance LiveSession::planned(Utterance u, const Expression& expression)
 	spec.pauses = o_.pauses;
 	spec.speechBrows = o_.speechBrows;
 	spec.coarticulation = face_.coarticulation();
-	spec.alignedTiming = p.utterance.alignedTiming;
+	spec.timing = p.utterance.timing;
 	spec.expression = expression;
 	if (spec.coarticulation) spec.face = &face_.model();  // D62: bound to the face's exemplars in `expression`
 	Performance perf = planPerformance(spec);

@@ -238,7 +238,7 @@ Utterance prepareUtterance(const LiveRequest& r, const std::string& defaultLang,
 				// Text aligned to the audio, or (no timing at all) the phones recognised from it (issue 49).
 				std::vector<std::string> notes;
 				u.phones = r.text.empty() ? recognizedPhones(u.audio, "audio", lang, notes, u.warnings) : alignedPhones(u.audio, r.text, lang, u.warnings);
-				u.alignedTiming = !r.text.empty();
+				u.timing = r.text.empty() ? PhoneTiming::Recognised : PhoneTiming::Aligned;
 			} else if (r.timing) {
 				Transcript t = *r.timing;
 				// The last viseme until the sound ends, and pauses between words and to the sound's end.

@@ -352,9 +352,14 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 
 std::shared_ptr<const CoarticulationModel> shippedCoarticulation() {
 	static const std::shared_ptr<const CoarticulationModel> m = [] {
-		const auto path = findDataFile(kShippedCoarticulation);
-		if (!path) throw Error(std::string(kShippedCoarticulation) + ": not found in the data folders (set TALKHEAD_DATA_DIR, or {{coarticulation}} off)");
-		return std::make_shared<const CoarticulationModel>(loadCoarticulation(*path));
+		auto load = [](const char* name) {
+			const auto path = findDataFile(name);
+			if (!path) throw Error(std::string(name) + ": not found in the data folders (set TALKHEAD_DATA_DIR, or {{coarticulation}} off)");
+			return loadCoarticulation(*path);
+		};
+		auto model = std::make_shared<CoarticulationModel>(load(kShippedCoarticulation));
+		model->recognised = std::make_shared<const CoarticulationModel>(load(kShippedRecognisedCoarticulation));
+		return std::shared_ptr<const CoarticulationModel>(std::move(model));
 	}();
 	return m;
 }

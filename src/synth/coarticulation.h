@@ -40,8 +40,12 @@ struct CoarticulationModel {
 	// The visual lead (D104): every keypose of phones timed by talkhead's aligner moved by this (seconds,
 	// < 0 = earlier) once the openings are set — the aligner's times come late against the mouth. Measured
 	// on rendered pixels against the real speakers (corpus-tools/visual-lead.sh); unset in files before
-	// version 4 (the keyposes stay). PerformanceSpec::alignedTiming says when it applies.
+	// version 4 (the keyposes stay). PerformanceSpec::timing says when it applies.
 	std::optional<double> visualLead;
+	// D106: the model to plan recognised phones with (PhoneTiming::Recognised), learned from the same clips'
+	// recognised phones: a recogniser's phones are not an alignment's (a /b/ heard as /d/ still shuts the
+	// lips more often than a true /d/). The shipped model carries its own; null: this model for every timing.
+	std::shared_ptr<const CoarticulationModel> recognised;
 	double lambda = 0;
 	std::size_t samples = 0;  // keyposes it was fitted on
 	std::string source;       // what it was learned from
@@ -104,8 +108,11 @@ CoarticulationModel loadCoarticulation(const std::string& path);
 
 // The model that ships with talkhead (issue 48, D90): models/coarticulation/grid.tsv in the data folders,
 // learned from 95 GRID clips of 6 speakers (CC BY 4.0: NOTICE; corpus-tools/coarticulation-grid.sh
-// rebuilds it). Read once, on first use, and shared; Error when no data folder has it.
+// rebuilds it), with its companion for recognised phones (D106: grid-recognised.tsv, learned from the same
+// clips' recognised phones; `--recognised` rebuilds it). Read once, on first use, and shared; Error when
+// no data folder has them.
 inline constexpr const char* kShippedCoarticulation = "models/coarticulation/grid.tsv";
+inline constexpr const char* kShippedRecognisedCoarticulation = "models/coarticulation/grid-recognised.tsv";
 std::shared_ptr<const CoarticulationModel> shippedCoarticulation();
 // What a `coarticulation` option names: "on" (the shipped model), "off" (none: the thesis's path, one
 // target per phone) or a model file's path.

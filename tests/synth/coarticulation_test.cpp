@@ -178,6 +178,45 @@ TEST(Coarticulation, theShippedModelLoadsFromTheDataFoldersAndMovesTheMouthAsThe
 	EXPECT_LT(predicted(*m, {a, p, a}, 2).first, open - 0.2);
 	EXPECT_LT(predicted(*m, {a, f, a}, 2).first, open - 0.2);
 	EXPECT_LT(predicted(*m, {a, w, a}, 2).second, predicted(*m, {a, t, a}, 2).second - 0.05);
+	// D106: its companion for recognised phones (grid-recognised.tsv, the same clips' recognised phones):
+	// no visual lead (recognised phones are not late), the same mouths for clear contexts.
+	ASSERT_TRUE(m->recognised);
+	const CoarticulationModel& r = *m->recognised;
+	EXPECT_FALSE(r.recognised);
+	EXPECT_EQ(r.features, coarticulationFeatureNames());
+	EXPECT_GT(r.samples, 1000u);
+	EXPECT_FALSE(r.visualLead);
+	ASSERT_TRUE(m->visualLead);
+	EXPECT_NE(r.weights, m->weights);
+	EXPECT_LT(predicted(r, {a, p, a}, 2).first, predicted(r, {t, a, t}, 2).first - 0.2);
+}
+
+TEST(Coarticulation, recognisedPhonesArePlannedWithTheModelLearnedFromRecognisedPhones) {
+	// D106: a plan of recognised phones (PhoneTiming::Recognised) takes the model's `recognised` companion;
+	// given and aligned phones the model itself; a model without a companion (a file of one's own) plans
+	// every timing.
+	const Phone t = {"t", "t1"}, a = {"a", "a"}, d = {"d", "t1"};
+	const auto ph = phones({t, a, d, a, t});
+	CoarticulationModel main = *shippedCoarticulation(), heard = *shippedCoarticulation()->recognised;
+	main.recognised.reset(), main.visualLead.reset();
+	heard.intercept += 0.5;  // a companion that opens every mouth half a unit more: told apart at a glance
+	PerformanceSpec spec;
+	spec.phones = ph;
+	spec.pauses = PauseStyle::Still;
+	auto openings = [&](PhoneTiming timing, const CoarticulationModel& model) {
+		spec.timing = timing;
+		spec.coarticulation = std::make_shared<const CoarticulationModel>(model);
+		std::vector<std::optional<double>> o;
+		for (const Keypose& k : planPerformance(spec).timeline.keys) o.push_back(k.mouthOpening);
+		return o;
+	};
+	const auto alone = openings(PhoneTiming::Recognised, main), heardAlone = openings(PhoneTiming::Given, heard);
+	CoarticulationModel pair = main;
+	pair.recognised = std::make_shared<const CoarticulationModel>(heard);
+	EXPECT_EQ(openings(PhoneTiming::Recognised, pair), heardAlone);
+	EXPECT_EQ(openings(PhoneTiming::Given, pair), alone);
+	EXPECT_EQ(openings(PhoneTiming::Aligned, pair), alone);
+	EXPECT_NE(alone, heardAlone);
 }
 
 TEST(Coarticulation, aBilabialIsHeldShutForAFrameWhereThereIsRoom) {
@@ -420,7 +459,7 @@ TEST(Coarticulation, theVisualLeadMovesEveryKeyposeKeepingTheirGapsAndNoneBefore
 	PerformanceSpec spec;
 	spec.phones = ph;
 	spec.pauses = PauseStyle::Still;
-	spec.alignedTiming = true;
+	spec.timing = PhoneTiming::Aligned;
 	CoarticulationModel none = m;
 	none.visualLead.reset();
 	spec.coarticulation = std::make_shared<const CoarticulationModel>(none);
@@ -433,7 +472,7 @@ TEST(Coarticulation, theVisualLeadMovesEveryKeyposeKeepingTheirGapsAndNoneBefore
 		EXPECT_EQ(with.timeline.keys[i].time, without.timeline.keys[i].time - ms(25)) << i;
 		EXPECT_EQ(with.timeline.keys[i].mouthOpening, without.timeline.keys[i].mouthOpening) << i;
 	}
-	spec.alignedTiming = false;
+	spec.timing = PhoneTiming::Given;
 	const Performance given = planPerformance(spec);
 	ASSERT_EQ(given.timeline.keys.size(), without.timeline.keys.size());
 	for (std::size_t i = 0; i < given.timeline.keys.size(); ++i) EXPECT_EQ(given.timeline.keys[i].time, without.timeline.keys[i].time) << i;
