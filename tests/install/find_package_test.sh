@@ -8,6 +8,7 @@ test -x "$T/prefix/bin/talkhead"
 test -f "$T/prefix/share/talkhead/schemes/imm-73.scheme"
 # The shipped coarticulation model and its attribution (issue 48, D90).
 cmp "$T/prefix/share/talkhead/models/coarticulation/grid.tsv" "$(dirname "$0")/../../models/coarticulation/grid.tsv"
+cmp "$T/prefix/share/talkhead/models/coarticulation/grid-recognised.tsv" "$(dirname "$0")/../../models/coarticulation/grid-recognised.tsv"
 grep -q "M. Cooke, J. Barker, S. Cunningham & X. Shao" "$T/prefix/share/talkhead/NOTICE"
 cmake -S "$CONSUMER" -B "$T/build" -G Ninja -DCMAKE_PREFIX_PATH="$T/prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$T/build" >/dev/null
