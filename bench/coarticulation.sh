@@ -76,8 +76,9 @@ for clip in "$DATA"/grid/*.mpg; do
 			co=(); [ "$way" = thesis ] && co=(--coarticulation off); [ "$way" != thesis ] && [ "$model" != on ] && co=(--coarticulation "$model")
 			# Recognised phones are planned with the companion (D106): a held-out one by name; the served way's
 			# phones come as a transcript, so its shipped companion is named too (serve picks it by itself).
-			[ "$way" = audio ] && [ "$model" != on ] && co=(--coarticulation "${model%.tsv}-recognised.tsv")
-			[ "$way" = served ] && { [ "$model" != on ] && co=(--coarticulation "${model%.tsv}-recognised.tsv") || co=(--coarticulation "$root/models/coarticulation/grid-recognised.tsv"); }
+			heard=$root/models/coarticulation/grid-recognised.tsv; [ "$model" != on ] && heard=${model%.tsv}-recognised.tsv
+			[ "$way" = audio ] && [ "$model" != on ] && co=(--coarticulation "$heard")
+			[ "$way" = served ] && co=(--coarticulation "$heard")
 			# thesis and learned: the words aligned to the audio by the render itself (render --audio A --text T,
 			# as a user does: its timing is talkhead's estimate, which the model's visual lead corrects, D104).
 			speech=(--text "$(grid_words "$name")")
