@@ -166,7 +166,8 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	          "CDV indicators for the phone and its neighbours). With a speaker column, also reports how well it\n"
 	          "predicts each speaker's openings when learned from the others (leave one speaker out). Render with\n"
 	          "'--coarticulation F.tsv'. It also learns the speakers' mean mouth before their first words, which\n"
-	          "pauses 'still' hold there, and how long before or after their keypose /p b m/ shut.");
+	          "pauses 'still' hold there, their mean mouth at rest after their last words, which a pause's rest is\n"
+	          "drawn no more open than, and how long before or after their keypose /p b m/ shut.");
 	if (!args.parse(argv)) return 0;
 	if (!args.positionals().empty()) throw UsageError("corpus coarticulation: unexpected argument '" + args.positionals()[0] + "'");
 	const std::string list = args.required("--clips", "--clips LIST.tsv is required");
@@ -179,6 +180,7 @@ int runCoarticulation(const std::vector<std::string>& argv) {
 	for (std::size_t i = 0; i < clips.clips.size(); ++i) coarticulationExamples(clips.clips[i], frame, xs[i], ys[i]);
 	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
 	learnLeadingPause(m, clips.clips);
+	learnTrailingPause(m, clips.clips);
 	learnBilabialLead(m, clips.clips, frame);
 	if (args.has("--visual-lead")) m.visualLead = args.number("--visual-lead", 0, -kMaxVisualLead, kMaxVisualLead);
 	m.source = std::to_string(clips.clips.size()) + " clips of " + std::filesystem::path(list).filename().string();

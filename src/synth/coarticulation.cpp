@@ -55,6 +55,8 @@ const CdvTargets& cdvTargets() {
 
 bool labiodental(const std::string& cdv) { return cdv == "f1" || cdv == "f2"; }
 bool pause(const PhoneSegment& p) { return p.cdv.isSilence() || p.phone == "_"; }
+// A pause's rest keypose: its silence, neither the lips held before the first words nor the in-breath (D107).
+bool restKeypose(const Keypose& k) { return k.cdv.isSilence() && !k.hold && !k.breath; }
 
 constexpr int kSide = 2;        // phone runs each side
 constexpr int kPerRun = 6;      // features per run
@@ -232,6 +234,28 @@ void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationC
 	if (n > 0) m.leadOpening = open / double(n), m.leadWidth = width / double(n);
 }
 
+std::optional<std::pair<double, double>> trailingPauseMouth(const CoarticulationClip& c) {
+	const auto last = std::find_if(c.phones.rbegin(), c.phones.rend(), [](const PhoneSegment& p) { return !pause(p); });
+	if (last == c.phones.rend()) return std::nullopt;
+	const ClipFrames f = clipFrames(c);
+	const double from = toSeconds(last->end + kRestAfter);
+	double open = 0, width = 0;
+	std::size_t n = 0;
+	for (std::size_t i = 0; i < f.t.size(); ++i)
+		if (f.t[i] >= from) open += f.v[i], width += f.w[i], ++n;
+	if (n == 0) return std::nullopt;
+	return std::pair{open / double(n) / f.scale, width / double(n) / f.widthScale};
+}
+
+void learnTrailingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips) {
+	double open = 0, width = 0;
+	std::size_t n = 0;
+	for (const CoarticulationClip& c : clips)
+		if (const auto rest = trailingPauseMouth(c)) open += rest->first, width += rest->second, ++n;
+	m.restClips = n;
+	if (n > 0) m.restOpening = open / double(n), m.restWidth = width / double(n);
+}
+
 std::vector<double> bilabialClosureOffsets(const CoarticulationClip& c, Ticks frame) {
 	const ClipFrames f = clipFrames(c);
 	std::vector<double> out;
@@ -311,6 +335,7 @@ CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& c
 	for (std::size_t i = 0; i < clips.size(); ++i) coarticulationExamples(clips[i], frame, xs[i], ys[i]);
 	CoarticulationModel m = fitCoarticulation(xs, ys, lambda);
 	learnLeadingPause(m, clips);
+	learnTrailingPause(m, clips);
 	learnBilabialLead(m, clips, frame);
 	return m;
 }
@@ -323,6 +348,9 @@ void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneS
 	if (m.leadOpening)
 		for (Keypose& k : keys)
 			if (k.hold) k.mouthOpening = std::max(0.0, *m.leadOpening), k.mouthWidth = std::max(0.1, m.leadWidth.value_or(1.0));
+	if (m.restOpening)
+		for (Keypose& k : keys)
+			if (restKeypose(k)) k.mouthOpening = std::max(0.0, *m.restOpening), k.mouthWidth = std::max(0.1, m.restWidth.value_or(1.0));
 	for (std::size_t r = 0; r < rows.size(); ++r) {
 		keys[rows[r]].mouthOpening = std::max(0.0, y(Eigen::Index(r)));
 		keys[rows[r]].mouthWidth = std::max(0.1, w(Eigen::Index(r)));
@@ -334,10 +362,13 @@ void saveCoarticulation(const CoarticulationModel& m, const std::string& path) {
 	out << "# talkhead coarticulation model (D62): a keypose's inner-lip opening, in units of the speaker's 90th\n"
 	    << "# percentile in speech, = intercept + Σ weight × feature (talkhead corpus coarticulation).\n";
 	if (!m.source.empty()) out << "# learned from " << m.source << "\n";
-	out << "talkhead-coarticulation\t" << (m.visualLead ? 4 : 3) << "\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n";
+	out << "talkhead-coarticulation\t" << (m.restOpening ? 5 : m.visualLead ? 4 : 3) << "\nlambda\t" << number(m.lambda) << "\nsamples\t" << m.samples << "\n";
 	if (m.leadOpening)
 		out << "# the lips held before the first words (pauses 'still'): opening, width, clips it is the mean of\nlead\t" << number(*m.leadOpening)
 		    << "\t" << number(m.leadWidth.value_or(1.0)) << "\t" << m.leadClips << "\n";
+	if (m.restOpening)
+		out << "# the lips at rest after speech (a pause's rest): opening, width, clips it is the mean of\nrest\t" << number(*m.restOpening) << "\t"
+		    << number(m.restWidth.value_or(1.0)) << "\t" << m.restClips << "\n";
 	if (m.bilabialLead)
 		out << "# /p b m/ shut this long after their keypose (s; < 0: before), closures it is the mean of\nbilabial\t" << number(*m.bilabialLead) << "\t"
 		    << m.bilabialCount << "\n";
@@ -389,8 +420,9 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			return v;
 		};
 		if (!header) {
-			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 4')");
-			if (f[1] != "1" && f[1] != "2" && f[1] != "3" && f[1] != "4") throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 to 4)");
+			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 5')");
+			if (f[1] != "1" && f[1] != "2" && f[1] != "3" && f[1] != "4" && f[1] != "5")
+				throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 to 5)");
 			header = true, version = f[1];
 		} else if (f[0] == "lead" && f.size() == 4 && version != "1" && !m.leadOpening) {
 			m.leadOpening = parse(f[1]);
@@ -400,13 +432,21 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			m.leadClips = std::size_t(n);
 			if (*m.leadOpening < 0 || *m.leadOpening > 10 || *m.leadWidth <= 0 || *m.leadWidth > 10)
 				throw Error(path, ln, "lead: an opening or width out of range (0 … 10 of the speaker's own)");
-		} else if (f[0] == "bilabial" && f.size() == 3 && (version == "3" || version == "4") && !m.bilabialLead) {
+		} else if (f[0] == "rest" && f.size() == 4 && version == "5" && !m.restOpening) {
+			m.restOpening = parse(f[1]);
+			m.restWidth = parse(f[2]);
+			long long n = 0;
+			if (!parseInt(f[3], n) || n < 1) throw Error(path, ln, "rest: not a count of clips: '" + f[3] + "'");
+			m.restClips = std::size_t(n);
+			if (*m.restOpening < 0 || *m.restOpening > 10 || *m.restWidth <= 0 || *m.restWidth > 10)
+				throw Error(path, ln, "rest: an opening or width out of range (0 … 10 of the speaker's own)");
+		} else if (f[0] == "bilabial" && f.size() == 3 && (version == "3" || version == "4" || version == "5") && !m.bilabialLead) {
 			m.bilabialLead = parse(f[1]);
 			long long n = 0;
 			if (!parseInt(f[2], n) || n < 1) throw Error(path, ln, "bilabial: not a count of closures: '" + f[2] + "'");
 			m.bilabialCount = std::size_t(n);
 			if (std::abs(*m.bilabialLead) > 0.1) throw Error(path, ln, "bilabial: a lead out of range (−0.1 … 0.1 s)");
-		} else if (f[0] == "visual" && f.size() == 2 && version == "4" && !m.visualLead) {
+		} else if (f[0] == "visual" && f.size() == 2 && (version == "4" || version == "5") && !m.visualLead) {
 			m.visualLead = parse(f[1]);
 			if (std::abs(*m.visualLead) > kMaxVisualLead) throw Error(path, ln, "visual: a lead out of range (−0.2 … 0.2 s)");
 		} else if (f[0] == "lambda" && f.size() == 2) {
@@ -422,7 +462,7 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			weights.push_back(parse(f[2]));
 			widthWeights.push_back(parse(f[3]));
 		} else {
-			throw Error(path, ln, "unexpected line (expected lambda N, samples N, lead A B N (once, version 2 to 4), bilabial S N (once, version 3 or 4), visual S (once, version 4), intercept A B or feature NAME A B)");
+			throw Error(path, ln, "unexpected line (expected lambda N, samples N, lead A B N (once, version 2 to 5), rest A B N (once, version 5), bilabial S N (once, version 3 to 5), visual S (once, version 4 or 5), intercept A B or feature NAME A B)");
 		}
 	}
 	if (!header) throw Error(path + ": empty: not a talkhead coarticulation model");
@@ -601,6 +641,23 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 		const MouthPool& pool = poolOf(e);
 		if (pool.samples.empty() || !(pool.scale > 0)) {  // nothing to choose from: the synthesizer's fallbacks
 			k.mouthOpening.reset(), k.mouthWidth.reset();
+			continue;
+		}
+		if (restKeypose(k)) {
+			// D107: the rest is the face's own rest mouth, drawn no more open than speakers rest after speaking.
+			// The speakers were neutral: what the face's neutral rest opens beyond their rest (on its unit) is
+			// taken off every emotion's rest, so an expression's open mouth (surprise's dropped jaw) keeps what
+			// it adds. A shut neutral rest (within its pool's closed limit) leaves every rest as it is, and so
+			// does an emotion with no rest of its own: the synthesizer's fallbacks.
+			const std::string& neutral = Emotion::neutralLabel();
+			const long rest = model.findSample(e, k.cdv.label(), &k.context);
+			const long own = model.findSample(neutral, k.cdv.label(), &k.context);
+			const MouthPool& calm = own >= 0 && poolOf(neutral).scale > 0 ? poolOf(neutral) : pool;
+			const long ref = own >= 0 && poolOf(neutral).scale > 0 ? own : rest;
+			const double target = *k.mouthOpening * openingUnit(calm, poolOf(neutral));
+			const double excess = ref >= 0 && size[std::size_t(ref)].opening > std::max(target, calm.closedLimit) ? size[std::size_t(ref)].opening - target : 0;
+			if (rest >= 0 && excess > 0) k.sample = rest, k.drawnOpening = std::max(0.0, size[std::size_t(rest)].opening - excess), ++chosen;
+			else k.mouthOpening.reset(), k.mouthWidth.reset();
 			continue;
 		}
 		// The emotion's own exemplar of the CDV; one it lacks (a short take: issue 47) is chosen from the

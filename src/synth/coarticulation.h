@@ -32,6 +32,11 @@ struct CoarticulationModel {
 	// opening and width there, in the same units (D70); unset in a version-1 file (the rest mouth then).
 	std::optional<double> leadOpening, leadWidth;
 	std::size_t leadClips = 0;  // clips it is the mean of
+	// The lips at rest after speech (D107): the real speakers' mean opening and width from kRestAfter after
+	// their last words to the clip's end, in the same units. A pause's rest keypose shows the face's own rest
+	// mouth drawn no more open than this (chooseMouthExemplars). Unset in files before version 5.
+	std::optional<double> restOpening, restWidth;
+	std::size_t restClips = 0;
 	// /p b m/ shut before their keypose (D71): the real speakers' mean time from a bilabial's keypose (its
 	// phone run's midpoint) to their closure (the least opening within 40 ms of the run), seconds, < 0 =
 	// earlier; the keypose moves by it. Unset in version-1 and -2 files (the keypose stays at the midpoint).
@@ -78,6 +83,11 @@ CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& X, con
 std::optional<std::pair<double, double>> leadingPauseMouth(const CoarticulationClip& clip);
 // Sets the model's lead (the mean of its clips' leadingPauseMouth; left unset when none has one).
 void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips);
+// A clip's mean opening and width from kRestAfter after its last words to its end (units as above); nullopt
+// when it has no speech or no frame there (D107).
+std::optional<std::pair<double, double>> trailingPauseMouth(const CoarticulationClip& clip);
+// Sets the model's rest (the mean of its clips' trailingPauseMouth; left unset when none has one).
+void learnTrailingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips);
 // Each bilabial keypose's time to the clip's real closure (seconds; closures more than 0.1 s away, another
 // phone's, left out).
 std::vector<double> bilabialClosureOffsets(const CoarticulationClip& clip, Ticks frame);
@@ -96,13 +106,14 @@ inline constexpr double kMaxVisualLead = 0.2;  // seconds either way: what a fil
 void applyVisualLead(const CoarticulationModel& m, std::vector<Keypose>& keys, Ticks frame);
 CoarticulationModel trainCoarticulation(const std::vector<CoarticulationClip>& clips, Ticks frame, double lambda = 10);
 
-// Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones), and
-// the held keyposes' before the first words (Keypose::hold) from its lead.
+// Sets each phone keypose's mouthOpening and mouthWidth from the model (keys made from these phones), the
+// held keyposes' before the first words (Keypose::hold) from its lead, and a pause's rest keyposes (silence,
+// neither held nor the in-breath) from its rest (D107).
 void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneSegment>& phones, std::vector<Keypose>& keys);
 
-// Text file "talkhead-coarticulation 4" (3: without the visual line; 2: without the bilabial line either; 1: without
-// the lead line either; written as 3 when the model has no visual lead); reading checks every line and the
-// features, naming the file.
+// Text file "talkhead-coarticulation 5" (the rest line; the visual line optional), 4 (the visual line, no rest),
+// 3 (without the visual line; 2: without the bilabial line either; 1: without the lead line either) — written as
+// 5 when the model has a rest, else 4 or 3; reading checks every line and the features, naming the file.
 void saveCoarticulation(const CoarticulationModel& m, const std::string& path);
 CoarticulationModel loadCoarticulation(const std::string& path);
 
@@ -177,6 +188,10 @@ double openingUnit(const MouthPool& pool, const MouthPool& neutral);
 long nearestMouth(const FaceModel& model, const MouthPool& pool, const std::vector<MouthSize>& size, double opening, double width, long prefer = -1);
 
 // For every keypose with a mouthOpening and no sample yet, the model's exemplar to show (Keypose::sample):
+// a pause's rest keypose (a silence CDV, neither held nor the in-breath) keeps the emotion's own rest sample,
+// drawn less open by what the face's neutral rest opens beyond the predicted opening (D107: a face whose rest
+// was caught with the lips apart closes them as speakers do after speaking, and an emotion's rest keeps what
+// the expression adds; a shut neutral rest leaves every rest as it is); otherwise
 // among the samples of its emotion (else neutral's), the one whose opening and width are nearest the
 // targets (scaled to this face's own 90th percentile of opening and median width); a bilabial closes
 // (its CDV's sample when that is shut, else the most closed bilabial exemplar, else the most closed one).
