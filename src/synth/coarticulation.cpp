@@ -213,47 +213,50 @@ CoarticulationModel fitCoarticulation(const std::vector<Eigen::MatrixXd>& xs, co
 	return m;
 }
 
-std::optional<std::pair<double, double>> leadingPauseMouth(const CoarticulationClip& c) {
-	const auto speech = std::find_if(c.phones.begin(), c.phones.end(), [](const PhoneSegment& p) { return !pause(p); });
-	if (speech == c.phones.end()) return std::nullopt;
+namespace {
+
+// A clip's mean opening and width over its frames in [from, until) seconds, in its units; nullopt when none.
+std::optional<std::pair<double, double>> meanMouthBetween(const CoarticulationClip& c, double from, double until) {
 	const ClipFrames f = clipFrames(c);
-	const double until = toSeconds(speech->start - kStillLead);
 	double open = 0, width = 0;
 	std::size_t n = 0;
-	for (std::size_t i = 0; i < f.t.size() && f.t[i] < until; ++i) open += f.v[i], width += f.w[i], ++n;
+	for (std::size_t i = 0; i < f.t.size(); ++i)
+		if (f.t[i] >= from && f.t[i] < until) open += f.v[i], width += f.w[i], ++n;
 	if (n == 0) return std::nullopt;
 	return std::pair{open / double(n) / f.scale, width / double(n) / f.widthScale};
 }
 
-void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips) {
-	double open = 0, width = 0;
+// The mean over the clips of what `mouth` finds in each (the clips where it finds nothing left out).
+template <class Mouth>
+void meanOverClips(const std::vector<CoarticulationClip>& clips, Mouth mouth, std::optional<double>& opening, std::optional<double>& width, std::size_t& count) {
+	double open = 0, wide = 0;
 	std::size_t n = 0;
 	for (const CoarticulationClip& c : clips)
-		if (const auto lead = leadingPauseMouth(c)) open += lead->first, width += lead->second, ++n;
-	m.leadClips = n;
-	if (n > 0) m.leadOpening = open / double(n), m.leadWidth = width / double(n);
+		if (const auto m = mouth(c)) open += m->first, wide += m->second, ++n;
+	count = n;
+	if (n > 0) opening = open / double(n), width = wide / double(n);
+}
+
+}  // namespace
+
+std::optional<std::pair<double, double>> leadingPauseMouth(const CoarticulationClip& c) {
+	const auto speech = std::find_if(c.phones.begin(), c.phones.end(), [](const PhoneSegment& p) { return !pause(p); });
+	if (speech == c.phones.end()) return std::nullopt;
+	return meanMouthBetween(c, -std::numeric_limits<double>::infinity(), toSeconds(speech->start - kStillLead));
+}
+
+void learnLeadingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips) {
+	meanOverClips(clips, leadingPauseMouth, m.leadOpening, m.leadWidth, m.leadClips);
 }
 
 std::optional<std::pair<double, double>> trailingPauseMouth(const CoarticulationClip& c) {
 	const auto last = std::find_if(c.phones.rbegin(), c.phones.rend(), [](const PhoneSegment& p) { return !pause(p); });
 	if (last == c.phones.rend()) return std::nullopt;
-	const ClipFrames f = clipFrames(c);
-	const double from = toSeconds(last->end + kRestAfter);
-	double open = 0, width = 0;
-	std::size_t n = 0;
-	for (std::size_t i = 0; i < f.t.size(); ++i)
-		if (f.t[i] >= from) open += f.v[i], width += f.w[i], ++n;
-	if (n == 0) return std::nullopt;
-	return std::pair{open / double(n) / f.scale, width / double(n) / f.widthScale};
+	return meanMouthBetween(c, toSeconds(last->end + kRestAfter), std::numeric_limits<double>::infinity());
 }
 
 void learnTrailingPause(CoarticulationModel& m, const std::vector<CoarticulationClip>& clips) {
-	double open = 0, width = 0;
-	std::size_t n = 0;
-	for (const CoarticulationClip& c : clips)
-		if (const auto rest = trailingPauseMouth(c)) open += rest->first, width += rest->second, ++n;
-	m.restClips = n;
-	if (n > 0) m.restOpening = open / double(n), m.restWidth = width / double(n);
+	meanOverClips(clips, trailingPauseMouth, m.restOpening, m.restWidth, m.restClips);
 }
 
 std::vector<double> bilabialClosureOffsets(const CoarticulationClip& c, Ticks frame) {
