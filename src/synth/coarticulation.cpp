@@ -422,27 +422,25 @@ CoarticulationModel loadCoarticulation(const std::string& path) {
 			if (!parseDouble(s, v) || !std::isfinite(v)) throw Error(path, ln, "not a number: '" + s + "'");
 			return v;
 		};
+		// A held mouth's line (lead, rest): opening, width (of the speaker's own), the clips it is the mean of.
+		auto mouthLine = [&](const std::vector<std::string>& g, std::optional<double>& opening, std::optional<double>& width, std::size_t& clips) {
+			opening = parse(g[1]);
+			width = parse(g[2]);
+			long long n = 0;
+			if (!parseInt(g[3], n) || n < 1) throw Error(path, ln, g[0] + ": not a count of clips: '" + g[3] + "'");
+			clips = std::size_t(n);
+			if (*opening < 0 || *opening > 10 || *width <= 0 || *width > 10)
+				throw Error(path, ln, g[0] + ": an opening or width out of range (0 … 10 of the speaker's own)");
+		};
 		if (!header) {
 			if (f.size() != 2 || f[0] != "talkhead-coarticulation") throw Error(path, ln, "not a talkhead coarticulation model (expected 'talkhead-coarticulation 5')");
 			if (f[1] != "1" && f[1] != "2" && f[1] != "3" && f[1] != "4" && f[1] != "5")
 				throw Error(path, ln, "coarticulation model version " + f[1] + " (this build reads 1 to 5)");
 			header = true, version = f[1];
 		} else if (f[0] == "lead" && f.size() == 4 && version != "1" && !m.leadOpening) {
-			m.leadOpening = parse(f[1]);
-			m.leadWidth = parse(f[2]);
-			long long n = 0;
-			if (!parseInt(f[3], n) || n < 1) throw Error(path, ln, "lead: not a count of clips: '" + f[3] + "'");
-			m.leadClips = std::size_t(n);
-			if (*m.leadOpening < 0 || *m.leadOpening > 10 || *m.leadWidth <= 0 || *m.leadWidth > 10)
-				throw Error(path, ln, "lead: an opening or width out of range (0 … 10 of the speaker's own)");
+			mouthLine(f, m.leadOpening, m.leadWidth, m.leadClips);
 		} else if (f[0] == "rest" && f.size() == 4 && version == "5" && !m.restOpening) {
-			m.restOpening = parse(f[1]);
-			m.restWidth = parse(f[2]);
-			long long n = 0;
-			if (!parseInt(f[3], n) || n < 1) throw Error(path, ln, "rest: not a count of clips: '" + f[3] + "'");
-			m.restClips = std::size_t(n);
-			if (*m.restOpening < 0 || *m.restOpening > 10 || *m.restWidth <= 0 || *m.restWidth > 10)
-				throw Error(path, ln, "rest: an opening or width out of range (0 … 10 of the speaker's own)");
+			mouthLine(f, m.restOpening, m.restWidth, m.restClips);
 		} else if (f[0] == "bilabial" && f.size() == 3 && (version == "3" || version == "4" || version == "5") && !m.bilabialLead) {
 			m.bilabialLead = parse(f[1]);
 			long long n = 0;
