@@ -148,6 +148,12 @@ Keypose LiveSession::rest(Ticks t) const {
 	k.cdv = Cdv();  // silence
 	k.emotion = expression_.emotion();
 	k.intensity = expression_.intensity();
+	if (const auto& m = face_.coarticulation(); m && m->restOpening) {
+		std::vector<Keypose> one{k};
+		one[0].mouthOpening = *m->restOpening, one[0].mouthWidth = m->restWidth.value_or(1.0);
+		chooseMouthExemplars(face_.model(), expression_.emotion(), one);
+		return one[0];
+	}
 	return k;
 }
 

@@ -154,7 +154,9 @@ private:
 	std::unique_ptr<Sound> sound_;
 
 	Ticks lastDrawn() const;  // the time of the last drawn frame (−1 tick when none)
-	Keypose rest(Ticks t) const;  // the silence keypose at t in the session's emotion
+	// The silence keypose at t in the session's emotion; with a coarticulation model that has a rest, drawn as a
+	// plan's rest is (D107), so the idle face matches the pauses of what it says.
+	Keypose rest(Ticks t) const;
 	PlannedUtterance planned(Utterance u, const Expression& expression) const;  // plan() without the images
 	void chooseExemplars(std::vector<Keypose>& keys, Emotion fallback) const;  // D62: again, for keys whose emotion changed
 	void replan();

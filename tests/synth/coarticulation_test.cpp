@@ -497,6 +497,20 @@ TEST(Coarticulation, theLipsAtRestAfterSpeechAreTheSpeakersMeanAndARestCaughtOpe
 	Points pts;
 	synth.renderFrame(closed.time, ks, ws, frame, pts);
 	EXPECT_NEAR(mouthSize(scheme, pts).opening, 0.2 * unit, 0.6 * 0.004);
+	// A live session (serve, talkhead live) idles at the same drawn rest before it says anything.
+	const Face face(caught, std::make_shared<const CoarticulationModel>(m));
+	LiveOptions lo;
+	lo.render.synth.width = 160;
+	lo.render.synth.height = 90;
+	LiveSession live(face, lo);
+	ASSERT_FALSE(live.keyposes().empty());
+	const Keypose& idle = live.keyposes().front();
+	EXPECT_EQ(idle.sample, mid);
+	ASSERT_TRUE(idle.drawnOpening);
+	EXPECT_NEAR(*idle.drawnOpening, *m.restOpening * unit, 1e-12);
+	LiveSession plain(caught, lo);  // no model: the rest as it is
+	EXPECT_EQ(plain.keyposes().front().sample, -1);
+	EXPECT_FALSE(plain.keyposes().front().drawnOpening);
 }
 
 TEST(Coarticulation, bilabialsShutAsEarlyAsTheSpeakersDoKeptAFrameFromTheirNeighbours) {
