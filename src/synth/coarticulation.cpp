@@ -348,12 +348,10 @@ void predictMouthOpenings(const CoarticulationModel& m, const std::vector<PhoneS
 	std::vector<std::size_t> rows;
 	const Eigen::MatrixXd X = coarticulationFeatures(phones, keys, rows);
 	const Eigen::VectorXd y = (X * m.weights).array() + m.intercept, w = (X * m.widthWeights).array() + m.widthIntercept;
-	if (m.leadOpening)
-		for (Keypose& k : keys)
-			if (k.hold) k.mouthOpening = std::max(0.0, *m.leadOpening), k.mouthWidth = std::max(0.1, m.leadWidth.value_or(1.0));
-	if (m.restOpening)
-		for (Keypose& k : keys)
-			if (restKeypose(k)) k.mouthOpening = std::max(0.0, *m.restOpening), k.mouthWidth = std::max(0.1, m.restWidth.value_or(1.0));
+	for (Keypose& k : keys) {
+		if (k.hold && m.leadOpening) k.mouthOpening = std::max(0.0, *m.leadOpening), k.mouthWidth = std::max(0.1, m.leadWidth.value_or(1.0));
+		if (restKeypose(k) && m.restOpening) k.mouthOpening = std::max(0.0, *m.restOpening), k.mouthWidth = std::max(0.1, m.restWidth.value_or(1.0));
+	}
 	for (std::size_t r = 0; r < rows.size(); ++r) {
 		keys[rows[r]].mouthOpening = std::max(0.0, y(Eigen::Index(r)));
 		keys[rows[r]].mouthWidth = std::max(0.1, w(Eigen::Index(r)));
@@ -653,8 +651,9 @@ std::size_t chooseMouthExemplars(const FaceModel& model, const Emotion& emotion,
 			const std::string& neutral = Emotion::neutralLabel();
 			const long rest = model.findSample(e, k.cdv.label(), &k.context);
 			const long own = model.findSample(neutral, k.cdv.label(), &k.context);
-			const MouthPool& calm = own >= 0 && poolOf(neutral).scale > 0 ? poolOf(neutral) : pool;
-			const long ref = own >= 0 && poolOf(neutral).scale > 0 ? own : rest;
+			const bool byNeutral = own >= 0 && poolOf(neutral).scale > 0;
+			const MouthPool& calm = byNeutral ? poolOf(neutral) : pool;
+			const long ref = byNeutral ? own : rest;
 			const double target = *k.mouthOpening * openingUnit(calm, poolOf(neutral));
 			const double excess = ref >= 0 && size[std::size_t(ref)].opening > std::max(target, calm.closedLimit) ? size[std::size_t(ref)].opening - target : 0;
 			if (rest >= 0 && excess > 0) k.sample = rest, k.drawnOpening = std::max(0.0, size[std::size_t(rest)].opening - excess), ++chosen;
